@@ -1,0 +1,11 @@
+//! The indexed triangle mesh produced by an extraction.
+
+/// An indexed triangle mesh: vertex positions in physical coordinates and
+/// triangles as counter-clockwise (seen from outside) vertex index triples.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Mesh {
+    /// Vertex positions `[x, y, z]`.
+    pub vertices: Vec<[f32; 3]>,
+    /// Triangles, indices into `vertices`.
+    pub triangles: Vec<[u32; 3]>,
+}

@@ -1,0 +1,96 @@
+//! Sample sources: a regular grid of scalar samples read one z-plane at a time.
+//!
+//! Every reader (one file per format) implements [`SampleSource`]; the slab
+//! loop only ever asks for whole planes, so a reader may memory-map its file
+//! and convert a plane on demand without holding the volume in memory.
+
+mod array;
+pub mod npy;
+pub mod nrrd;
+pub mod raw;
+mod scalar;
+
+pub use array::ArrayVolume;
+pub use scalar::{Endian, ScalarType};
+
+use crate::Result;
+use std::path::Path;
+
+/// Geometry of a regular grid: sample counts and the index-to-world map
+/// `origin + index * spacing` (x varies fastest in memory).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid {
+    /// Samples along x, y, z.
+    pub dims: [usize; 3],
+    /// Distance between samples along x, y, z.
+    pub spacing: [f64; 3],
+    /// Physical position of sample (0, 0, 0).
+    pub origin: [f64; 3],
+}
+
+impl Grid {
+    /// A grid with unit spacing and zero origin.
+    pub fn unit(dims: [usize; 3]) -> Self {
+        Grid {
+            dims,
+            spacing: [1.0; 3],
+            origin: [0.0; 3],
+        }
+    }
+
+    /// Samples in one z-plane.
+    pub fn plane_len(&self) -> usize {
+        self.dims[0] * self.dims[1]
+    }
+}
+
+/// A source of samples, read plane by plane (`z` = slowest axis).
+///
+/// Implementations must be deterministic: reading the same plane twice gives
+/// the same values. Values are converted to `f64` (exact for every supported
+/// integer type).
+pub trait SampleSource: Sync {
+    /// The grid the samples live on.
+    fn grid(&self) -> &Grid;
+    /// Writes the samples of plane `z` (x fastest) into `out`, whose length
+    /// is `grid().plane_len()`.
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()>;
+}
+
+/// Options for raw input, which carries no header of its own.
+#[derive(Debug, Clone)]
+pub struct RawOptions {
+    /// Samples along x, y, z.
+    pub dims: [usize; 3],
+    /// Sample type.
+    pub scalar: ScalarType,
+    /// Byte order of multi-byte samples.
+    pub endian: Endian,
+    /// Bytes to skip before the first sample.
+    pub header_bytes: u64,
+    /// Distance between samples.
+    pub spacing: [f64; 3],
+    /// Position of the first sample.
+    pub origin: [f64; 3],
+}
+
+/// Opens a volume file, choosing the reader by extension (`.npy`, `.nrrd`)
+/// or, when `raw` is given, reading headerless samples.
+pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
+    if let Some(options) = raw {
+        return Ok(Box::new(raw::RawVolume::open(path, options)?));
+    }
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "npy" => Ok(Box::new(npy::open(path)?)),
+        "nrrd" => Ok(Box::new(nrrd::open(path)?)),
+        _ => Err(crate::Error::Invalid(format!(
+            "{}: unknown input format (expected .npy or .nrrd, or give --dims and --dtype for raw data)",
+            path.display()
+        ))),
+    }
+}

@@ -1,1 +1,29 @@
-//! (in progress)
+//! The cell kernel: one cell of the grid, triangulated as in Grosso (2016).
+//!
+//! The kernel is told as the paper's sections:
+//! * [`cube`]: names of corners, edges and faces of the reference cell;
+//! * [`decider`]: the asymptotic decider on a face (exact sign);
+//! * [`contour`]: closed contours from edge intersections and face decisions;
+//! * [`tables`]: the standard MC table and the contour table, built once
+//!   from [`contour`] for all 256 sign configurations;
+//! * [`tunnel`]: does the level set join two contours through the cell (a
+//!   tunnel)? Decided exactly, ties included;
+//! * [`quadratic`]: the three quadratic equations, their roots, the saddle
+//!   points and the inner hexagon;
+//! * [`triangulate`]: the triangulation rules of Section 5;
+//! * [`cell`]: puts them together for one ambiguous cell.
+//!
+//! Values given to the kernel are `g = value - iso` (or `iso - value` for
+//! `--inside low`), with NaN already replaced by 0; a corner is inside iff
+//! `g > 0`, so the kernel always triangulates `{g > ε}` for infinitesimal ε.
+
+pub mod cell;
+pub mod contour;
+pub mod cube;
+pub mod decider;
+pub mod quadratic;
+pub mod tables;
+pub mod triangulate;
+pub mod tunnel;
+
+pub use cell::{triangulate_ambiguous, CellMesh, VertexRef};

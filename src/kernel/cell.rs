@@ -1,0 +1,227 @@
+//! One ambiguous cell, from its eight values to triangles (Algorithm 1).
+
+use super::contour::ContourSet;
+use super::cube::{EDGE_CORNERS, FACE_CORNERS};
+use super::decider::inside_joined;
+use super::quadratic::{inner_hexagon, saddle_points};
+use super::tables::tables;
+use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
+use super::tunnel::interior_joins;
+use crate::Stats;
+use glam::DVec3;
+
+/// A vertex of a cell's triangles: `0..12` is the vertex on that cell edge,
+/// `INTERIOR + i` is interior vertex `i` of the cell.
+pub type VertexRef = u8;
+
+/// First [`VertexRef`] of the interior vertices.
+pub const INTERIOR: u8 = 12;
+
+/// Triangles of one cell, with the positions of its interior vertices in
+/// local coordinates (the unit cube).
+#[derive(Debug, Clone)]
+pub struct CellMesh {
+    /// Triangles as vertex refs, counter-clockwise seen from outside.
+    pub triangles: Vec<[VertexRef; 3]>,
+    /// Interior vertices, local coordinates in [0, 1]^3.
+    pub interior: Vec<DVec3>,
+}
+
+impl CellMesh {
+    /// An empty cell mesh with room for the largest case.
+    pub fn new() -> Self {
+        CellMesh {
+            triangles: Vec::with_capacity(48),
+            interior: Vec::with_capacity(8),
+        }
+    }
+
+    /// Appends a triangle.
+    pub fn push_triangle(&mut self, t: [VertexRef; 3]) {
+        self.triangles.push(t);
+    }
+
+    fn push_interior(&mut self, p: DVec3) -> VertexRef {
+        self.interior.push(p.clamp(DVec3::ZERO, DVec3::ONE));
+        INTERIOR + (self.interior.len() - 1) as u8
+    }
+
+    /// Empties the mesh for reuse.
+    pub fn clear(&mut self) {
+        self.triangles.clear();
+        self.interior.clear();
+    }
+}
+
+impl Default for CellMesh {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Position of the vertex on edge `e` in local coordinates (linear
+/// interpolation; the same formula the slab loop uses).
+pub fn edge_point(g: &[f64; 8], e: usize) -> DVec3 {
+    let [a, b] = EDGE_CORNERS[e];
+    let t = g[a] / (g[a] - g[b]);
+    let pa = DVec3::new((a & 1) as f64, (a >> 1 & 1) as f64, (a >> 2 & 1) as f64);
+    let pb = DVec3::new((b & 1) as f64, (b >> 1 & 1) as f64, (b >> 2 & 1) as f64);
+    pa + (pb - pa) * t
+}
+
+/// Face decisions of a cell: bit `f` set iff the inside corners of
+/// ambiguous face `f` are joined across it (asymptotic decider).
+pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
+    let ambiguous = tables().ambiguous_faces[config as usize];
+    let mut joined = 0u8;
+    for (f, q) in FACE_CORNERS.iter().enumerate() {
+        if ambiguous >> f & 1 == 0 {
+            continue;
+        }
+        let (i0, o0) = if g[q[0]] > 0.0 { (0, 1) } else { (1, 0) };
+        if inside_joined(g[q[i0]], g[q[i0 + 2]], g[q[o0]], g[q[o0 + 2]]) {
+            joined |= 1 << f;
+        }
+    }
+    joined
+}
+
+/// Triangulates an ambiguous cell (Definition 1) with values `g` (inside iff
+/// `> 0`) and configuration `config`; counts the paper's Table 1 in `stats`.
+pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &mut CellMesh) {
+    let set = &tables().contours[config as usize * 64 + face_decisions(g, config) as usize];
+    let points = |c: &[u8]| -> Vec<DVec3> { c.iter().map(|&e| edge_point(g, e as usize)).collect() };
+
+    let tunnel = if set.count >= 2 {
+        interior_joins(g, set)
+            .first()
+            .and_then(|j| tunnel_contours(set, j.a, j.b))
+    } else {
+        None
+    };
+
+    if let Some((c1, c2)) = tunnel {
+        stats.tunnels += 1;
+        triangulate_tunnel(g, set.contour(c1), set.contour(c2), &points, out);
+    }
+    for i in 0..set.count as usize {
+        if tunnel.is_some_and(|(c1, c2)| i == c1 || i == c2) {
+            continue;
+        }
+        let contour = set.contour(i);
+        let n = contour.len();
+        if n == 12 {
+            stats.contours_12 += 1;
+            triangulate_twelve(g, contour, &points(contour), out);
+        } else if set.meets_face_twice >> i & 1 == 1 {
+            if (6..=9).contains(&n) {
+                stats.ambiguous_contours[n - 6] += 1;
+            }
+            let centre = out.push_interior(interior_vertex(g, &points(contour)));
+            fan_around(contour, centre, out);
+        } else {
+            if (3..=6).contains(&n) {
+                stats.contours[n - 3] += 1;
+            }
+            fan(contour, out);
+        }
+    }
+}
+
+/// The two contours bounding the tunnel that joins surface components `a`
+/// and `b`: each separates one of them from the region `x` they both touch.
+fn tunnel_contours(set: &ContourSet, a: u8, b: u8) -> Option<(usize, usize)> {
+    let n = set.count as usize;
+    let other = |i: usize, c: u8| {
+        if set.inside_comp[i] == c {
+            Some(set.outside_comp[i])
+        } else if set.outside_comp[i] == c {
+            Some(set.inside_comp[i])
+        } else {
+            None
+        }
+    };
+    for i in 0..n {
+        for j in 0..n {
+            if let (Some(x), Some(y)) = (other(i, a), other(j, b)) {
+                if i != j && x == y {
+                    return Some((i, j));
+                }
+            }
+        }
+    }
+    None
+}
+
+/// A tunnel: both contours strip-joined to the inner triangle, winding round
+/// it in opposite directions (so the two strips meet with opposite edge
+/// orientations), each contour assigned to alternate hexagon vertices.
+fn triangulate_tunnel(
+    g: &[f64; 8],
+    c1: &[u8],
+    c2: &[u8],
+    points: &dyn Fn(&[u8]) -> Vec<DVec3>,
+    out: &mut CellMesh,
+) {
+    let hex = inner_hexagon(g);
+    let (p1, p2) = (points(c1), points(c2));
+    let alternate = |parity: usize| [0, 1, 2].map(|k| hex[2 * k + parity]);
+    let mut best = (f64::INFINITY, 0usize, 1i32, [0u8; 12], [0u8; 12]);
+    for parity in 0..2 {
+        for dir in [1, -1] {
+            let (ca, a1) = ring_assignment(&costs(&p1, &alternate(parity)), dir);
+            let (cb, a2) = ring_assignment(&costs(&p2, &alternate(1 - parity)), -dir);
+            if ca + cb < best.0 {
+                best = (ca + cb, parity, dir, a1, a2);
+            }
+        }
+    }
+    let inner = inner_triangle(&hex, out);
+    strip(c1, &best.3[..c1.len()], inner, out);
+    strip(c2, &best.4[..c2.len()], inner, out);
+}
+
+/// The 12-vertex contour: a strip to the inner triangle, closed by it.
+fn triangulate_twelve(g: &[f64; 8], contour: &[u8], p: &[DVec3], out: &mut CellMesh) {
+    let hex = inner_hexagon(g);
+    let cost: Vec<[f64; 3]> = p
+        .iter()
+        .map(|q| [0, 1, 2].map(|k| q.distance_squared(hex[2 * k]).min(q.distance_squared(hex[2 * k + 1]))))
+        .collect();
+    let (c_up, a_up) = ring_assignment(&cost, 1);
+    let (c_down, a_down) = ring_assignment(&cost, -1);
+    let (dir, asg) = if c_up <= c_down { (1, a_up) } else { (-1, a_down) };
+    let inner = inner_triangle(&hex, out);
+    strip(contour, &asg[..contour.len()], inner, out);
+    // The strip uses each inner edge against the walking direction; the cap
+    // uses it along.
+    if dir == 1 {
+        out.push_triangle([inner[0], inner[1], inner[2]]);
+    } else {
+        out.push_triangle([inner[0], inner[2], inner[1]]);
+    }
+}
+
+/// The three interior vertices of a tunnel: midpoints of the hexagon's
+/// vertex pairs (0, 1), (2, 3), (4, 5) (equation 7).
+fn inner_triangle(hex: &[DVec3; 6], out: &mut CellMesh) -> [VertexRef; 3] {
+    [0, 1, 2].map(|k| out.push_interior((hex[2 * k] + hex[2 * k + 1]) * 0.5))
+}
+
+/// The interior vertex of an ambiguous contour: the crossing of the single
+/// lines (a saddle point), or the midpoint of the two saddle points nearest
+/// to the contour when there are more; the contour's centroid if rounding
+/// left no saddle point in the cell.
+fn interior_vertex(g: &[f64; 8], contour: &[DVec3]) -> DVec3 {
+    let centroid = contour.iter().copied().sum::<DVec3>() / contour.len() as f64;
+    let mut saddles = saddle_points(g);
+    if saddles.is_empty() {
+        return centroid;
+    }
+    saddles.sort_by(|a, b| {
+        a.distance_squared(centroid)
+            .total_cmp(&b.distance_squared(centroid))
+    });
+    let take = saddles.len().min(2);
+    saddles[..take].iter().copied().sum::<DVec3>() / take as f64
+}

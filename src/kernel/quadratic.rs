@@ -1,0 +1,214 @@
+//! The three quadratic equations of Section 4, their saddle points and the
+//! inner hexagon.
+//!
+//! Cut the cell by the plane `x_a = s` perpendicular to axis `a`. On the cut
+//! the interpolant is bilinear with corner values `S00, S10, S01, S11`, each
+//! linear in `s`, and the cut's level set is a hyperbola that degenerates into
+//! two straight lines exactly where `D_a(s) = S00 S11 - S10 S01 = 0`. Those lines
+//! run parallel to the two other axes and join opposite faces: they are the
+//! lines of the paper's equation (4) (the paper writes the same quadratic once
+//! per pair of opposite faces). Where they cross lies a saddle point of the
+//! level set, and the six such points of a tunnel are the inner hexagon.
+//!
+//! Because every crossing line lies in two cuts, every hexagon vertex has its
+//! x among the two roots of `D_x`, its y among those of `D_y` and its z among
+//! those of `D_z`: the hexagon visits six corners of the box spanned by the
+//! roots, leaving out one pair of opposite corners, and consecutive vertices
+//! differ in exactly one coordinate. (The paper's printed listing of the
+//! hexagon has errors; this is the order derived from that structure.)
+
+use glam::DVec3;
+
+/// Value of the trilinear interpolant of corner values `g` at local `p`.
+pub fn trilinear(g: &[f64; 8], p: DVec3) -> f64 {
+    let (x, y, z) = (p.x, p.y, p.z);
+    let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+    let b00 = lerp(g[0], g[1], x);
+    let b10 = lerp(g[2], g[3], x);
+    let b01 = lerp(g[4], g[5], x);
+    let b11 = lerp(g[6], g[7], x);
+    lerp(lerp(b00, b10, y), lerp(b01, b11, y), z)
+}
+
+/// Corner index of local position (x, y, z) in {0,1}^3.
+fn corner(x: usize, y: usize, z: usize) -> usize {
+    x | y << 1 | z << 2
+}
+
+/// The cut perpendicular to `axis`: corner values as `alpha + beta * s`,
+/// indexed `[j][k]` with `j` along the next axis and `k` along the one after.
+fn cut(g: &[f64; 8], axis: usize) -> [[(f64, f64); 2]; 2] {
+    let mut out = [[(0.0, 0.0); 2]; 2];
+    for (j, row) in out.iter_mut().enumerate() {
+        for (k, slot) in row.iter_mut().enumerate() {
+            let mut idx = [0usize; 3];
+            idx[(axis + 1) % 3] = j;
+            idx[(axis + 2) % 3] = k;
+            let lo = g[corner(idx[0], idx[1], idx[2])];
+            idx[axis] = 1;
+            let hi = g[corner(idx[0], idx[1], idx[2])];
+            *slot = (lo, hi - lo);
+        }
+    }
+    out
+}
+
+/// Coefficients `(a, b, c)` of `D_axis(s) = a s^2 + b s + c`.
+pub fn coefficients(g: &[f64; 8], axis: usize) -> (f64, f64, f64) {
+    let s = cut(g, axis);
+    let ((a00, b00), (a01, b01)) = (s[0][0], s[0][1]);
+    let ((a10, b10), (a11, b11)) = (s[1][0], s[1][1]);
+    (
+        b00 * b11 - b10 * b01,
+        a00 * b11 + b00 * a11 - a10 * b01 - b10 * a01,
+        a00 * a11 - a10 * a01,
+    )
+}
+
+/// Real roots of `a s^2 + b s + c`, ascending, by the numerically stable
+/// formula; `a == 0` is solved as a linear equation and a double root is
+/// returned once.
+pub fn roots(a: f64, b: f64, c: f64) -> Vec<f64> {
+    let scale = a.abs().max(b.abs()).max(c.abs());
+    if scale == 0.0 || !scale.is_finite() {
+        return Vec::new();
+    }
+    if a.abs() <= 1e-14 * scale {
+        return if b != 0.0 { vec![-c / b] } else { Vec::new() };
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return Vec::new();
+    }
+    if disc == 0.0 {
+        return vec![-b / (2.0 * a)];
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    let mut r = vec![q / a, c / q];
+    r.sort_by(f64::total_cmp);
+    r
+}
+
+/// The saddle of the cut `x_axis = s`: the point where its two lines cross,
+/// or `None` when the cut has no saddle.
+pub fn cut_saddle(g: &[f64; 8], axis: usize, s: f64) -> Option<DVec3> {
+    let c = cut(g, axis);
+    let v = |j: usize, k: usize| c[j][k].0 + c[j][k].1 * s;
+    let (s00, s10, s01, s11) = (v(0, 0), v(1, 0), v(0, 1), v(1, 1));
+    let eta = s00 - s10 - s01 + s11;
+    if eta == 0.0 || !eta.is_finite() {
+        return None;
+    }
+    let mut p = [0.0; 3];
+    p[axis] = s;
+    p[(axis + 1) % 3] = (s00 - s01) / eta;
+    p[(axis + 2) % 3] = (s00 - s10) / eta;
+    Some(DVec3::from_array(p))
+}
+
+/// Saddle points of the level set inside the closed cell: for each axis, the
+/// crossings of the lines found by that axis' quadratic.
+pub fn saddle_points(g: &[f64; 8]) -> Vec<DVec3> {
+    const TOL: f64 = 1e-9;
+    let mut out = Vec::new();
+    for axis in 0..3 {
+        let (a, b, c) = coefficients(g, axis);
+        for s in roots(a, b, c) {
+            if let Some(p) = cut_saddle(g, axis, s) {
+                if p.cmpge(DVec3::splat(-TOL)).all() && p.cmple(DVec3::splat(1.0 + TOL)).all() {
+                    out.push(p.clamp(DVec3::ZERO, DVec3::ONE));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Two roots of the quadratic of `axis` in [0, 1], ascending. Used only when
+/// the tunnel test has established that the hexagon exists: a double root
+/// (a hexagon shrunk to a point) and roots pushed outside by rounding are
+/// clamped rather than lost, so the result is always a usable hexagon.
+fn two_roots(g: &[f64; 8], axis: usize) -> [f64; 2] {
+    let (a, b, c) = coefficients(g, axis);
+    let mut r = roots(a, b, c);
+    if r.is_empty() && a != 0.0 {
+        r.push(-b / (2.0 * a));
+    }
+    let r: Vec<f64> = r.into_iter().map(|s| s.clamp(0.0, 1.0)).collect();
+    match r.as_slice() {
+        [] => [0.5, 0.5],
+        [s] => [*s, *s],
+        [s, t, ..] => [s.min(*t), s.max(*t)],
+    }
+}
+
+/// The inner hexagon: six points on the level set, consecutive ones joined by
+/// straight lines parallel to an axis.
+pub fn inner_hexagon(g: &[f64; 8]) -> [DVec3; 6] {
+    let r = [two_roots(g, 0), two_roots(g, 1), two_roots(g, 2)];
+    // The crossing in the cut x = r[0][0] is a hexagon vertex (0, a, b) in
+    // root-index space; the left-out pair is (0, 1-a, 1-b) and (1, a, b).
+    let (a, b) = match cut_saddle(g, 0, r[0][0]) {
+        Some(p) => (
+            usize::from((p.y - r[1][0]).abs() > (p.y - r[1][1]).abs()),
+            usize::from((p.z - r[2][0]).abs() > (p.z - r[2][1]).abs()),
+        ),
+        None => (0, 0),
+    };
+    let left_out = [[0, 1 - a, 1 - b], [1, a, b]];
+    let mut order = [[0usize; 3]; 6];
+    order[0] = [0, a, b];
+    // Walk to the neighbour (one index flipped) that is neither left out nor
+    // already visited; flip y first so the walk direction is fixed.
+    for i in 1..6 {
+        let prev = order[i - 1];
+        let before = if i >= 2 { Some(order[i - 2]) } else { None };
+        let next = [1, 2, 0]
+            .iter()
+            .map(|&axis| {
+                let mut n = prev;
+                n[axis] = 1 - n[axis];
+                n
+            })
+            .find(|n| !left_out.contains(n) && Some(*n) != before)
+            .expect("a hexagon vertex has two neighbours on the hexagon");
+        order[i] = next;
+    }
+    order.map(|[i, j, k]| DVec3::new(r[0][i], r[1][j], r[2][k]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stable_roots() {
+        assert_eq!(roots(1.0, -3.0, 2.0), vec![1.0, 2.0]);
+        assert_eq!(roots(0.0, 2.0, -1.0), vec![0.5]);
+        assert_eq!(roots(1.0, -2.0, 1.0), vec![1.0]);
+        assert!(roots(1.0, 0.0, 1.0).is_empty());
+        assert!(roots(0.0, 0.0, 1.0).is_empty());
+        // Catastrophic cancellation in the textbook formula.
+        let r = roots(1.0, -1e8, 1.0);
+        assert!((r[0] - 1e-8).abs() < 1e-20);
+    }
+
+    #[test]
+    fn quadratic_matches_cut_determinant() {
+        let g = [0.3, -1.2, 0.7, 2.0, -0.4, 1.1, -2.5, 0.9];
+        for axis in 0..3 {
+            let (a, b, c) = coefficients(&g, axis);
+            for s in [0.0, 0.3, 0.8, 1.0] {
+                let mut p = |j: f64, k: f64| {
+                    let mut q = [0.0; 3];
+                    q[axis] = s;
+                    q[(axis + 1) % 3] = j;
+                    q[(axis + 2) % 3] = k;
+                    trilinear(&g, DVec3::from_array(q))
+                };
+                let d = p(0.0, 0.0) * p(1.0, 1.0) - p(1.0, 0.0) * p(0.0, 1.0);
+                assert!((a * s * s + b * s + c - d).abs() < 1e-12);
+            }
+        }
+    }
+}

@@ -1,0 +1,180 @@
+//! Lookup tables, derived once at start-up from [`super::contour`].
+//!
+//! Nothing here is typed in by hand: the standard marching-cubes table is the
+//! triangulation of the contours of each configuration, so it agrees with the
+//! contour code by construction.
+//!
+//! * `is_ambiguous[config]`: the paper's Definition 1 (corners of one sign
+//!   not all joined along cell edges).
+//! * `ambiguous_faces[config]`: bit `f` set when face `f` has alternating signs.
+//! * `contours[config * 64 + joined]`: the contours for each combination of
+//!   face decisions.
+//! * `mc[config]`: standard MC triangles (edge triples) with the face rule
+//!   "inside corners of an ambiguous face are separated". For unambiguous
+//!   configurations this is the MC table both methods use.
+
+use super::contour::{self, face_is_ambiguous, ContourSet};
+use super::cube::{edge_faces, EDGE_CORNERS};
+use std::sync::OnceLock;
+
+/// All tables of the kernel.
+pub struct Tables {
+    /// Definition 1 of the paper, per configuration.
+    pub is_ambiguous: [bool; 256],
+    /// Faces with alternating signs, per configuration.
+    pub ambiguous_faces: [u8; 256],
+    /// Contours per configuration and face decisions (index `config * 64 + joined`).
+    pub contours: Vec<ContourSet>,
+    /// Standard MC triangles per configuration: `mc_tris[mc_start[c]..mc_start[c + 1]]`.
+    pub mc_tris: Vec<[u8; 3]>,
+    /// Offsets into `mc_tris`.
+    pub mc_start: [u16; 257],
+}
+
+/// The tables, built on first use.
+pub fn tables() -> &'static Tables {
+    static TABLES: OnceLock<Tables> = OnceLock::new();
+    TABLES.get_or_init(build)
+}
+
+fn build() -> Tables {
+    let mut is_ambiguous = [false; 256];
+    let mut ambiguous_faces = [0u8; 256];
+    let mut contours = Vec::with_capacity(256 * 64);
+    let mut mc_tris = Vec::new();
+    let mut mc_start = [0u16; 257];
+    for config in 0..256usize {
+        let c = config as u8;
+        is_ambiguous[config] = !signs_edge_connected(c);
+        for f in 0..6 {
+            if face_is_ambiguous(c, f) {
+                ambiguous_faces[config] |= 1 << f;
+            }
+        }
+        for joined in 0..64u8 {
+            contours.push(contour::build(c, joined));
+        }
+        mc_start[config] = mc_tris.len() as u16;
+        let set = contours[config * 64];
+        for i in 0..set.count as usize {
+            triangulate_polygon(set.contour(i), &mut mc_tris);
+        }
+    }
+    mc_start[256] = mc_tris.len() as u16;
+    Tables {
+        is_ambiguous,
+        ambiguous_faces,
+        contours,
+        mc_tris,
+        mc_start,
+    }
+}
+
+/// Definition 1: every two corners of the same sign are joined by a path
+/// along cell edges through corners of that sign.
+fn signs_edge_connected(config: u8) -> bool {
+    for sign in [0u8, 1] {
+        let members: Vec<usize> = (0..8).filter(|&c| config >> c & 1 == sign).collect();
+        let Some(&first) = members.first() else {
+            continue;
+        };
+        let mut reached = 1u8 << first;
+        loop {
+            let before = reached;
+            for &[a, b] in &EDGE_CORNERS {
+                let (ia, ib) = (config >> a & 1 == sign, config >> b & 1 == sign);
+                if ia && ib && (reached >> a & 1 == 1 || reached >> b & 1 == 1) {
+                    reached |= (1 << a) | (1 << b);
+                }
+            }
+            if reached == before {
+                break;
+            }
+        }
+        if reached.count_ones() as usize != members.len() {
+            return false;
+        }
+    }
+    true
+}
+
+/// Do edges `a` and `b` lie on a common face of the cell?
+pub fn share_face(a: usize, b: usize) -> bool {
+    let fa = edge_faces(a);
+    edge_faces(b).iter().any(|f| fa.contains(f))
+}
+
+/// Triangulates a contour without interior vertices, avoiding diagonals
+/// between two vertices on a common face where possible (such a diagonal
+/// would lie in the face, where the neighbouring cell may draw it too).
+/// Triangles keep the contour's orientation.
+fn triangulate_polygon(poly: &[u8], out: &mut Vec<[u8; 3]>) {
+    let n = poly.len();
+    let bad = |i: usize, j: usize| -> u32 {
+        let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+        u32::from(!adjacent && share_face(poly[i] as usize, poly[j] as usize))
+    };
+    // cost[i][j]: best triangulation of the sub-polygon i..=j (closed by chord i-j).
+    let mut cost = vec![vec![0u32; n]; n];
+    let mut split = vec![vec![0usize; n]; n];
+    for span in 2..n {
+        for i in 0..n - span {
+            let j = i + span;
+            let mut best = (u32::MAX, 0);
+            for k in i + 1..j {
+                let c = cost[i][k] + cost[k][j] + bad(i, k) + bad(k, j);
+                if c < best.0 {
+                    best = (c, k);
+                }
+            }
+            cost[i][j] = best.0;
+            split[i][j] = best.1;
+        }
+    }
+    fn emit(i: usize, j: usize, split: &[Vec<usize>], poly: &[u8], out: &mut Vec<[u8; 3]>) {
+        if j < i + 2 {
+            return;
+        }
+        let k = split[i][j];
+        out.push([poly[i], poly[k], poly[j]]);
+        emit(i, k, split, poly, out);
+        emit(k, j, split, poly, out);
+    }
+    emit(0, n - 1, &split, poly, out);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn definition_one_counts() {
+        let t = tables();
+        let ambiguous = t.is_ambiguous.iter().filter(|&&a| a).count();
+        // MC cases 3, 4, 6, 7 (12 + 4 + 24 + 8 configurations, and as many
+        // complements) and 10, 12, 13 (6 + 24 + 2, closed under complement).
+        assert_eq!(ambiguous, 2 * (12 + 4 + 24 + 8) + 6 + 24 + 2);
+        // Unambiguous configurations never have an ambiguous face.
+        for c in 0..256 {
+            if !t.is_ambiguous[c] {
+                assert_eq!(t.ambiguous_faces[c], 0, "config {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn mc_table_sizes() {
+        let t = tables();
+        let count = |c: usize| (t.mc_start[c + 1] - t.mc_start[c]) as usize;
+        assert_eq!(count(0), 0);
+        assert_eq!(count(255), 0);
+        assert_eq!(count(1), 1);
+        assert_eq!(count(3), 2);
+        // Each contour of n vertices gives n - 2 triangles.
+        for c in 0..256 {
+            let set = t.contours[c * 64];
+            let expect: usize = (0..set.count as usize).map(|i| set.len[i] as usize - 2).sum();
+            assert_eq!(count(c), expect);
+        }
+    }
+}

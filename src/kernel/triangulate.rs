@@ -1,0 +1,136 @@
+//! Triangulation rules of Section 5 for the contours of one ambiguous cell.
+//!
+//! Every rule emits triangles only between contour vertices of one contour
+//! and interior vertices of the cell; no triangle edge joins two vertices of
+//! a face unless they are consecutive on a contour. That is what keeps the
+//! mesh manifold across cell borders whatever the rules decide.
+//!
+//! * a contour meeting every face at most once: a fan (a flat polygon);
+//! * a contour meeting some face twice (the paper's ambiguous contours with
+//!   6 to 9 vertices): a fan around one interior vertex;
+//! * a tunnel: each of its two contours is joined by a strip to a triangle of
+//!   three interior vertices (the inner hexagon with consecutive vertices
+//!   collapsed), the two strips winding round it in opposite directions;
+//! * the 12-vertex contour: one such strip, closed by the inner triangle.
+
+use super::cell::CellMesh;
+use glam::DVec3;
+
+/// A fan over `contour` (edge indices), from its first vertex.
+pub fn fan(contour: &[u8], out: &mut CellMesh) {
+    for i in 1..contour.len() - 1 {
+        out.push_triangle([contour[0], contour[i], contour[i + 1]]);
+    }
+}
+
+/// A fan over `contour` around the interior vertex `centre` (a vertex ref).
+pub fn fan_around(contour: &[u8], centre: u8, out: &mut CellMesh) {
+    let n = contour.len();
+    for i in 0..n {
+        out.push_triangle([contour[i], contour[(i + 1) % n], centre]);
+    }
+}
+
+/// Assignment of contour vertices to the three inner vertices: each step
+/// along the contour stays or moves one place in direction `dir` (+1 or -1,
+/// mod 3), one full turn in all, at the least total cost. Walking forward
+/// round the ring keeps the fans of a strip from overlapping, which a
+/// nearest-vertex assignment does not guarantee.
+pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
+    let n = cost.len();
+    let step = |k: usize| ((k as i32 + dir).rem_euclid(3)) as usize;
+    let mut best = (f64::INFINITY, [0u8; 12]);
+    for k0 in 0..3 {
+        // dp[i][k][s]: best cost of vertices 0..=i with vertex i at k after s steps.
+        let mut dp = [[[f64::INFINITY; 4]; 3]; 12];
+        let mut from = [[[0u8; 4]; 3]; 12];
+        dp[0][k0][0] = cost[0][k0];
+        for i in 1..n {
+            for k in 0..3 {
+                for s in 0..4 {
+                    let here = dp[i - 1][k][s];
+                    if here == f64::INFINITY {
+                        continue;
+                    }
+                    let stay = here + cost[i][k];
+                    if stay < dp[i][k][s] {
+                        dp[i][k][s] = stay;
+                        from[i][k][s] = k as u8;
+                    }
+                    if s < 3 {
+                        let m = step(k);
+                        let moved = here + cost[i][m];
+                        if moved < dp[i][m][s + 1] {
+                            dp[i][m][s + 1] = moved;
+                            from[i][m][s + 1] = k as u8;
+                        }
+                    }
+                }
+            }
+        }
+        // Closing edge back to vertex 0: a stay after three steps, or the third step.
+        let mut ends = [(k0, 3usize), (usize::MAX, 2)];
+        ends[1].0 = (0..3).find(|&k| step(k) == k0).unwrap_or(0);
+        for (k, s) in ends {
+            let c = dp[n - 1][k][s];
+            if c < best.0 {
+                let mut asg = [0u8; 12];
+                let (mut k, mut s) = (k, s);
+                for i in (0..n).rev() {
+                    asg[i] = k as u8;
+                    if i > 0 {
+                        let prev = from[i][k][s] as usize;
+                        if prev != k {
+                            s -= 1;
+                        }
+                        k = prev;
+                    }
+                }
+                best = (c, asg);
+            }
+        }
+    }
+    best
+}
+
+/// The strip joining `contour` to the inner vertices `inner` (vertex refs)
+/// along assignment `asg` (from [`ring_assignment`]).
+pub fn strip(contour: &[u8], asg: &[u8], inner: [u8; 3], out: &mut CellMesh) {
+    let n = contour.len();
+    for i in 0..n {
+        let (c, cn) = (contour[i], contour[(i + 1) % n]);
+        let (a, b) = (asg[i] as usize, asg[(i + 1) % n] as usize);
+        out.push_triangle([c, cn, inner[b]]);
+        if a != b {
+            out.push_triangle([c, inner[b], inner[a]]);
+        }
+    }
+}
+
+/// Squared distances from each point to each of three targets.
+pub fn costs(points: &[DVec3], targets: &[DVec3; 3]) -> Vec<[f64; 3]> {
+    points
+        .iter()
+        .map(|p| targets.map(|t| p.distance_squared(t)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ring_assignment_makes_one_turn() {
+        let cost = vec![[0.0, 1.0, 1.0]; 5];
+        for dir in [1, -1] {
+            let (_, asg) = ring_assignment(&cost, dir);
+            let mut turns = 0;
+            for i in 0..5 {
+                let d = (asg[(i + 1) % 5] as i32 - asg[i] as i32).rem_euclid(3);
+                assert!(d == 0 || d == dir.rem_euclid(3));
+                turns += i32::from(d != 0);
+            }
+            assert_eq!(turns, 3);
+        }
+    }
+}

@@ -1,6 +1,12 @@
 //! The extraction entry point: parameters, slabs in parallel, seams stitched.
 
-use crate::{Mesh, Result, SampleSource, Stats};
+use crate::seam::stitch;
+use crate::slab::{process_slab, Block};
+use crate::volume::Padded;
+use crate::{Error, Mesh, Result, SampleSource, Stats};
+use rayon::prelude::*;
+use std::ops::Range;
+use std::time::Instant;
 
 /// Which algorithm triangulates the cells.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -52,7 +58,62 @@ impl Default for ExtractParams {
 }
 
 /// Extracts the isosurface of `source` at `params.iso`.
+///
+/// The cell layers are cut into slabs that worker threads triangulate in
+/// parallel; the result does not depend on the number of threads.
 pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mesh, Stats)> {
-    let _ = (source, params);
-    todo!("kernel in progress")
+    let start = Instant::now();
+    if !params.iso.is_finite() {
+        return Err(Error::Invalid(format!(
+            "the isovalue must be a finite number, not {}",
+            params.iso
+        )));
+    }
+    let padded;
+    let source: &dyn SampleSource = if params.close {
+        padded = Padded::new(source);
+        &padded
+    } else {
+        source
+    };
+    let dims = source.grid().dims;
+    if dims.iter().any(|&d| d < 2) {
+        return Err(Error::Invalid(format!(
+            "the grid {}x{}x{} needs at least 2 samples along every axis",
+            dims[0], dims[1], dims[2]
+        )));
+    }
+    let layers = dims[2] - 1;
+    let threads = if params.threads == 0 {
+        rayon::current_num_threads()
+    } else {
+        params.threads
+    };
+    let depth = layers.div_ceil(threads * 4).clamp(1, 64);
+    let slabs: Vec<Range<usize>> = (0..layers)
+        .step_by(depth)
+        .map(|z| z..(z + depth).min(layers))
+        .collect();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid(format!("cannot start {threads} threads: {e}")))?;
+    let results: Vec<Result<(Vec<Block>, Stats)>> = pool.install(|| {
+        slabs
+            .par_iter()
+            .map(|r| process_slab(source, params, r.clone()))
+            .collect()
+    });
+    let mut blocks = Vec::with_capacity(dims[2]);
+    let mut stats = Stats::default();
+    for r in results {
+        let (b, s) = r?;
+        blocks.extend(b);
+        stats.add_counts(&s);
+    }
+    let mesh = stitch(blocks)?;
+    stats.vertices = mesh.vertices.len() as u64;
+    stats.triangles = mesh.triangles.len() as u64;
+    stats.seconds = start.elapsed().as_secs_f64();
+    Ok((mesh, stats))
 }

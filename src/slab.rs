@@ -1,1 +1,261 @@
-//! (in progress)
+//! The slab loop: cell layers along z, with per-plane edge-vertex caches.
+//!
+//! Vertices are owned by grid planes. Block `z` holds, in this order: the
+//! vertices on x-edges of plane `z` (raster order), those on its y-edges, the
+//! vertices on z-edges between planes `z` and `z + 1`, and the interior
+//! vertices of cell layer `z`, which also emits its triangles into block `z`.
+//! A block's content depends on planes `z` and `z + 1` only, so any split of
+//! the layers into slabs, on any number of threads, gives the same blocks;
+//! triangles point into their own block or into the first part of block
+//! `z + 1` (plane vertices), which the seam step resolves to global numbers.
+//! Inside a slab no hashing is needed: edge caches are plain arrays.
+
+use crate::kernel::cell::INTERIOR;
+use crate::kernel::tables::tables;
+use crate::kernel::{triangulate_ambiguous, CellMesh};
+use crate::pipeline::{ExtractParams, Inside, Method};
+use crate::{Error, Grid, Result, SampleSource, Stats};
+use glam::DVec3;
+use std::ops::Range;
+
+/// No vertex on this edge.
+const NONE: u32 = u32::MAX;
+/// Set in a triangle's vertex reference when it points into block `z + 1`.
+pub const NEXT_BLOCK: u32 = 1 << 31;
+
+/// The vertices owned by one grid plane and the triangles of the cell layer
+/// above it. Triangle entries are local indices, possibly tagged [`NEXT_BLOCK`].
+#[derive(Debug, Default, Clone)]
+pub struct Block {
+    /// Vertex positions, physical coordinates.
+    pub vertices: Vec<[f32; 3]>,
+    /// Triangles as local references.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// One plane of values relative to the isovalue, with its edge vertices.
+struct Plane {
+    z: usize,
+    /// `value - iso` (or `iso - value`), NaN replaced by 0 (outside).
+    g: Vec<f64>,
+    /// Local vertex index per x-edge (`(nx - 1) * ny`), or [`NONE`].
+    xe: Vec<u32>,
+    /// Local vertex index per y-edge (`nx * (ny - 1)`), or [`NONE`].
+    ye: Vec<u32>,
+}
+
+/// Reads and classifies plane `z`; appends the positions of its edge
+/// vertices to `owned` when given.
+fn load_plane(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    z: usize,
+    raw: &mut [f64],
+    owned: Option<&mut Vec<[f32; 3]>>,
+) -> Result<Plane> {
+    let grid = *source.grid();
+    let [nx, ny, _] = grid.dims;
+    source.read_plane(z, raw)?;
+    let g: Vec<f64> = raw
+        .iter()
+        .map(|&v| {
+            let d = match params.inside {
+                Inside::High => v - params.iso,
+                Inside::Low => params.iso - v,
+            };
+            if d.is_nan() {
+                0.0
+            } else {
+                d.clamp(-1e150, 1e150)
+            }
+        })
+        .collect();
+    let mut xe = vec![NONE; (nx - 1) * ny];
+    let mut ye = vec![NONE; nx * (ny - 1)];
+    let mut count = 0u32;
+    let mut positions = owned;
+    for y in 0..ny {
+        for x in 0..nx - 1 {
+            let (a, b) = (g[y * nx + x], g[y * nx + x + 1]);
+            if (a > 0.0) != (b > 0.0) {
+                xe[y * (nx - 1) + x] = count;
+                count += 1;
+                if let Some(p) = positions.as_deref_mut() {
+                    p.push(physical(
+                        &grid,
+                        [x as f64 + a / (a - b), y as f64, z as f64],
+                    ));
+                }
+            }
+        }
+    }
+    for y in 0..ny - 1 {
+        for x in 0..nx {
+            let (a, b) = (g[y * nx + x], g[(y + 1) * nx + x]);
+            if (a > 0.0) != (b > 0.0) {
+                ye[y * nx + x] = count;
+                count += 1;
+                if let Some(p) = positions.as_deref_mut() {
+                    p.push(physical(
+                        &grid,
+                        [x as f64, y as f64 + a / (a - b), z as f64],
+                    ));
+                }
+            }
+        }
+    }
+    Ok(Plane { z, g, xe, ye })
+}
+
+/// `origin + index * spacing`, rounded to f32.
+fn physical(grid: &Grid, index: [f64; 3]) -> [f32; 3] {
+    [0, 1, 2].map(|i| (grid.origin[i] + index[i] * grid.spacing[i]) as f32)
+}
+
+/// Processes cell layers `layers` and returns their blocks (plus the block of
+/// the last plane when the range ends at the top of the grid) and the counts.
+pub fn process_slab(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    layers: Range<usize>,
+) -> Result<(Vec<Block>, Stats)> {
+    let grid = *source.grid();
+    let [nx, ny, nz] = grid.dims;
+    let mut raw = vec![0.0; grid.plane_len()];
+    let mut stats = Stats::default();
+    let mut blocks = Vec::with_capacity(layers.len() + 1);
+    let mut block = Block::default();
+    let mut bottom = load_plane(
+        source,
+        params,
+        layers.start,
+        &mut raw,
+        Some(&mut block.vertices),
+    )?;
+    let mut cell = CellMesh::new();
+    let mut ze = vec![NONE; nx * ny];
+    for z in layers.clone() {
+        let mut next = Block::default();
+        let top = load_plane(source, params, z + 1, &mut raw, Some(&mut next.vertices))?;
+        // z-edges between the two planes.
+        for y in 0..ny {
+            for x in 0..nx {
+                let i = y * nx + x;
+                let (a, b) = (bottom.g[i], top.g[i]);
+                ze[i] = NONE;
+                if (a > 0.0) != (b > 0.0) {
+                    ze[i] = local_index(&block)?;
+                    block.vertices.push(physical(
+                        &grid,
+                        [x as f64, y as f64, z as f64 + a / (a - b)],
+                    ));
+                }
+            }
+        }
+        layer_cells(
+            &grid, params, &bottom, &top, &ze, &mut block, &mut cell, &mut stats,
+        )?;
+        blocks.push(std::mem::replace(&mut block, next));
+        bottom = top;
+    }
+    if layers.end == nz - 1 {
+        blocks.push(block);
+    }
+    Ok((blocks, stats))
+}
+
+fn local_index(block: &Block) -> Result<u32> {
+    let n = block.vertices.len() as u64;
+    if n >= NEXT_BLOCK as u64 {
+        return Err(Error::Invalid(
+            "more than 2^31 vertices in one grid plane".into(),
+        ));
+    }
+    Ok(n as u32)
+}
+
+/// Triangulates the cells between planes `bottom` and `top`.
+#[allow(clippy::too_many_arguments)]
+fn layer_cells(
+    grid: &Grid,
+    params: &ExtractParams,
+    bottom: &Plane,
+    top: &Plane,
+    ze: &[u32],
+    block: &mut Block,
+    cell: &mut CellMesh,
+    stats: &mut Stats,
+) -> Result<()> {
+    let [nx, ny, _] = grid.dims;
+    let t = tables();
+    let z = bottom.z;
+    for y in 0..ny - 1 {
+        for x in 0..nx - 1 {
+            let i = y * nx + x;
+            let idx = [i, i + 1, i + nx, i + nx + 1];
+            let g: [f64; 8] = [
+                bottom.g[idx[0]],
+                bottom.g[idx[1]],
+                bottom.g[idx[2]],
+                bottom.g[idx[3]],
+                top.g[idx[0]],
+                top.g[idx[1]],
+                top.g[idx[2]],
+                top.g[idx[3]],
+            ];
+            let config = g
+                .iter()
+                .enumerate()
+                .fold(0u8, |m, (c, &v)| m | (u8::from(v > 0.0) << c));
+            if config == 0 || config == 255 {
+                continue;
+            }
+            let xi = y * (nx - 1) + x;
+            let edge_ref = |e: u8| -> u32 {
+                match e {
+                    0 => bottom.xe[xi],
+                    1 => bottom.xe[xi + nx - 1],
+                    2 => top.xe[xi] | NEXT_BLOCK,
+                    3 => top.xe[xi + nx - 1] | NEXT_BLOCK,
+                    4 => bottom.ye[i],
+                    5 => bottom.ye[i + 1],
+                    6 => top.ye[i] | NEXT_BLOCK,
+                    7 => top.ye[i + 1] | NEXT_BLOCK,
+                    8 => ze[i],
+                    9 => ze[i + 1],
+                    10 => ze[i + nx],
+                    _ => ze[i + nx + 1],
+                }
+            };
+            let ambiguous = t.is_ambiguous[config as usize];
+            if ambiguous {
+                stats.ambiguous_cells += 1;
+            }
+            if !ambiguous || params.method == Method::Mc {
+                let range =
+                    t.mc_start[config as usize] as usize..t.mc_start[config as usize + 1] as usize;
+                for tri in &t.mc_tris[range] {
+                    block.triangles.push(tri.map(edge_ref));
+                }
+                continue;
+            }
+            cell.clear();
+            triangulate_ambiguous(&g, config, stats, cell);
+            let first_interior = local_index(block)?;
+            for p in &cell.interior {
+                let index = DVec3::new(x as f64, y as f64, z as f64) + *p;
+                block.vertices.push(physical(grid, index.to_array()));
+            }
+            for tri in &cell.triangles {
+                block.triangles.push(tri.map(|r| {
+                    if r < INTERIOR {
+                        edge_ref(r)
+                    } else {
+                        first_interior + (r - INTERIOR) as u32
+                    }
+                }));
+            }
+        }
+    }
+    Ok(())
+}

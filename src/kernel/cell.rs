@@ -90,7 +90,8 @@ pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
 /// `> 0`) and configuration `config`; counts the paper's Table 1 in `stats`.
 pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &mut CellMesh) {
     let set = &tables().contours[config as usize * 64 + face_decisions(g, config) as usize];
-    let points = |c: &[u8]| -> Vec<DVec3> { c.iter().map(|&e| edge_point(g, e as usize)).collect() };
+    let points =
+        |c: &[u8]| -> Vec<DVec3> { c.iter().map(|&e| edge_point(g, e as usize)).collect() };
 
     let tunnel = if set.count >= 2 {
         interior_joins(g, set)
@@ -186,11 +187,20 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], p: &[DVec3], out: &mut CellM
     let hex = inner_hexagon(g);
     let cost: Vec<[f64; 3]> = p
         .iter()
-        .map(|q| [0, 1, 2].map(|k| q.distance_squared(hex[2 * k]).min(q.distance_squared(hex[2 * k + 1]))))
+        .map(|q| {
+            [0, 1, 2].map(|k| {
+                q.distance_squared(hex[2 * k])
+                    .min(q.distance_squared(hex[2 * k + 1]))
+            })
+        })
         .collect();
     let (c_up, a_up) = ring_assignment(&cost, 1);
     let (c_down, a_down) = ring_assignment(&cost, -1);
-    let (dir, asg) = if c_up <= c_down { (1, a_up) } else { (-1, a_down) };
+    let (dir, asg) = if c_up <= c_down {
+        (1, a_up)
+    } else {
+        (-1, a_down)
+    };
     let inner = inner_triangle(&hex, out);
     strip(contour, &asg[..contour.len()], inner, out);
     // The strip uses each inner edge against the walking direction; the cap

@@ -202,7 +202,11 @@ mod tests {
                 let mut labels = s.corner_comp.to_vec();
                 labels.sort_unstable();
                 labels.dedup();
-                assert_eq!(labels.len(), s.count as usize + 1, "config {config} joined {joined}");
+                assert_eq!(
+                    labels.len(),
+                    s.count as usize + 1,
+                    "config {config} joined {joined}"
+                );
             }
         }
     }

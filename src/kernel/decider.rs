@@ -18,7 +18,9 @@ pub fn det2_sign(p: f64, q: f64, r: f64, s: f64) -> std::cmp::Ordering {
     let w = r * s;
     let e = (-r).mul_add(s, w); // w - r*s, exact
     let f = p.mul_add(q, -w); // p*q - w, rounded once
-    (f + e).partial_cmp(&0.0).unwrap_or(std::cmp::Ordering::Equal)
+    (f + e)
+        .partial_cmp(&0.0)
+        .unwrap_or(std::cmp::Ordering::Equal)
 }
 
 /// Are the inside corners `a`, `c` of an ambiguous face joined across it?

@@ -173,7 +173,9 @@ mod tests {
         // Each contour of n vertices gives n - 2 triangles.
         for c in 0..256 {
             let set = t.contours[c * 64];
-            let expect: usize = (0..set.count as usize).map(|i| set.len[i] as usize - 2).sum();
+            let expect: usize = (0..set.count as usize)
+                .map(|i| set.len[i] as usize - 2)
+                .sum();
             assert_eq!(count(c), expect);
         }
     }

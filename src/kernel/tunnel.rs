@@ -51,7 +51,12 @@ pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Vec<Join> {
 
 /// Arithmetic the sweep needs; exact for `i128`, rounded for `f64`.
 trait Num:
-    Copy + PartialOrd + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
+    Copy
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Neg<Output = Self>
 {
     const ZERO: Self;
     const ONE: Self;
@@ -92,8 +97,10 @@ impl<T: Num> Frac<T> {
 fn sweep<T: Num>(h: &[T; 8], closed: bool, labels: &mut [u8; 8], joins: &mut Vec<Join>) {
     let is_in = |v: T| if closed { v >= T::ZERO } else { v > T::ZERO };
     for (k, kk, j, jj) in [(0, 3, 1, 2), (1, 2, 0, 3)] {
-        let (Some(ik), Some(ikk)) = (range(h[k], h[k + 4], closed), range(h[kk], h[kk + 4], closed))
-        else {
+        let (Some(ik), Some(ikk)) = (
+            range(h[k], h[k + 4], closed),
+            range(h[kk], h[kk + 4], closed),
+        ) else {
             continue;
         };
         let ck = if is_in(h[k]) { k } else { k + 4 };
@@ -126,7 +133,10 @@ fn range<T: Num>(bottom: T, top: T, closed: bool) -> Option<(Frac<T>, Frac<T>)> 
         p: T::ZERO,
         q: T::ONE,
     };
-    let one = Frac { p: T::ONE, q: T::ONE };
+    let one = Frac {
+        p: T::ONE,
+        q: T::ONE,
+    };
     match (is_in(bottom), is_in(top)) {
         (true, true) => Some((zero, one)),
         (true, false) => Some((

@@ -7,10 +7,12 @@
 mod array;
 pub mod npy;
 pub mod nrrd;
+mod padded;
 pub mod raw;
 mod scalar;
 
 pub use array::ArrayVolume;
+pub use padded::Padded;
 pub use scalar::{Endian, ScalarType};
 
 use crate::Result;

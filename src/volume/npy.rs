@@ -2,5 +2,8 @@
 use crate::{Error, Result};
 /// Opens a `.npy` file.
 pub fn open(path: &std::path::Path) -> Result<super::ArrayVolume> {
-    Err(Error::Invalid(format!("{}: npy not yet supported", path.display())))
+    Err(Error::Invalid(format!(
+        "{}: npy not yet supported",
+        path.display()
+    )))
 }

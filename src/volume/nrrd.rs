@@ -2,5 +2,8 @@
 use crate::{Error, Result};
 /// Opens a `.nrrd` file.
 pub fn open(path: &std::path::Path) -> Result<super::ArrayVolume> {
-    Err(Error::Invalid(format!("{}: nrrd not yet supported", path.display())))
+    Err(Error::Invalid(format!(
+        "{}: nrrd not yet supported",
+        path.display()
+    )))
 }

@@ -1,0 +1,49 @@
+//! A one-sample border of "outside" around a volume, for `--close`.
+
+use super::{Grid, SampleSource};
+use crate::Result;
+
+/// Wraps a source with one plane/row/column of NaN samples on every side.
+/// NaN counts as outside (a tie at the isovalue), so every surface closes one
+/// sample beyond the volume, with the topology of the surface cut off at the
+/// volume's border.
+pub struct Padded<'a> {
+    inner: &'a dyn SampleSource,
+    grid: Grid,
+}
+
+impl<'a> Padded<'a> {
+    /// Pads `inner`; the grid grows by two samples per axis and its origin
+    /// moves one spacing down.
+    pub fn new(inner: &'a dyn SampleSource) -> Self {
+        let g = *inner.grid();
+        let grid = Grid {
+            dims: g.dims.map(|d| d + 2),
+            spacing: g.spacing,
+            origin: [0, 1, 2].map(|i| g.origin[i] - g.spacing[i]),
+        };
+        Padded { inner, grid }
+    }
+}
+
+impl SampleSource for Padded<'_> {
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        out.fill(f64::NAN);
+        if z == 0 || z == self.grid.dims[2] - 1 {
+            return Ok(());
+        }
+        let [nx, ny, _] = self.inner.grid().dims;
+        let mut plane = vec![0.0; nx * ny];
+        self.inner.read_plane(z - 1, &mut plane)?;
+        let wide = self.grid.dims[0];
+        for y in 0..ny {
+            let row = (y + 1) * wide + 1;
+            out[row..row + nx].copy_from_slice(&plane[y * nx..(y + 1) * nx]);
+        }
+        Ok(())
+    }
+}

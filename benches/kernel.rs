@@ -1,1 +1,63 @@
-fn main() {}
+//! Criterion benchmarks of the kernel and the slab loop, so regressions show
+//! in review: `cargo bench --bench kernel`.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+use tmc::kernel::{triangulate_ambiguous, CellMesh};
+use tmc::{extract, synth, ExtractParams, Method, Stats};
+
+/// Ambiguous cells of uniform noise, triangulated one by one.
+fn ambiguous_cells(c: &mut Criterion) {
+    let tables = tmc::kernel::tables::tables();
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
+    let mut cells = Vec::new();
+    while cells.len() < 10_000 {
+        let g: [f64; 8] = std::array::from_fn(|_| next());
+        let config = (0..8).fold(0u8, |m, i| m | (u8::from(g[i] > 0.0) << i));
+        if tables.is_ambiguous[config as usize] {
+            cells.push((g, config));
+        }
+    }
+    let mut out = CellMesh::new();
+    let mut stats = Stats::default();
+    c.bench_function("10k ambiguous cells", |b| {
+        b.iter(|| {
+            for (g, config) in &cells {
+                out.clear();
+                triangulate_ambiguous(g, *config, &mut stats, &mut out);
+                black_box(out.triangles.len());
+            }
+        })
+    });
+}
+
+/// The whole slab loop on a smooth volume and on noise, TMC and MC.
+fn slab_loop(c: &mut Criterion) {
+    let gyroid = synth::gyroid(96, 3.0);
+    let noise = synth::noise(64, 3, 1);
+    for (name, vol) in [("gyroid 96", &gyroid), ("noise 64", &noise)] {
+        for method in [Method::Tmc, Method::Mc] {
+            let params = ExtractParams {
+                method,
+                threads: 1,
+                ..Default::default()
+            };
+            c.bench_function(&format!("{name} {method:?}"), |b| {
+                b.iter(|| black_box(extract(vol, &params).expect("extract").1.triangles))
+            });
+        }
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10);
+    targets = ambiguous_cells, slab_loop
+}
+criterion_main!(benches);

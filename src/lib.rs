@@ -33,6 +33,7 @@ pub mod pipeline;
 pub mod seam;
 pub mod slab;
 pub mod stats;
+pub mod synth;
 pub mod volume;
 
 pub use error::{Error, Result};

@@ -1,1 +1,9 @@
-fn main() {}
+//! The `tmc` command: extract isosurfaces from volumes, check meshes.
+//!
+//! Everything lives in the binary-only [`cli`] module; see `tmc --help`.
+
+mod cli;
+
+fn main() -> std::process::ExitCode {
+    cli::main()
+}

@@ -1,1 +1,140 @@
-//! (in progress)
+//! Mesh writers: PLY (binary little-endian), OBJ, OFF and STL (binary).
+//!
+//! [`write_mesh`] picks the format from the output extension and writes
+//! atomically (a temporary file in the same directory, renamed onto the
+//! path once complete), so a failed write never leaves a partial file.
+//! STL cannot share vertices: every facet stores its own three corners.
+
+mod atomic;
+mod obj;
+mod off;
+mod ply;
+mod stl;
+
+pub use atomic::write_atomically;
+pub use obj::write_obj;
+pub use off::write_off;
+pub use ply::write_ply;
+pub use stl::write_stl;
+
+use crate::{Error, Mesh, Result};
+use std::fs;
+use std::path::Path;
+
+/// An output mesh format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Stanford PLY, binary little-endian, shared vertices.
+    Ply,
+    /// Wavefront OBJ (text), shared vertices.
+    Obj,
+    /// Object File Format (text), shared vertices.
+    Off,
+    /// STL, binary, three unshared vertices per facet.
+    Stl,
+}
+
+impl Format {
+    /// The format named by `path`'s extension (case-insensitive).
+    pub fn from_path(path: &Path) -> Result<Format> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "ply" => Ok(Format::Ply),
+            "obj" => Ok(Format::Obj),
+            "off" => Ok(Format::Off),
+            "stl" => Ok(Format::Stl),
+            _ => Err(Error::Invalid(format!(
+                "{}: unknown output format (expected .ply, .obj, .off or .stl)",
+                path.display()
+            ))),
+        }
+    }
+}
+
+/// Writes `mesh` to `path` in the format named by its extension, atomically:
+/// on error nothing is left at `path` (an existing file there is kept).
+pub fn write_mesh(path: &Path, mesh: &Mesh) -> Result<()> {
+    let format = Format::from_path(path)?;
+    check_mesh_indices(path, mesh)?;
+    write_atomically(path, |w| match format {
+        Format::Ply => write_ply(w, mesh),
+        Format::Obj => write_obj(w, mesh),
+        Format::Off => write_off(w, mesh),
+        Format::Stl => write_stl(w, mesh),
+    })
+}
+
+/// Checks, before any work is done, that a mesh could be written to `path`:
+/// the extension is a known format, `path` is not a directory, and its parent
+/// directory exists and accepts new files.
+pub fn check_output_path(path: &Path) -> Result<()> {
+    Format::from_path(path)?;
+    if path.is_dir() {
+        return Err(Error::Invalid(format!(
+            "{}: is a directory, not an output file",
+            path.display()
+        )));
+    }
+    let dir = atomic::parent_dir(path);
+    match fs::metadata(dir) {
+        Ok(meta) if meta.is_dir() => {}
+        Ok(_) => {
+            return Err(Error::Invalid(format!(
+                "{}: output directory {} is not a directory",
+                path.display(),
+                dir.display()
+            )))
+        }
+        Err(_) => {
+            return Err(Error::Invalid(format!(
+                "{}: output directory {} does not exist",
+                path.display(),
+                dir.display()
+            )))
+        }
+    }
+    // The only reliable test of writability is to create a file there.
+    tempfile::Builder::new()
+        .prefix(".tmc-probe-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map(drop)
+        .map_err(|e| {
+            Error::Invalid(format!(
+                "{}: cannot write in directory {}: {}",
+                path.display(),
+                dir.display(),
+                atomic::without_temp_path(e)
+            ))
+        })
+}
+
+/// Rejects triangles that name a vertex the mesh does not have.
+fn check_mesh_indices(path: &Path, mesh: &Mesh) -> Result<()> {
+    let n = mesh.vertices.len();
+    if u32::try_from(n).is_err() || u32::try_from(mesh.triangles.len()).is_err() {
+        return Err(Error::Invalid(format!(
+            "{}: mesh too large ({} vertices, {} triangles; at most {} each)",
+            path.display(),
+            n,
+            mesh.triangles.len(),
+            u32::MAX
+        )));
+    }
+    if let Some((i, t)) = mesh
+        .triangles
+        .iter()
+        .enumerate()
+        .find(|(_, t)| t.iter().any(|&v| v as usize >= n))
+    {
+        return Err(Error::Invalid(format!(
+            "{}: triangle {i} {t:?} refers to a vertex past the {n} vertices",
+            path.display()
+        )));
+    }
+    Ok(())
+}

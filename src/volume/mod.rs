@@ -13,7 +13,8 @@ mod scalar;
 
 pub use array::ArrayVolume;
 pub use padded::Padded;
-pub use scalar::{Endian, ScalarType};
+pub use raw::RawVolume;
+pub use scalar::{decode_samples, decode_strided, Endian, ScalarType};
 
 use crate::Result;
 use std::path::Path;

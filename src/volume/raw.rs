@@ -1,13 +1,270 @@
-//! (in progress) raw reader.
+//! Samples of one scalar type stored contiguously in a file after a header,
+//! memory-mapped and decoded one plane at a time.
+//!
+//! [`RawVolume::open`] reads headerless files described by [`RawOptions`];
+//! the `.npy` and `.nrrd` readers parse their headers and then build the same
+//! [`RawVolume`] over the data that follows.
+
+use super::scalar::{decode_samples, decode_strided};
+use super::{Endian, Grid, RawOptions, SampleSource, ScalarType};
 use crate::{Error, Result};
-/// A raw volume.
-pub struct RawVolume;
-impl RawVolume {
-    /// Opens a raw file.
-    pub fn open(path: &std::path::Path, _o: &super::RawOptions) -> Result<super::ArrayVolume> {
-        Err(Error::Invalid(format!(
-            "{}: raw not yet supported",
-            path.display()
-        )))
+use memmap2::Mmap;
+use std::fmt;
+use std::fs::File;
+use std::path::Path;
+
+/// Memory order of the samples of a [`RawVolume`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Order {
+    /// x varies fastest, then y, then z (C order of a `[z][y][x]` array).
+    XFastest,
+    /// z varies fastest, then y, then x (Fortran order of a `[z][y][x]` array).
+    ZFastest,
+}
+
+/// Where the samples of a [`RawVolume`] live.
+pub(crate) struct Layout {
+    /// Grid of the samples.
+    pub grid: Grid,
+    /// Stored sample type.
+    pub scalar: ScalarType,
+    /// Byte order of the stored samples.
+    pub endian: Endian,
+    /// Byte offset of the first sample.
+    pub offset: u64,
+    /// Memory order of the samples.
+    pub order: Order,
+}
+
+/// The bytes behind a [`RawVolume`].
+enum Storage {
+    /// A read-only memory map of the whole file.
+    Mapped(Mmap),
+    /// Bytes held in memory (decompressed data).
+    Owned(Vec<u8>),
+}
+
+impl Storage {
+    fn bytes(&self) -> &[u8] {
+        match self {
+            Storage::Mapped(map) => map,
+            Storage::Owned(bytes) => bytes,
+        }
     }
+}
+
+/// A volume whose samples are read from a memory-mapped file (or, for
+/// compressed input, from bytes in memory) and converted plane by plane;
+/// the file is never read into memory as a whole.
+pub struct RawVolume {
+    grid: Grid,
+    scalar: ScalarType,
+    endian: Endian,
+    order: Order,
+    offset: usize,
+    storage: Storage,
+}
+
+impl RawVolume {
+    /// Opens a headerless file of samples described by `options`.
+    ///
+    /// The file must hold at least `header_bytes + dims product * sample size`
+    /// bytes (trailing bytes are ignored); dims must be at least 1, spacing
+    /// finite and positive, origin finite.
+    pub fn open(path: &Path, options: &RawOptions) -> Result<RawVolume> {
+        let layout = Layout {
+            grid: Grid {
+                dims: options.dims,
+                spacing: options.spacing,
+                origin: options.origin,
+            },
+            scalar: options.scalar,
+            endian: options.endian,
+            offset: options.header_bytes,
+            order: Order::XFastest,
+        };
+        let file = File::open(path).map_err(|e| Error::io(path, e))?;
+        RawVolume::map_file(path, &file, layout)
+    }
+
+    /// Maps `file` (opened from `path`) and checks that it holds the samples
+    /// described by `layout`.
+    pub(crate) fn map_file(path: &Path, file: &File, layout: Layout) -> Result<RawVolume> {
+        check_grid(path, &layout.grid)?;
+        let meta = file.metadata().map_err(|e| Error::io(path, e))?;
+        if !meta.is_file() {
+            return Err(Error::Format(format!(
+                "{}: not a regular file",
+                path.display()
+            )));
+        }
+        check_length(path, meta.len(), &layout)?;
+        // SAFETY: the map is read-only and private to this volume. Memory
+        // mapping is sound as long as no other process truncates or rewrites
+        // the file while it is mapped; like every mmap-based reader we accept
+        // that an input file must not change during an extraction. The length
+        // was checked above, so every access stays inside the mapping.
+        let map = unsafe { Mmap::map(file) }.map_err(|e| Error::io(path, e))?;
+        // The map may be shorter than the metadata said if the file shrank
+        // in between: check again against what was actually mapped.
+        check_length(path, map.len() as u64, &layout)?;
+        RawVolume::with_storage(path, layout, Storage::Mapped(map))
+    }
+
+    /// Wraps samples already in memory (for example, decompressed data).
+    pub(crate) fn from_bytes(path: &Path, bytes: Vec<u8>, layout: Layout) -> Result<RawVolume> {
+        check_grid(path, &layout.grid)?;
+        check_length(path, bytes.len() as u64, &layout)?;
+        RawVolume::with_storage(path, layout, Storage::Owned(bytes))
+    }
+
+    fn with_storage(path: &Path, layout: Layout, storage: Storage) -> Result<RawVolume> {
+        let offset = usize::try_from(layout.offset).map_err(|_| {
+            Error::Format(format!(
+                "{}: data offset {} is too large",
+                path.display(),
+                layout.offset
+            ))
+        })?;
+        Ok(RawVolume {
+            grid: layout.grid,
+            scalar: layout.scalar,
+            endian: layout.endian,
+            order: layout.order,
+            offset,
+            storage,
+        })
+    }
+
+    /// The stored sample type.
+    pub fn scalar(&self) -> ScalarType {
+        self.scalar
+    }
+
+    /// The byte order of the stored samples.
+    pub fn endian(&self) -> Endian {
+        self.endian
+    }
+
+    /// Whether the samples are stored with z varying fastest (a Fortran-order
+    /// `.npy` array) rather than x fastest.
+    pub fn is_z_fastest(&self) -> bool {
+        self.order == Order::ZFastest
+    }
+}
+
+impl fmt::Debug for RawVolume {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("RawVolume")
+            .field("grid", &self.grid)
+            .field("scalar", &self.scalar)
+            .field("endian", &self.endian)
+            .field("order", &self.order)
+            .field("offset", &self.offset)
+            .field(
+                "storage",
+                &match self.storage {
+                    Storage::Mapped(_) => "mapped",
+                    Storage::Owned(_) => "owned",
+                },
+            )
+            .finish()
+    }
+}
+
+impl SampleSource for RawVolume {
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        let [nx, ny, nz] = self.grid.dims;
+        if z >= nz {
+            return Err(Error::Invalid(format!(
+                "plane {z} out of range: the volume has {nz} planes"
+            )));
+        }
+        let plane = nx * ny;
+        if out.len() != plane {
+            return Err(Error::Invalid(format!(
+                "plane buffer holds {} samples, a plane has {plane}",
+                out.len()
+            )));
+        }
+        // The length check at construction guarantees that every index below
+        // is inside the data and that no product overflows.
+        let size = self.scalar.size();
+        let data = &self.storage.bytes()[self.offset..];
+        match self.order {
+            Order::XFastest => {
+                let start = z * plane * size;
+                decode_samples(
+                    self.scalar,
+                    self.endian,
+                    &data[start..start + plane * size],
+                    out,
+                );
+            }
+            Order::ZFastest => {
+                for (y, row) in out.chunks_exact_mut(nx).enumerate() {
+                    let start = (z + nz * y) * size;
+                    decode_strided(self.scalar, self.endian, data, start, nz * ny * size, row);
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Checks dims (at least 1), spacing (finite, positive) and origin (finite).
+fn check_grid(path: &Path, grid: &Grid) -> Result<()> {
+    let bad = |what: String| Err(Error::Format(format!("{}: {what}", path.display())));
+    if grid.dims.contains(&0) {
+        return bad(format!("dims {} contain a zero", dims_text(grid.dims)));
+    }
+    if grid.spacing.iter().any(|s| !s.is_finite() || *s <= 0.0) {
+        return bad(format!(
+            "spacing {:?} must be finite and positive",
+            grid.spacing
+        ));
+    }
+    if grid.origin.iter().any(|o| !o.is_finite()) {
+        return bad(format!("origin {:?} must be finite", grid.origin));
+    }
+    Ok(())
+}
+
+/// Checks that `len` bytes hold the header and every sample of `layout`.
+fn check_length(path: &Path, len: u64, layout: &Layout) -> Result<()> {
+    let dims = layout.grid.dims;
+    let Some(data) = data_bytes(dims, layout.scalar) else {
+        return Err(Error::Format(format!(
+            "{}: dims {} {} are too large",
+            path.display(),
+            dims_text(dims),
+            layout.scalar
+        )));
+    };
+    match data.checked_add(layout.offset) {
+        Some(needed) if needed <= len && usize::try_from(needed).is_ok() => Ok(()),
+        _ => Err(Error::Format(format!(
+            "{}: file has {len} bytes, dims {} {} need {data} after a {}-byte header",
+            path.display(),
+            dims_text(dims),
+            layout.scalar,
+            layout.offset
+        ))),
+    }
+}
+
+/// Bytes taken by the samples of `dims`, or `None` on overflow.
+pub(crate) fn data_bytes(dims: [usize; 3], scalar: ScalarType) -> Option<u64> {
+    dims.iter().try_fold(scalar.size() as u64, |acc, &d| {
+        acc.checked_mul(u64::try_from(d).ok()?)
+    })
+}
+
+/// `dims` as `XxYxZ`.
+pub(crate) fn dims_text(dims: [usize; 3]) -> String {
+    format!("{}x{}x{}", dims[0], dims[1], dims[2])
 }

@@ -1,4 +1,8 @@
-//! Sample types and byte order.
+//! Sample types, byte order, and decoding stored samples into `f64`.
+
+use crate::{Error, Result};
+use std::fmt;
+use std::str::FromStr;
 
 /// The scalar type of stored samples.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,4 +33,198 @@ pub enum Endian {
     Little,
     /// most significant byte first
     Big,
+}
+
+/// The short names accepted by [`ScalarType::from_name`], in display order.
+const NAMES: &str = "u8, i8, u16, i16, u32, i32, f32, f64";
+
+impl ScalarType {
+    /// Every scalar type, smallest first.
+    pub const ALL: [ScalarType; 8] = [
+        ScalarType::U8,
+        ScalarType::I8,
+        ScalarType::U16,
+        ScalarType::I16,
+        ScalarType::U32,
+        ScalarType::I32,
+        ScalarType::F32,
+        ScalarType::F64,
+    ];
+
+    /// Bytes per sample.
+    pub fn size(self) -> usize {
+        match self {
+            ScalarType::U8 | ScalarType::I8 => 1,
+            ScalarType::U16 | ScalarType::I16 => 2,
+            ScalarType::U32 | ScalarType::I32 | ScalarType::F32 => 4,
+            ScalarType::F64 => 8,
+        }
+    }
+
+    /// The short name (`u8`, `i16`, `f32`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            ScalarType::U8 => "u8",
+            ScalarType::I8 => "i8",
+            ScalarType::U16 => "u16",
+            ScalarType::I16 => "i16",
+            ScalarType::U32 => "u32",
+            ScalarType::I32 => "i32",
+            ScalarType::F32 => "f32",
+            ScalarType::F64 => "f64",
+        }
+    }
+
+    /// Parses a short name (`u8, i8, u16, i16, u32, i32, f32, f64`) or a
+    /// common long one (`uint8`, `int16`, `float32`, `float`, `double`, ...),
+    /// ignoring case.
+    pub fn from_name(name: &str) -> Option<ScalarType> {
+        let t = match name.trim().to_ascii_lowercase().as_str() {
+            "u8" | "uint8" => ScalarType::U8,
+            "i8" | "int8" => ScalarType::I8,
+            "u16" | "uint16" => ScalarType::U16,
+            "i16" | "int16" => ScalarType::I16,
+            "u32" | "uint32" => ScalarType::U32,
+            "i32" | "int32" => ScalarType::I32,
+            "f32" | "float32" | "float" => ScalarType::F32,
+            "f64" | "float64" | "double" => ScalarType::F64,
+            _ => return None,
+        };
+        Some(t)
+    }
+
+    /// Parses a numpy dtype description such as `<u2`, `|u1`, `>f4` or
+    /// `<f8` into a type and byte order (`=` means native order; `|` is only
+    /// meaningful for one-byte types and reads as little-endian).
+    pub fn from_numpy_descr(descr: &str) -> Option<(ScalarType, Endian)> {
+        let mut chars = descr.chars();
+        let order = chars.next()?;
+        let endian = match order {
+            '<' | '|' => Endian::Little,
+            '>' => Endian::Big,
+            '=' => Endian::native(),
+            _ => return None,
+        };
+        let t = match chars.as_str() {
+            "u1" => ScalarType::U8,
+            "i1" => ScalarType::I8,
+            "u2" => ScalarType::U16,
+            "i2" => ScalarType::I16,
+            "u4" => ScalarType::U32,
+            "i4" => ScalarType::I32,
+            "f4" => ScalarType::F32,
+            "f8" => ScalarType::F64,
+            _ => return None,
+        };
+        Some((t, endian))
+    }
+}
+
+impl fmt::Display for ScalarType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for ScalarType {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        ScalarType::from_name(s).ok_or_else(|| {
+            Error::Invalid(format!(
+                "unknown sample type '{s}' (expected one of {NAMES})"
+            ))
+        })
+    }
+}
+
+impl Endian {
+    /// The byte order of this machine.
+    pub fn native() -> Endian {
+        if cfg!(target_endian = "big") {
+            Endian::Big
+        } else {
+            Endian::Little
+        }
+    }
+
+    /// The name (`little` or `big`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Endian::Little => "little",
+            Endian::Big => "big",
+        }
+    }
+}
+
+impl fmt::Display for Endian {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Decodes the samples packed in `bytes` into `out`, one sample per element.
+///
+/// Integers convert exactly; floats widen exactly, NaN stays NaN.
+///
+/// # Panics
+/// If `bytes.len() != out.len() * scalar.size()`.
+pub fn decode_samples(scalar: ScalarType, endian: Endian, bytes: &[u8], out: &mut [f64]) {
+    assert_eq!(
+        bytes.len(),
+        out.len() * scalar.size(),
+        "decode_samples: byte count does not match sample count"
+    );
+    decode_strided(scalar, endian, bytes, 0, scalar.size(), out);
+}
+
+/// Decodes `out.len()` samples from `bytes`, sample `i` starting at byte
+/// `start + i * stride` (a stride of `scalar.size()` means packed samples).
+///
+/// # Panics
+/// If the last sample read would end past `bytes.len()`.
+pub fn decode_strided(
+    scalar: ScalarType,
+    endian: Endian,
+    bytes: &[u8],
+    start: usize,
+    stride: usize,
+    out: &mut [f64],
+) {
+    if out.is_empty() {
+        return;
+    }
+    let last_end = (out.len() - 1)
+        .checked_mul(stride)
+        .and_then(|v| v.checked_add(start))
+        .and_then(|v| v.checked_add(scalar.size()));
+    assert!(
+        last_end.is_some_and(|end| end <= bytes.len()),
+        "decode_strided: samples extend past the end of the bytes"
+    );
+    macro_rules! run {
+        ($t:ty) => {{
+            const N: usize = std::mem::size_of::<$t>();
+            for (i, o) in out.iter_mut().enumerate() {
+                let at = start + i * stride;
+                let mut raw = [0u8; N];
+                raw.copy_from_slice(&bytes[at..at + N]);
+                let v = match endian {
+                    Endian::Little => <$t>::from_le_bytes(raw),
+                    Endian::Big => <$t>::from_be_bytes(raw),
+                };
+                *o = f64::from(v);
+            }
+        }};
+    }
+    match scalar {
+        ScalarType::U8 => run!(u8),
+        ScalarType::I8 => run!(i8),
+        ScalarType::U16 => run!(u16),
+        ScalarType::I16 => run!(i16),
+        ScalarType::U32 => run!(u32),
+        ScalarType::I32 => run!(i32),
+        ScalarType::F32 => run!(f32),
+        ScalarType::F64 => run!(f64),
+    }
 }

@@ -1,0 +1,62 @@
+//! TMC against standard MC on the same code path: medians of interleaved
+//! runs, and their ratio. Run with `cargo bench --bench tmc_vs_mc`
+//! (or `scripts/bench-tmc-vs-mc`). Set `TMC_BENCH_RUNS` to change the number
+//! of runs (default 7) and `TMC_BENCH_N` the grid size (default 192).
+
+use std::time::Instant;
+use tmc::{extract, synth, ArrayVolume, ExtractParams, Method};
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn time(vol: &ArrayVolume, method: Method, threads: usize) -> (f64, u64) {
+    let params = ExtractParams {
+        iso: 0.0,
+        method,
+        threads,
+        ..Default::default()
+    };
+    let start = Instant::now();
+    let (_, stats) = extract(vol, &params).expect("extraction");
+    (start.elapsed().as_secs_f64(), stats.triangles)
+}
+
+fn main() {
+    let runs: usize = std::env::var("TMC_BENCH_RUNS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(7);
+    let n: usize = std::env::var("TMC_BENCH_N")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(192);
+    let volumes = [
+        ("gyroid (smooth)", synth::gyroid(n, 6.0)),
+        ("noise, 1 smoothing pass", synth::noise(n, 7, 1)),
+        ("uniform noise", synth::noise(n, 7, 0)),
+    ];
+    println!("grid {n}^3, {runs} interleaved runs each, 1 thread, median seconds");
+    println!(
+        "{:<26} {:>10} {:>10} {:>8} {:>12} {:>12}",
+        "volume", "tmc s", "mc s", "tmc/mc", "tmc tris", "mc tris"
+    );
+    for (name, vol) in &volumes {
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        let (mut ta, mut tb) = (0, 0);
+        for _ in 0..runs {
+            let (s, t) = time(vol, Method::Tmc, 1);
+            a.push(s);
+            ta = t;
+            let (s, t) = time(vol, Method::Mc, 1);
+            b.push(s);
+            tb = t;
+        }
+        let (ma, mb) = (median(a), median(b));
+        println!(
+            "{name:<26} {ma:>10.4} {mb:>10.4} {:>8.3} {ta:>12} {tb:>12}",
+            ma / mb
+        );
+    }
+}

@@ -1,0 +1,37 @@
+//! `tmc check`: read a mesh and report its topology checks.
+
+use clap::Args;
+use std::io::Write;
+use std::path::PathBuf;
+use tmc::{Error, Result};
+
+/// Check a mesh file (.ply, .obj, .off, .stl) and report the result.
+///
+/// Reports the mesh's topology checks (as text, or as one JSON object with
+/// --json). STL cannot share vertices, so topology checks on STL files are
+/// not meaningful; check a .ply, .obj or .off file instead.
+#[derive(Debug, Args)]
+pub(crate) struct CheckArgs {
+    /// The mesh to check.
+    #[arg(value_name = "MESH")]
+    pub mesh: PathBuf,
+
+    /// Print the report as one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `tmc check`.
+pub(crate) fn run(args: &CheckArgs) -> Result<()> {
+    let mesh = tmc::check::read_mesh(&args.mesh)?;
+    let report = tmc::check::check_mesh(&mesh);
+    let mut out = std::io::stdout().lock();
+    let stdout_err = |e| Error::io("standard output", e);
+    if args.json {
+        serde_json::to_writer(&mut out, &report).map_err(|e| stdout_err(e.into()))?;
+        writeln!(out).map_err(stdout_err)?;
+    } else {
+        report.print_text(&mut out);
+    }
+    out.flush().map_err(stdout_err)
+}

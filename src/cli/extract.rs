@@ -1,0 +1,214 @@
+//! `tmc extract`: volume in, isosurface mesh out.
+
+use super::{report, values, CONVENTIONS};
+use clap::{Args, ValueEnum};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use tmc::volume::{Endian, RawOptions, ScalarType};
+use tmc::{Error, ExtractParams, Grid, Inside, Method, Result};
+
+/// Extract the isosurface of a volume at an isovalue and write it as a mesh.
+///
+/// The surface is the isosurface of the trilinear interpolant of the samples;
+/// vertices are in physical coordinates (origin + index * spacing).
+#[derive(Debug, Args)]
+#[command(after_help = CONVENTIONS)]
+pub(crate) struct ExtractArgs {
+    /// Input volume: .npy, .nrrd, or headerless samples with --dims and --dtype.
+    #[arg(value_name = "INPUT")]
+    pub input: PathBuf,
+
+    /// Isovalue, a finite number. A sample is inside iff its value > ISO
+    /// (equal is outside, NaN is outside).
+    #[arg(long, value_name = "VALUE", allow_negative_numbers = true, value_parser = values::finite)]
+    pub iso: f64,
+
+    /// Output mesh; the format comes from the extension: .ply, .obj, .off or
+    /// .stl. Written atomically: nothing is left there if the run fails.
+    #[arg(short, long, value_name = "OUTPUT")]
+    pub output: PathBuf,
+
+    /// Cell algorithm.
+    #[arg(long, value_enum, default_value_t = MethodArg::Tmc)]
+    pub method: MethodArg,
+
+    /// Which side of the isovalue is the object.
+    #[arg(long, value_enum, default_value_t = InsideArg::High)]
+    pub inside: InsideArg,
+
+    /// Treat everything beyond the volume as outside, so every surface is
+    /// closed (surfaces are otherwise open where they leave the volume).
+    #[arg(long)]
+    pub close: bool,
+
+    /// Print the cell statistics (the paper's Table 1), sizes and time to
+    /// stderr as a table.
+    #[arg(long)]
+    pub stats: bool,
+
+    /// Print one JSON object on stdout: the run's parameters, the grid and all
+    /// statistics.
+    #[arg(long)]
+    pub json: bool,
+
+    /// Worker threads; 0 (the default) uses all cores.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+
+    /// Raw input: samples along x, y, z (e.g. 256,256,128); needs --dtype.
+    #[arg(long, value_name = "X,Y,Z", value_parser = values::dims, requires = "dtype", help_heading = "Raw input (headerless samples, x fastest)")]
+    pub dims: Option<[usize; 3]>,
+
+    /// Raw input: sample type, one of u8, i8, u16, i16, u32, i32, f32, f64;
+    /// needs --dims.
+    #[arg(long, value_name = "T", value_parser = values::dtype, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    pub dtype: Option<ScalarType>,
+
+    /// Raw input: byte order of multi-byte samples [default: little].
+    #[arg(
+        long,
+        value_enum,
+        requires = "dims",
+        help_heading = "Raw input (headerless samples, x fastest)"
+    )]
+    pub endian: Option<EndianArg>,
+
+    /// Raw input: bytes to skip before the first sample [default: 0].
+    #[arg(
+        long,
+        value_name = "N",
+        requires = "dims",
+        help_heading = "Raw input (headerless samples, x fastest)"
+    )]
+    pub header_bytes: Option<u64>,
+
+    /// Raw input: distance between samples along x, y, z, finite and positive
+    /// [default: 1,1,1].
+    #[arg(long, value_name = "X,Y,Z", value_parser = values::spacing, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    pub spacing: Option<[f64; 3]>,
+
+    /// Raw input: position of the first sample [default: 0,0,0].
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::origin, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    pub origin: Option<[f64; 3]>,
+}
+
+/// `--method`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum MethodArg {
+    /// Grosso's topologically correct and manifold hybrid marching cubes.
+    Tmc,
+    /// Standard marching cubes with one fixed rule for ambiguous faces
+    /// (crack-free, but not topologically correct).
+    Mc,
+}
+
+/// `--inside`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum InsideArg {
+    /// Values above the isovalue are inside (CT, MRI, densities).
+    High,
+    /// Values below the isovalue are inside (signed distance fields).
+    Low,
+}
+
+/// `--endian`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum EndianArg {
+    /// Least significant byte first.
+    Little,
+    /// Most significant byte first.
+    Big,
+}
+
+impl ExtractArgs {
+    /// The raw-input options, if `--dims` was given.
+    fn raw_options(&self) -> Option<RawOptions> {
+        let (dims, scalar) = (self.dims?, self.dtype?);
+        Some(RawOptions {
+            dims,
+            scalar,
+            endian: match self.endian {
+                Some(EndianArg::Big) => Endian::Big,
+                Some(EndianArg::Little) | None => Endian::Little,
+            },
+            header_bytes: self.header_bytes.unwrap_or(0),
+            spacing: self.spacing.unwrap_or([1.0; 3]),
+            origin: self.origin.unwrap_or([0.0; 3]),
+        })
+    }
+
+    /// The extraction parameters.
+    fn params(&self) -> ExtractParams {
+        ExtractParams {
+            iso: self.iso,
+            method: match self.method {
+                MethodArg::Tmc => Method::Tmc,
+                MethodArg::Mc => Method::Mc,
+            },
+            inside: match self.inside {
+                InsideArg::High => Inside::High,
+                InsideArg::Low => Inside::Low,
+            },
+            close: self.close,
+            threads: self.threads.unwrap_or(0),
+        }
+    }
+}
+
+/// Runs `tmc extract`.
+pub(crate) fn run(args: &ExtractArgs) -> Result<()> {
+    let raw = args.raw_options();
+    let source = tmc::volume::open(&args.input, raw.as_ref())?;
+    let grid = *source.grid();
+    check_grid(&args.input, &grid)?;
+    tmc::export::check_output_path(&args.output)?;
+
+    let params = args.params();
+    let (mesh, stats) = tmc::extract(source.as_ref(), &params)?;
+    tmc::export::write_mesh(&args.output, &mesh)?;
+
+    let run = report::Run {
+        input: &args.input,
+        output: &args.output,
+        params: &params,
+        threads: effective_threads(params.threads),
+        grid: &grid,
+        stats: &stats,
+    };
+    if args.stats {
+        let mut err = std::io::stderr().lock();
+        report::write_table(&mut err, &run).map_err(|e| Error::io("standard error", e))?;
+    }
+    if args.json {
+        let mut out = std::io::stdout().lock();
+        report::write_json(&mut out, &run)
+            .and_then(|()| out.flush())
+            .map_err(|e| Error::io("standard output", e))?;
+    }
+    Ok(())
+}
+
+/// Rejects grids with fewer than 2 samples along an axis (no cells).
+fn check_grid(input: &Path, grid: &Grid) -> Result<()> {
+    for (axis, &n) in ["x", "y", "z"].iter().zip(&grid.dims) {
+        if n < 2 {
+            return Err(Error::Invalid(format!(
+                "{}: grid {}x{}x{} has {n} sample along {axis}; need at least 2 on every axis",
+                input.display(),
+                grid.dims[0],
+                grid.dims[1],
+                grid.dims[2]
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The number of worker threads `threads` (0 = all cores) stands for.
+fn effective_threads(threads: usize) -> usize {
+    if threads > 0 {
+        threads
+    } else {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    }
+}

@@ -1,0 +1,151 @@
+//! Command-line parsing, dispatch and error reporting.
+//!
+//! Every failure is reported as exactly one line `tmc: <message>` on stderr;
+//! the exit status is 0 on success, 1 on failure and 2 on a usage error.
+
+mod check;
+mod extract;
+mod report;
+mod values;
+
+use clap::error::ErrorKind;
+use clap::{Parser, Subcommand};
+use std::panic::{self, AssertUnwindSafe};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Shared text at the end of `tmc --help` and `tmc extract --help`.
+pub(crate) const CONVENTIONS: &str = "\
+Sign convention:
+  A sample is inside iff its value > ISO; a sample equal to ISO is outside, and
+  NaN samples are outside. With --inside low the roles flip (inside iff value < ISO,
+  for signed distance fields). Triangles are counter-clockwise seen from outside,
+  so normals point toward the outside.
+
+Input formats:
+  .npy   numpy array, 3-D of shape (nz, ny, nx), C or Fortran order,
+         dtype u1 i1 u2 i2 u4 i4 f4 f8 in either byte order; unit spacing
+  .nrrd  attached header, dimension 3, encoding raw or gzip, any 8/16/32-bit
+         integer type, float or double; spacing from 'space directions' (vector
+         norms, axis-aligned grid assumed) or 'spacings', origin from 'space origin'
+  raw    headerless samples, x fastest: give --dims and --dtype
+
+Output formats (chosen by the extension of -o):
+  .ply   binary little-endian, shared vertices
+  .obj   text, shared vertices
+  .off   text, shared vertices
+  .stl   binary; STL cannot share vertices (each facet stores its own corners),
+         so 'tmc check' on an STL file is not meaningful
+  The output is written atomically: on failure nothing is left at the path.
+
+Exit status:
+  0  success
+  1  failure (unreadable or malformed input, unwritable output, ...)
+  2  usage error (unknown option, missing or malformed value)";
+
+/// Topologically correct and manifold isosurfaces (Grosso 2016 marching cubes).
+///
+/// Extracts the isosurface of the trilinear interpolant of a regular grid of
+/// samples with R. Grosso's hybrid marching cubes, which resolves every
+/// ambiguous cell with the asymptotic decider and the cell's interior
+/// topology, so the mesh is topologically correct and manifold.
+#[derive(Debug, Parser)]
+#[command(
+    name = "tmc",
+    version,
+    arg_required_else_help = true,
+    after_help = CONVENTIONS
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+enum Command {
+    Extract(extract::ExtractArgs),
+    Check(check::CheckArgs),
+}
+
+/// Runs the command line and returns the process exit status.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(&e),
+    };
+    install_panic_hook();
+    let result = panic::catch_unwind(AssertUnwindSafe(|| match cli.command {
+        Command::Extract(args) => extract::run(&args),
+        Command::Check(args) => check::run(&args),
+    }));
+    match result {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(e)) => {
+            eprintln!("tmc: {}", one_line(&e.to_string()));
+            ExitCode::FAILURE
+        }
+        // The panic hook has printed the message.
+        Err(_) => ExitCode::FAILURE,
+    }
+}
+
+/// Reports a clap error: help and version go out as clap prints them, real
+/// usage errors as one line with exit status 2.
+fn usage_error(e: &clap::Error) -> ExitCode {
+    match e.kind() {
+        ErrorKind::DisplayHelp
+        | ErrorKind::DisplayVersion
+        | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2))
+        }
+        _ => {
+            let text = e.to_string();
+            let mut head = Vec::new();
+            let mut tips = Vec::new();
+            let mut in_head = true;
+            for line in text.lines() {
+                let line = line.trim();
+                if in_head {
+                    if line.is_empty() {
+                        in_head = false;
+                    } else {
+                        head.push(line.strip_prefix("error:").unwrap_or(line).trim());
+                    }
+                } else if let Some(tip) = line.strip_prefix("tip:") {
+                    tips.push(format!(" (tip: {})", tip.trim()));
+                }
+            }
+            eprintln!("tmc: {}{}; see 'tmc --help'", head.join(" "), tips.concat());
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Prints a panic as one `tmc: internal error` line (only the first one, if
+/// several worker threads panic).
+fn install_panic_hook() {
+    static REPORTED: AtomicBool = AtomicBool::new(false);
+    panic::set_hook(Box::new(|info| {
+        if REPORTED.swap(true, Ordering::SeqCst) {
+            return;
+        }
+        let payload = info.payload();
+        let message = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".to_string());
+        let place = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!("tmc: internal error: {}{place}", one_line(&message));
+    }));
+}
+
+/// Joins the lines of `text` into one.
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}

@@ -1,0 +1,74 @@
+//! Parsers of option values: finite numbers, `X,Y,Z` triples, sample types.
+
+use tmc::volume::ScalarType;
+
+/// Parses a finite number (`--iso`).
+pub(crate) fn finite(text: &str) -> Result<f64, String> {
+    let v: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("'{text}' is not a finite number"))
+    }
+}
+
+/// Parses three comma-separated values (an `x` also separates: `64x64x93`).
+fn triple<T: std::str::FromStr>(text: &str) -> Result<[T; 3], String> {
+    let parts: Vec<&str> = text.split([',', 'x', 'X']).map(str::trim).collect();
+    let bad = || format!("'{text}' is not three comma-separated values X,Y,Z");
+    match parts[..] {
+        [a, b, c] => Ok([
+            a.parse().map_err(|_| bad())?,
+            b.parse().map_err(|_| bad())?,
+            c.parse().map_err(|_| bad())?,
+        ]),
+        _ => Err(bad()),
+    }
+}
+
+/// Parses `--dims X,Y,Z` (each at least 1).
+pub(crate) fn dims(text: &str) -> Result<[usize; 3], String> {
+    let d: [usize; 3] = triple(text)?;
+    if d.contains(&0) {
+        return Err(format!("'{text}': every dimension must be at least 1"));
+    }
+    Ok(d)
+}
+
+/// Parses `--spacing X,Y,Z` (finite, positive).
+pub(crate) fn spacing(text: &str) -> Result<[f64; 3], String> {
+    let s: [f64; 3] = triple_floats(text)?;
+    if s.iter().any(|v| *v <= 0.0) {
+        return Err(format!("'{text}': spacing must be positive"));
+    }
+    Ok(s)
+}
+
+/// Parses `--origin X,Y,Z` (finite).
+pub(crate) fn origin(text: &str) -> Result<[f64; 3], String> {
+    triple_floats(text)
+}
+
+/// Three finite numbers separated by commas (no `x`: it is not a number).
+fn triple_floats(text: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let bad = || format!("'{text}' is not three comma-separated finite numbers X,Y,Z");
+    match parts[..] {
+        [a, b, c] => {
+            let mut out = [0.0; 3];
+            for (o, p) in out.iter_mut().zip([a, b, c]) {
+                *o = finite(p).map_err(|_| bad())?;
+            }
+            Ok(out)
+        }
+        _ => Err(bad()),
+    }
+}
+
+/// Parses `--dtype`.
+pub(crate) fn dtype(text: &str) -> Result<ScalarType, String> {
+    text.parse::<ScalarType>().map_err(|e| e.to_string())
+}

@@ -1,0 +1,676 @@
+//! The `tmc` binary's I/O behaviour (help, usage errors, one-line failures,
+//! no output left behind on failure) and the mesh writers, round-tripped
+//! through small parsers written here.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use tmc::export::{check_output_path, write_atomically, write_mesh};
+use tmc::Mesh;
+
+/// Runs the built `tmc` with `args`.
+fn tmc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_tmc"))
+        .args(args)
+        .output()
+        .expect("run tmc")
+}
+
+/// Asserts exit status `code`, nothing on stdout and exactly one
+/// `tmc: ...` line on stderr; returns that line.
+fn assert_one_line(out: &Output, code: i32) -> String {
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(code), "stderr: {stderr}");
+    assert!(out.stdout.is_empty(), "stdout not empty");
+    assert_eq!(stderr.lines().count(), 1, "not one line: {stderr:?}");
+    assert!(stderr.starts_with("tmc: "), "no 'tmc: ' prefix: {stderr:?}");
+    stderr.trim_end().to_string()
+}
+
+/// Writes a little-endian f32 `.npy` of a sphere's distance field (shape
+/// `(nz, ny, nx)`), positive inside.
+fn sphere_npy(dir: &Path, name: &str, dims: [usize; 3]) -> PathBuf {
+    let [nx, ny, nz] = dims;
+    let mut header =
+        format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    let c = |n: usize| (n as f32 - 1.0) / 2.0;
+    for z in 0..nz {
+        for y in 0..ny {
+            for x in 0..nx {
+                let d = ((x as f32 - c(nx)).powi(2)
+                    + (y as f32 - c(ny)).powi(2)
+                    + (z as f32 - c(nz)).powi(2))
+                .sqrt();
+                bytes.extend_from_slice(&(3.0 - d).to_le_bytes());
+            }
+        }
+    }
+    let path = dir.join(name);
+    fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// The names in `dir`, sorted.
+fn names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// `path` as a `&str`.
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+#[test]
+fn help_states_the_convention_formats_and_exit_codes() {
+    for args in [&["--help"][..], &["extract", "--help"][..]] {
+        let out = tmc(args);
+        assert_eq!(out.status.code(), Some(0));
+        let text = String::from_utf8_lossy(&out.stdout);
+        for needle in [
+            "inside iff its value > ISO",
+            "equal to ISO is outside",
+            "NaN samples are outside",
+            ".npy",
+            ".nrrd",
+            "--dims and --dtype",
+            "STL cannot share vertices",
+            "'tmc check' on an STL file is not meaningful",
+            "0  success",
+            "1  failure",
+            "2  usage error",
+        ] {
+            assert!(text.contains(needle), "{args:?}: help lacks '{needle}'");
+        }
+    }
+    let extract = String::from_utf8_lossy(&tmc(&["extract", "--help"]).stdout).into_owned();
+    for option in [
+        "--iso",
+        "--output",
+        "--method",
+        "--inside",
+        "--close",
+        "--stats",
+        "--json",
+        "--threads",
+        "--dims",
+        "--dtype",
+        "--endian",
+        "--header-bytes",
+        "--spacing",
+        "--origin",
+    ] {
+        assert!(extract.contains(option), "extract help lacks {option}");
+    }
+    let check = String::from_utf8_lossy(&tmc(&["check", "--help"]).stdout).into_owned();
+    assert!(check.contains("STL") && check.contains("--json"));
+}
+
+#[test]
+fn usage_errors_exit_2_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "in.npy", [4, 4, 4]);
+    let output = dir.path().join("out.ply");
+    let (i, o) = (s(&input), s(&output));
+    for args in [
+        vec!["extract", i, "--iso", "abc", "-o", o],
+        vec!["extract", i, "--iso", "nan", "-o", o],
+        vec!["extract", i, "--iso", "inf", "-o", o],
+        vec!["extract", i, "-o", o],
+        vec!["extract", i, "--iso", "1", "-o", o, "--method", "fast"],
+        vec!["extract", i, "--iso", "1", "-o", o, "--dims", "4,4,4"],
+        vec!["extract", i, "--iso", "1", "-o", o, "--dtype", "u8"],
+        vec![
+            "extract", i, "--iso", "1", "-o", o, "--dims", "4,4", "--dtype", "u8",
+        ],
+        vec![
+            "extract", i, "--iso", "1", "-o", o, "--dims", "4,4,4", "--dtype", "u64",
+        ],
+        vec![
+            "extract",
+            i,
+            "--iso",
+            "1",
+            "-o",
+            o,
+            "--dims",
+            "4,4,4",
+            "--dtype",
+            "u8",
+            "--spacing",
+            "1,0,1",
+        ],
+        vec!["extract", i, "--iso", "1", "-o", o, "--threads", "-1"],
+        vec!["extract", i, "--iso", "1", "-o", o, "--bogus"],
+        vec!["frobnicate"],
+    ] {
+        let line = assert_one_line(&tmc(&args), 2);
+        assert!(line.contains("--help"), "{args:?}: {line}");
+        assert_eq!(names(dir.path()), ["in.npy"], "{args:?}");
+    }
+}
+
+#[test]
+fn negative_isovalues_parse() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.npy");
+    let out = tmc(&["extract", s(&missing), "--iso", "-5", "-o", "x.ply"]);
+    // Parsed fine: the failure is the missing input, status 1.
+    let line = assert_one_line(&out, 1);
+    assert!(line.contains("missing.npy"), "{line}");
+}
+
+#[test]
+fn missing_or_bad_input_fails_with_one_line_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("out.ply");
+    let missing = dir.path().join("missing.npy");
+    let line = assert_one_line(
+        &tmc(&["extract", s(&missing), "--iso", "0", "-o", s(&output)]),
+        1,
+    );
+    assert!(line.contains("missing.npy"), "{line}");
+
+    let garbage = dir.path().join("garbage.npy");
+    fs::write(&garbage, b"not numpy").unwrap();
+    let line = assert_one_line(
+        &tmc(&["extract", s(&garbage), "--iso", "0", "-o", s(&output)]),
+        1,
+    );
+    assert!(line.contains("not a .npy file"), "{line}");
+
+    let raw = dir.path().join("in.raw");
+    fs::write(&raw, [0u8; 1000]).unwrap();
+    let args = [
+        "extract",
+        s(&raw),
+        "--iso",
+        "0",
+        "-o",
+        s(&output),
+        "--dims",
+        "10,10,10",
+        "--dtype",
+        "u16",
+    ];
+    let line = assert_one_line(&tmc(&args), 1);
+    assert!(
+        line.ends_with(
+            "in.raw: file has 1000 bytes, dims 10x10x10 u16 need 2000 after a 0-byte header"
+        ),
+        "{line}"
+    );
+
+    let vti = dir.path().join("in.vti");
+    fs::write(&vti, b"x").unwrap();
+    let line = assert_one_line(
+        &tmc(&["extract", s(&vti), "--iso", "0", "-o", s(&output)]),
+        1,
+    );
+    assert!(line.contains("unknown input format"), "{line}");
+
+    assert!(!output.exists());
+}
+
+#[test]
+fn grids_need_two_samples_per_axis() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "flat.npy", [5, 5, 1]);
+    let output = dir.path().join("out.ply");
+    let line = assert_one_line(
+        &tmc(&["extract", s(&input), "--iso", "0", "-o", s(&output)]),
+        1,
+    );
+    assert!(
+        line.contains("5x5x1") && line.contains("at least 2"),
+        "{line}"
+    );
+    assert!(!output.exists());
+}
+
+#[test]
+fn bad_output_paths_fail_before_extraction() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "in.npy", [4, 4, 4]);
+    let file = dir.path().join("a_file");
+    fs::write(&file, b"x").unwrap();
+    fs::create_dir(dir.path().join("dir.ply")).unwrap();
+    let cases = [
+        (dir.path().join("no/such/dir/out.ply"), "does not exist"),
+        (file.join("out.ply"), "not a directory"),
+        (dir.path().join("dir.ply"), "is a directory"),
+        (dir.path().join("out.vtk"), "unknown output format"),
+        (dir.path().join("out"), "unknown output format"),
+    ];
+    for (output, expected) in cases {
+        let out = tmc(&["extract", s(&input), "--iso", "0", "-o", s(&output)]);
+        let line = assert_one_line(&out, 1);
+        assert!(line.contains(expected), "{}: {line}", output.display());
+        assert!(!output.is_file(), "{} was written", output.display());
+    }
+    assert_eq!(names(dir.path()), ["a_file", "dir.ply", "in.npy"]);
+}
+
+#[test]
+fn unwritable_output_directory_fails_with_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "in.npy", [4, 4, 4]);
+
+    #[cfg(target_os = "linux")]
+    {
+        // Nobody, not even root, can create files in /proc/self.
+        let output = Path::new("/proc/self/out.ply");
+        let line = assert_one_line(
+            &tmc(&["extract", s(&input), "--iso", "0", "-o", s(output)]),
+            1,
+        );
+        assert!(line.contains("cannot write"), "{line}");
+    }
+
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let locked = dir.path().join("locked");
+        fs::create_dir(&locked).unwrap();
+        fs::set_permissions(&locked, fs::Permissions::from_mode(0o555)).unwrap();
+        if fs::write(locked.join("probe"), b"").is_ok() {
+            println!("skipped read-only directory case: running with permission to write anyway");
+        } else {
+            let output = locked.join("out.ply");
+            let line = assert_one_line(
+                &tmc(&["extract", s(&input), "--iso", "0", "-o", s(&output)]),
+                1,
+            );
+            assert!(line.contains("cannot write"), "{line}");
+            assert!(names(&locked).is_empty());
+        }
+        fs::set_permissions(&locked, fs::Permissions::from_mode(0o755)).unwrap();
+    }
+}
+
+#[test]
+fn check_of_a_missing_mesh_fails_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.ply");
+    let line = assert_one_line(&tmc(&["check", s(&missing)]), 1);
+    assert!(line.contains("missing.ply"), "{line}");
+}
+
+/// A tetrahedron, counter-clockwise seen from outside, with coordinates that
+/// do not print short.
+fn tetrahedron() -> Mesh {
+    Mesh {
+        vertices: vec![
+            [0.1, -2.5e-3, 12345.678],
+            [1.0 / 3.0, 0.0, 12345.678],
+            [0.0, 7.25, 12345.678],
+            [0.05, 1.0, 12350.0],
+        ],
+        triangles: vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
+    }
+}
+
+/// Parses a binary little-endian PLY as written by tmc.
+fn parse_ply(bytes: &[u8]) -> Mesh {
+    let end = b"end_header\n";
+    let at = bytes.windows(end.len()).position(|w| w == end).unwrap() + end.len();
+    let header = std::str::from_utf8(&bytes[..at]).unwrap();
+    let lines: Vec<&str> = header.lines().collect();
+    assert_eq!(lines[0], "ply");
+    assert_eq!(lines[1], "format binary_little_endian 1.0");
+    let count = |element: &str| -> usize {
+        let prefix = format!("element {element} ");
+        let line = lines.iter().find(|l| l.starts_with(&prefix)).unwrap();
+        line[prefix.len()..].parse().unwrap()
+    };
+    assert!(header.contains("property float x\nproperty float y\nproperty float z\nelement face"));
+    assert!(header.contains("property list uchar uint vertex_indices\nend_header\n"));
+    let (nv, nf) = (count("vertex"), count("face"));
+    let mut body = &bytes[at..];
+    let mut take = |n: usize| {
+        let (head, rest) = body.split_at(n);
+        body = rest;
+        head.to_vec()
+    };
+    let mut mesh = Mesh::default();
+    for _ in 0..nv {
+        let mut v = [0f32; 3];
+        for c in &mut v {
+            *c = f32::from_le_bytes(take(4).try_into().unwrap());
+        }
+        mesh.vertices.push(v);
+    }
+    for _ in 0..nf {
+        assert_eq!(take(1), [3]);
+        let mut t = [0u32; 3];
+        for i in &mut t {
+            *i = u32::from_le_bytes(take(4).try_into().unwrap());
+        }
+        mesh.triangles.push(t);
+    }
+    assert!(body.is_empty(), "trailing bytes");
+    mesh
+}
+
+/// Parses an OBJ of `v` and `f` lines.
+fn parse_obj(text: &str) -> Mesh {
+    let mut mesh = Mesh::default();
+    for line in text.lines() {
+        let mut parts = line.split_whitespace();
+        match parts.next() {
+            Some("v") => {
+                let v: Vec<f32> = parts.map(|p| p.parse().unwrap()).collect();
+                mesh.vertices.push([v[0], v[1], v[2]]);
+            }
+            Some("f") => {
+                let f: Vec<u32> = parts.map(|p| p.parse::<u32>().unwrap() - 1).collect();
+                mesh.triangles.push([f[0], f[1], f[2]]);
+            }
+            Some(c) if c.starts_with('#') => {}
+            other => panic!("unexpected OBJ line {other:?}"),
+        }
+    }
+    mesh
+}
+
+/// Parses an OFF file.
+fn parse_off(text: &str) -> Mesh {
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("OFF"));
+    let counts: Vec<usize> = lines
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|p| p.parse().unwrap())
+        .collect();
+    let mut mesh = Mesh::default();
+    for _ in 0..counts[0] {
+        let v: Vec<f32> = lines
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|p| p.parse().unwrap())
+            .collect();
+        mesh.vertices.push([v[0], v[1], v[2]]);
+    }
+    for _ in 0..counts[1] {
+        let f: Vec<u32> = lines
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|p| p.parse().unwrap())
+            .collect();
+        assert_eq!(f[0], 3);
+        mesh.triangles.push([f[1], f[2], f[3]]);
+    }
+    assert_eq!(lines.next(), None);
+    mesh
+}
+
+/// Parses a binary STL into facets (normal, three corners).
+fn parse_stl(bytes: &[u8]) -> Vec<[[f32; 3]; 4]> {
+    assert!(!bytes.starts_with(b"solid"));
+    let n = u32::from_le_bytes(bytes[80..84].try_into().unwrap()) as usize;
+    assert_eq!(bytes.len(), 84 + 50 * n);
+    (0..n)
+        .map(|i| {
+            let facet = &bytes[84 + 50 * i..84 + 50 * (i + 1)];
+            let f = |k: usize| f32::from_le_bytes(facet[4 * k..4 * k + 4].try_into().unwrap());
+            assert_eq!(&facet[48..], [0, 0]);
+            [
+                [f(0), f(1), f(2)],
+                [f(3), f(4), f(5)],
+                [f(6), f(7), f(8)],
+                [f(9), f(10), f(11)],
+            ]
+        })
+        .collect()
+}
+
+#[test]
+fn writers_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = tetrahedron();
+    for ext in ["ply", "obj", "off", "PLY"] {
+        let path = dir.path().join(format!("t.{ext}"));
+        write_mesh(&path, &mesh).unwrap();
+        let bytes = fs::read(&path).unwrap();
+        let back = match ext {
+            "ply" | "PLY" => parse_ply(&bytes),
+            "obj" => parse_obj(std::str::from_utf8(&bytes).unwrap()),
+            _ => parse_off(std::str::from_utf8(&bytes).unwrap()),
+        };
+        assert_eq!(back, mesh, "{ext}");
+    }
+
+    let path = dir.path().join("t.stl");
+    write_mesh(&path, &mesh).unwrap();
+    let facets = parse_stl(&fs::read(&path).unwrap());
+    assert_eq!(facets.len(), mesh.triangles.len());
+    let center =
+        [0usize, 1, 2].map(|k| mesh.vertices.iter().map(|v| f64::from(v[k])).sum::<f64>() / 4.0);
+    for (facet, t) in facets.iter().zip(&mesh.triangles) {
+        for k in 0..3 {
+            assert_eq!(facet[k + 1], mesh.vertices[t[k] as usize]);
+        }
+        let n = facet[0].map(f64::from);
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        assert!((len - 1.0).abs() < 1e-6, "normal length {len}");
+        // Counter-clockwise from outside: the normal points away from the centre.
+        let outward: f64 = (0..3)
+            .map(|k| n[k] * (f64::from(facet[1][k]) - center[k]))
+            .sum();
+        assert!(outward > 0.0);
+    }
+
+    // An empty mesh is a valid file in every format.
+    for ext in ["ply", "obj", "off", "stl"] {
+        let path = dir.path().join(format!("empty.{ext}"));
+        write_mesh(&path, &Mesh::default()).unwrap();
+        assert!(path.is_file());
+    }
+    assert!(names(dir.path()).iter().all(|n| !n.contains(".tmc-")));
+}
+
+#[test]
+fn degenerate_stl_facets_get_a_zero_normal() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = Mesh {
+        vertices: vec![[0.0; 3], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]],
+        triangles: vec![[0, 1, 2]],
+    };
+    let path = dir.path().join("d.stl");
+    write_mesh(&path, &mesh).unwrap();
+    assert_eq!(parse_stl(&fs::read(&path).unwrap())[0][0], [0.0; 3]);
+}
+
+#[test]
+fn failed_writes_leave_nothing_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = Mesh {
+        vertices: vec![[0.0; 3]],
+        triangles: vec![[0, 0, 1]],
+    };
+    let path = dir.path().join("bad.ply");
+    let err = write_mesh(&path, &bad).unwrap_err().to_string();
+    assert!(err.contains("refers to a vertex"), "{err}");
+    assert!(write_mesh(&dir.path().join("t.xyz"), &tetrahedron()).is_err());
+    assert!(write_mesh(&dir.path().join("no/dir/t.ply"), &tetrahedron()).is_err());
+
+    // A writer failing half-way: the old file survives, no temporary is left.
+    let keep = dir.path().join("keep.obj");
+    fs::write(&keep, b"old").unwrap();
+    let result = write_atomically(&keep, |w| {
+        use std::io::Write;
+        w.write_all(b"partial")?;
+        Err(std::io::Error::other("disk on fire"))
+    });
+    let err = result.unwrap_err().to_string();
+    assert!(
+        err.contains("keep.obj") && err.contains("disk on fire"),
+        "{err}"
+    );
+    assert_eq!(fs::read(&keep).unwrap(), b"old");
+    assert_eq!(names(dir.path()), ["keep.obj"]);
+
+    // Overwriting works.
+    write_mesh(&keep, &tetrahedron()).unwrap();
+    assert_eq!(
+        parse_obj(&fs::read_to_string(&keep).unwrap()),
+        tetrahedron()
+    );
+}
+
+#[test]
+fn output_path_checks() {
+    let dir = tempfile::tempdir().unwrap();
+    assert!(check_output_path(&dir.path().join("a.ply")).is_ok());
+    assert!(check_output_path(&dir.path().join("a.STL")).is_ok());
+    assert!(check_output_path(&dir.path().join("a.vtk")).is_err());
+    assert!(check_output_path(&dir.path().join("missing/a.ply")).is_err());
+    assert!(check_output_path(Path::new("relative.off")).is_ok());
+    assert!(names(dir.path()).is_empty(), "probe file left behind");
+}
+
+#[test]
+fn extract_writes_mesh_stats_and_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "ball.npy", [10, 9, 8]);
+    let output = dir.path().join("ball.ply");
+    let out = tmc(&[
+        "extract",
+        s(&input),
+        "--iso",
+        "0",
+        "-o",
+        s(&output),
+        "--stats",
+        "--json",
+        "--threads",
+        "2",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    for row in [
+        "ambiguous cells",
+        "contours with 3 vertices",
+        "contours with 6 vertices",
+        "ambiguous contours with 6 vertices",
+        "ambiguous contours with 9 vertices",
+        "tunnels",
+        "contours with 12 vertices",
+        "vertices",
+        "triangles",
+        "time",
+    ] {
+        assert!(stderr.contains(row), "table lacks '{row}': {stderr}");
+    }
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(stdout.lines().count(), 1);
+    let json: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    for key in [
+        "input",
+        "output",
+        "iso",
+        "method",
+        "inside",
+        "close",
+        "threads",
+        "dims",
+        "spacing",
+        "origin",
+        "ambiguous_cells",
+        "contours",
+        "ambiguous_contours",
+        "tunnels",
+        "contours_12",
+        "vertices",
+        "triangles",
+        "seconds",
+    ] {
+        assert!(json.get(key).is_some(), "JSON lacks '{key}': {stdout}");
+    }
+    assert_eq!(json["dims"], serde_json::json!([10, 9, 8]));
+    assert_eq!(json["method"], "tmc");
+    assert_eq!(json["threads"], 2);
+    let mesh = parse_ply(&fs::read(&output).unwrap());
+    assert_eq!(json["vertices"], mesh.vertices.len());
+    assert_eq!(json["triangles"], mesh.triangles.len());
+    assert!(!mesh.triangles.is_empty());
+}
+
+#[test]
+fn extract_is_quiet_without_stats_and_reads_raw_and_nrrd() {
+    let dir = tempfile::tempdir().unwrap();
+    // Raw big-endian u16 with a header: a ramp along x.
+    let raw = dir.path().join("ramp.raw");
+    let mut bytes = vec![0u8; 3];
+    for _z in 0..3 {
+        for _y in 0..3 {
+            for x in 0..4u16 {
+                bytes.extend_from_slice(&(x * 100).to_be_bytes());
+            }
+        }
+    }
+    fs::write(&raw, bytes).unwrap();
+    let output = dir.path().join("ramp.obj");
+    let out = tmc(&[
+        "extract",
+        s(&raw),
+        "--iso",
+        "150",
+        "-o",
+        s(&output),
+        "--dims",
+        "4,3,3",
+        "--dtype",
+        "u16",
+        "--endian",
+        "big",
+        "--header-bytes",
+        "3",
+        "--spacing",
+        "2,1,1",
+        "--origin=-1,0,0",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.stdout.is_empty() && out.stderr.is_empty());
+    let mesh = parse_obj(&fs::read_to_string(&output).unwrap());
+    // The plane x = 1.5 in index space, 2 in world space.
+    assert!(mesh.vertices.iter().all(|v| (v[0] - 2.0).abs() < 1e-5));
+
+    let demo = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/headsq_quarter.nrrd");
+    let output = dir.path().join("head.stl");
+    let out = tmc(&[
+        "extract",
+        s(&demo),
+        "--iso",
+        "500",
+        "-o",
+        s(&output),
+        "--close",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!parse_stl(&fs::read(&output).unwrap()).is_empty());
+}

@@ -94,16 +94,16 @@ pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mes
         .step_by(depth)
         .map(|z| z..(z + depth).min(layers))
         .collect();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Invalid(format!("cannot start {threads} threads: {e}")))?;
-    let results: Vec<Result<(Vec<Block>, Stats)>> = pool.install(|| {
-        slabs
-            .par_iter()
-            .map(|r| process_slab(source, params, r.clone()))
-            .collect()
-    });
+    let run = |r: &Range<usize>| process_slab(source, params, r.clone());
+    let results: Vec<Result<(Vec<Block>, Stats)>> = if threads == 1 {
+        slabs.iter().map(run).collect()
+    } else {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| Error::Invalid(format!("cannot start {threads} threads: {e}")))?
+            .install(|| slabs.par_iter().map(run).collect())
+    };
     let mut blocks = Vec::with_capacity(dims[2]);
     let mut stats = Stats::default();
     for r in results {

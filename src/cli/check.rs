@@ -31,7 +31,7 @@ pub(crate) fn run(args: &CheckArgs) -> Result<()> {
         serde_json::to_writer(&mut out, &report).map_err(|e| stdout_err(e.into()))?;
         writeln!(out).map_err(stdout_err)?;
     } else {
-        report.print_text(&mut out);
+        report.print_text(&mut out).map_err(stdout_err)?;
     }
     out.flush().map_err(stdout_err)
 }

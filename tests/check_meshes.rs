@@ -1,0 +1,336 @@
+//! Integration tests of `tmc::check`: reading PLY, OBJ and OFF files (good
+//! and malformed) and checking the meshes read.
+
+use std::path::{Path, PathBuf};
+
+use tmc::check::{check_mesh, read_mesh, MeshReport};
+use tmc::{Error, Mesh};
+
+/// Corners of the unit cube, `x + 2y + 4z`.
+fn cube_vertices() -> Vec<[f32; 3]> {
+    (0..8)
+        .map(|c| [(c & 1) as f32, ((c >> 1) & 1) as f32, ((c >> 2) & 1) as f32])
+        .collect()
+}
+
+/// The six faces of the cube as outward quads.
+const CUBE_QUADS: [[u32; 4]; 6] = [
+    [0, 2, 3, 1],
+    [4, 5, 7, 6],
+    [0, 1, 5, 4],
+    [2, 6, 7, 3],
+    [0, 4, 6, 2],
+    [1, 3, 7, 5],
+];
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+fn read_ok(path: &Path) -> (Mesh, MeshReport) {
+    let mesh = read_mesh(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let report = check_mesh(&mesh);
+    (mesh, report)
+}
+
+/// The one-line message of a format error.
+fn read_err(path: &Path) -> String {
+    match read_mesh(path) {
+        Err(Error::Format(msg)) => {
+            assert!(!msg.contains('\n'), "multi-line error: {msg}");
+            assert!(
+                msg.contains(&path.display().to_string()),
+                "no path in: {msg}"
+            );
+            msg
+        }
+        other => panic!("{}: expected a format error, got {other:?}", path.display()),
+    }
+}
+
+fn assert_sphere(report: &MeshReport) {
+    assert!(report.is_closed_manifold(), "{report:?}");
+    assert_eq!((report.components, report.euler), (1, 2), "{report:?}");
+    assert_eq!(report.total_genus(), Some(0));
+}
+
+/// A binary PLY cube with extra vertex properties (normal, colour) and
+/// quads, in the given byte order.
+fn binary_ply_cube(big_endian: bool, index_type: &str) -> Vec<u8> {
+    let format = if big_endian {
+        "binary_big_endian"
+    } else {
+        "binary_little_endian"
+    };
+    let mut out = format!(
+        "ply\nformat {format} 1.0\ncomment made by a test\nelement vertex 8\n\
+         property float x\nproperty float y\nproperty float z\nproperty double nx\n\
+         property uchar red\nelement face 6\nproperty uchar flags\n\
+         property list uchar {index_type} vertex_indices\nelement edge 1\n\
+         property int vertex1\nproperty int vertex2\nend_header\n"
+    )
+    .into_bytes();
+    let f32b = |v: f32| {
+        if big_endian {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        }
+    };
+    let u32b = |v: u32| {
+        if big_endian {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        }
+    };
+    for p in cube_vertices() {
+        for c in p {
+            out.extend(f32b(c));
+        }
+        out.extend(if big_endian {
+            0.5f64.to_be_bytes()
+        } else {
+            0.5f64.to_le_bytes()
+        });
+        out.push(200);
+    }
+    for q in CUBE_QUADS {
+        out.push(7);
+        out.push(4);
+        for i in q {
+            out.extend(u32b(i));
+        }
+    }
+    out.extend(u32b(0));
+    out.extend(u32b(1));
+    out
+}
+
+#[test]
+fn binary_ply_little_and_big_endian() {
+    let dir = tempfile::tempdir().unwrap();
+    for (big, ty) in [(false, "int"), (true, "uint"), (false, "uint32")] {
+        let path = write(dir.path(), "cube.ply", &binary_ply_cube(big, ty));
+        let (mesh, report) = read_ok(&path);
+        assert_eq!(mesh.vertices, cube_vertices());
+        assert_eq!((mesh.triangles.len(), report.edges), (12, 18));
+        assert_sphere(&report);
+    }
+}
+
+#[test]
+fn ascii_ply_with_lists_to_skip() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "ply\nformat ascii 1.0\nobj_info tetrahedron\nelement vertex 4\n\
+                property float x\nproperty float y\nproperty float z\n\
+                property list uchar float texcoord\nelement face 4\n\
+                property list uchar int vertex_index\nend_header\n\
+                0 0 0 2 0.5 0.5\n1 0 0 0\n0 1 0 1 7\n0 0 1 0\n\
+                3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+    let (mesh, report) = read_ok(&write(dir.path(), "tet.ply", text.as_bytes()));
+    assert_eq!(mesh.vertices[2], [0.0, 1.0, 0.0]);
+    assert_sphere(&report);
+}
+
+#[test]
+fn obj_with_slashes_and_negative_indices() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from("# cube\nmtllib x.mtl\no cube\n");
+    for p in cube_vertices() {
+        text += &format!("v {} {} {}\nvn 0 0 1\n", p[0], p[1], p[2]);
+    }
+    text += "vt 0 0\ns off\n";
+    for (i, q) in CUBE_QUADS.iter().enumerate() {
+        let word = |v: u32| match i % 3 {
+            0 => format!("{}", v + 1),
+            1 => format!("{}/1/{}", v + 1, v + 1),
+            _ => format!("{}//{}", v as i64 - 8, v + 1),
+        };
+        text += &format!(
+            "f {} {} {} {}\n",
+            word(q[0]),
+            word(q[1]),
+            word(q[2]),
+            word(q[3])
+        );
+    }
+    let (mesh, report) = read_ok(&write(dir.path(), "cube.obj", text.as_bytes()));
+    assert_eq!(mesh.triangles.len(), 12);
+    assert_sphere(&report);
+}
+
+#[test]
+fn off_with_comments_colours_and_polygons() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from("COFF # coloured\n# counts next\n\n8 6 12\n");
+    for p in cube_vertices() {
+        text += &format!("{} {} {} 255 0 0 255\n", p[0], p[1], p[2]);
+    }
+    for q in CUBE_QUADS {
+        text += &format!("4 {} {} {} {} 0.1 0.2 0.3\n", q[0], q[1], q[2], q[3]);
+    }
+    let (_, report) = read_ok(&write(dir.path(), "cube.off", text.as_bytes()));
+    assert_sphere(&report);
+    // Counts on the header line, no extension: found by sniffing.
+    let text = "OFF 4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+    let (_, report) = read_ok(&write(dir.path(), "tetrahedron", text.as_bytes()));
+    assert_sphere(&report);
+}
+
+#[test]
+fn open_and_inconsistent_meshes_are_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    // A square with a flipped triangle, and a lone vertex.
+    let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\nf 1 4 3\n";
+    let (_, report) = read_ok(&write(dir.path(), "square.obj", text.as_bytes()));
+    assert_eq!(report.boundary_edges, 4);
+    assert_eq!(report.inconsistent_edges, 1);
+    assert_eq!(report.unreferenced_vertices, 1);
+    assert_eq!(report.per_component[0].boundary_loops, 1);
+    assert!(!report.is_closed_manifold());
+}
+
+#[test]
+fn malformed_files_give_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cube = binary_ply_cube(false, "int");
+    let cases: Vec<(PathBuf, &str)> =
+        vec![
+        (write(d, "cut.ply", &cube[..cube.len() - 30]), "truncated"),
+        (write(d, "cut_header.ply", &cube[..40]), "end_header"),
+        (write(d, "notply.ply", b"plx\n"), "not a PLY"),
+        (
+            write(d, "noformat.ply", b"ply\nelement vertex 0\nend_header\n"),
+            "format",
+        ),
+        (
+            write(
+                d,
+                "range.ply",
+                b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                  property float z\nelement face 1\nproperty list uchar int vertex_indices\n\
+                  end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
+            ),
+            "out of range",
+        ),
+        (
+            write(
+                d,
+                "badnum.ply",
+                b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
+                  property float z\nend_header\n0 zero 0\n",
+            ),
+            "invalid number",
+        ),
+        (
+            write(
+                d,
+                "noxyz.ply",
+                b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n",
+            ),
+            "'y'",
+        ),
+        (
+            write(
+                d,
+                "type.ply",
+                b"ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n",
+            ),
+            "unknown PLY type",
+        ),
+        (
+            write(d, "range.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"),
+            "out of range",
+        ),
+        (write(d, "neg.obj", b"v 0 0 0\nf -1 -2 -3\n"), "out of range"),
+        (write(d, "zero.obj", b"v 0 0 0\nf 0 1 1\n"), "index 0"),
+        (write(d, "line.obj", b"v 0 0 0\nv 1 0 0\nf 1 2\n"), "2 vertices"),
+        (write(d, "shortv.obj", b"v 0 0\n"), "three coordinates"),
+        (write(d, "range.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), "out-of-range"),
+        (write(d, "short.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\n"), "truncated"),
+        (write(d, "counts.off", b"OFF\nthree 1 0\n"), "counts"),
+        (write(d, "empty.off", b""), "empty"),
+        (write(d, "binary.off", b"OFF BINARY\n"), "binary"),
+        (write(d, "mesh.stl", b"solid x\nendsolid x\n"), "STL"),
+        (write(d, "stl_without_extension", b"solid x\nendsolid x\n"), "STL"),
+        (write(d, "mesh.xyz", b"1 2 3\n"), "unrecognised"),
+    ];
+    for (path, expected) in &cases {
+        let msg = read_err(path);
+        assert!(
+            msg.contains(expected),
+            "{}: '{msg}' lacks '{expected}'",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn huge_binary_list_count_is_rejected_not_allocated() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n\
+                      property float y\nproperty float z\nelement face 1\n\
+                      property list uint int vertex_indices\nend_header\n"
+        .to_vec();
+    bytes.extend([0u8; 36]);
+    bytes.extend(u32::MAX.to_le_bytes());
+    let msg = read_err(&write(dir.path(), "huge.ply", &bytes));
+    assert!(msg.contains("list length"), "{msg}");
+    // A header claiming billions of vertices in a tiny file.
+    let bytes = b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n\
+                  property float x\nproperty float y\nproperty float z\nend_header\n";
+    let msg = read_err(&write(dir.path(), "liar.ply", bytes));
+    assert!(msg.contains("truncated"), "{msg}");
+}
+
+#[test]
+fn missing_file_is_an_io_error() {
+    let err = read_mesh(Path::new("/nonexistent/dir/mesh.ply")).unwrap_err();
+    assert!(matches!(err, Error::Io { .. }), "{err:?}");
+}
+
+/// An `n` x `m` torus grid.
+fn torus(n: u32, m: u32) -> Mesh {
+    let id = |i: u32, j: u32| (i % n) + n * (j % m);
+    let mut triangles = Vec::with_capacity(2 * (n * m) as usize);
+    for j in 0..m {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    Mesh {
+        vertices: vec![[0.0; 3]; (n * m) as usize],
+        triangles,
+    }
+}
+
+#[test]
+fn large_torus_and_reports() {
+    let mesh = torus(700, 500);
+    let start = std::time::Instant::now();
+    let report = check_mesh(&mesh);
+    let seconds = start.elapsed().as_secs_f64();
+    assert!(report.is_closed_manifold());
+    assert_eq!(
+        (report.triangles, report.euler, report.total_genus()),
+        (700_000, 0, Some(1))
+    );
+    assert!(seconds < 20.0, "700k triangles took {seconds} s");
+
+    let json = serde_json::to_value(&report).unwrap();
+    assert_eq!(json["euler"], 0);
+    assert_eq!(json["per_component"][0]["genus"], 1);
+    let mut text = Vec::new();
+    report.print_text(&mut text).unwrap();
+    let text = String::from_utf8(text).unwrap();
+    assert!(
+        text.contains("closed manifold") && text.contains("yes"),
+        "{text}"
+    );
+}

@@ -1,0 +1,316 @@
+//! The kernel against the independent oracle (`tests/common/oracle.rs`) and
+//! the independent mesh checker: every sign configuration, the 48 cube
+//! symmetries, the configurations the paper names, and random volumes full
+//! of ties. Extracted meshes must be closed, consistently oriented
+//! 2-manifolds with the oracle's number of components and Euler characteristic.
+
+mod common;
+
+use common::{compare_with_oracle, oracle};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
+use tmc::check::{check_mesh, MeshReport};
+use tmc::{extract, ArrayVolume, ExtractParams, Grid, Mesh, Method, Stats};
+
+fn run(dims: [usize; 3], values: &[f64], iso: f64, close: bool, method: Method) -> (Mesh, Stats) {
+    let vol = ArrayVolume::new(Grid::unit(dims), values.to_vec()).expect("volume");
+    let params = ExtractParams {
+        iso,
+        close,
+        method,
+        threads: 1,
+        ..Default::default()
+    };
+    extract(&vol, &params).expect("extract")
+}
+
+/// Extracts with `--close` and compares with the oracle on the grid padded
+/// by one layer of ties (what `--close` means).
+fn check_closed(dims: [usize; 3], values: &[f64], iso: f64) -> Result<(MeshReport, Stats), String> {
+    let (mesh, stats) = run(dims, values, iso, true, Method::Tmc);
+    let report = check_mesh(&mesh);
+    let (pdims, g) = oracle::padded(dims, &oracle::scaled(values, iso), 1, 0);
+    let topo = oracle::topology(pdims, &g);
+    compare_with_oracle(&report, &topo)
+        .map(|_| (report, stats))
+        .map_err(|e| format!("{e}\n  dims {dims:?} iso {iso} values {values:?}"))
+}
+
+fn random_cell(rng: &mut Pcg64, config: u32, ties: bool) -> [f64; 8] {
+    std::array::from_fn(|c| {
+        if config >> c & 1 == 1 {
+            rng.gen_range(1..=1000) as f64
+        } else if ties && rng.gen_bool(0.3) {
+            0.0
+        } else {
+            -(rng.gen_range(1..=1000) as f64)
+        }
+    })
+}
+
+#[test]
+fn every_configuration_with_random_magnitudes() {
+    let mut rng = Pcg64::seed_from_u64(1);
+    let mut tunnels = 0;
+    for config in 0..256u32 {
+        for k in 0..60 {
+            let cell = random_cell(&mut rng, config, k % 2 == 1);
+            let (_, stats) = check_closed([2, 2, 2], &cell, 0.0)
+                .unwrap_or_else(|e| panic!("config {config}: {e}"));
+            tunnels += stats.tunnels;
+        }
+    }
+    assert!(tunnels > 0, "random cells should meet some tunnels");
+}
+
+/// Small magnitudes make exact ties of face and body saddles common.
+#[test]
+fn every_configuration_with_small_integers() {
+    let mut rng = Pcg64::seed_from_u64(2);
+    for config in 0..256u32 {
+        for _ in 0..60 {
+            let cell: Vec<f64> = (0..8)
+                .map(|c| {
+                    if config >> c & 1 == 1 {
+                        rng.gen_range(1..=3) as f64
+                    } else {
+                        -(rng.gen_range(0..=3) as f64)
+                    }
+                })
+                .collect();
+            check_closed([2, 2, 2], &cell, 0.0).unwrap_or_else(|e| panic!("config {config}: {e}"));
+        }
+    }
+}
+
+/// The 48 symmetries of the cube: axis permutations and reflections.
+fn symmetries() -> Vec<([usize; 3], [usize; 3])> {
+    let perms = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    let mut out = Vec::new();
+    for p in perms {
+        for f in 0..8 {
+            out.push((p, [f & 1, f >> 1 & 1, f >> 2 & 1]));
+        }
+    }
+    out
+}
+
+fn transform(cell: &[f64; 8], (perm, flip): ([usize; 3], [usize; 3])) -> [f64; 8] {
+    let mut out = [0.0; 8];
+    for (c, v) in cell.iter().enumerate() {
+        let p = [c & 1, c >> 1 & 1, c >> 2 & 1];
+        let q: [usize; 3] = std::array::from_fn(|i| p[perm[i]] ^ flip[i]);
+        out[q[0] | q[1] << 1 | q[2] << 2] = *v;
+    }
+    out
+}
+
+/// Topology of the open patch in one cell: per component (euler, boundary
+/// loops), sorted.
+fn patch_topology(report: &MeshReport) -> Vec<(i64, usize)> {
+    let mut v: Vec<(i64, usize)> = report
+        .per_component
+        .iter()
+        .map(|c| (c.euler, c.boundary_loops))
+        .collect();
+    v.sort_unstable();
+    v
+}
+
+#[test]
+fn cube_symmetries_and_complement_keep_the_topology() {
+    let mut rng = Pcg64::seed_from_u64(3);
+    let syms = symmetries();
+    assert_eq!(syms.len(), 48);
+    for trial in 0..1500 {
+        let config = rng.gen_range(0..256u32);
+        let cell = random_cell(&mut rng, config, trial % 3 == 0);
+        let closed = check_closed([2, 2, 2], &cell, 0.0).expect("oracle").0;
+        let open = check_mesh(&run([2, 2, 2], &cell, 0.0, false, Method::Tmc).0);
+        assert_eq!(
+            open.non_manifold_edges + open.non_manifold_vertices + open.inconsistent_edges,
+            0
+        );
+        for &s in &syms {
+            let t = transform(&cell, s);
+            let r = check_closed([2, 2, 2], &t, 0.0)
+                .unwrap_or_else(|e| panic!("symmetry {s:?}: {e}"))
+                .0;
+            assert_eq!((r.components, r.euler), (closed.components, closed.euler));
+            let o = check_mesh(&run([2, 2, 2], &t, 0.0, false, Method::Tmc).0);
+            assert_eq!(
+                patch_topology(&o),
+                patch_topology(&open),
+                "symmetry {s:?} of {cell:?}"
+            );
+        }
+        // The complement: without ties, {-g > 0} is bounded by the same surface.
+        if !cell.contains(&0.0) {
+            let neg: Vec<f64> = cell.iter().map(|v| -v).collect();
+            let o = check_mesh(&run([2, 2, 2], &neg, 0.0, false, Method::Tmc).0);
+            assert_eq!(
+                patch_topology(&o),
+                patch_topology(&open),
+                "complement of {cell:?}"
+            );
+        }
+    }
+}
+
+/// MC case number (Lorensen and Cline) of a configuration, from the number
+/// of inside corners (after complementing to at most 4), the edge-connected
+/// groups they form and the number of faces with alternating signs.
+fn mc_case(config: u8) -> u8 {
+    let config = if config.count_ones() > 4 {
+        !config
+    } else {
+        config
+    };
+    let faces = [
+        [0, 1, 3, 2],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 3, 7, 6],
+        [0, 2, 6, 4],
+        [1, 3, 7, 5],
+    ];
+    let ambiguous = faces
+        .iter()
+        .filter(|q| {
+            let s = q.map(|c| config >> c & 1);
+            s[0] == s[2] && s[1] == s[3] && s[0] != s[1]
+        })
+        .count();
+    match (config.count_ones(), ambiguous) {
+        (2, 1) => 3,
+        (2, 0) => 4,
+        (3, 1) => 6,
+        (3, 3) => 7,
+        (4, 6) => 13,
+        (4, 2) => {
+            // Case 10 (two opposite edges) or 12 (three corners and one apart).
+            let edges = [
+                [0, 1],
+                [2, 3],
+                [4, 5],
+                [6, 7],
+                [0, 2],
+                [1, 3],
+                [4, 6],
+                [5, 7],
+                [0, 4],
+                [1, 5],
+                [2, 6],
+                [3, 7],
+            ];
+            let isolated = (0..8)
+                .filter(|&c| config >> c & 1 == 1)
+                .filter(|&c| {
+                    !edges
+                        .iter()
+                        .any(|e| e.contains(&c) && e.iter().all(|&k| config >> k & 1 == 1))
+                })
+                .count();
+            if isolated == 0 {
+                10
+            } else {
+                12
+            }
+        }
+        _ => 0,
+    }
+}
+
+#[test]
+fn the_configurations_the_paper_names() {
+    let mut rng = Pcg64::seed_from_u64(4);
+    let mut tunnel_cases = std::collections::BTreeSet::new();
+    let (mut twelve, mut ambiguous) = (false, [false; 4]);
+    for _ in 0..400_000 {
+        let config = rng.gen_range(1..255u32);
+        let cell = random_cell(&mut rng, config, false);
+        let (mesh, stats) = run([2, 2, 2], &cell, 0.0, false, Method::Tmc);
+        if stats.tunnels + stats.contours_12 + stats.ambiguous_contours.iter().sum::<u64>() == 0 {
+            continue;
+        }
+        let report = check_mesh(&mesh);
+        let patches = patch_topology(&report);
+        if stats.tunnels == 1 {
+            // The tunnel is an annulus: Euler characteristic 0, two boundary loops.
+            assert!(patches.contains(&(0, 2)), "tunnel {cell:?}: {patches:?}");
+            tunnel_cases.insert(mc_case(config as u8));
+        }
+        if stats.contours_12 == 1 {
+            assert_eq!(patches, vec![(1, 1)], "12-vertex contour {cell:?}");
+            twelve = true;
+        }
+        for n in 0..4 {
+            if stats.ambiguous_contours[n] > 0 {
+                assert!(
+                    patches.iter().all(|&(e, b)| e == 1 && b == 1),
+                    "{cell:?}: {patches:?}"
+                );
+                ambiguous[n] = true;
+            }
+        }
+        check_closed([2, 2, 2], &cell, 0.0).expect("oracle");
+    }
+    assert_eq!(
+        tunnel_cases.into_iter().collect::<Vec<_>>(),
+        vec![4, 6, 7, 10, 12, 13]
+    );
+    assert!(twelve, "no 12-vertex contour met");
+    assert_eq!(
+        ambiguous, [true; 4],
+        "ambiguous contours with 6, 7, 8, 9 vertices"
+    );
+}
+
+#[test]
+fn random_volumes_match_the_oracle() {
+    let mut rng = Pcg64::seed_from_u64(5);
+    let mut cases = 0;
+    for trial in 0..3000 {
+        let n: [usize; 3] = if trial % 50 == 0 {
+            [16, 16, 16]
+        } else {
+            std::array::from_fn(|_| rng.gen_range(2..=7))
+        };
+        let len = n.iter().product();
+        let kind = trial % 5;
+        let values: Vec<f64> = (0..len)
+            .map(|i| {
+                let (x, y, z) = (i % n[0], i / n[0] % n[1], i / (n[0] * n[1]));
+                match kind {
+                    // uniform noise, integers
+                    0 => rng.gen_range(0..1000) as f64,
+                    // near-binary
+                    1 => f64::from(rng.gen_bool(0.5)),
+                    // small integers, ties everywhere
+                    2 => rng.gen_range(0..4) as f64,
+                    // checkerboard with noise
+                    3 => ((x + y + z) % 2) as f64 * 4.0 + rng.gen_range(-1..=1) as f64,
+                    // labels
+                    _ => rng.gen_range(0..3) as f64 * 10.0,
+                }
+            })
+            .collect();
+        let iso = match kind {
+            0 => values[rng.gen_range(0..len)],
+            1 => [0.0, 0.5, 1.0][trial % 3],
+            2 => [0.0, 1.0, 1.5, 2.0, 3.0][trial % 5],
+            3 => [0.0, 1.0, 2.0, 2.5][trial % 4],
+            _ => [0.0, 5.0, 10.0, 20.0][trial % 4],
+        };
+        check_closed(n, &values, iso).unwrap_or_else(|e| panic!("trial {trial}: {e}"));
+        cases += 1;
+    }
+    assert_eq!(cases, 3000);
+}

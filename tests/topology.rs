@@ -251,13 +251,11 @@ fn the_configurations_the_paper_names() {
             assert_eq!(patches, vec![(1, 1)], "12-vertex contour {cell:?}");
             twelve = true;
         }
-        for n in 0..4 {
-            if stats.ambiguous_contours[n] > 0 {
-                assert!(
-                    patches.iter().all(|&(e, b)| e == 1 && b == 1),
-                    "{cell:?}: {patches:?}"
-                );
-                ambiguous[n] = true;
+        for (seen, &count) in ambiguous.iter_mut().zip(&stats.ambiguous_contours) {
+            if count > 0 {
+                let disks = patches.iter().all(|&(e, b)| e == 1 && b == 1);
+                assert!(disks, "{cell:?}: {patches:?}");
+                *seen = true;
             }
         }
         check_closed([2, 2, 2], &cell, 0.0).expect("oracle");
@@ -313,4 +311,35 @@ fn random_volumes_match_the_oracle() {
         cases += 1;
     }
     assert_eq!(cases, 3000);
+}
+
+/// The inner hexagon of every tunnel met in random cells: consecutive
+/// vertices differ in exactly one coordinate, and every vertex and every
+/// edge midpoint lies on the level set.
+#[test]
+fn inner_hexagon_order() {
+    use tmc::kernel::quadratic::{inner_hexagon, trilinear};
+    let mut rng = Pcg64::seed_from_u64(6);
+    let mut seen = 0;
+    for _ in 0..200_000 {
+        let g: [f64; 8] = std::array::from_fn(|_| rng.gen_range(-1.0..1.0));
+        let (_, stats) = run([2, 2, 2], &g, 0.0, false, Method::Tmc);
+        if stats.tunnels + stats.contours_12 == 0 {
+            continue;
+        }
+        seen += 1;
+        let hex = inner_hexagon(&g);
+        for i in 0..6 {
+            let (a, b) = (hex[i], hex[(i + 1) % 6]);
+            let differ = (0..3).filter(|&k| (a[k] - b[k]).abs() > 1e-12).count();
+            assert!(differ <= 1, "hexagon {hex:?} of {g:?}");
+            for p in [a, (a + b) * 0.5] {
+                assert!(
+                    trilinear(&g, p).abs() < 1e-9,
+                    "{p:?} off the level set in {g:?}"
+                );
+            }
+        }
+    }
+    assert!(seen > 10, "only {seen} tunnels met");
 }

@@ -55,14 +55,13 @@ pub fn build(config: u8, joined: u8) -> ContourSet {
     // following them orients contours with the outside on the left.
     let mut next = [u8::MAX; 12];
     let mut seg_face = [u8::MAX; 12];
-    for f in 0..6 {
-        let q = FACE_CORNERS[f];
+    for (f, &q) in FACE_CORNERS.iter().enumerate() {
         let e = face_edges(f);
         let ambiguous = face_is_ambiguous(config, f);
         for i in 0..4 {
             // Edge i of the face goes from corner q[i] to q[i+1]; a "start" is
             // an inside-to-outside step in counter-clockwise order.
-            if !(inside(q[i]) && !inside(q[(i + 1) % 4])) {
+            if !inside(q[i]) || inside(q[(i + 1) % 4]) {
                 continue;
             }
             let end = if ambiguous {
@@ -132,9 +131,8 @@ pub fn surface_components(config: u8, joined: u8) -> [u8; 8] {
         .filter(|[a, b]| inside(*a) == inside(*b))
         .map(|&[a, b]| (a, b))
         .collect();
-    for f in 0..6 {
+    for (f, &q) in FACE_CORNERS.iter().enumerate() {
         if face_is_ambiguous(config, f) {
-            let q = FACE_CORNERS[f];
             let inside_diag = if inside(q[0]) { 0 } else { 1 };
             let diag = if joined >> f & 1 == 1 {
                 inside_diag

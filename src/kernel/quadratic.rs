@@ -199,7 +199,7 @@ mod tests {
         for axis in 0..3 {
             let (a, b, c) = coefficients(&g, axis);
             for s in [0.0, 0.3, 0.8, 1.0] {
-                let mut p = |j: f64, k: f64| {
+                let p = |j: f64, k: f64| {
                     let mut q = [0.0; 3];
                     q[axis] = s;
                     q[(axis + 1) % 3] = j;

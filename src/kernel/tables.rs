@@ -108,6 +108,7 @@ pub fn share_face(a: usize, b: usize) -> bool {
 /// between two vertices on a common face where possible (such a diagonal
 /// would lie in the face, where the neighbouring cell may draw it too).
 /// Triangles keep the contour's orientation.
+#[allow(clippy::needless_range_loop)] // interval DP reads best by index
 fn triangulate_polygon(poly: &[u8], out: &mut Vec<[u8; 3]>) {
     let n = poly.len();
     let bad = |i: usize, j: usize| -> u32 {

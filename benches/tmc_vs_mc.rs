@@ -4,16 +4,16 @@
 //! of runs (default 7) and `TMC_BENCH_N` the grid size (default 192).
 
 use std::time::Instant;
-use tmc::{extract, synth, ArrayVolume, ExtractParams, Method};
+use tmc::{extract, synth, ExtractParams, Method, SampleSource};
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
 }
 
-fn time(vol: &ArrayVolume, method: Method, threads: usize) -> (f64, u64) {
+fn time(vol: &dyn SampleSource, iso: f64, method: Method, threads: usize) -> (f64, u64) {
     let params = ExtractParams {
-        iso: 0.0,
+        iso,
         method,
         threads,
         ..Default::default()
@@ -32,24 +32,45 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(192);
-    let volumes = [
-        ("gyroid (smooth)", synth::gyroid(n, 6.0)),
-        ("noise, 1 smoothing pass", synth::noise(n, 7, 1)),
-        ("uniform noise", synth::noise(n, 7, 0)),
+    let mut volumes: Vec<(String, Box<dyn SampleSource>, f64)> = vec![
+        (
+            "gyroid (smooth)".into(),
+            Box::new(synth::gyroid(n, 6.0)),
+            0.0,
+        ),
+        (
+            "noise, 1 smoothing pass".into(),
+            Box::new(synth::noise(n, 7, 1)),
+            0.0,
+        ),
+        ("uniform noise".into(), Box::new(synth::noise(n, 7, 0)), 0.0),
     ];
+    // The real CTs of ../shared/data, when present (the paper's comparison).
+    let shared = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
+    for (file, iso) in [
+        ("cthead.nrrd", 550.0),
+        ("cthead.nrrd", 1600.0),
+        ("bonsai.nrrd", 40.0),
+        ("engine.nrrd", 80.0),
+    ] {
+        match tmc::volume::open(&shared.join(file), None) {
+            Ok(v) => volumes.push((format!("{file} @ {iso}"), v, iso)),
+            Err(e) => eprintln!("skipping {file}: {e}"),
+        }
+    }
     println!("grid {n}^3, {runs} interleaved runs each, 1 thread, median seconds");
     println!(
         "{:<26} {:>10} {:>10} {:>8} {:>12} {:>12}",
         "volume", "tmc s", "mc s", "tmc/mc", "tmc tris", "mc tris"
     );
-    for (name, vol) in &volumes {
+    for (name, vol, iso) in &volumes {
         let (mut a, mut b) = (Vec::new(), Vec::new());
         let (mut ta, mut tb) = (0, 0);
         for _ in 0..runs {
-            let (s, t) = time(vol, Method::Tmc, 1);
+            let (s, t) = time(vol.as_ref(), *iso, Method::Tmc, 1);
             a.push(s);
             ta = t;
-            let (s, t) = time(vol, Method::Mc, 1);
+            let (s, t) = time(vol.as_ref(), *iso, Method::Mc, 1);
             b.push(s);
             tb = t;
         }

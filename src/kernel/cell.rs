@@ -105,6 +105,7 @@ pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &
         stats.tunnels += 1;
         triangulate_tunnel(g, set.contour(c1), set.contour(c2), &points, out);
     }
+    let mut saddles = None;
     for i in 0..set.count as usize {
         if tunnel.is_some_and(|(c1, c2)| i == c1 || i == c2) {
             continue;
@@ -118,7 +119,8 @@ pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &
             if (6..=9).contains(&n) {
                 stats.ambiguous_contours[n - 6] += 1;
             }
-            let centre = out.push_interior(interior_vertex(g, &points(contour)));
+            let saddles = saddles.get_or_insert_with(|| saddle_points(g));
+            let centre = out.push_interior(interior_vertex(saddles, &points(contour)));
             fan_around(contour, centre, out);
         } else {
             if (3..=6).contains(&n) {
@@ -222,16 +224,16 @@ fn inner_triangle(hex: &[DVec3; 6], out: &mut CellMesh) -> [VertexRef; 3] {
 /// lines (a saddle point), or the midpoint of the two saddle points nearest
 /// to the contour when there are more; the contour's centroid if rounding
 /// left no saddle point in the cell.
-fn interior_vertex(g: &[f64; 8], contour: &[DVec3]) -> DVec3 {
+fn interior_vertex(saddles: &[DVec3], contour: &[DVec3]) -> DVec3 {
     let centroid = contour.iter().copied().sum::<DVec3>() / contour.len() as f64;
-    let mut saddles = saddle_points(g);
-    if saddles.is_empty() {
+    let mut near: Vec<DVec3> = saddles.to_vec();
+    if near.is_empty() {
         return centroid;
     }
-    saddles.sort_by(|a, b| {
+    near.sort_by(|a, b| {
         a.distance_squared(centroid)
             .total_cmp(&b.distance_squared(centroid))
     });
-    let take = saddles.len().min(2);
-    saddles[..take].iter().copied().sum::<DVec3>() / take as f64
+    let take = near.len().min(2);
+    near[..take].iter().copied().sum::<DVec3>() / take as f64
 }

@@ -201,16 +201,38 @@ fn joined_on<T: Num>(
 /// The eight values as integers after scaling by a power of two, if they
 /// all are (with room for degree-four products in i128).
 fn scaled_integers(g: &[f64; 8]) -> Option<[i128; 8]> {
-    const LIMIT: f64 = (1u64 << 26) as f64;
-    let max = g.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let mut scale = 1.0f64;
-    while max * scale < LIMIT {
-        if g.iter().all(|v| (v * scale).fract() == 0.0) {
-            return Some(g.map(|v| (v * scale) as i128));
+    const LIMIT_BITS: i32 = 26;
+    // Each value is an odd integer times 2^e; scaling by 2^-min(e) (if
+    // negative) makes all of them integers.
+    let mut min_exp = 0i32;
+    let mut max_bits = 0i32;
+    for &v in g {
+        if v == 0.0 {
+            continue;
         }
-        scale *= 2.0;
+        if !v.is_finite() {
+            return None;
+        }
+        let bits = v.to_bits();
+        let biased = ((bits >> 52) & 0x7ff) as i32;
+        let fraction = bits & ((1u64 << 52) - 1);
+        let (mantissa, exp) = if biased == 0 {
+            (fraction, -1074)
+        } else {
+            (fraction | (1u64 << 52), biased - 1075)
+        };
+        let tz = mantissa.trailing_zeros() as i32;
+        let odd_bits = 64 - (mantissa >> tz).leading_zeros() as i32;
+        min_exp = min_exp.min(exp + tz);
+        // Magnitude below 2^(exp + tz + odd_bits).
+        max_bits = max_bits.max(exp + tz + odd_bits);
     }
-    None
+    let shift = -min_exp; // >= 0
+    if max_bits + shift > LIMIT_BITS {
+        return None;
+    }
+    let scale = 2f64.powi(shift);
+    Some(g.map(|v| (v * scale) as i128))
 }
 
 /// The values scaled by a power of two so the largest magnitude is near 1
@@ -250,5 +272,16 @@ mod tests {
     fn scaled_integers_detects_dyadic_values() {
         assert!(scaled_integers(&[0.5, -1.5, 2.0, 0.0, 1.0, 1.0, 1.0, 1.0]).is_some());
         assert!(scaled_integers(&[0.1, -1.5, 2.0, 0.0, 1.0, 1.0, 1.0, 1.0]).is_none());
+        assert_eq!(
+            scaled_integers(&[0.5, -1.5, 2.0, 0.0, 1.0, 1.0, 1.0, 0.25]),
+            Some([2, -6, 8, 0, 4, 4, 4, 1])
+        );
+        assert_eq!(
+            scaled_integers(&[65535.0, -3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]).map(|v| v[0]),
+            Some(65535)
+        );
+        assert!(
+            scaled_integers(&[(1u64 << 30) as f64, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]).is_none()
+        );
     }
 }

@@ -7,6 +7,7 @@ mod common;
 
 use common::fields::{self, Field};
 use common::oracle::{self, Topology};
+use common::{symmetries, transform};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 
@@ -125,52 +126,12 @@ fn random_grids_agree_along_all_axes() {
     assert!(shapes.iter().any(|s| s.0 > Some(2)), "{shapes:?}");
 }
 
-/// Applies a cube symmetry: new axis `i` is old axis `perm[i]`, reversed
-/// when `flip[i]`.
-fn transform(
-    dims: [usize; 3],
-    g: &[i64],
-    perm: [usize; 3],
-    flip: [bool; 3],
-) -> ([usize; 3], Vec<i64>) {
-    let nd = perm.map(|a| dims[a]);
-    let mut out = vec![0; g.len()];
-    for z in 0..nd[2] {
-        for y in 0..nd[1] {
-            for x in 0..nd[0] {
-                let q = [x, y, z];
-                let mut p = [0; 3];
-                for i in 0..3 {
-                    p[perm[i]] = if flip[i] { nd[i] - 1 - q[i] } else { q[i] };
-                }
-                out[x + nd[0] * (y + nd[1] * z)] = g[p[0] + dims[0] * (p[1] + dims[1] * p[2])];
-            }
-        }
-    }
-    (nd, out)
-}
-
-const PERMS: [[usize; 3]; 6] = [
-    [0, 1, 2],
-    [0, 2, 1],
-    [1, 0, 2],
-    [1, 2, 0],
-    [2, 0, 1],
-    [2, 1, 0],
-];
-
 fn assert_symmetric(dims: [usize; 3], g: &[i64]) {
     let base = oracle::topology(dims, g);
-    for perm in PERMS {
-        for f in 0..8 {
-            let flip = [f & 1 != 0, f & 2 != 0, f & 4 != 0];
-            let (nd, ng) = transform(dims, g, perm, flip);
-            assert_eq!(
-                base,
-                oracle::topology(nd, &ng),
-                "{dims:?} {g:?} {perm:?} {flip:?}"
-            );
-        }
+    for (perm, flip) in symmetries() {
+        let (nd, ng) = transform(dims, g, perm, flip);
+        let topo = oracle::topology(nd, &ng);
+        assert_eq!(base, topo, "{dims:?} {g:?} {perm:?} {flip:?}");
     }
 }
 

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{compare_with_oracle, oracle};
+use common::{compare_with_oracle, oracle, symmetries, transform};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use tmc::check::{check_mesh, MeshReport};
@@ -83,35 +83,6 @@ fn every_configuration_with_small_integers() {
     }
 }
 
-/// The 48 symmetries of the cube: axis permutations and reflections.
-fn symmetries() -> Vec<([usize; 3], [usize; 3])> {
-    let perms = [
-        [0, 1, 2],
-        [0, 2, 1],
-        [1, 0, 2],
-        [1, 2, 0],
-        [2, 0, 1],
-        [2, 1, 0],
-    ];
-    let mut out = Vec::new();
-    for p in perms {
-        for f in 0..8 {
-            out.push((p, [f & 1, f >> 1 & 1, f >> 2 & 1]));
-        }
-    }
-    out
-}
-
-fn transform(cell: &[f64; 8], (perm, flip): ([usize; 3], [usize; 3])) -> [f64; 8] {
-    let mut out = [0.0; 8];
-    for (c, v) in cell.iter().enumerate() {
-        let p = [c & 1, c >> 1 & 1, c >> 2 & 1];
-        let q: [usize; 3] = std::array::from_fn(|i| p[perm[i]] ^ flip[i]);
-        out[q[0] | q[1] << 1 | q[2] << 2] = *v;
-    }
-    out
-}
-
 /// Topology of the open patch in one cell: per component (euler, boundary
 /// loops), sorted.
 fn patch_topology(report: &MeshReport) -> Vec<(i64, usize)> {
@@ -138,8 +109,9 @@ fn cube_symmetries_and_complement_keep_the_topology() {
             open.non_manifold_edges + open.non_manifold_vertices + open.inconsistent_edges,
             0
         );
-        for &s in &syms {
-            let t = transform(&cell, s);
+        for &(perm, flip) in &syms {
+            let s = (perm, flip);
+            let t = transform([2, 2, 2], &cell, perm, flip).1;
             let r = check_closed([2, 2, 2], &t, 0.0)
                 .unwrap_or_else(|e| panic!("symmetry {s:?}: {e}"))
                 .0;

@@ -36,3 +36,47 @@ pub fn compare_with_oracle(report: &MeshReport, topo: &Topology) -> Result<(), S
         Err(problems.join("; "))
     }
 }
+
+/// The 48 symmetries of the cube: an axis permutation (new axis `i` is old
+/// axis `perm[i]`) and a reflection per new axis.
+pub fn symmetries() -> Vec<([usize; 3], [bool; 3])> {
+    let perms = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    let mut out = Vec::with_capacity(48);
+    for perm in perms {
+        for f in 0..8 {
+            out.push((perm, [f & 1 != 0, f & 2 != 0, f & 4 != 0]));
+        }
+    }
+    out
+}
+
+/// A grid (x fastest) under the symmetry `(perm, flip)`.
+pub fn transform<T: Copy + Default>(
+    dims: [usize; 3],
+    g: &[T],
+    perm: [usize; 3],
+    flip: [bool; 3],
+) -> ([usize; 3], Vec<T>) {
+    let nd = perm.map(|a| dims[a]);
+    let mut out = vec![T::default(); g.len()];
+    for z in 0..nd[2] {
+        for y in 0..nd[1] {
+            for x in 0..nd[0] {
+                let q = [x, y, z];
+                let mut p = [0; 3];
+                for i in 0..3 {
+                    p[perm[i]] = if flip[i] { nd[i] - 1 - q[i] } else { q[i] };
+                }
+                out[x + nd[0] * (y + nd[1] * z)] = g[p[0] + dims[0] * (p[1] + dims[1] * p[2])];
+            }
+        }
+    }
+    (nd, out)
+}

@@ -183,3 +183,24 @@ fn coordinates_are_physical() {
         }
     }
 }
+
+#[test]
+fn nan_samples_are_outside_like_ties() {
+    let noise = synth::noise(14, 21, 0);
+    let with_nan: Vec<f64> = noise
+        .data()
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| if i % 7 == 0 { f64::NAN } else { v })
+        .collect();
+    let at_iso: Vec<f64> = with_nan
+        .iter()
+        .map(|v| if v.is_nan() { 0.0 } else { *v })
+        .collect();
+    let a = ArrayVolume::new(*noise.grid(), with_nan).expect("nan");
+    let b = ArrayVolume::new(*noise.grid(), at_iso).expect("iso");
+    let ma = extract(&a, &params(true)).expect("nan").0;
+    assert!(ma == extract(&b, &params(true)).expect("iso").0);
+    assert!(ma.vertices.iter().flatten().all(|c| c.is_finite()));
+    assert!(check_mesh(&ma).is_closed_manifold());
+}

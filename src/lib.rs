@@ -31,6 +31,7 @@ pub mod kernel;
 pub mod mesh;
 pub mod pipeline;
 pub mod seam;
+pub mod sink;
 pub mod slab;
 pub mod stats;
 pub mod synth;
@@ -38,6 +39,7 @@ pub mod volume;
 
 pub use error::{Error, Result};
 pub use mesh::Mesh;
-pub use pipeline::{extract, ExtractParams, Inside, Method};
+pub use pipeline::{extract, extract_to, ExtractParams, Inside, Method, PipelineOptions, Progress};
+pub use sink::{Chunk, MeshBuilder, MeshInfo, MeshSink, Totals};
 pub use stats::Stats;
 pub use volume::{ArrayVolume, Grid, SampleSource};

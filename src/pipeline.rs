@@ -1,10 +1,10 @@
 //! The extraction entry point: parameters, slabs in parallel, seams stitched.
 
-use crate::seam::stitch;
-use crate::slab::{process_slab, Block};
+use crate::seam::Seam;
+use crate::sink::{MeshBuilder, MeshInfo, MeshSink};
+use crate::slab::process_slab;
 use crate::volume::Padded;
 use crate::{Error, Mesh, Result, SampleSource, Stats};
-use rayon::prelude::*;
 use std::ops::Range;
 use std::time::Instant;
 
@@ -57,11 +57,45 @@ impl Default for ExtractParams {
     }
 }
 
-/// Extracts the isosurface of `source` at `params.iso`.
+/// How the pipeline runs (not what it computes: the output does not depend
+/// on these).
+#[derive(Clone, Copy, Default)]
+pub struct PipelineOptions<'a> {
+    /// Cell layers per slab; 0 chooses from the plane size.
+    pub slab_depth: usize,
+    /// Called on the writing thread after each slab is written.
+    pub progress: Option<&'a (dyn Fn(&Progress) + Sync)>,
+}
+
+/// How far an extraction has got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Progress {
+    /// Cell layers written.
+    pub layers_done: usize,
+    /// Cell layers in all.
+    pub layers_total: usize,
+}
+
+/// Extracts the isosurface of `source` at `params.iso` into an in-memory mesh.
+pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mesh, Stats)> {
+    let mut builder = MeshBuilder::default();
+    let stats = extract_to(source, params, &PipelineOptions::default(), &mut builder)?;
+    Ok((builder.into_mesh(), stats))
+}
+
+/// Extracts the isosurface of `source` at `params.iso`, streaming chunks in
+/// plane order to `sink`.
 ///
 /// The cell layers are cut into slabs that worker threads triangulate in
-/// parallel; the result does not depend on the number of threads.
-pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mesh, Stats)> {
+/// parallel; at most a few slabs per thread are in flight, so memory is
+/// bounded by the slab size, not by the volume or the mesh. The output does
+/// not depend on the number of threads or on the slab depth.
+pub fn extract_to(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    options: &PipelineOptions,
+    sink: &mut dyn MeshSink,
+) -> Result<Stats> {
     let start = Instant::now();
     if !params.iso.is_finite() {
         return Err(Error::Invalid(format!(
@@ -69,6 +103,13 @@ pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mes
             params.iso
         )));
     }
+    let info = MeshInfo {
+        grid: *source.grid(),
+        iso: params.iso,
+        method: params.method,
+        inside: params.inside,
+        close: params.close,
+    };
     let padded;
     let source: &dyn SampleSource = if params.close {
         padded = Padded::new(source);
@@ -85,35 +126,79 @@ pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mes
     }
     let layers = dims[2] - 1;
     let threads = if params.threads == 0 {
-        rayon::current_num_threads()
+        std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
         params.threads
     };
-    let depth = layers.div_ceil(threads * 4).clamp(1, 64);
+    let depth = if options.slab_depth > 0 {
+        options.slab_depth
+    } else {
+        // About 16M samples per slab, at least 1 layer, at most 64.
+        (16 << 20) / source.grid().plane_len().max(1)
+    }
+    .clamp(1, 64);
     let slabs: Vec<Range<usize>> = (0..layers)
         .step_by(depth)
         .map(|z| z..(z + depth).min(layers))
         .collect();
-    let run = |r: &Range<usize>| process_slab(source, params, r.clone());
-    let results: Vec<Result<(Vec<Block>, Stats)>> = if threads == 1 {
-        slabs.iter().map(run).collect()
+    sink.begin(&info)?;
+    let mut seam = Seam::new(sink);
+    let report = |seam: &Seam| {
+        if let Some(progress) = options.progress {
+            let done = slabs[..seam.written()].iter().map(|r| r.len()).sum();
+            progress(&Progress {
+                layers_done: done,
+                layers_total: layers,
+            });
+        }
+    };
+    let run = |i: usize| process_slab(source, params, slabs[i].clone());
+    if threads == 1 {
+        for i in 0..slabs.len() {
+            let (chunks, stats) = run(i)?;
+            seam.accept(i, chunks, stats)?;
+            report(&seam);
+        }
     } else {
-        rayon::ThreadPoolBuilder::new()
+        let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .map_err(|e| Error::Invalid(format!("cannot start {threads} threads: {e}")))?
-            .install(|| slabs.par_iter().map(run).collect())
-    };
-    let mut blocks = Vec::with_capacity(dims[2]);
-    let mut stats = Stats::default();
-    for r in results {
-        let (b, s) = r?;
-        blocks.extend(b);
-        stats.add_counts(&s);
+            .map_err(|e| Error::Invalid(format!("cannot start {threads} threads: {e}")))?;
+        // At most `window` slabs computed but not yet written.
+        let window = threads + 1;
+        let (tx, rx) = crossbeam::channel::unbounded();
+        pool.in_place_scope(|scope| -> Result<()> {
+            let run = &run;
+            let launch = |i: usize| {
+                let tx = tx.clone();
+                scope.spawn(move |_| {
+                    // The receiver outlives the scope; a send cannot fail.
+                    let _ = tx.send((i, run(i)));
+                });
+            };
+            let mut launched = 0;
+            while launched < slabs.len().min(window) {
+                launch(launched);
+                launched += 1;
+            }
+            while seam.written() < slabs.len() {
+                let (i, result) = rx.recv().expect("a worker holds a sender");
+                let (chunks, stats) = result?;
+                for _ in 0..seam.accept(i, chunks, stats)? {
+                    if launched < slabs.len() {
+                        launch(launched);
+                        launched += 1;
+                    }
+                }
+                report(&seam);
+            }
+            Ok(())
+        })?;
     }
-    let mesh = stitch(blocks)?;
-    stats.vertices = mesh.vertices.len() as u64;
-    stats.triangles = mesh.triangles.len() as u64;
+    let (mut stats, totals) = seam.finish()?;
+    stats.vertices = totals.vertices;
+    stats.triangles = totals.triangles;
+    stats.slabs = slabs.len() as u64;
     stats.seconds = start.elapsed().as_secs_f64();
-    Ok((mesh, stats))
+    Ok(stats)
 }

@@ -1,43 +1,64 @@
-//! Seams: from per-plane blocks to one mesh with global vertex numbers.
+//! Seams: slabs finished in any order become one stream of chunks with
+//! global vertex numbers.
 //!
-//! Each block's vertices get consecutive global numbers in plane order, so a
-//! vertex on a slab seam, computed by both slabs, is numbered once: by the
-//! block of its plane. Nothing is matched by position.
+//! Each chunk's vertices get consecutive global numbers in plane order. A
+//! vertex on a slab seam is computed by both slabs but owned by the chunk of
+//! its plane, and both slabs number it the same way, so the seam is exact by
+//! construction: nothing is matched by position, and no hash map is needed
+//! inside one process (part files of `tmc merge` carry their seam keys).
 
-use crate::slab::{Block, NEXT_BLOCK};
-use crate::{Error, Mesh, Result};
+use crate::sink::{Chunk, MeshSink, Totals};
+use crate::{Result, Stats};
+use std::collections::BTreeMap;
 
-/// Concatenates `blocks` (in plane order, one per grid plane) into a mesh.
-pub fn stitch(blocks: Vec<Block>) -> Result<Mesh> {
-    let mut offsets = Vec::with_capacity(blocks.len() + 1);
-    let mut total = 0u64;
-    for b in &blocks {
-        offsets.push(total);
-        total += b.vertices.len() as u64;
+/// Reorders finished slabs and forwards their chunks to a sink in plane order.
+pub struct Seam<'a> {
+    sink: &'a mut dyn MeshSink,
+    pending: BTreeMap<usize, (Vec<Chunk>, Stats)>,
+    next: usize,
+    totals: Totals,
+    stats: Stats,
+}
+
+impl<'a> Seam<'a> {
+    /// A seam feeding `sink`, expecting slab 0 first.
+    pub fn new(sink: &'a mut dyn MeshSink) -> Self {
+        Seam {
+            sink,
+            pending: BTreeMap::new(),
+            next: 0,
+            totals: Totals::default(),
+            stats: Stats::default(),
+        }
     }
-    offsets.push(total);
-    if total > u32::MAX as u64 {
-        return Err(Error::Invalid(format!(
-            "the mesh has {total} vertices, more than an in-memory mesh with 32-bit indices holds"
-        )));
+
+    /// Accepts slab `index`; writes it and every waiting successor when it
+    /// is the next one due. Returns how many slabs were written.
+    pub fn accept(&mut self, index: usize, chunks: Vec<Chunk>, stats: Stats) -> Result<usize> {
+        self.pending.insert(index, (chunks, stats));
+        let mut written = 0;
+        while let Some((chunks, stats)) = self.pending.remove(&self.next) {
+            for chunk in &chunks {
+                self.sink.chunk(self.totals.vertices, chunk)?;
+                self.totals.vertices += chunk.vertices.len() as u64;
+                self.totals.triangles += chunk.triangles.len() as u64;
+                self.totals.chunks += 1;
+            }
+            self.stats.add_counts(&stats);
+            self.next += 1;
+            written += 1;
+        }
+        Ok(written)
     }
-    let triangles: usize = blocks.iter().map(|b| b.triangles.len()).sum();
-    let mut mesh = Mesh {
-        vertices: Vec::with_capacity(total as usize),
-        triangles: Vec::with_capacity(triangles),
-    };
-    for (z, b) in blocks.into_iter().enumerate() {
-        let (here, next) = (offsets[z] as u32, offsets[z + 1] as u32);
-        mesh.vertices.extend_from_slice(&b.vertices);
-        mesh.triangles.extend(b.triangles.iter().map(|t| {
-            t.map(|r| {
-                if r & NEXT_BLOCK != 0 {
-                    next + (r & !NEXT_BLOCK)
-                } else {
-                    here + r
-                }
-            })
-        }));
+
+    /// Slabs written so far.
+    pub fn written(&self) -> usize {
+        self.next
     }
-    Ok(mesh)
+
+    /// Finishes the sink; returns the summed counts and the totals.
+    pub fn finish(self) -> Result<(Stats, Totals)> {
+        self.sink.finish(&self.totals)?;
+        Ok((self.stats, self.totals))
+    }
 }

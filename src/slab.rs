@@ -5,15 +5,18 @@
 //! vertices on z-edges between planes `z` and `z + 1`, and the interior
 //! vertices of cell layer `z`, which also emits its triangles into block `z`.
 //! A block's content depends on planes `z` and `z + 1` only, so any split of
-//! the layers into slabs, on any number of threads, gives the same blocks;
-//! triangles point into their own block or into the first part of block
-//! `z + 1` (plane vertices), which the seam step resolves to global numbers.
-//! Inside a slab no hashing is needed: edge caches are plain arrays.
+//! the layers into slabs, on any number of threads, gives the same blocks.
+//! Triangles point into their own block or into the first part of block
+//! `z + 1` (its plane vertices, numbered the same way by both slabs that
+//! see that plane), so each block leaves the slab as a [`Chunk`] with
+//! indices relative to its first vertex, and the seam step only adds
+//! offsets. Inside a slab no hashing is needed: edge caches are plain arrays.
 
 use crate::kernel::cell::INTERIOR;
 use crate::kernel::tables::tables;
 use crate::kernel::{triangulate_ambiguous, CellMesh};
 use crate::pipeline::{ExtractParams, Inside, Method};
+use crate::sink::Chunk;
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use glam::DVec3;
 use std::ops::Range;
@@ -21,19 +24,39 @@ use std::ops::Range;
 /// No vertex on this edge.
 const NONE: u32 = u32::MAX;
 /// Set in a triangle's vertex reference when it points into block `z + 1`.
-pub const NEXT_BLOCK: u32 = 1 << 31;
+const NEXT_BLOCK: u32 = 1 << 31;
 
 /// The vertices owned by one grid plane and the triangles of the cell layer
-/// above it. Triangle entries are local indices, possibly tagged [`NEXT_BLOCK`].
+/// above it, while the layer is being built: triangle entries are local
+/// indices, possibly tagged [`NEXT_BLOCK`].
 #[derive(Debug, Default, Clone)]
-pub struct Block {
-    /// Vertex positions, physical coordinates.
-    pub vertices: Vec<[f32; 3]>,
-    /// Triangles as local references.
-    pub triangles: Vec<[u32; 3]>,
+struct Block {
+    vertices: Vec<[f32; 3]>,
+    triangles: Vec<[u32; 3]>,
 }
 
-/// One plane of values relative to the isovalue, with its edge vertices.
+impl Block {
+    /// The finished block as a chunk: references into the next block follow
+    /// this block's own vertices.
+    fn into_chunk(self, plane: usize) -> Chunk {
+        let own = self.vertices.len() as u32;
+        let resolve = |r: u32| {
+            if r & NEXT_BLOCK != 0 {
+                own + (r & !NEXT_BLOCK)
+            } else {
+                r
+            }
+        };
+        Chunk {
+            plane: plane as u64,
+            triangles: self.triangles.iter().map(|t| t.map(resolve)).collect(),
+            vertices: self.vertices,
+        }
+    }
+}
+
+/// One plane of values relative to the isovalue, with its edge vertices;
+/// two of them are reused, plane after plane, by a slab.
 struct Plane {
     z: usize,
     /// `value - iso` (or `iso - value`), NaN replaced by 0 (outside).
@@ -44,67 +67,76 @@ struct Plane {
     ye: Vec<u32>,
 }
 
-/// Reads and classifies plane `z`; appends the positions of its edge
-/// vertices to `owned` when given.
-fn load_plane(
-    source: &dyn SampleSource,
-    params: &ExtractParams,
-    z: usize,
-    raw: &mut [f64],
-    owned: Option<&mut Vec<[f32; 3]>>,
-) -> Result<Plane> {
-    let grid = *source.grid();
-    let [nx, ny, _] = grid.dims;
-    source.read_plane(z, raw)?;
-    let g: Vec<f64> = raw
-        .iter()
-        .map(|&v| {
-            let d = match params.inside {
-                Inside::High => v - params.iso,
-                Inside::Low => params.iso - v,
-            };
-            if d.is_nan() {
+impl Plane {
+    fn new(grid: &Grid) -> Self {
+        let [nx, ny, _] = grid.dims;
+        Plane {
+            z: 0,
+            g: vec![0.0; nx * ny],
+            xe: vec![NONE; (nx - 1) * ny],
+            ye: vec![NONE; nx * (ny - 1)],
+        }
+    }
+
+    /// Reads and classifies plane `z`; appends the positions of its edge
+    /// vertices to `owned`.
+    fn load(
+        &mut self,
+        source: &dyn SampleSource,
+        params: &ExtractParams,
+        z: usize,
+        owned: &mut Vec<[f32; 3]>,
+    ) -> Result<()> {
+        let grid = *source.grid();
+        let [nx, ny, _] = grid.dims;
+        self.z = z;
+        source.read_plane(z, &mut self.g)?;
+        let (iso, sign) = match params.inside {
+            Inside::High => (params.iso, 1.0),
+            Inside::Low => (params.iso, -1.0),
+        };
+        for v in self.g.iter_mut() {
+            let d = (*v - iso) * sign;
+            *v = if d.is_nan() {
                 0.0
             } else {
                 d.clamp(-1e150, 1e150)
-            }
-        })
-        .collect();
-    let mut xe = vec![NONE; (nx - 1) * ny];
-    let mut ye = vec![NONE; nx * (ny - 1)];
-    let mut count = 0u32;
-    let mut positions = owned;
-    for y in 0..ny {
-        for x in 0..nx - 1 {
-            let (a, b) = (g[y * nx + x], g[y * nx + x + 1]);
-            if (a > 0.0) != (b > 0.0) {
-                xe[y * (nx - 1) + x] = count;
-                count += 1;
-                if let Some(p) = positions.as_deref_mut() {
-                    p.push(physical(
+            };
+        }
+        let g = &self.g;
+        let mut count = 0u32;
+        for y in 0..ny {
+            for x in 0..nx - 1 {
+                let (a, b) = (g[y * nx + x], g[y * nx + x + 1]);
+                let slot = &mut self.xe[y * (nx - 1) + x];
+                *slot = NONE;
+                if (a > 0.0) != (b > 0.0) {
+                    *slot = count;
+                    count += 1;
+                    owned.push(physical(
                         &grid,
                         [x as f64 + a / (a - b), y as f64, z as f64],
                     ));
                 }
             }
         }
-    }
-    for y in 0..ny - 1 {
-        for x in 0..nx {
-            let (a, b) = (g[y * nx + x], g[(y + 1) * nx + x]);
-            if (a > 0.0) != (b > 0.0) {
-                ye[y * nx + x] = count;
-                count += 1;
-                if let Some(p) = positions.as_deref_mut() {
-                    p.push(physical(
+        for y in 0..ny - 1 {
+            for x in 0..nx {
+                let (a, b) = (g[y * nx + x], g[(y + 1) * nx + x]);
+                let slot = &mut self.ye[y * nx + x];
+                *slot = NONE;
+                if (a > 0.0) != (b > 0.0) {
+                    *slot = count;
+                    count += 1;
+                    owned.push(physical(
                         &grid,
                         [x as f64, y as f64 + a / (a - b), z as f64],
                     ));
                 }
             }
         }
+        Ok(())
     }
-    Ok(Plane { z, g, xe, ye })
 }
 
 /// `origin + index * spacing`, rounded to f32.
@@ -112,31 +144,29 @@ fn physical(grid: &Grid, index: [f64; 3]) -> [f32; 3] {
     [0, 1, 2].map(|i| (grid.origin[i] + index[i] * grid.spacing[i]) as f32)
 }
 
-/// Processes cell layers `layers` and returns their blocks (plus the block of
-/// the last plane when the range ends at the top of the grid) and the counts.
+/// Processes cell layers `layers` and returns one chunk per layer (plus the
+/// chunk of the last plane when the range ends at the top of the grid) and
+/// the counts.
 pub fn process_slab(
     source: &dyn SampleSource,
     params: &ExtractParams,
     layers: Range<usize>,
-) -> Result<(Vec<Block>, Stats)> {
+) -> Result<(Vec<Chunk>, Stats)> {
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
-    let mut raw = vec![0.0; grid.plane_len()];
     let mut stats = Stats::default();
-    let mut blocks = Vec::with_capacity(layers.len() + 1);
+    let mut chunks = Vec::with_capacity(layers.len() + 1);
     let mut block = Block::default();
-    let mut bottom = load_plane(
-        source,
-        params,
-        layers.start,
-        &mut raw,
-        Some(&mut block.vertices),
-    )?;
+    let mut bottom = Plane::new(&grid);
+    let mut top = Plane::new(&grid);
+    // The slab's first plane may belong to the slab below; its vertices are
+    // numbered the same way here and there, and kept by the block of that plane.
+    bottom.load(source, params, layers.start, &mut block.vertices)?;
     let mut cell = CellMesh::new();
     let mut ze = vec![NONE; nx * ny];
     for z in layers.clone() {
         let mut next = Block::default();
-        let top = load_plane(source, params, z + 1, &mut raw, Some(&mut next.vertices))?;
+        top.load(source, params, z + 1, &mut next.vertices)?;
         // z-edges between the two planes.
         for y in 0..ny {
             for x in 0..nx {
@@ -155,13 +185,13 @@ pub fn process_slab(
         layer_cells(
             &grid, params, &bottom, &top, &ze, &mut block, &mut cell, &mut stats,
         )?;
-        blocks.push(std::mem::replace(&mut block, next));
-        bottom = top;
+        chunks.push(std::mem::replace(&mut block, next).into_chunk(z));
+        std::mem::swap(&mut bottom, &mut top);
     }
     if layers.end == nz - 1 {
-        blocks.push(block);
+        chunks.push(block.into_chunk(nz - 1));
     }
-    Ok((blocks, stats))
+    Ok((chunks, stats))
 }
 
 fn local_index(block: &Block) -> Result<u32> {

@@ -22,6 +22,8 @@ pub struct Stats {
     pub vertices: u64,
     /// Triangles in the output mesh.
     pub triangles: u64,
+    /// Slabs the cell layers were cut into.
+    pub slabs: u64,
     /// Wall time of the extraction in seconds.
     pub seconds: f64,
 }

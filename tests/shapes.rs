@@ -3,7 +3,10 @@
 //! physical coordinates).
 
 use tmc::check::check_mesh;
-use tmc::{extract, synth, ArrayVolume, ExtractParams, Grid, Inside, Mesh, Method, SampleSource};
+use tmc::{
+    extract, extract_to, synth, ArrayVolume, ExtractParams, Grid, Inside, Mesh, MeshBuilder,
+    Method, PipelineOptions, SampleSource,
+};
 
 fn params(close: bool) -> ExtractParams {
     ExtractParams {
@@ -89,16 +92,30 @@ fn standard_mc_differs_on_ambiguous_cells() {
 }
 
 #[test]
-fn output_does_not_depend_on_threads() {
-    let vol = synth::noise(40, 9, 1);
-    let mut p = params(false);
-    let one = extract(&vol, &p).expect("1 thread").0;
-    for threads in [2, 3, 5] {
-        p.threads = threads;
-        assert!(
-            extract(&vol, &p).expect("threads").0 == one,
-            "{threads} threads"
-        );
+fn output_does_not_depend_on_threads_or_slab_depth() {
+    for (vol, close) in [
+        (synth::noise(40, 9, 1), false),
+        (synth::noise(17, 3, 0), true),
+    ] {
+        let mut p = params(close);
+        let one = extract(&vol, &p).expect("1 thread").0;
+        assert!(check_mesh(&one).non_manifold_edges == 0);
+        for threads in [1, 2, 3] {
+            for depth in [1, 2, 7, 64] {
+                p.threads = threads;
+                let options = PipelineOptions {
+                    slab_depth: depth,
+                    ..Default::default()
+                };
+                let mut builder = MeshBuilder::default();
+                let stats = extract_to(&vol, &p, &options, &mut builder).expect("extract");
+                assert!(
+                    builder.into_mesh() == one,
+                    "{threads} threads, depth {depth}"
+                );
+                assert_eq!(stats.triangles as usize, one.triangles.len());
+            }
+        }
     }
 }
 

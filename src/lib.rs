@@ -29,6 +29,7 @@ pub mod error;
 pub mod export;
 pub mod kernel;
 pub mod mesh;
+pub mod meshfile;
 pub mod pipeline;
 pub mod seam;
 pub mod sink;

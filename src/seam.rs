@@ -10,6 +10,7 @@
 use crate::sink::{Chunk, MeshSink, Totals};
 use crate::{Result, Stats};
 use std::collections::BTreeMap;
+use std::time::Instant;
 
 /// Reorders finished slabs and forwards their chunks to a sink in plane order.
 pub struct Seam<'a> {
@@ -38,6 +39,7 @@ impl<'a> Seam<'a> {
         self.pending.insert(index, (chunks, stats));
         let mut written = 0;
         while let Some((chunks, stats)) = self.pending.remove(&self.next) {
+            let start = Instant::now();
             for chunk in &chunks {
                 self.sink.chunk(self.totals.vertices, chunk)?;
                 self.totals.vertices += chunk.vertices.len() as u64;
@@ -45,6 +47,7 @@ impl<'a> Seam<'a> {
                 self.totals.chunks += 1;
             }
             self.stats.add_counts(&stats);
+            self.stats.write_seconds += start.elapsed().as_secs_f64();
             self.next += 1;
             written += 1;
         }
@@ -57,8 +60,10 @@ impl<'a> Seam<'a> {
     }
 
     /// Finishes the sink; returns the summed counts and the totals.
-    pub fn finish(self) -> Result<(Stats, Totals)> {
+    pub fn finish(mut self) -> Result<(Stats, Totals)> {
+        let start = Instant::now();
         self.sink.finish(&self.totals)?;
+        self.stats.write_seconds += start.elapsed().as_secs_f64();
         Ok((self.stats, self.totals))
     }
 }

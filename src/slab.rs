@@ -20,6 +20,7 @@ use crate::sink::Chunk;
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use glam::DVec3;
 use std::ops::Range;
+use std::time::Instant;
 
 /// No vertex on this edge.
 const NONE: u32 = u32::MAX;
@@ -86,11 +87,15 @@ impl Plane {
         params: &ExtractParams,
         z: usize,
         owned: &mut Vec<[f32; 3]>,
+        stats: &mut Stats,
     ) -> Result<()> {
         let grid = *source.grid();
         let [nx, ny, _] = grid.dims;
         self.z = z;
+        let start = Instant::now();
         source.read_plane(z, &mut self.g)?;
+        stats.planes_read += 1;
+        stats.read_seconds += start.elapsed().as_secs_f64();
         let (iso, sign) = match params.inside {
             Inside::High => (params.iso, 1.0),
             Inside::Low => (params.iso, -1.0),
@@ -154,6 +159,7 @@ pub fn process_slab(
 ) -> Result<(Vec<Chunk>, Stats)> {
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
+    let start = Instant::now();
     let mut stats = Stats::default();
     let mut chunks = Vec::with_capacity(layers.len() + 1);
     let mut block = Block::default();
@@ -161,12 +167,18 @@ pub fn process_slab(
     let mut top = Plane::new(&grid);
     // The slab's first plane may belong to the slab below; its vertices are
     // numbered the same way here and there, and kept by the block of that plane.
-    bottom.load(source, params, layers.start, &mut block.vertices)?;
+    bottom.load(
+        source,
+        params,
+        layers.start,
+        &mut block.vertices,
+        &mut stats,
+    )?;
     let mut cell = CellMesh::new();
     let mut ze = vec![NONE; nx * ny];
     for z in layers.clone() {
         let mut next = Block::default();
-        top.load(source, params, z + 1, &mut next.vertices)?;
+        top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
         for y in 0..ny {
             for x in 0..nx {
@@ -191,6 +203,7 @@ pub fn process_slab(
     if layers.end == nz - 1 {
         chunks.push(block.into_chunk(nz - 1));
     }
+    stats.cell_seconds = start.elapsed().as_secs_f64() - stats.read_seconds;
     Ok((chunks, stats))
 }
 

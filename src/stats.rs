@@ -24,12 +24,21 @@ pub struct Stats {
     pub triangles: u64,
     /// Slabs the cell layers were cut into.
     pub slabs: u64,
+    /// Grid planes read (a plane on a slab seam is read by both slabs).
+    pub planes_read: u64,
+    /// Seconds spent reading and converting samples, summed over threads.
+    pub read_seconds: f64,
+    /// Seconds spent triangulating cells, summed over threads.
+    pub cell_seconds: f64,
+    /// Seconds spent handing chunks to the sink (writing), on the writer thread.
+    pub write_seconds: f64,
     /// Wall time of the extraction in seconds.
     pub seconds: f64,
 }
 
 impl Stats {
-    /// Adds the cell counts of `other` into `self` (sizes and time excluded).
+    /// Adds the counts and thread times of `other` into `self` (sizes and
+    /// wall time excluded).
     pub fn add_counts(&mut self, other: &Stats) {
         self.ambiguous_cells += other.ambiguous_cells;
         for i in 0..4 {
@@ -38,5 +47,8 @@ impl Stats {
         }
         self.tunnels += other.tunnels;
         self.contours_12 += other.contours_12;
+        self.planes_read += other.planes_read;
+        self.read_seconds += other.read_seconds;
+        self.cell_seconds += other.cell_seconds;
     }
 }

@@ -6,6 +6,60 @@ use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
+/// A file being written under a temporary name beside its target; it
+/// appears at the target only on [`AtomicFile::commit`]. Dropped without a
+/// commit, it removes the temporary file and leaves the target as it was.
+pub struct AtomicFile {
+    temp: tempfile::NamedTempFile,
+    path: std::path::PathBuf,
+}
+
+impl AtomicFile {
+    /// Creates the temporary file in the directory of `path`.
+    pub fn create(path: &Path) -> Result<AtomicFile> {
+        let dir = parent_dir(path);
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".tmc-").suffix(".tmp");
+        #[cfg(unix)]
+        {
+            // Like a plain `File::create`: readable by others, subject to umask
+            // (a temporary file is otherwise private to its owner).
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        let temp = builder
+            .tempfile_in(dir)
+            .map_err(|e| Error::io(path, without_temp_path(e)))?;
+        Ok(AtomicFile {
+            temp,
+            path: path.to_path_buf(),
+        })
+    }
+
+    /// The temporary file, to write to.
+    pub fn file(&mut self) -> &mut File {
+        self.temp.as_file_mut()
+    }
+
+    /// The target path (for error messages).
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Syncs the data to disk and renames the file onto its target.
+    pub fn commit(self) -> Result<()> {
+        let path = self.path;
+        self.temp
+            .as_file()
+            .sync_all()
+            .map_err(|e| Error::io(&path, e))?;
+        self.temp
+            .persist(&path)
+            .map_err(|e| Error::io(&path, without_temp_path(e.error)))?;
+        Ok(())
+    }
+}
+
 /// Writes a file at `path` through `write`, atomically.
 ///
 /// The data goes to a temporary file in the same directory through a buffered
@@ -16,31 +70,15 @@ pub fn write_atomically<F>(path: &Path, write: F) -> Result<()>
 where
     F: FnOnce(&mut BufWriter<&mut File>) -> io::Result<()>,
 {
-    let dir = parent_dir(path);
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(".tmc-").suffix(".tmp");
-    #[cfg(unix)]
-    {
-        // Like a plain `File::create`: readable by others, subject to umask
-        // (a temporary file is otherwise private to its owner).
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let mut temp = builder
-        .tempfile_in(dir)
-        .map_err(|e| Error::io(path, without_temp_path(e)))?;
+    let mut file = AtomicFile::create(path)?;
     let result = (|| {
-        let mut writer = BufWriter::new(temp.as_file_mut());
+        let mut writer = BufWriter::new(file.file());
         write(&mut writer)?;
-        writer.flush()?;
-        drop(writer);
-        temp.as_file().sync_all()
+        writer.flush()
     })();
-    // On error, dropping `temp` deletes the temporary file.
+    // On error, dropping `file` deletes the temporary file.
     result.map_err(|e| Error::io(path, e))?;
-    temp.persist(path)
-        .map_err(|e| Error::io(path, without_temp_path(e.error)))?;
-    Ok(())
+    file.commit()
 }
 
 /// Drops the temporary file's name that `tempfile` adds to its errors (the

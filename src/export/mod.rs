@@ -11,7 +11,7 @@ mod off;
 mod ply;
 mod stl;
 
-pub use atomic::write_atomically;
+pub use atomic::{write_atomically, AtomicFile};
 pub use obj::write_obj;
 pub use off::write_off;
 pub use ply::write_ply;

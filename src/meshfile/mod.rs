@@ -1,0 +1,157 @@
+//! `.tmesh`: the chunked, compressed mesh file that streams out of the
+//! pipeline and into `tmc convert` / `tmc check`.
+//!
+//! All numbers are little-endian. CRC-32 is the IEEE polynomial (zlib's
+//! `crc32`). A file is:
+//!
+//! ```text
+//! header   128 bytes
+//!   0   8  magic  89 54 4D 45 53 48 0D 0A  ("\x89TMESH\r\n")
+//!   8   4  version u32 = 1
+//!  12   4  header size u32 = 128
+//!  16  24  dims u64 x 3 (samples along x, y, z of the input grid)
+//!  40  24  spacing f64 x 3
+//!  64  24  origin f64 x 3
+//!  88   8  isovalue f64
+//!  96   1  method (0 tmc, 1 mc)
+//!  97   1  inside (0 high, 1 low)
+//!  98   1  close (0 or 1)
+//!  99  25  zero
+//! 124   4  CRC-32 of bytes 0..124
+//! chunk    (one per grid plane that owns vertices or triangles, in plane order)
+//!   0   4  tag "CHNK"
+//!   4   4  CRC-32 of the payload
+//!   8   8  plane (z index) u64
+//!  16   8  vertex base u64: global index of the chunk's first vertex
+//!  24   4  vertex count u32
+//!  28   4  triangle count u32
+//!  32   8  payload size u64 (bytes, compressed)
+//!  40   4  CRC-32 of bytes 0..40
+//!  44   4  zero
+//!  48   .. payload: one zstd frame holding vertex count x 3 f32 (x, y, z)
+//!            then triangle count x 3 u32: vertex indices relative to the
+//!            vertex base; they may point into the next chunk, never beyond
+//! index
+//!   0   4  tag "INDX"
+//!   4   4  CRC-32 of the entries
+//!   8   8  chunk count u64
+//!  16  ..  per chunk 32 bytes: file offset u64, vertex base u64,
+//!          vertex count u32, triangle count u32, plane u64
+//! trailer  32 bytes, the last of the file
+//!   0   8  index offset u64
+//!   8   8  total vertices u64
+//!  16   8  total triangles u64
+//!  24   8  "TMESHEND"
+//! ```
+//!
+//! Global vertex indices are 64-bit, so a file holds more than 2^32
+//! vertices; the index lets a reader seek to any chunk; the checksums let a
+//! reader name the damaged chunk. `scripts/read_tmesh.py` reads the format
+//! with numpy and zstandard only.
+
+mod reader;
+mod writer;
+
+pub use reader::TmeshReader;
+pub use writer::TmeshWriter;
+
+use crate::pipeline::{Inside, Method};
+use crate::sink::MeshInfo;
+use crate::{Error, Grid, Result};
+
+/// The first 8 bytes of every `.tmesh` file.
+pub const MAGIC: [u8; 8] = *b"\x89TMESH\r\n";
+/// The format version this crate writes and reads.
+pub const VERSION: u32 = 1;
+/// Bytes in the file header.
+pub const HEADER_BYTES: usize = 128;
+/// Bytes in a chunk header.
+pub const CHUNK_HEADER_BYTES: usize = 48;
+/// Bytes per index entry.
+pub const INDEX_ENTRY_BYTES: usize = 32;
+/// Bytes in the trailer.
+pub const TRAILER_BYTES: usize = 32;
+/// The last 8 bytes of a complete file.
+pub const END_MAGIC: [u8; 8] = *b"TMESHEND";
+/// zstd level of the payloads (fast; meshes compress about 2:1 at any level).
+pub const ZSTD_LEVEL: i32 = 1;
+
+/// One entry of the index: where a chunk is and what it holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChunkEntry {
+    /// File offset of the chunk header.
+    pub offset: u64,
+    /// Global index of the chunk's first vertex.
+    pub vertex_base: u64,
+    /// Vertices in the chunk.
+    pub vertex_count: u32,
+    /// Triangles in the chunk.
+    pub triangle_count: u32,
+    /// Grid plane of the chunk.
+    pub plane: u64,
+}
+
+fn le_u32(b: &[u8]) -> u32 {
+    u32::from_le_bytes(b[..4].try_into().expect("4 bytes"))
+}
+
+fn le_u64(b: &[u8]) -> u64 {
+    u64::from_le_bytes(b[..8].try_into().expect("8 bytes"))
+}
+
+fn le_f64(b: &[u8]) -> f64 {
+    f64::from_le_bytes(b[..8].try_into().expect("8 bytes"))
+}
+
+/// Encodes the file header.
+fn encode_header(info: &MeshInfo) -> [u8; HEADER_BYTES] {
+    let mut h = [0u8; HEADER_BYTES];
+    h[0..8].copy_from_slice(&MAGIC);
+    h[8..12].copy_from_slice(&VERSION.to_le_bytes());
+    h[12..16].copy_from_slice(&(HEADER_BYTES as u32).to_le_bytes());
+    for i in 0..3 {
+        h[16 + 8 * i..24 + 8 * i].copy_from_slice(&(info.grid.dims[i] as u64).to_le_bytes());
+        h[40 + 8 * i..48 + 8 * i].copy_from_slice(&info.grid.spacing[i].to_le_bytes());
+        h[64 + 8 * i..72 + 8 * i].copy_from_slice(&info.grid.origin[i].to_le_bytes());
+    }
+    h[88..96].copy_from_slice(&info.iso.to_le_bytes());
+    h[96] = u8::from(info.method == Method::Mc);
+    h[97] = u8::from(info.inside == Inside::Low);
+    h[98] = u8::from(info.close);
+    let crc = crc32fast::hash(&h[..124]);
+    h[124..128].copy_from_slice(&crc.to_le_bytes());
+    h
+}
+
+/// Decodes and checks the file header.
+fn decode_header(h: &[u8]) -> Result<MeshInfo> {
+    let bad = |what: &str| Error::Format(format!("not a valid .tmesh file: {what}"));
+    if h.len() < HEADER_BYTES || h[0..8] != MAGIC {
+        return Err(bad("wrong magic bytes"));
+    }
+    let version = le_u32(&h[8..]);
+    if version != VERSION {
+        return Err(Error::Format(format!(
+            ".tmesh version {version} is not supported (this build reads version {VERSION})"
+        )));
+    }
+    if le_u32(&h[124..]) != crc32fast::hash(&h[..124]) {
+        return Err(bad("header checksum mismatch"));
+    }
+    let dim = |i: usize| usize::try_from(le_u64(&h[16 + 8 * i..])).unwrap_or(usize::MAX);
+    Ok(MeshInfo {
+        grid: Grid {
+            dims: [dim(0), dim(1), dim(2)],
+            spacing: [0, 1, 2].map(|i| le_f64(&h[40 + 8 * i..])),
+            origin: [0, 1, 2].map(|i| le_f64(&h[64 + 8 * i..])),
+        },
+        iso: le_f64(&h[88..]),
+        method: if h[96] == 1 { Method::Mc } else { Method::Tmc },
+        inside: if h[97] == 1 {
+            Inside::Low
+        } else {
+            Inside::High
+        },
+        close: h[98] == 1,
+    })
+}

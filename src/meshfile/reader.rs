@@ -1,0 +1,179 @@
+//! Reads `.tmesh` files: header, index and trailer first, then any chunk on
+//! demand, every checksum verified.
+
+use super::{
+    decode_header, le_u32, le_u64, ChunkEntry, CHUNK_HEADER_BYTES, END_MAGIC, HEADER_BYTES,
+    INDEX_ENTRY_BYTES, TRAILER_BYTES,
+};
+use crate::sink::{Chunk, MeshInfo};
+use crate::{Error, Result};
+use std::fs::File;
+use std::io::{Read, Seek, SeekFrom};
+use std::path::{Path, PathBuf};
+
+/// An open `.tmesh` file.
+pub struct TmeshReader {
+    file: File,
+    path: PathBuf,
+    info: MeshInfo,
+    entries: Vec<ChunkEntry>,
+    vertices: u64,
+    triangles: u64,
+}
+
+impl TmeshReader {
+    /// Opens `path` and reads its header, trailer and index.
+    pub fn open(path: &Path) -> Result<TmeshReader> {
+        let io = |e| Error::io(path, e);
+        let bad = |what: String| Error::Format(format!("{}: {what}", path.display()));
+        let mut file = File::open(path).map_err(io)?;
+        let len = file.metadata().map_err(io)?.len();
+        let mut header = [0u8; HEADER_BYTES];
+        if len < (HEADER_BYTES + TRAILER_BYTES) as u64 {
+            return Err(bad(format!("{len} bytes is too short for a .tmesh file")));
+        }
+        file.read_exact(&mut header).map_err(io)?;
+        let info = decode_header(&header).map_err(|e| bad(e.to_string()))?;
+        let mut trailer = [0u8; TRAILER_BYTES];
+        file.seek(SeekFrom::End(-(TRAILER_BYTES as i64)))
+            .map_err(io)?;
+        file.read_exact(&mut trailer).map_err(io)?;
+        if trailer[24..32] != END_MAGIC {
+            return Err(bad(
+                "truncated: the end marker is missing (the writer did not finish)".into(),
+            ));
+        }
+        let index_offset = le_u64(&trailer);
+        let (vertices, triangles) = (le_u64(&trailer[8..]), le_u64(&trailer[16..]));
+        if index_offset < HEADER_BYTES as u64 || index_offset + 16 > len - TRAILER_BYTES as u64 {
+            return Err(bad(format!(
+                "index offset {index_offset} is outside the file"
+            )));
+        }
+        file.seek(SeekFrom::Start(index_offset)).map_err(io)?;
+        let mut head = [0u8; 16];
+        file.read_exact(&mut head).map_err(io)?;
+        let count = le_u64(&head[8..]);
+        let room = len - TRAILER_BYTES as u64 - index_offset - 16;
+        if &head[0..4] != b"INDX" || count.checked_mul(INDEX_ENTRY_BYTES as u64) != Some(room) {
+            return Err(bad("the chunk index is damaged".into()));
+        }
+        let mut raw = vec![0u8; room as usize];
+        file.read_exact(&mut raw).map_err(io)?;
+        if crc32fast::hash(&raw) != le_u32(&head[4..]) {
+            return Err(bad("the chunk index checksum does not match".into()));
+        }
+        let entries: Vec<ChunkEntry> = raw
+            .chunks_exact(INDEX_ENTRY_BYTES)
+            .map(|e| ChunkEntry {
+                offset: le_u64(e),
+                vertex_base: le_u64(&e[8..]),
+                vertex_count: le_u32(&e[16..]),
+                triangle_count: le_u32(&e[20..]),
+                plane: le_u64(&e[24..]),
+            })
+            .collect();
+        // The index must add up to the totals and tile the vertex numbers.
+        let mut next_base = 0u64;
+        let mut sum_t = 0u64;
+        for (i, e) in entries.iter().enumerate() {
+            if e.vertex_base != next_base || e.offset >= index_offset {
+                return Err(bad(format!("index entry {i} is inconsistent")));
+            }
+            next_base += e.vertex_count as u64;
+            sum_t += e.triangle_count as u64;
+        }
+        if next_base != vertices || sum_t != triangles {
+            return Err(bad("the index does not add up to the totals".into()));
+        }
+        Ok(TmeshReader {
+            file,
+            path: path.to_path_buf(),
+            info,
+            entries,
+            vertices,
+            triangles,
+        })
+    }
+
+    /// The extraction the file records.
+    pub fn info(&self) -> &MeshInfo {
+        &self.info
+    }
+
+    /// Total vertices.
+    pub fn vertices(&self) -> u64 {
+        self.vertices
+    }
+
+    /// Total triangles.
+    pub fn triangles(&self) -> u64 {
+        self.triangles
+    }
+
+    /// The chunk index.
+    pub fn entries(&self) -> &[ChunkEntry] {
+        &self.entries
+    }
+
+    /// Reads chunk `i`, checking both checksums and every index.
+    pub fn chunk(&mut self, i: usize) -> Result<Chunk> {
+        let e = self.entries[i];
+        let name = format!(
+            "{}: chunk {i} (plane {}, byte {})",
+            self.path.display(),
+            e.plane,
+            e.offset
+        );
+        let bad = |what: &str| Error::Format(format!("{name}: {what}"));
+        let io = |err: std::io::Error| Error::Format(format!("{name}: {err}"));
+        self.file.seek(SeekFrom::Start(e.offset)).map_err(io)?;
+        let mut h = [0u8; CHUNK_HEADER_BYTES];
+        self.file.read_exact(&mut h).map_err(io)?;
+        if &h[0..4] != b"CHNK" || le_u32(&h[40..]) != crc32fast::hash(&h[..40]) {
+            return Err(bad("chunk header damaged"));
+        }
+        if le_u64(&h[16..]) != e.vertex_base
+            || le_u32(&h[24..]) != e.vertex_count
+            || le_u32(&h[28..]) != e.triangle_count
+        {
+            return Err(bad("chunk header disagrees with the index"));
+        }
+        let size = le_u64(&h[32..]);
+        let limit = self.entries.get(i + 1).map_or(u64::MAX, |n| n.offset);
+        if e.offset + (CHUNK_HEADER_BYTES as u64) + size > limit {
+            return Err(bad("payload overlaps the next chunk"));
+        }
+        let mut payload = vec![0u8; size as usize];
+        self.file.read_exact(&mut payload).map_err(io)?;
+        if crc32fast::hash(&payload) != le_u32(&h[4..]) {
+            return Err(bad("payload checksum mismatch (the data is damaged)"));
+        }
+        let (nv, nt) = (e.vertex_count as usize, e.triangle_count as usize);
+        let expect = nv * 12 + nt * 12;
+        let raw = zstd::bulk::decompress(&payload, expect).map_err(|err| bad(&err.to_string()))?;
+        if raw.len() != expect {
+            return Err(bad("payload has the wrong size"));
+        }
+        let f = |b: &[u8]| f32::from_le_bytes(b[..4].try_into().expect("4 bytes"));
+        let vertices = raw[..nv * 12]
+            .chunks_exact(12)
+            .map(|v| [f(v), f(&v[4..]), f(&v[8..])])
+            .collect();
+        let next = self.entries.get(i + 1).map_or(0, |n| n.vertex_count) as u64;
+        let bound = e.vertex_count as u64 + next;
+        let mut triangles = Vec::with_capacity(nt);
+        for t in raw[nv * 12..].chunks_exact(12) {
+            let tri = [le_u32(t), le_u32(&t[4..]), le_u32(&t[8..])];
+            if tri.iter().any(|&k| k as u64 >= bound) {
+                return Err(bad("a triangle points beyond the next chunk"));
+            }
+            triangles.push(tri);
+        }
+        Ok(Chunk {
+            plane: e.plane,
+            vertices,
+            triangles,
+        })
+    }
+}

@@ -1,0 +1,121 @@
+//! Writes `.tmesh` files as a [`MeshSink`]: chunks are compressed and
+//! appended as they arrive; the index and trailer close the file, which
+//! then replaces its target atomically.
+
+use super::{encode_header, ChunkEntry, CHUNK_HEADER_BYTES, END_MAGIC, HEADER_BYTES, ZSTD_LEVEL};
+use crate::export::AtomicFile;
+use crate::sink::{Chunk, MeshInfo, MeshSink, Totals};
+use crate::{Error, Result};
+use std::io::Write;
+use std::path::Path;
+
+/// A `.tmesh` file being written.
+pub struct TmeshWriter {
+    file: Option<AtomicFile>,
+    offset: u64,
+    index: Vec<ChunkEntry>,
+    bytes: u64,
+}
+
+impl TmeshWriter {
+    /// Starts a file that will appear at `path` when the sink finishes.
+    pub fn create(path: &Path) -> Result<TmeshWriter> {
+        Ok(TmeshWriter {
+            file: Some(AtomicFile::create(path)?),
+            offset: 0,
+            index: Vec::new(),
+            bytes: 0,
+        })
+    }
+
+    /// Bytes written so far.
+    pub fn bytes_written(&self) -> u64 {
+        self.bytes
+    }
+
+    fn write(&mut self, data: &[u8]) -> Result<()> {
+        let file = self.file.as_mut().expect("writer already finished");
+        if let Err(e) = file.file().write_all(data) {
+            return Err(Error::io(file.path(), e));
+        }
+        self.offset += data.len() as u64;
+        self.bytes += data.len() as u64;
+        Ok(())
+    }
+}
+
+/// The payload of a chunk before compression: positions, then relative indices.
+pub(crate) fn raw_payload(chunk: &Chunk) -> Vec<u8> {
+    let mut raw = Vec::with_capacity(chunk.vertices.len() * 12 + chunk.triangles.len() * 12);
+    for v in &chunk.vertices {
+        for c in v {
+            raw.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    for t in &chunk.triangles {
+        for i in t {
+            raw.extend_from_slice(&i.to_le_bytes());
+        }
+    }
+    raw
+}
+
+impl MeshSink for TmeshWriter {
+    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        let header = encode_header(info);
+        debug_assert_eq!(header.len(), HEADER_BYTES);
+        self.write(&header)
+    }
+
+    fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
+        if chunk.vertices.is_empty() && chunk.triangles.is_empty() {
+            return Ok(());
+        }
+        let payload = zstd::bulk::compress(&raw_payload(chunk), ZSTD_LEVEL)
+            .map_err(|e| Error::Invalid(format!("zstd compression failed: {e}")))?;
+        let mut h = [0u8; CHUNK_HEADER_BYTES];
+        h[0..4].copy_from_slice(b"CHNK");
+        h[4..8].copy_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+        h[8..16].copy_from_slice(&chunk.plane.to_le_bytes());
+        h[16..24].copy_from_slice(&base.to_le_bytes());
+        h[24..28].copy_from_slice(&(chunk.vertices.len() as u32).to_le_bytes());
+        h[28..32].copy_from_slice(&(chunk.triangles.len() as u32).to_le_bytes());
+        h[32..40].copy_from_slice(&(payload.len() as u64).to_le_bytes());
+        let crc = crc32fast::hash(&h[..40]);
+        h[40..44].copy_from_slice(&crc.to_le_bytes());
+        self.index.push(ChunkEntry {
+            offset: self.offset,
+            vertex_base: base,
+            vertex_count: chunk.vertices.len() as u32,
+            triangle_count: chunk.triangles.len() as u32,
+            plane: chunk.plane,
+        });
+        self.write(&h)?;
+        self.write(&payload)
+    }
+
+    fn finish(&mut self, totals: &Totals) -> Result<()> {
+        let index_offset = self.offset;
+        let mut entries = Vec::with_capacity(self.index.len() * 32);
+        for e in &self.index {
+            entries.extend_from_slice(&e.offset.to_le_bytes());
+            entries.extend_from_slice(&e.vertex_base.to_le_bytes());
+            entries.extend_from_slice(&e.vertex_count.to_le_bytes());
+            entries.extend_from_slice(&e.triangle_count.to_le_bytes());
+            entries.extend_from_slice(&e.plane.to_le_bytes());
+        }
+        let mut head = Vec::with_capacity(16);
+        head.extend_from_slice(b"INDX");
+        head.extend_from_slice(&crc32fast::hash(&entries).to_le_bytes());
+        head.extend_from_slice(&(self.index.len() as u64).to_le_bytes());
+        self.write(&head)?;
+        self.write(&entries)?;
+        let mut trailer = Vec::with_capacity(32);
+        trailer.extend_from_slice(&index_offset.to_le_bytes());
+        trailer.extend_from_slice(&totals.vertices.to_le_bytes());
+        trailer.extend_from_slice(&totals.triangles.to_le_bytes());
+        trailer.extend_from_slice(&END_MAGIC);
+        self.write(&trailer)?;
+        self.file.take().expect("finished once").commit()
+    }
+}

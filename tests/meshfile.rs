@@ -1,0 +1,90 @@
+//! `.tmesh` round trips: what the pipeline streams into the file reads back
+//! as the same mesh, the bytes do not depend on threads or slab depth, and
+//! damage is detected and located.
+
+use tmc::meshfile::{TmeshReader, TmeshWriter};
+use tmc::{
+    extract, extract_to, synth, ExtractParams, MeshBuilder, MeshSink, PipelineOptions, Totals,
+};
+
+fn params(threads: usize) -> ExtractParams {
+    ExtractParams {
+        iso: 0.0,
+        close: true,
+        threads,
+        ..Default::default()
+    }
+}
+
+fn write(path: &std::path::Path, threads: usize, depth: usize) -> tmc::Stats {
+    let vol = synth::noise(30, 12, 1);
+    let mut writer = TmeshWriter::create(path).expect("create");
+    let options = PipelineOptions {
+        slab_depth: depth,
+        ..Default::default()
+    };
+    extract_to(&vol, &params(threads), &options, &mut writer).expect("extract")
+}
+
+fn read_all(path: &std::path::Path) -> tmc::Mesh {
+    let mut reader = TmeshReader::open(path).expect("open");
+    let mut builder = MeshBuilder::default();
+    let entries = reader.entries().to_vec();
+    for (i, e) in entries.iter().enumerate() {
+        let chunk = reader.chunk(i).expect("chunk");
+        builder.chunk(e.vertex_base, &chunk).expect("build");
+    }
+    builder.finish(&Totals::default()).expect("finish");
+    builder.into_mesh()
+}
+
+#[test]
+fn round_trip_and_determinism() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let first = dir.path().join("a.tmesh");
+    let stats = write(&first, 1, 0);
+    let mesh = read_all(&first);
+    let (expected, _) = extract(&synth::noise(30, 12, 1), &params(1)).expect("in memory");
+    assert!(mesh == expected);
+    assert_eq!(stats.triangles as usize, mesh.triangles.len());
+    let reader = TmeshReader::open(&first).expect("open");
+    assert_eq!(reader.vertices() as usize, mesh.vertices.len());
+    assert_eq!(reader.info().iso, 0.0);
+    assert!(reader.info().close);
+    let bytes = std::fs::read(&first).expect("read");
+    for (threads, depth) in [(2, 1), (3, 7), (2, 64)] {
+        let other = dir.path().join(format!("b{threads}-{depth}.tmesh"));
+        write(&other, threads, depth);
+        assert!(
+            std::fs::read(&other).expect("read") == bytes,
+            "{threads} threads, depth {depth}"
+        );
+    }
+}
+
+#[test]
+fn damage_is_detected_and_located() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let good = std::fs::read(&path).expect("read");
+    let reader = TmeshReader::open(&path).expect("open");
+    let target = reader.entries()[3];
+    // Flip a byte inside the payload of chunk 3.
+    let mut bad = good.clone();
+    bad[target.offset as usize + 60] ^= 0x55;
+    std::fs::write(&path, &bad).expect("write");
+    let mut reader = TmeshReader::open(&path).expect("index intact");
+    let err = reader.chunk(3).expect_err("damage").to_string();
+    assert!(err.contains("chunk 3") && err.contains("checksum"), "{err}");
+    // A truncated file has no end marker.
+    std::fs::write(&path, &good[..good.len() - 10]).expect("write");
+    let err = TmeshReader::open(&path)
+        .err()
+        .expect("truncated")
+        .to_string();
+    assert!(err.contains("truncated"), "{err}");
+    // Not a mesh file at all.
+    std::fs::write(&path, vec![7u8; 500]).expect("write");
+    assert!(TmeshReader::open(&path).is_err());
+}

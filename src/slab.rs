@@ -66,6 +66,45 @@ struct Plane {
     xe: Vec<u32>,
     /// Local vertex index per y-edge (`nx * (ny - 1)`), or [`NONE`].
     ye: Vec<u32>,
+    /// Where the sign changes along each row, to skip uniform runs of cells.
+    rows: Vec<RowSigns>,
+}
+
+/// The signs along one row of a plane, summarised: every sample before
+/// `first` has the sign `lead`, every sample from `last` on has the sign
+/// `tail` (Flying Edges' trimming).
+#[derive(Debug, Clone, Copy, Default)]
+struct RowSigns {
+    lead: bool,
+    tail: bool,
+    /// First sample whose sign differs from its predecessor (`nx` if none).
+    first: usize,
+    /// Last such sample (0 if none).
+    last: usize,
+}
+
+/// The range of positions along a row where rows with these summaries can
+/// disagree in sign or change sign: outside it all of them are uniform and
+/// equal. `shift` is 1 for cells (cell x spans samples x and x + 1) and 0 for
+/// samples.
+fn active_range(rows: &[RowSigns], shift: usize, len: usize) -> Range<usize> {
+    let lead = rows[0].lead;
+    let tail = rows[0].tail;
+    let start = if rows.iter().all(|r| r.lead == lead) {
+        rows.iter()
+            .map(|r| r.first)
+            .min()
+            .unwrap_or(0)
+            .saturating_sub(shift)
+    } else {
+        0
+    };
+    let end = if rows.iter().all(|r| r.tail == tail) {
+        rows.iter().map(|r| r.last).max().unwrap_or(len)
+    } else {
+        len
+    };
+    start.min(end)..end.min(len)
 }
 
 impl Plane {
@@ -76,6 +115,7 @@ impl Plane {
             g: vec![0.0; nx * ny],
             xe: vec![NONE; (nx - 1) * ny],
             ye: vec![NONE; nx * (ny - 1)],
+            rows: vec![RowSigns::default(); ny],
         }
     }
 
@@ -111,11 +151,20 @@ impl Plane {
         let g = &self.g;
         let mut count = 0u32;
         for y in 0..ny {
+            let row = &mut self.rows[y];
+            *row = RowSigns {
+                lead: g[y * nx] > 0.0,
+                tail: g[y * nx + nx - 1] > 0.0,
+                first: nx,
+                last: 0,
+            };
             for x in 0..nx - 1 {
                 let (a, b) = (g[y * nx + x], g[y * nx + x + 1]);
                 let slot = &mut self.xe[y * (nx - 1) + x];
                 *slot = NONE;
                 if (a > 0.0) != (b > 0.0) {
+                    row.first = row.first.min(x + 1);
+                    row.last = x + 1;
                     *slot = count;
                     count += 1;
                     owned.push(physical(
@@ -180,11 +229,11 @@ pub fn process_slab(
         let mut next = Block::default();
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
+        ze.fill(NONE);
         for y in 0..ny {
-            for x in 0..nx {
+            for x in active_range(&[bottom.rows[y], top.rows[y]], 0, nx) {
                 let i = y * nx + x;
                 let (a, b) = (bottom.g[i], top.g[i]);
-                ze[i] = NONE;
                 if (a > 0.0) != (b > 0.0) {
                     ze[i] = local_index(&block)?;
                     block.vertices.push(physical(
@@ -233,7 +282,13 @@ fn layer_cells(
     let t = tables();
     let z = bottom.z;
     for y in 0..ny - 1 {
-        for x in 0..nx - 1 {
+        let rows = [
+            bottom.rows[y],
+            bottom.rows[y + 1],
+            top.rows[y],
+            top.rows[y + 1],
+        ];
+        for x in active_range(&rows, 1, nx - 1) {
             let i = y * nx + x;
             let idx = [i, i + 1, i + nx, i + nx + 1];
             let g: [f64; 8] = [

@@ -90,13 +90,15 @@ pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
 /// `> 0`) and configuration `config`; counts the paper's Table 1 in `stats`.
 pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &mut CellMesh) {
     let set = &tables().contours[config as usize * 64 + face_decisions(g, config) as usize];
-    let points =
-        |c: &[u8]| -> Vec<DVec3> { c.iter().map(|&e| edge_point(g, e as usize)).collect() };
+    // Positions of the edge vertices, local coordinates (only crossing edges are read).
+    let mut points = [DVec3::ZERO; 12];
+    let total: usize = set.len.iter().map(|&l| l as usize).sum();
+    for &e in &set.edges[..total] {
+        points[e as usize] = edge_point(g, e as usize);
+    }
 
     let tunnel = if set.count >= 2 {
-        interior_joins(g, set)
-            .first()
-            .and_then(|j| tunnel_contours(set, j.a, j.b))
+        interior_joins(g, set).and_then(|j| tunnel_contours(set, j.a, j.b))
     } else {
         None
     };
@@ -114,13 +116,13 @@ pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &
         let n = contour.len();
         if n == 12 {
             stats.contours_12 += 1;
-            triangulate_twelve(g, contour, &points(contour), out);
+            triangulate_twelve(g, contour, &points, out);
         } else if set.meets_face_twice >> i & 1 == 1 {
             if (6..=9).contains(&n) {
                 stats.ambiguous_contours[n - 6] += 1;
             }
             let saddles = saddles.get_or_insert_with(|| saddle_points(g));
-            let centre = out.push_interior(interior_vertex(saddles, &points(contour)));
+            let centre = out.push_interior(interior_vertex(saddles.as_slice(), contour, &points));
             fan_around(contour, centre, out);
         } else {
             if (3..=6).contains(&n) {
@@ -163,41 +165,39 @@ fn triangulate_tunnel(
     g: &[f64; 8],
     c1: &[u8],
     c2: &[u8],
-    points: &dyn Fn(&[u8]) -> Vec<DVec3>,
+    points: &[DVec3; 12],
     out: &mut CellMesh,
 ) {
     let hex = inner_hexagon(g);
-    let (p1, p2) = (points(c1), points(c2));
     let alternate = |parity: usize| [0, 1, 2].map(|k| hex[2 * k + parity]);
-    let mut best = (f64::INFINITY, 0usize, 1i32, [0u8; 12], [0u8; 12]);
+    let mut best = (f64::INFINITY, [0u8; 12], [0u8; 12]);
     for parity in 0..2 {
+        let cost1 = costs(c1, points, |p, k| p.distance_squared(alternate(parity)[k]));
+        let cost2 = costs(c2, points, |p, k| {
+            p.distance_squared(alternate(1 - parity)[k])
+        });
         for dir in [1, -1] {
-            let (ca, a1) = ring_assignment(&costs(&p1, &alternate(parity)), dir);
-            let (cb, a2) = ring_assignment(&costs(&p2, &alternate(1 - parity)), -dir);
+            let (ca, a1) = ring_assignment(&cost1[..c1.len()], dir);
+            let (cb, a2) = ring_assignment(&cost2[..c2.len()], -dir);
             if ca + cb < best.0 {
-                best = (ca + cb, parity, dir, a1, a2);
+                best = (ca + cb, a1, a2);
             }
         }
     }
     let inner = inner_triangle(&hex, out);
-    strip(c1, &best.3[..c1.len()], inner, out);
-    strip(c2, &best.4[..c2.len()], inner, out);
+    strip(c1, &best.1[..c1.len()], inner, out);
+    strip(c2, &best.2[..c2.len()], inner, out);
 }
 
 /// The 12-vertex contour: a strip to the inner triangle, closed by it.
-fn triangulate_twelve(g: &[f64; 8], contour: &[u8], p: &[DVec3], out: &mut CellMesh) {
+fn triangulate_twelve(g: &[f64; 8], contour: &[u8], points: &[DVec3; 12], out: &mut CellMesh) {
     let hex = inner_hexagon(g);
-    let cost: Vec<[f64; 3]> = p
-        .iter()
-        .map(|q| {
-            [0, 1, 2].map(|k| {
-                q.distance_squared(hex[2 * k])
-                    .min(q.distance_squared(hex[2 * k + 1]))
-            })
-        })
-        .collect();
-    let (c_up, a_up) = ring_assignment(&cost, 1);
-    let (c_down, a_down) = ring_assignment(&cost, -1);
+    let cost = costs(contour, points, |p, k| {
+        p.distance_squared(hex[2 * k])
+            .min(p.distance_squared(hex[2 * k + 1]))
+    });
+    let (c_up, a_up) = ring_assignment(&cost[..contour.len()], 1);
+    let (c_down, a_down) = ring_assignment(&cost[..contour.len()], -1);
     let (dir, asg) = if c_up <= c_down {
         (1, a_up)
     } else {
@@ -224,16 +224,23 @@ fn inner_triangle(hex: &[DVec3; 6], out: &mut CellMesh) -> [VertexRef; 3] {
 /// lines (a saddle point), or the midpoint of the two saddle points nearest
 /// to the contour when there are more; the contour's centroid if rounding
 /// left no saddle point in the cell.
-fn interior_vertex(saddles: &[DVec3], contour: &[DVec3]) -> DVec3 {
-    let centroid = contour.iter().copied().sum::<DVec3>() / contour.len() as f64;
-    let mut near: Vec<DVec3> = saddles.to_vec();
-    if near.is_empty() {
-        return centroid;
+fn interior_vertex(saddles: &[DVec3], contour: &[u8], points: &[DVec3; 12]) -> DVec3 {
+    let centroid =
+        contour.iter().map(|&e| points[e as usize]).sum::<DVec3>() / contour.len() as f64;
+    let distance = |p: &DVec3| p.distance_squared(centroid);
+    let mut nearest: Option<(DVec3, Option<DVec3>)> = None;
+    for &s in saddles {
+        nearest = Some(match nearest {
+            None => (s, None),
+            Some((a, _)) if distance(&s) < distance(&a) => (s, Some(a)),
+            Some((a, None)) => (a, Some(s)),
+            Some((a, Some(b))) if distance(&s) < distance(&b) => (a, Some(s)),
+            Some(keep) => keep,
+        });
     }
-    near.sort_by(|a, b| {
-        a.distance_squared(centroid)
-            .total_cmp(&b.distance_squared(centroid))
-    });
-    let take = near.len().min(2);
-    near[..take].iter().copied().sum::<DVec3>() / take as f64
+    match nearest {
+        None => centroid,
+        Some((a, None)) => a,
+        Some((a, Some(b))) => (a + b) * 0.5,
+    }
 }

@@ -68,25 +68,58 @@ pub fn coefficients(g: &[f64; 8], axis: usize) -> (f64, f64, f64) {
 /// Real roots of `a s^2 + b s + c`, ascending, by the numerically stable
 /// formula; `a == 0` is solved as a linear equation and a double root is
 /// returned once.
-pub fn roots(a: f64, b: f64, c: f64) -> Vec<f64> {
+pub fn roots(a: f64, b: f64, c: f64) -> Roots {
+    let none = Roots::default();
     let scale = a.abs().max(b.abs()).max(c.abs());
     if scale == 0.0 || !scale.is_finite() {
-        return Vec::new();
+        return none;
     }
     if a.abs() <= 1e-14 * scale {
-        return if b != 0.0 { vec![-c / b] } else { Vec::new() };
+        return if b != 0.0 { Roots::one(-c / b) } else { none };
     }
     let disc = b * b - 4.0 * a * c;
     if disc < 0.0 {
-        return Vec::new();
+        return none;
     }
     if disc == 0.0 {
-        return vec![-b / (2.0 * a)];
+        return Roots::one(-b / (2.0 * a));
     }
     let q = -0.5 * (b + b.signum() * disc.sqrt());
-    let mut r = vec![q / a, c / q];
-    r.sort_by(f64::total_cmp);
-    r
+    let (r1, r2) = (q / a, c / q);
+    Roots {
+        values: [r1.min(r2), r1.max(r2)],
+        len: 2,
+    }
+}
+
+/// Zero, one or two roots, ascending.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Roots {
+    values: [f64; 2],
+    len: usize,
+}
+
+impl Roots {
+    fn one(r: f64) -> Self {
+        Roots {
+            values: [r, r],
+            len: 1,
+        }
+    }
+
+    /// The roots.
+    pub fn as_slice(&self) -> &[f64] {
+        &self.values[..self.len]
+    }
+}
+
+impl IntoIterator for Roots {
+    type Item = f64;
+    type IntoIter = std::iter::Take<std::array::IntoIter<f64, 2>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.values.into_iter().take(self.len)
+    }
 }
 
 /// The saddle of the cut `x_axis = s`: the point where its two lines cross,
@@ -106,17 +139,32 @@ pub fn cut_saddle(g: &[f64; 8], axis: usize, s: f64) -> Option<DVec3> {
     Some(DVec3::from_array(p))
 }
 
+/// Up to six saddle points of the level set in a cell.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Saddles {
+    points: [DVec3; 6],
+    len: usize,
+}
+
+impl Saddles {
+    /// The points found.
+    pub fn as_slice(&self) -> &[DVec3] {
+        &self.points[..self.len]
+    }
+}
+
 /// Saddle points of the level set inside the closed cell: for each axis, the
 /// crossings of the lines found by that axis' quadratic.
-pub fn saddle_points(g: &[f64; 8]) -> Vec<DVec3> {
+pub fn saddle_points(g: &[f64; 8]) -> Saddles {
     const TOL: f64 = 1e-9;
-    let mut out = Vec::new();
+    let mut out = Saddles::default();
     for axis in 0..3 {
         let (a, b, c) = coefficients(g, axis);
         for s in roots(a, b, c) {
             if let Some(p) = cut_saddle(g, axis, s) {
                 if p.cmpge(DVec3::splat(-TOL)).all() && p.cmple(DVec3::splat(1.0 + TOL)).all() {
-                    out.push(p.clamp(DVec3::ZERO, DVec3::ONE));
+                    out.points[out.len] = p.clamp(DVec3::ZERO, DVec3::ONE);
+                    out.len += 1;
                 }
             }
         }
@@ -130,15 +178,13 @@ pub fn saddle_points(g: &[f64; 8]) -> Vec<DVec3> {
 /// clamped rather than lost, so the result is always a usable hexagon.
 fn two_roots(g: &[f64; 8], axis: usize) -> [f64; 2] {
     let (a, b, c) = coefficients(g, axis);
-    let mut r = roots(a, b, c);
-    if r.is_empty() && a != 0.0 {
-        r.push(-b / (2.0 * a));
-    }
-    let r: Vec<f64> = r.into_iter().map(|s| s.clamp(0.0, 1.0)).collect();
+    let r = roots(a, b, c);
+    let clamp = |s: f64| s.clamp(0.0, 1.0);
     match r.as_slice() {
+        [] if a != 0.0 => [clamp(-b / (2.0 * a)); 2],
         [] => [0.5, 0.5],
-        [s] => [*s, *s],
-        [s, t, ..] => [s.min(*t), s.max(*t)],
+        [s] => [clamp(*s); 2],
+        [s, t, ..] => [clamp(*s), clamp(*t)],
     }
 }
 
@@ -183,14 +229,14 @@ mod tests {
 
     #[test]
     fn stable_roots() {
-        assert_eq!(roots(1.0, -3.0, 2.0), vec![1.0, 2.0]);
-        assert_eq!(roots(0.0, 2.0, -1.0), vec![0.5]);
-        assert_eq!(roots(1.0, -2.0, 1.0), vec![1.0]);
-        assert!(roots(1.0, 0.0, 1.0).is_empty());
-        assert!(roots(0.0, 0.0, 1.0).is_empty());
+        assert_eq!(roots(1.0, -3.0, 2.0).as_slice(), &[1.0, 2.0]);
+        assert_eq!(roots(0.0, 2.0, -1.0).as_slice(), &[0.5]);
+        assert_eq!(roots(1.0, -2.0, 1.0).as_slice(), &[1.0]);
+        assert!(roots(1.0, 0.0, 1.0).as_slice().is_empty());
+        assert!(roots(0.0, 0.0, 1.0).as_slice().is_empty());
         // Catastrophic cancellation in the textbook formula.
         let r = roots(1.0, -1e8, 1.0);
-        assert!((r[0] - 1e-8).abs() < 1e-20);
+        assert!((r.as_slice()[0] - 1e-8).abs() < 1e-20);
     }
 
     #[test]

@@ -107,12 +107,18 @@ pub fn strip(contour: &[u8], asg: &[u8], inner: [u8; 3], out: &mut CellMesh) {
     }
 }
 
-/// Squared distances from each point to each of three targets.
-pub fn costs(points: &[DVec3], targets: &[DVec3; 3]) -> Vec<[f64; 3]> {
-    points
-        .iter()
-        .map(|p| targets.map(|t| p.distance_squared(t)))
-        .collect()
+/// Cost of assigning each contour vertex to each of the three inner
+/// vertices, `cost(point, k)`; entries past the contour's length are unused.
+pub fn costs(
+    contour: &[u8],
+    points: &[DVec3; 12],
+    cost: impl Fn(DVec3, usize) -> f64,
+) -> [[f64; 3]; 12] {
+    let mut out = [[0.0; 3]; 12];
+    for (row, &e) in out.iter_mut().zip(contour) {
+        *row = [0, 1, 2].map(|k| cost(points[e as usize], k));
+    }
+    out
 }
 
 #[cfg(test)]

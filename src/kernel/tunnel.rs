@@ -33,10 +33,11 @@ pub struct Join {
     pub b: u8,
 }
 
-/// Interior joins of surface components of the same sign, in a fixed order
-/// (inside components first). Usually empty; one join is one tunnel.
-pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Vec<Join> {
-    let mut joins = Vec::new();
+/// The first interior join of surface components of the same sign, in a
+/// fixed order (inside components first); a join is a tunnel. A trilinear
+/// cell holds at most one tunnel.
+pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Option<Join> {
+    let mut joins = Joins::default();
     let mut labels = set.corner_comp;
     if let Some(ints) = scaled_integers(g) {
         sweep(&ints, false, &mut labels, &mut joins);
@@ -46,7 +47,19 @@ pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Vec<Join> {
         sweep(&s, false, &mut labels, &mut joins);
         sweep(&s.map(|v| -v), true, &mut labels, &mut joins);
     }
-    joins
+    joins.first
+}
+
+/// Joins found by a sweep (only the first one is triangulated).
+#[derive(Default)]
+struct Joins {
+    first: Option<Join>,
+}
+
+impl Joins {
+    fn push(&mut self, j: Join) {
+        self.first.get_or_insert(j);
+    }
 }
 
 /// Arithmetic the sweep needs; exact for `i128`, rounded for `f64`.
@@ -94,7 +107,7 @@ impl<T: Num> Frac<T> {
 /// Sweeps one sign: `h > 0` inside (`closed = false`), or `h >= 0` for the
 /// outside region given as `h = -g` (`closed = true`). Unites the labels of
 /// diagonal edges joined in the interior and records each new join.
-fn sweep<T: Num>(h: &[T; 8], closed: bool, labels: &mut [u8; 8], joins: &mut Vec<Join>) {
+fn sweep<T: Num>(h: &[T; 8], closed: bool, labels: &mut [u8; 8], joins: &mut Joins) {
     let is_in = |v: T| if closed { v >= T::ZERO } else { v > T::ZERO };
     for (k, kk, j, jj) in [(0, 3, 1, 2), (1, 2, 0, 3)] {
         let (Some(ik), Some(ikk)) = (
@@ -252,7 +265,7 @@ mod tests {
     use super::*;
     use crate::kernel::contour;
 
-    fn joins(g: [f64; 8]) -> Vec<Join> {
+    fn joins(g: [f64; 8]) -> Option<Join> {
         let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
         let set = contour::build(config, 0);
         interior_joins(&g, &set)
@@ -263,9 +276,9 @@ mod tests {
         // Corners 0 and 7 inside. Symmetric values: the body saddle is at the
         // centre with value (a + 6b ... ) — test both sides of the threshold.
         let strong = joins([10.0, -1.0, -1.0, -1.0, -1.0, -1.0, -1.0, 10.0]);
-        assert_eq!(strong, vec![Join { a: 0, b: 7 }]);
+        assert_eq!(strong, Some(Join { a: 0, b: 7 }));
         let weak = joins([1.0, -10.0, -10.0, -10.0, -10.0, -10.0, -10.0, 1.0]);
-        assert!(weak.is_empty());
+        assert!(weak.is_none());
     }
 
     #[test]

@@ -87,6 +87,8 @@ fn help_states_the_convention_formats_and_exit_codes() {
             "--dims and --dtype",
             "STL cannot share vertices",
             "'tmc check' on an STL file is not meaningful",
+            ".tmesh",
+            "tmc convert",
             "0  success",
             "1  failure",
             "2  usage error",
@@ -104,6 +106,7 @@ fn help_states_the_convention_formats_and_exit_codes() {
         "--stats",
         "--json",
         "--threads",
+        "--slab-depth",
         "--dims",
         "--dtype",
         "--endian",
@@ -114,7 +117,13 @@ fn help_states_the_convention_formats_and_exit_codes() {
         assert!(extract.contains(option), "extract help lacks {option}");
     }
     let check = String::from_utf8_lossy(&tmc(&["check", "--help"]).stdout).into_owned();
-    assert!(check.contains("STL") && check.contains("--json"));
+    assert!(check.contains("STL") && check.contains("--json") && check.contains(".tmesh"));
+    let top = String::from_utf8_lossy(&tmc(&["--help"]).stdout).into_owned();
+    assert!(top.contains("convert"), "{top}");
+    let convert = String::from_utf8_lossy(&tmc(&["convert", "--help"]).stdout).into_owned();
+    for needle in ["--output", ".tmesh", ".ply", "byte-identical", "chunk"] {
+        assert!(convert.contains(needle), "convert help lacks {needle}");
+    }
 }
 
 #[test]
@@ -152,6 +161,9 @@ fn usage_errors_exit_2_with_one_line() {
             "1,0,1",
         ],
         vec!["extract", i, "--iso", "1", "-o", o, "--threads", "-1"],
+        vec!["extract", i, "--iso", "1", "-o", o, "--slab-depth", "x"],
+        vec!["convert", i],
+        vec!["convert", "-o", o],
         vec!["extract", i, "--iso", "1", "-o", o, "--bogus"],
         vec!["frobnicate"],
     ] {
@@ -673,4 +685,205 @@ fn extract_is_quiet_without_stats_and_reads_raw_and_nrrd() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(!parse_stl(&fs::read(&output).unwrap()).is_empty());
+}
+
+/// Writes `tmc::synth::noise(24, 3, 1)` as a little-endian f64 `.npy`.
+fn noise_npy(dir: &Path, name: &str) -> PathBuf {
+    let volume = tmc::synth::noise(24, 3, 1);
+    let mut header =
+        "{'descr': '<f8', 'fortran_order': False, 'shape': (24, 24, 24), }".to_string();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    for v in volume.data() {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    let path = dir.join(name);
+    fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// Runs `tmc` and asserts success with nothing on stdout or stderr.
+fn tmc_ok(args: &[&str]) {
+    let out = tmc(args);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.stdout.is_empty() && out.stderr.is_empty(), "{args:?}");
+}
+
+#[test]
+fn extract_streams_and_convert_matches_it_byte_for_byte() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = noise_npy(dir.path(), "noise.npy");
+    let tmesh = dir.path().join("noise.tmesh");
+    let i = s(&input);
+    tmc_ok(&[
+        "extract",
+        i,
+        "--iso",
+        "0",
+        "-o",
+        s(&tmesh),
+        "--slab-depth",
+        "1",
+    ]);
+    for ext in ["ply", "obj", "off", "stl", "tmesh"] {
+        let direct = dir.path().join(format!("direct.{ext}"));
+        tmc_ok(&[
+            "extract",
+            i,
+            "--iso",
+            "0",
+            "-o",
+            s(&direct),
+            "--threads",
+            "2",
+        ]);
+        let deep = dir.path().join(format!("deep.{ext}"));
+        tmc_ok(&[
+            "extract",
+            i,
+            "--iso",
+            "0",
+            "-o",
+            s(&deep),
+            "--slab-depth",
+            "7",
+        ]);
+        let converted = dir.path().join(format!("converted.{ext}"));
+        tmc_ok(&["convert", s(&tmesh), "-o", s(&converted)]);
+        let expected = fs::read(&direct).unwrap();
+        assert!(fs::read(&deep).unwrap() == expected, "{ext}: slab depth");
+        assert!(fs::read(&converted).unwrap() == expected, "{ext}: convert");
+    }
+    assert!(fs::read(&tmesh).unwrap() == fs::read(dir.path().join("direct.tmesh")).unwrap());
+    // The same mesh as the in-memory extraction written by write_mesh.
+    let (mesh, _) =
+        tmc::extract(&tmc::synth::noise(24, 3, 1), &tmc::ExtractParams::default()).unwrap();
+    let reference = dir.path().join("reference.ply");
+    write_mesh(&reference, &mesh).unwrap();
+    assert!(fs::read(&reference).unwrap() == fs::read(dir.path().join("direct.ply")).unwrap());
+    assert!(names(dir.path()).iter().all(|n| !n.starts_with(".tmc-")));
+}
+
+#[test]
+fn check_reads_tmesh_like_ply() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = noise_npy(dir.path(), "noise.npy");
+    let (ply, tmesh) = (dir.path().join("m.ply"), dir.path().join("m.tmesh"));
+    for output in [&ply, &tmesh] {
+        tmc_ok(&[
+            "extract",
+            s(&input),
+            "--iso",
+            "0",
+            "--close",
+            "-o",
+            s(output),
+        ]);
+    }
+    let report = |path: &Path| {
+        let out = tmc(&["check", s(path), "--json"]);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let expected = report(&ply);
+    assert!(expected.contains("\"vertices\""), "{expected}");
+    assert_eq!(report(&tmesh), expected);
+    // Recognised by its magic bytes, whatever the name.
+    let renamed = dir.path().join("m.bin");
+    fs::copy(&tmesh, &renamed).unwrap();
+    assert_eq!(report(&renamed), expected);
+    // A mesh with defects is still a report, exit status 0.
+    let open = dir.path().join("open.tmesh");
+    tmc_ok(&["extract", s(&input), "--iso", "0", "-o", s(&open)]);
+    let out = tmc(&["check", s(&open)]);
+    assert_eq!(out.status.code(), Some(0));
+    assert!(!out.stdout.is_empty());
+}
+
+#[test]
+fn a_damaged_tmesh_fails_convert_and_check_with_one_line_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = noise_npy(dir.path(), "noise.npy");
+    let tmesh = dir.path().join("m.tmesh");
+    tmc_ok(&["extract", s(&input), "--iso", "0", "-o", s(&tmesh)]);
+    let good = fs::read(&tmesh).unwrap();
+    let entries = tmc::meshfile::TmeshReader::open(&tmesh)
+        .unwrap()
+        .entries()
+        .to_vec();
+    // The last chunk: everything before it is converted before the failure.
+    let last = entries.len() - 1;
+    let mut bad = good.clone();
+    bad[entries[last].offset as usize + 48 + 3] ^= 0x01;
+    fs::write(&tmesh, &bad).unwrap();
+    let keep = dir.path().join("keep.ply");
+    fs::write(&keep, b"old").unwrap();
+    for ext in ["ply", "obj", "off", "stl", "tmesh"] {
+        let output = dir.path().join(format!("out.{ext}"));
+        let line = assert_one_line(&tmc(&["convert", s(&tmesh), "-o", s(&output)]), 1);
+        assert!(
+            line.contains(&format!("chunk {last}")) && line.contains("checksum"),
+            "{line}"
+        );
+        assert!(!output.exists(), "{ext}");
+    }
+    let line = assert_one_line(&tmc(&["convert", s(&tmesh), "-o", s(&keep)]), 1);
+    assert!(line.contains("m.tmesh"), "{line}");
+    assert_eq!(fs::read(&keep).unwrap(), b"old");
+    let line = assert_one_line(&tmc(&["check", s(&tmesh)]), 1);
+    assert!(line.contains(&format!("chunk {last}")), "{line}");
+    assert_eq!(names(dir.path()), ["keep.ply", "m.tmesh", "noise.npy"]);
+
+    // Truncated, not a .tmesh at all, a missing output directory.
+    fs::write(&tmesh, &good[..good.len() - 10]).unwrap();
+    let output = dir.path().join("out.ply");
+    for args in [
+        vec!["convert", s(&tmesh), "-o", s(&output)],
+        vec!["check", s(&tmesh)],
+    ] {
+        let line = assert_one_line(&tmc(&args), 1);
+        assert!(line.contains("truncated"), "{line}");
+    }
+    let line = assert_one_line(&tmc(&["convert", s(&input), "-o", s(&output)]), 1);
+    assert!(line.contains("not a valid .tmesh file"), "{line}");
+    fs::write(&tmesh, &good).unwrap();
+    let missing = dir.path().join("no/dir/out.ply");
+    let line = assert_one_line(&tmc(&["convert", s(&tmesh), "-o", s(&missing)]), 1);
+    assert!(line.contains("does not exist"), "{line}");
+    let line = assert_one_line(
+        &tmc(&["convert", s(&tmesh), "-o", s(&dir.path().join("x.vtk"))]),
+        1,
+    );
+    assert!(line.contains("unknown output format"), "{line}");
+    assert_eq!(names(dir.path()), ["keep.ply", "m.tmesh", "noise.npy"]);
+}
+
+#[test]
+fn extract_to_a_missing_directory_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = noise_npy(dir.path(), "noise.npy");
+    for ext in ["ply", "tmesh"] {
+        let output = dir.path().join(format!("gone/out.{ext}"));
+        let line = assert_one_line(
+            &tmc(&["extract", s(&input), "--iso", "0", "-o", s(&output)]),
+            1,
+        );
+        assert!(line.contains("does not exist"), "{line}");
+    }
+    assert_eq!(names(dir.path()), ["noise.npy"]);
 }

@@ -3,10 +3,10 @@
 //! [`check_mesh`] looks only at the triangle indices of a [`Mesh`] (positions
 //! are never used) and reports whether the mesh is a closed, consistently
 //! oriented 2-manifold, together with its Euler characteristic, connected
-//! components and their genus. [`read_mesh`] loads PLY, OBJ and OFF files so
-//! that meshes written by any tool can be checked. Nothing here shares code
-//! with the extraction kernel: the checker is the referee of the kernel's
-//! tests and of `tmc check`.
+//! components and their genus. [`read_mesh`] loads PLY, OBJ, OFF and `.tmesh`
+//! files so that meshes written by any tool can be checked. Nothing here
+//! shares code with the extraction kernel: the checker is the referee of the
+//! kernel's tests and of `tmc check`.
 //!
 //! ## Definitions
 //! * A triangle is **invalid** when an index is out of range and

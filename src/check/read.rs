@@ -1,14 +1,18 @@
-//! Reading triangle meshes (PLY, OBJ, OFF) for the checker.
+//! Reading triangle meshes (PLY, OBJ, OFF, `.tmesh`) for the checker.
 //!
 //! The readers keep exactly the connectivity that the file states: vertices
 //! are never welded, polygons are fan-triangulated (`v0 vi vi+1`). Every
 //! malformed input is reported as one line, [`Error::Format`], prefixed with
-//! the file name.
+//! the file name. `.tmesh` files are read with [`TmeshReader`], which
+//! verifies every checksum and names a damaged chunk.
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read};
 use std::path::Path;
 
+use crate::export::replay;
+use crate::meshfile::{TmeshReader, MAGIC};
+use crate::sink::MeshBuilder;
 use crate::{Error, Mesh, Result};
 
 /// Most triangles a mesh may have (indices of triangles are `u32`).
@@ -16,18 +20,21 @@ const MAX_TRIANGLES: usize = u32::MAX as usize - 1;
 /// Pre-allocation cap, so that a lying header cannot exhaust memory.
 const MAX_RESERVE: usize = 1 << 22;
 
-/// Reads a mesh from a PLY (ASCII or binary), OBJ or OFF file, chosen by the
-/// extension or, failing that, by the first bytes of the file.
+/// Reads a mesh from a PLY (ASCII or binary), OBJ, OFF or `.tmesh` file,
+/// chosen by the extension or, failing that, by the first bytes of the file.
 ///
 /// STL files are refused: STL repeats the corners of every triangle instead
-/// of sharing vertices, so it carries no connectivity to check.
+/// of sharing vertices, so it carries no connectivity to check. A `.tmesh`
+/// file must fit a [`Mesh`] (at most `u32::MAX` vertices).
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    if ext.as_deref() == Some("stl") {
-        return Err(stl_error(path));
+    match ext.as_deref() {
+        Some("stl") => return Err(stl_error(path)),
+        Some("tmesh") => return read_tmesh(path),
+        _ => {}
     }
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
     let mut src = Source {
@@ -48,7 +55,24 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
         Format::Ply => read_ply(&mut src),
         Format::Obj => read_obj(&mut src),
         Format::Off => read_off(&mut src),
+        Format::Tmesh => read_tmesh(path),
     }
+}
+
+/// Reads a whole `.tmesh` file, chunk by chunk, into a [`Mesh`].
+fn read_tmesh(path: &Path) -> Result<Mesh> {
+    let mut reader = TmeshReader::open(path)?;
+    let (vertices, triangles) = (reader.vertices(), reader.triangles());
+    if vertices > u64::from(u32::MAX) || triangles > MAX_TRIANGLES as u64 {
+        return Err(Error::Format(format!(
+            "{}: {vertices} vertices and {triangles} triangles are more than a mesh in memory holds (at most {} vertices and {MAX_TRIANGLES} triangles)",
+            path.display(),
+            u32::MAX
+        )));
+    }
+    let mut builder = MeshBuilder::default();
+    replay(&mut reader, &mut builder)?;
+    Ok(builder.into_mesh())
 }
 
 fn stl_error(path: &Path) -> Error {
@@ -63,6 +87,7 @@ enum Format {
     Ply,
     Obj,
     Off,
+    Tmesh,
 }
 
 /// A buffered file with a current line and a token cursor in it.
@@ -105,6 +130,9 @@ impl Source<'_> {
             .fill_buf()
             .map_err(|e| Error::io(self.path, e))?;
         let head = &head[..head.len().min(512)];
+        if head.starts_with(&MAGIC) {
+            return Ok(Format::Tmesh);
+        }
         let text = String::from_utf8_lossy(head);
         let first = text
             .lines()
@@ -121,7 +149,7 @@ impl Source<'_> {
         } else if ["v", "vn", "vt", "f", "o", "g", "s", "mtllib", "usemtl"].contains(&word) {
             Ok(Format::Obj)
         } else {
-            Err(self.err("unrecognised mesh format (expected a .ply, .obj or .off file)"))
+            Err(self.err("unrecognised mesh format (expected a .ply, .obj, .off or .tmesh file)"))
         }
     }
 

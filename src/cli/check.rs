@@ -5,14 +5,18 @@ use std::io::Write;
 use std::path::PathBuf;
 use tmc::{Error, Result};
 
-/// Check a mesh file (.ply, .obj, .off, .stl) and report the result.
+/// Check a mesh file (.ply, .obj, .off, .tmesh, .stl) and report the result.
 ///
 /// Reports the mesh's topology checks (as text, or as one JSON object with
-/// --json). STL cannot share vertices, so topology checks on STL files are
-/// not meaningful; check a .ply, .obj or .off file instead.
+/// --json); the exit status is 0 whenever the file could be read (the report
+/// is the result) and 1 if it could not. A .tmesh file has every chunk's
+/// checksum verified; a damaged chunk is named. STL cannot share vertices,
+/// so topology checks on STL files are not meaningful; check a .ply, .obj,
+/// .off or .tmesh file instead.
 #[derive(Debug, Args)]
 pub(crate) struct CheckArgs {
-    /// The mesh to check.
+    /// The mesh to check (format from the extension or, failing that, the
+    /// first bytes).
     #[arg(value_name = "MESH")]
     pub mesh: PathBuf,
 

@@ -23,8 +23,10 @@ pub(crate) struct ExtractArgs {
     #[arg(long, value_name = "VALUE", allow_negative_numbers = true, value_parser = values::finite)]
     pub iso: f64,
 
-    /// Output mesh; the format comes from the extension: .ply, .obj, .off or
-    /// .stl. Written atomically: nothing is left there if the run fails.
+    /// Output mesh; the format comes from the extension: .ply, .obj, .off,
+    /// .stl or .tmesh (chunked and compressed, any size; see 'tmc convert').
+    /// Streamed as it is extracted; written atomically: nothing is left there
+    /// if the run fails.
     #[arg(short, long, value_name = "OUTPUT")]
     pub output: PathBuf,
 
@@ -54,6 +56,12 @@ pub(crate) struct ExtractArgs {
     /// Worker threads; 0 (the default) uses all cores.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
+
+    /// Cell layers per slab (the unit of parallel work, 1 to 64; larger
+    /// values count as 64); 0 (the default) chooses about 16M samples per
+    /// slab. Memory grows with it; the mesh does not depend on it.
+    #[arg(long, value_name = "N")]
+    pub slab_depth: Option<usize>,
 
     /// Raw input: samples along x, y, z (e.g. 256,256,128); needs --dtype.
     #[arg(long, value_name = "X,Y,Z", value_parser = values::dims, requires = "dtype", help_heading = "Raw input (headerless samples, x fastest)")]
@@ -164,8 +172,12 @@ pub(crate) fn run(args: &ExtractArgs) -> Result<()> {
     tmc::export::check_output_path(&args.output)?;
 
     let params = args.params();
-    let (mesh, stats) = tmc::extract(source.as_ref(), &params)?;
-    tmc::export::write_mesh(&args.output, &mesh)?;
+    let mut sink = tmc::export::create_sink(&args.output)?;
+    let options = tmc::PipelineOptions {
+        slab_depth: args.slab_depth.unwrap_or(0),
+        ..Default::default()
+    };
+    let stats = tmc::extract_to(source.as_ref(), &params, &options, sink.as_mut())?;
 
     let run = report::Run {
         input: &args.input,

@@ -4,6 +4,7 @@
 //! the exit status is 0 on success, 1 on failure and 2 on a usage error.
 
 mod check;
+mod convert;
 mod extract;
 mod report;
 mod values;
@@ -36,6 +37,10 @@ Output formats (chosen by the extension of -o):
   .off   text, shared vertices
   .stl   binary; STL cannot share vertices (each facet stores its own corners),
          so 'tmc check' on an STL file is not meaningful
+  .tmesh tmc's chunked, compressed mesh (64-bit vertex numbers, checksums);
+         'tmc convert' turns it into any format above, 'tmc check' reads it,
+         scripts/read_tmesh.py reads it with numpy
+  Meshes are streamed to the output as they are extracted, never held whole.
   The output is written atomically: on failure nothing is left at the path.
 
 Exit status:
@@ -65,6 +70,7 @@ struct Cli {
 #[derive(Debug, Subcommand)]
 enum Command {
     Extract(extract::ExtractArgs),
+    Convert(convert::ConvertArgs),
     Check(check::CheckArgs),
 }
 
@@ -77,6 +83,7 @@ pub fn main() -> ExitCode {
     install_panic_hook();
     let result = panic::catch_unwind(AssertUnwindSafe(|| match cli.command {
         Command::Extract(args) => extract::run(&args),
+        Command::Convert(args) => convert::run(&args),
         Command::Check(args) => check::run(&args),
     }));
     match result {

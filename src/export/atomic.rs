@@ -46,6 +46,12 @@ impl AtomicFile {
         &self.path
     }
 
+    /// The directory the file will appear in (where temporary files of the
+    /// same output belong).
+    pub fn dir(&self) -> &Path {
+        parent_dir(&self.path)
+    }
+
     /// Syncs the data to disk and renames the file onto its target.
     pub fn commit(self) -> Result<()> {
         let path = self.path;
@@ -57,6 +63,22 @@ impl AtomicFile {
             .persist(&path)
             .map_err(|e| Error::io(&path, without_temp_path(e.error)))?;
         Ok(())
+    }
+}
+
+/// Writes go to the temporary file, unbuffered (wrap it in a
+/// [`BufWriter`] for small writes).
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.temp.as_file_mut().write(buf)
+    }
+
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        self.temp.as_file_mut().write_all(buf)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.temp.as_file_mut().flush()
     }
 }
 

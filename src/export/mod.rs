@@ -1,22 +1,39 @@
-//! Mesh writers: PLY (binary little-endian), OBJ, OFF and STL (binary).
+//! Mesh writers: PLY (binary little-endian), OBJ, OFF and STL (binary),
+//! for whole meshes and as streaming [`MeshSink`]s.
 //!
-//! [`write_mesh`] picks the format from the output extension and writes
-//! atomically (a temporary file in the same directory, renamed onto the
-//! path once complete), so a failed write never leaves a partial file.
-//! STL cannot share vertices: every facet stores its own three corners.
+//! [`create_sink`] picks a sink by the output extension (`.tmesh` too); the
+//! pipeline streams chunks into it and it never holds the whole mesh. PLY
+//! and OFF state their counts before the data, and all three shared-vertex
+//! formats put every vertex before every face, so their sinks append
+//! vertices and faces to two anonymous temporary files in the output's
+//! directory and assemble the file at the end (disk use peaks at about twice
+//! the output's size). The STL sink holds one chunk back, because a
+//! triangle's corners may lie in the next chunk, and writes the facet count
+//! into the header in place. Every sink writes exactly the bytes that
+//! [`write_mesh`] writes for the same mesh.
+//!
+//! Every output is atomic (a temporary file in the same directory, renamed
+//! onto the path once complete), so a failed run never leaves a partial
+//! file. STL cannot share vertices: every facet stores its own three corners.
 
 mod atomic;
+mod numbering;
 mod obj;
 mod off;
 mod ply;
+mod replay;
+mod spooled;
 mod stl;
 
 pub use atomic::{write_atomically, AtomicFile};
-pub use obj::write_obj;
-pub use off::write_off;
-pub use ply::write_ply;
-pub use stl::write_stl;
+pub use obj::{write_obj, ObjSink};
+pub use off::{write_off, OffSink};
+pub use ply::{write_ply, PlySink};
+pub use replay::replay;
+pub use stl::{write_stl, StlSink};
 
+use crate::meshfile::TmeshWriter;
+use crate::sink::MeshSink;
 use crate::{Error, Mesh, Result};
 use std::fs;
 use std::path::Path;
@@ -32,6 +49,8 @@ pub enum Format {
     Off,
     /// STL, binary, three unshared vertices per facet.
     Stl,
+    /// tmc's chunked, compressed mesh file ([`crate::meshfile`]).
+    Tmesh,
 }
 
 impl Format {
@@ -47,24 +66,51 @@ impl Format {
             "obj" => Ok(Format::Obj),
             "off" => Ok(Format::Off),
             "stl" => Ok(Format::Stl),
+            "tmesh" => Ok(Format::Tmesh),
             _ => Err(Error::Invalid(format!(
-                "{}: unknown output format (expected .ply, .obj, .off or .stl)",
+                "{}: unknown output format (expected .ply, .obj, .off, .stl or .tmesh)",
                 path.display()
             ))),
         }
     }
 }
 
-/// Writes `mesh` to `path` in the format named by its extension, atomically:
-/// on error nothing is left at `path` (an existing file there is kept).
+/// A streaming writer for `path`, in the format named by its extension:
+/// [`PlySink`], [`ObjSink`], [`OffSink`], [`StlSink`] or [`TmeshWriter`].
+///
+/// The file appears at `path` when the sink finishes; if anything fails
+/// first, dropping the sink leaves nothing there (an existing file is kept).
+pub fn create_sink(path: &Path) -> Result<Box<dyn MeshSink>> {
+    Ok(match Format::from_path(path)? {
+        Format::Ply => Box::new(PlySink::create(path)?),
+        Format::Obj => Box::new(ObjSink::create(path)?),
+        Format::Off => Box::new(OffSink::create(path)?),
+        Format::Stl => Box::new(StlSink::create(path)?),
+        Format::Tmesh => Box::new(TmeshWriter::create(path)?),
+    })
+}
+
+/// Writes `mesh` to `path` in the format named by its extension (`.ply`,
+/// `.obj`, `.off` or `.stl`), atomically: on error nothing is left at `path`
+/// (an existing file there is kept).
+///
+/// A `.tmesh` file records the extraction that made it, which a [`Mesh`]
+/// does not know: stream the extraction into [`create_sink`] instead.
 pub fn write_mesh(path: &Path, mesh: &Mesh) -> Result<()> {
     let format = Format::from_path(path)?;
+    if format == Format::Tmesh {
+        return Err(Error::Invalid(format!(
+            "{}: a .tmesh file records the extraction that made it; stream the extraction into tmc::export::create_sink instead",
+            path.display()
+        )));
+    }
     check_mesh_indices(path, mesh)?;
     write_atomically(path, |w| match format {
         Format::Ply => write_ply(w, mesh),
         Format::Obj => write_obj(w, mesh),
         Format::Off => write_off(w, mesh),
         Format::Stl => write_stl(w, mesh),
+        Format::Tmesh => unreachable!("refused above"),
     })
 }
 
@@ -137,4 +183,9 @@ fn check_mesh_indices(path: &Path, mesh: &Mesh) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// The error of a sink used after it finished.
+fn finished() -> Error {
+    Error::Invalid("the mesh sink was used after it finished".into())
 }

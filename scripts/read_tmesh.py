@@ -1,0 +1,216 @@
+#!/usr/bin/env python3
+"""Read a .tmesh file (tmc's chunked, compressed mesh) with numpy and zstandard.
+
+A standalone reader of the format specified in tmc's src/meshfile/mod.rs
+(it shares no code with tmc). Every checksum is verified; a damaged file
+raises TmeshError naming what is damaged (the chunk, for a chunk).
+
+As a module:
+
+    from read_tmesh import read_tmesh
+    vertices, triangles, info = read_tmesh("mesh.tmesh")
+    # vertices: float32 (N, 3); triangles: uint64 (M, 3), global indices,
+    # counter-clockwise seen from outside; info: dict (grid, iso, ...)
+
+As a command:
+
+    read_tmesh.py MESH.tmesh                 # print a summary
+    read_tmesh.py MESH.tmesh --off OUT.off   # also write an ASCII OFF
+    read_tmesh.py MESH.tmesh --ply OUT.ply   # also write an ASCII PLY
+
+The command exits with status 1 and one line on stderr if the file cannot
+be read. Needs: python3 -m pip install numpy zstandard
+"""
+
+import argparse
+import struct
+import sys
+import zlib
+
+import numpy as np
+import zstandard
+
+MAGIC = b"\x89TMESH\r\n"
+END_MAGIC = b"TMESHEND"
+VERSION = 1
+HEADER_BYTES = 128
+CHUNK_HEADER_BYTES = 48
+INDEX_ENTRY_BYTES = 32
+TRAILER_BYTES = 32
+
+
+class TmeshError(Exception):
+    """The file is not a valid .tmesh file; the message says why and where."""
+
+
+def _crc(data):
+    return zlib.crc32(data) & 0xFFFFFFFF
+
+
+def _read_at(f, offset, size, what):
+    f.seek(offset)
+    data = f.read(size)
+    if len(data) != size:
+        raise TmeshError(f"{what}: the file ends early")
+    return data
+
+
+def _header(h):
+    """Decodes the 128-byte file header into the info dict."""
+    if h[0:8] != MAGIC:
+        raise TmeshError("not a .tmesh file (wrong magic bytes)")
+    version, size = struct.unpack_from("<II", h, 8)
+    if version != VERSION:
+        raise TmeshError(f".tmesh version {version} is not supported (this reads {VERSION})")
+    if size != HEADER_BYTES or struct.unpack_from("<I", h, 124)[0] != _crc(h[:124]):
+        raise TmeshError("header checksum mismatch")
+    return {
+        "dims": list(struct.unpack_from("<3Q", h, 16)),
+        "spacing": list(struct.unpack_from("<3d", h, 40)),
+        "origin": list(struct.unpack_from("<3d", h, 64)),
+        "iso": struct.unpack_from("<d", h, 88)[0],
+        "method": "mc" if h[96] == 1 else "tmc",
+        "inside": "low" if h[97] == 1 else "high",
+        "close": h[98] == 1,
+    }
+
+
+def _index(f, length):
+    """Reads the trailer and the chunk index; returns (totals, entries)."""
+    trailer = _read_at(f, length - TRAILER_BYTES, TRAILER_BYTES, "trailer")
+    if trailer[24:32] != END_MAGIC:
+        raise TmeshError("truncated: the end marker is missing (the writer did not finish)")
+    index_offset, vertices, triangles = struct.unpack_from("<3Q", trailer, 0)
+    if not HEADER_BYTES <= index_offset <= length - TRAILER_BYTES - 16:
+        raise TmeshError(f"index offset {index_offset} is outside the file")
+    head = _read_at(f, index_offset, 16, "chunk index")
+    crc, count = struct.unpack_from("<IQ", head, 4)
+    room = length - TRAILER_BYTES - index_offset - 16
+    if head[0:4] != b"INDX" or count * INDEX_ENTRY_BYTES != room:
+        raise TmeshError("the chunk index is damaged")
+    raw = _read_at(f, index_offset + 16, room, "chunk index")
+    if _crc(raw) != crc:
+        raise TmeshError("the chunk index checksum does not match")
+    entries = np.frombuffer(
+        raw,
+        dtype=np.dtype(
+            [("offset", "<u8"), ("base", "<u8"), ("nv", "<u4"), ("nt", "<u4"), ("plane", "<u8")]
+        ),
+    )
+    bases = np.concatenate((np.zeros(1, np.uint64), np.cumsum(entries["nv"], dtype=np.uint64)))
+    if (
+        not np.array_equal(entries["base"], bases[:-1])
+        or (entries["offset"] >= index_offset).any()
+        or int(bases[-1]) != vertices
+        or int(entries["nt"].sum(dtype=np.uint64)) != triangles
+    ):
+        raise TmeshError("the index does not add up to the totals")
+    return (vertices, triangles), entries
+
+
+def _chunk(f, i, e, next_nv, decompressor):
+    """Reads chunk i; returns (vertices float32 (n, 3), relative triangles uint32 (m, 3))."""
+    name = f"chunk {i} (plane {int(e['plane'])}, byte {int(e['offset'])})"
+    h = _read_at(f, int(e["offset"]), CHUNK_HEADER_BYTES, name)
+    if h[0:4] != b"CHNK" or struct.unpack_from("<I", h, 40)[0] != _crc(h[:40]):
+        raise TmeshError(f"{name}: chunk header damaged")
+    crc, _plane, base, nv, nt, size = struct.unpack_from("<IQQIIQ", h, 4)
+    if (base, nv, nt) != (int(e["base"]), int(e["nv"]), int(e["nt"])):
+        raise TmeshError(f"{name}: chunk header disagrees with the index")
+    payload = _read_at(f, int(e["offset"]) + CHUNK_HEADER_BYTES, size, name)
+    if _crc(payload) != crc:
+        raise TmeshError(f"{name}: payload checksum mismatch (the data is damaged)")
+    expect = 12 * (nv + nt)
+    try:
+        raw = decompressor.decompress(payload, max_output_size=expect)
+    except zstandard.ZstdError as err:
+        raise TmeshError(f"{name}: {err}") from None
+    if len(raw) != expect:
+        raise TmeshError(f"{name}: payload has the wrong size")
+    vertices = np.frombuffer(raw, dtype="<f4", count=3 * nv).reshape(nv, 3)
+    triangles = np.frombuffer(raw, dtype="<u4", offset=12 * nv).reshape(nt, 3)
+    if nt and int(triangles.max()) >= nv + next_nv:
+        raise TmeshError(f"{name}: a triangle points beyond the next chunk")
+    return vertices, triangles
+
+
+def read_tmesh(path):
+    """Reads a .tmesh file.
+
+    Returns (vertices, triangles, info): vertices float32 of shape (N, 3),
+    triangles uint64 of shape (M, 3) with global vertex indices, and a dict
+    with the grid (dims, spacing, origin), iso, method, inside, close and the
+    counts (vertices, triangles, chunks). Raises TmeshError on a damaged or
+    truncated file.
+    """
+    with open(path, "rb") as f:
+        f.seek(0, 2)
+        length = f.tell()
+        if length < HEADER_BYTES + TRAILER_BYTES:
+            raise TmeshError(f"{length} bytes is too short for a .tmesh file")
+        info = _header(_read_at(f, 0, HEADER_BYTES, "header"))
+        (nv, nt), entries = _index(f, length)
+        vertices = np.empty((nv, 3), dtype=np.float32)
+        triangles = np.empty((nt, 3), dtype=np.uint64)
+        decompressor = zstandard.ZstdDecompressor()
+        t = 0
+        for i, e in enumerate(entries):
+            next_nv = int(entries[i + 1]["nv"]) if i + 1 < len(entries) else 0
+            v, tri = _chunk(f, i, e, next_nv, decompressor)
+            base = int(e["base"])
+            vertices[base : base + len(v)] = v
+            triangles[t : t + len(tri)] = tri.astype(np.uint64) + np.uint64(base)
+            t += len(tri)
+    info.update(vertices=nv, triangles=nt, chunks=len(entries))
+    return vertices, triangles, info
+
+
+def write_off(path, vertices, triangles):
+    """Writes an ASCII OFF file (9 significant digits: float32 round-trips)."""
+    with open(path, "w") as out:
+        out.write(f"OFF\n{len(vertices)} {len(triangles)} 0\n")
+        np.savetxt(out, vertices, fmt="%.9g")
+        np.savetxt(out, triangles, fmt="3 %d %d %d")
+
+
+def write_ply(path, vertices, triangles):
+    """Writes an ASCII PLY file (9 significant digits: float32 round-trips)."""
+    with open(path, "w") as out:
+        out.write(
+            "ply\nformat ascii 1.0\ncomment written by read_tmesh.py\n"
+            f"element vertex {len(vertices)}\n"
+            "property float x\nproperty float y\nproperty float z\n"
+            f"element face {len(triangles)}\n"
+            "property list uchar uint vertex_indices\nend_header\n"
+        )
+        np.savetxt(out, vertices, fmt="%.9g")
+        np.savetxt(out, triangles, fmt="3 %d %d %d")
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description="Read a .tmesh file, print a summary.")
+    parser.add_argument("mesh", help="the .tmesh file")
+    parser.add_argument("--off", metavar="OUT", help="also write an ASCII OFF file")
+    parser.add_argument("--ply", metavar="OUT", help="also write an ASCII PLY file")
+    args = parser.parse_args(argv)
+    try:
+        vertices, triangles, info = read_tmesh(args.mesh)
+        if args.off:
+            write_off(args.off, vertices, triangles)
+        if args.ply:
+            write_ply(args.ply, vertices, triangles)
+    except (TmeshError, OSError) as err:
+        print(f"read_tmesh: {args.mesh}: {err}", file=sys.stderr)
+        return 1
+    dims = "x".join(str(d) for d in info["dims"])
+    print(
+        f"{args.mesh}: {info['vertices']} vertices, {info['triangles']} triangles, "
+        f"{info['chunks']} chunks; grid {dims}, spacing {info['spacing']}, "
+        f"origin {info['origin']}; iso {info['iso']}, method {info['method']}, "
+        f"inside {info['inside']}, close {info['close']}"
+    )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,28 @@
+//! Replays a `.tmesh` file into any sink, chunk by chunk, as the pipeline
+//! sent it: `tmc convert` and `tmc check` read `.tmesh` files this way.
+
+use crate::meshfile::TmeshReader;
+use crate::sink::{MeshSink, Totals};
+use crate::Result;
+
+/// Feeds every chunk of `reader` to `sink` (`begin`, the chunks in order,
+/// `finish`), one chunk in memory at a time; returns the totals.
+///
+/// A damaged chunk stops the replay with the reader's error, which names
+/// the chunk; `finish` is then never called, so a file sink commits nothing.
+pub fn replay(reader: &mut TmeshReader, sink: &mut dyn MeshSink) -> Result<Totals> {
+    sink.begin(reader.info())?;
+    let count = reader.entries().len();
+    for i in 0..count {
+        let base = reader.entries()[i].vertex_base;
+        let chunk = reader.chunk(i)?;
+        sink.chunk(base, &chunk)?;
+    }
+    let totals = Totals {
+        vertices: reader.vertices(),
+        triangles: reader.triangles(),
+        chunks: count as u64,
+    };
+    sink.finish(&totals)?;
+    Ok(totals)
+}

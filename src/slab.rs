@@ -17,6 +17,7 @@ use crate::kernel::tables::tables;
 use crate::kernel::{triangulate_ambiguous, CellMesh};
 use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
+use crate::volume::Access;
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use glam::DVec3;
 use std::ops::Range;
@@ -212,6 +213,7 @@ pub fn process_slab(
     let mut stats = Stats::default();
     let mut chunks = Vec::with_capacity(layers.len() + 1);
     let mut block = Block::default();
+    source.advise(layers.start..layers.end + 1, Access::Soon);
     let mut bottom = Plane::new(&grid);
     let mut top = Plane::new(&grid);
     // The slab's first plane may belong to the slab below; its vertices are
@@ -252,6 +254,8 @@ pub fn process_slab(
     if layers.end == nz - 1 {
         chunks.push(block.into_chunk(nz - 1));
     }
+    // The planes strictly inside the slab are read by no other slab.
+    source.advise(layers.start + 1..layers.end, Access::Done);
     stats.cell_seconds = start.elapsed().as_secs_f64() - stats.read_seconds;
     Ok((chunks, stats))
 }

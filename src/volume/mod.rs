@@ -17,6 +17,7 @@ pub use raw::RawVolume;
 pub use scalar::{decode_samples, decode_strided, Endian, ScalarType};
 
 use crate::Result;
+use std::ops::Range;
 use std::path::Path;
 
 /// Geometry of a regular grid: sample counts and the index-to-world map
@@ -58,6 +59,23 @@ pub trait SampleSource: Sync {
     /// Writes the samples of plane `z` (x fastest) into `out`, whose length
     /// is `grid().plane_len()`.
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()>;
+
+    /// A hint about planes `planes`: they will be read soon, or this reader
+    /// of them is done. A memory-mapped source passes it to the kernel, so
+    /// that the page cache, not the process, holds the data. Never changes
+    /// what is read.
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        let _ = (planes, access);
+    }
+}
+
+/// What the pipeline is about to do with some planes (see [`SampleSource::advise`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    /// They will be read soon: read ahead.
+    Soon,
+    /// This slab has read them for the last time: release the pages.
+    Done,
 }
 
 /// Options for raw input, which carries no header of its own.

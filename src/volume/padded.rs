@@ -1,7 +1,8 @@
 //! A one-sample border of "outside" around a volume, for `--close`.
 
-use super::{Grid, SampleSource};
+use super::{Access, Grid, SampleSource};
 use crate::Result;
+use std::ops::Range;
 
 /// Wraps a source with one plane/row/column of NaN samples on every side.
 /// NaN counts as outside (a tie at the isovalue), so every surface closes one
@@ -29,6 +30,13 @@ impl<'a> Padded<'a> {
 impl SampleSource for Padded<'_> {
     fn grid(&self) -> &Grid {
         &self.grid
+    }
+
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        let inner = self.inner.grid().dims[2];
+        let start = planes.start.saturating_sub(1).min(inner);
+        self.inner
+            .advise(start..planes.end.saturating_sub(1).min(inner), access);
     }
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {

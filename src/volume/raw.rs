@@ -6,11 +6,12 @@
 //! [`RawVolume`] over the data that follows.
 
 use super::scalar::{decode_samples, decode_strided};
-use super::{Endian, Grid, RawOptions, SampleSource, ScalarType};
+use super::{Access, Endian, Grid, RawOptions, SampleSource, ScalarType};
 use crate::{Error, Result};
-use memmap2::Mmap;
+use memmap2::{Advice, Mmap, UncheckedAdvice};
 use std::fmt;
 use std::fs::File;
+use std::ops::Range;
 use std::path::Path;
 
 /// Memory order of the samples of a [`RawVolume`].
@@ -50,6 +51,28 @@ impl Storage {
             Storage::Mapped(map) => map,
             Storage::Owned(bytes) => bytes,
         }
+    }
+
+    /// Read-ahead or release advice for bytes `range` of a mapped file.
+    fn advise(&self, range: Range<usize>, access: Access) {
+        let Storage::Mapped(map) = self else {
+            return;
+        };
+        let end = range.end.min(map.len());
+        if range.start >= end {
+            return;
+        }
+        let len = end - range.start;
+        // Advice is a hint: a kernel that refuses it changes nothing.
+        let _ = match access {
+            Access::Soon => map.advise_range(Advice::WillNeed, range.start, len),
+            // SAFETY: the map is a read-only mapping of a file; dropping its
+            // pages only makes the next access read them again from the file
+            // (or the page cache), so no data the program sees can change.
+            Access::Done => unsafe {
+                map.unchecked_advise_range(UncheckedAdvice::DontNeed, range.start, len)
+            },
+        };
     }
 }
 
@@ -175,6 +198,17 @@ impl fmt::Debug for RawVolume {
 impl SampleSource for RawVolume {
     fn grid(&self) -> &Grid {
         &self.grid
+    }
+
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        // Only x-fastest data stores a plane contiguously.
+        if self.order != Order::XFastest {
+            return;
+        }
+        let plane = self.grid.plane_len() * self.scalar.size();
+        let start = self.offset + planes.start * plane;
+        self.storage
+            .advise(start..self.offset + planes.end * plane, access);
     }
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {

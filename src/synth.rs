@@ -1,7 +1,24 @@
 //! Synthetic volumes with known surfaces, for tests, benchmarks and demos.
 //!
-//! Each function samples a field on a grid with unit spacing; the surface of
-//! interest is its level set at 0, inside where the field is positive.
+//! Two families:
+//! * in-memory helpers ([`sphere`], [`torus`], [`three_holes`], [`gyroid`],
+//!   [`noise`]) that sample a field on a grid with unit spacing; the surface
+//!   of interest is its level set at 0, inside where the field is positive;
+//! * [`Synthetic`], a [`SampleSource`](crate::SampleSource) of any size that
+//!   evaluates one of the [`Kind`]s on demand, plane by plane, already
+//!   quantized to a stored sample type (what `tmc synth` writes to disk).
+
+mod fields;
+mod head;
+mod kind;
+mod levels;
+mod source;
+mod value_noise;
+
+pub use head::{HEAD_SKIN_ISO_HU, HEAD_SKULL_ISO_HU};
+pub use kind::Kind;
+pub use levels::{hounsfield_to_stored, unit_to_stored};
+pub use source::Synthetic;
 
 use crate::ArrayVolume;
 

@@ -1,11 +1,12 @@
 //! `tmc extract`: volume in, isosurface mesh out.
 
-use super::{report, values, CONVENTIONS};
+use super::{memory, progress, report, values, CONVENTIONS};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 use tmc::volume::{Endian, RawOptions, ScalarType};
-use tmc::{Error, ExtractParams, Grid, Inside, Method, Result};
+use tmc::{Error, ExtractParams, Grid, Inside, Method, PipelineOptions, Result};
 
 /// Extract the isosurface of a volume at an isovalue and write it as a mesh.
 ///
@@ -57,11 +58,16 @@ pub(crate) struct ExtractArgs {
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
 
-    /// Cell layers per slab (the unit of parallel work, 1 to 64; larger
-    /// values count as 64); 0 (the default) chooses about 16M samples per
-    /// slab. Memory grows with it; the mesh does not depend on it.
-    #[arg(long, value_name = "N")]
-    pub slab_depth: Option<usize>,
+    /// Cell layers per slab (1 to 64; a slab is the unit of parallel work);
+    /// by default about 16 M samples per slab. Memory grows with it; the
+    /// output does not depend on it.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=64))]
+    pub slab_depth: Option<u16>,
+
+    /// Print nothing on stderr but errors (no progress bar). A progress bar
+    /// is shown otherwise, when stderr is a terminal.
+    #[arg(short, long, conflicts_with = "stats")]
+    pub quiet: bool,
 
     /// Raw input: samples along x, y, z (e.g. 256,256,128); needs --dtype.
     #[arg(long, value_name = "X,Y,Z", value_parser = values::dims, requires = "dtype", help_heading = "Raw input (headerless samples, x fastest)")]
@@ -165,6 +171,7 @@ impl ExtractArgs {
 
 /// Runs `tmc extract`.
 pub(crate) fn run(args: &ExtractArgs) -> Result<()> {
+    let started = Instant::now();
     let raw = args.raw_options();
     let source = tmc::volume::open(&args.input, raw.as_ref())?;
     let grid = *source.grid();
@@ -172,12 +179,33 @@ pub(crate) fn run(args: &ExtractArgs) -> Result<()> {
     tmc::export::check_output_path(&args.output)?;
 
     let params = args.params();
-    let mut sink = tmc::export::create_sink(&args.output)?;
-    let options = tmc::PipelineOptions {
-        slab_depth: args.slab_depth.unwrap_or(0),
-        ..Default::default()
+    // Progress bar and peak-memory sampling, after every slab.
+    let peak_anon = memory::PeakAnon::default();
+    let bar = progress::Bar::new(
+        grid.dims.iter().map(|&n| n as u64).product(),
+        "voxels",
+        args.quiet,
+    );
+    let on_progress = |p: &tmc::Progress| {
+        bar.set_fraction(p.layers_done as f64 / p.layers_total.max(1) as f64);
+        peak_anon.sample();
     };
+    let options = PipelineOptions {
+        slab_depth: args.slab_depth.map_or(0, usize::from),
+        progress: Some(&on_progress),
+    };
+    let mut sink = tmc::export::create_sink(&args.output)?;
     let stats = tmc::extract_to(source.as_ref(), &params, &options, sink.as_mut())?;
+    drop(bar);
+    peak_anon.sample();
+    let resources = report::Resources {
+        slab_depth: args.slab_depth.map(usize::from),
+        bytes_read: report::bytes_read(&stats, &grid, source.sample_bytes(), params.close),
+        bytes_written: std::fs::metadata(&args.output).ok().map(|m| m.len()),
+        peak_rss_anon_bytes: peak_anon.peak(),
+        vm_hwm_bytes: memory::peak_resident(),
+        wall_seconds: started.elapsed().as_secs_f64(),
+    };
 
     let run = report::Run {
         input: &args.input,
@@ -186,6 +214,7 @@ pub(crate) fn run(args: &ExtractArgs) -> Result<()> {
         threads: effective_threads(params.threads),
         grid: &grid,
         stats: &stats,
+        resources: &resources,
     };
     if args.stats {
         let mut err = std::io::stderr().lock();

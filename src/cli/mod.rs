@@ -6,7 +6,10 @@
 mod check;
 mod convert;
 mod extract;
+mod memory;
+mod progress;
 mod report;
+mod synth;
 mod values;
 
 use clap::error::ErrorKind;
@@ -72,6 +75,7 @@ enum Command {
     Extract(extract::ExtractArgs),
     Convert(convert::ConvertArgs),
     Check(check::CheckArgs),
+    Synth(synth::SynthArgs),
 }
 
 /// Runs the command line and returns the process exit status.
@@ -85,6 +89,7 @@ pub fn main() -> ExitCode {
         Command::Extract(args) => extract::run(&args),
         Command::Convert(args) => convert::run(&args),
         Command::Check(args) => check::run(&args),
+        Command::Synth(args) => synth::run(&args),
     }));
     match result {
         Ok(Ok(())) => ExitCode::SUCCESS,

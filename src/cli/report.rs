@@ -20,6 +20,52 @@ pub(crate) struct Run<'a> {
     pub grid: &'a Grid,
     /// The statistics of the run.
     pub stats: &'a Stats,
+    /// Bytes, memory and wall time of the run.
+    pub resources: &'a Resources,
+}
+
+/// What a run cost, beyond the statistics of the extraction (all in the
+/// JSON object under these names).
+#[derive(Debug, Clone, Default, Serialize)]
+pub(crate) struct Resources {
+    /// Cell layers per slab, if `--slab-depth` chose it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slab_depth: Option<usize>,
+    /// Bytes of stored samples read from the input (see [`bytes_read`]).
+    pub bytes_read: u64,
+    /// Size of the output file after the run.
+    pub bytes_written: Option<u64>,
+    /// Largest anonymous resident memory (`RssAnon`) sampled during the
+    /// run, bytes; excludes the pages of memory-mapped input.
+    pub peak_rss_anon_bytes: Option<u64>,
+    /// Peak resident set (`VmHWM`), bytes; includes mapped input pages.
+    pub vm_hwm_bytes: Option<u64>,
+    /// Wall time of the whole command (open, extract, write), seconds.
+    pub wall_seconds: f64,
+}
+
+/// Bytes of stored samples the extraction read: planes read times the
+/// input's plane size and sample size. With `close`, the two all-outside
+/// planes that the padding adds (read once each) are not counted.
+pub(crate) fn bytes_read(stats: &Stats, grid: &Grid, sample_bytes: usize, close: bool) -> u64 {
+    let planes = stats.planes_read.saturating_sub(if close { 2 } else { 0 });
+    planes * grid.plane_len() as u64 * sample_bytes as u64
+}
+
+/// `bytes` with a binary prefix: `12.3 MiB`.
+fn human_bytes(bytes: u64) -> String {
+    let units = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut value = bytes as f64;
+    let mut unit = 0;
+    while value >= 1024.0 && unit + 1 < units.len() {
+        value /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{value:.1} {}", units[unit])
+    }
 }
 
 /// The JSON object printed by `--json`.
@@ -37,6 +83,8 @@ struct JsonRun<'a> {
     origin: [f64; 3],
     #[serde(flatten)]
     stats: &'a Stats,
+    #[serde(flatten)]
+    resources: &'a Resources,
 }
 
 /// The CLI name of a method.
@@ -69,6 +117,7 @@ pub(crate) fn write_json(w: &mut impl Write, run: &Run<'_>) -> io::Result<()> {
         spacing: run.grid.spacing,
         origin: run.grid.origin,
         stats: run.stats,
+        resources: run.resources,
     };
     serde_json::to_writer(&mut *w, &json)?;
     writeln!(w)
@@ -96,6 +145,36 @@ pub(crate) fn write_table(w: &mut impl Write, run: &Run<'_>) -> io::Result<()> {
     rows.push(("vertices".into(), s.vertices.to_string()));
     rows.push(("triangles".into(), s.triangles.to_string()));
     rows.push(("time (s)".into(), format!("{:.3}", s.seconds)));
+    let r = run.resources;
+    rows.push(("slabs".into(), s.slabs.to_string()));
+    if let Some(depth) = r.slab_depth {
+        rows.push(("slab depth".into(), depth.to_string()));
+    }
+    rows.push(("planes read".into(), s.planes_read.to_string()));
+    rows.push(("bytes read".into(), human_bytes(r.bytes_read)));
+    let unknown = || "unknown".to_string();
+    rows.push((
+        "bytes written".into(),
+        r.bytes_written.map_or_else(unknown, human_bytes),
+    ));
+    rows.push((
+        "read time (s, all threads)".into(),
+        format!("{:.3}", s.read_seconds),
+    ));
+    rows.push((
+        "cell time (s, all threads)".into(),
+        format!("{:.3}", s.cell_seconds),
+    ));
+    rows.push(("write time (s)".into(), format!("{:.3}", s.write_seconds)));
+    rows.push(("wall time (s)".into(), format!("{:.3}", r.wall_seconds)));
+    rows.push((
+        "peak anonymous memory".into(),
+        r.peak_rss_anon_bytes.map_or_else(unknown, human_bytes),
+    ));
+    rows.push((
+        "peak resident memory".into(),
+        r.vm_hwm_bytes.map_or_else(unknown, human_bytes),
+    ));
 
     let [x, y, z] = run.grid.dims;
     writeln!(

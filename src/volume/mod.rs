@@ -3,6 +3,8 @@
 //! Every reader (one file per format) implements [`SampleSource`]; the slab
 //! loop only ever asks for whole planes, so a reader may memory-map its file
 //! and convert a plane on demand without holding the volume in memory.
+//! [`write_volume`] goes the other way: it writes any source, plane by
+//! plane, as a `.nrrd`, `.npy` or raw file.
 
 mod array;
 pub mod npy;
@@ -10,11 +12,13 @@ pub mod nrrd;
 mod padded;
 pub mod raw;
 mod scalar;
+pub mod write;
 
 pub use array::ArrayVolume;
 pub use padded::Padded;
 pub use raw::RawVolume;
-pub use scalar::{decode_samples, decode_strided, Endian, ScalarType};
+pub use scalar::{decode_samples, decode_strided, encode_samples, Endian, ScalarType};
+pub use write::{write_volume, VolumeFormat};
 
 use crate::Result;
 use std::ops::Range;
@@ -66,6 +70,13 @@ pub trait SampleSource: Sync {
     /// what is read.
     fn advise(&self, planes: Range<usize>, access: Access) {
         let _ = (planes, access);
+    }
+
+    /// Bytes one sample takes where it is stored (the file's sample size for
+    /// a file reader), for reporting the bytes read; 8 (an `f64`) unless a
+    /// source says otherwise.
+    fn sample_bytes(&self) -> usize {
+        8
     }
 }
 

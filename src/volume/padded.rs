@@ -54,4 +54,8 @@ impl SampleSource for Padded<'_> {
         }
         Ok(())
     }
+
+    fn sample_bytes(&self) -> usize {
+        self.inner.sample_bytes()
+    }
 }

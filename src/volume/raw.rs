@@ -248,6 +248,10 @@ impl SampleSource for RawVolume {
         }
         Ok(())
     }
+
+    fn sample_bytes(&self) -> usize {
+        self.scalar.size()
+    }
 }
 
 /// Checks dims (at least 1), spacing (finite, positive) and origin (finite).

@@ -228,3 +228,65 @@ pub fn decode_strided(
         ScalarType::F64 => run!(f64),
     }
 }
+
+/// Encodes `values` as samples of `scalar` in `endian` byte order into
+/// `bytes`, one sample per value: the inverse of [`decode_samples`].
+///
+/// Integer types round to the nearest integer (ties to even) and saturate
+/// at the type's range, NaN becoming 0; `f32` rounds to nearest;
+/// `f64` is copied. Values that [`decode_samples`] produced encode back to
+/// the same bytes.
+///
+/// # Panics
+/// If `bytes.len() != values.len() * scalar.size()`.
+pub fn encode_samples(scalar: ScalarType, endian: Endian, values: &[f64], bytes: &mut [u8]) {
+    assert_eq!(
+        bytes.len(),
+        values.len() * scalar.size(),
+        "encode_samples: byte count does not match sample count"
+    );
+    macro_rules! run {
+        ($t:ty, $convert:expr) => {{
+            const N: usize = std::mem::size_of::<$t>();
+            let convert = $convert;
+            let pairs = values.iter().zip(bytes.chunks_exact_mut(N));
+            match endian {
+                Endian::Little => {
+                    for (v, out) in pairs {
+                        out.copy_from_slice(&convert(*v).to_le_bytes());
+                    }
+                }
+                Endian::Big => {
+                    for (v, out) in pairs {
+                        out.copy_from_slice(&convert(*v).to_be_bytes());
+                    }
+                }
+            }
+        }};
+    }
+    // `saturate` gives the two's complement bits of the rounded value, which
+    // `as` truncates to the type exactly.
+    match scalar {
+        ScalarType::U8 => run!(u8, |v: f64| saturate(v, u8::MIN, u8::MAX) as u8),
+        ScalarType::I8 => run!(i8, |v: f64| saturate(v, i8::MIN, i8::MAX) as i8),
+        ScalarType::U16 => run!(u16, |v: f64| saturate(v, u16::MIN, u16::MAX) as u16),
+        ScalarType::I16 => run!(i16, |v: f64| saturate(v, i16::MIN, i16::MAX) as i16),
+        ScalarType::U32 => run!(u32, |v: f64| saturate(v, u32::MIN, u32::MAX)),
+        ScalarType::I32 => run!(i32, |v: f64| saturate(v, i32::MIN, i32::MAX) as i32),
+        ScalarType::F32 => run!(f32, |v: f64| v as f32),
+        ScalarType::F64 => run!(f64, |v: f64| v),
+    }
+}
+
+/// `v` clamped to `[min, max]` and rounded to the nearest integer (ties
+/// to even), NaN becoming 0, as the low 32 bits of its two's complement.
+///
+/// Adding 1.5 * 2^52 to a |v| < 2^51 leaves the rounded integer in the low
+/// bits of the sum's mantissa: two vector instructions, no `f64::round` (a
+/// library call on baseline x86-64) and no checked float-to-integer cast,
+/// which kept the loop from vectorizing.
+fn saturate<T: Into<f64>>(v: f64, min: T, max: T) -> u32 {
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    let v = if v.is_nan() { 0.0 } else { v };
+    (v.max(min.into()).min(max.into()) + MAGIC).to_bits() as u32
+}

@@ -131,12 +131,13 @@ pub fn extract_to(
         params.threads
     };
     let depth = if options.slab_depth > 0 {
-        options.slab_depth
+        options.slab_depth.min(64)
     } else {
-        // About 16M samples per slab, at least 1 layer, at most 64.
-        (16 << 20) / source.grid().plane_len().max(1)
-    }
-    .clamp(1, 64);
+        // About 64M samples per slab, 16 to 64 layers: a slab re-reads the
+        // plane it shares with the slab below, so thin slabs cost time, while
+        // memory grows with the plane size far more than with the depth.
+        ((64 << 20) / source.grid().plane_len().max(1)).clamp(16, 64)
+    };
     let slabs: Vec<Range<usize>> = (0..layers)
         .step_by(depth)
         .map(|z| z..(z + depth).min(layers))

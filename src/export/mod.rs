@@ -26,10 +26,11 @@ mod spooled;
 mod stl;
 
 pub use atomic::{write_atomically, AtomicFile};
-pub use obj::{write_obj, ObjSink};
-pub use off::{write_off, OffSink};
-pub use ply::{write_ply, PlySink};
+pub use obj::{write_obj, Obj, ObjSink};
+pub use off::{write_off, Off, OffSink};
+pub use ply::{write_ply, Ply, PlySink};
 pub use replay::replay;
+pub use spooled::{write_whole, Layout, SpooledSink};
 pub use stl::{write_stl, StlSink};
 
 use crate::meshfile::TmeshWriter;

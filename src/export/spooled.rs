@@ -13,11 +13,88 @@
 use super::atomic::without_temp_path;
 use super::numbering::Numbering;
 use super::AtomicFile;
-use crate::sink::{Chunk, Totals};
-use crate::{Error, Result};
+use crate::sink::{Chunk, MeshInfo, MeshSink, Totals};
+use crate::{Error, Mesh, Result};
 use std::fs::File;
 use std::io::{self, BufWriter, Seek, SeekFrom, Write};
+use std::marker::PhantomData;
 use std::path::Path;
+
+/// How a shared-vertex format lays out its header, vertices and faces.
+pub trait Layout {
+    /// Most vertices the format can index.
+    const MAX_VERTICES: u64 = u64::MAX;
+    /// Why more vertices cannot be written (completes "the mesh has more
+    /// than N vertices, ...").
+    const TOO_MANY: &'static str = "";
+    /// The header, given the final counts.
+    fn header(w: &mut impl Write, vertices: u64, faces: u64) -> io::Result<()>;
+    /// One vertex.
+    fn vertex(w: &mut impl Write, v: &[f32; 3]) -> io::Result<()>;
+    /// One triangle, global indices.
+    fn face(w: &mut impl Write, t: [u64; 3]) -> io::Result<()>;
+}
+
+/// Writes a whole mesh in layout `L`.
+pub fn write_whole<L: Layout>(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
+    L::header(w, mesh.vertices.len() as u64, mesh.triangles.len() as u64)?;
+    for v in &mesh.vertices {
+        L::vertex(w, v)?;
+    }
+    for t in &mesh.triangles {
+        L::face(w, t.map(u64::from))?;
+    }
+    Ok(())
+}
+
+/// Streams a file in layout `L` from chunks, byte-identical to
+/// [`write_whole`] of the same mesh; memory stays small whatever the mesh
+/// size (see [`super::create_sink`]).
+pub struct SpooledSink<L> {
+    body: Option<Spooled>,
+    layout: PhantomData<L>,
+}
+
+impl<L: Layout> SpooledSink<L> {
+    /// Starts a file that will appear at `path` when the sink finishes.
+    pub fn create(path: &Path) -> Result<Self> {
+        Ok(SpooledSink {
+            body: Some(Spooled::create(path)?),
+            layout: PhantomData,
+        })
+    }
+}
+
+impl<L: Layout> MeshSink for SpooledSink<L> {
+    fn begin(&mut self, _info: &MeshInfo) -> Result<()> {
+        Ok(())
+    }
+
+    fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
+        let body = self.body.as_mut().ok_or_else(super::finished)?;
+        if base + chunk.vertices.len() as u64 > L::MAX_VERTICES {
+            return Err(body.numbering().error(format!(
+                "the mesh has more than {} vertices, {}",
+                L::MAX_VERTICES,
+                L::TOO_MANY
+            )));
+        }
+        body.chunk(base, chunk, |vertices, faces| {
+            for v in &chunk.vertices {
+                L::vertex(vertices, v)?;
+            }
+            for t in &chunk.triangles {
+                L::face(faces, t.map(|i| base + u64::from(i)))?;
+            }
+            Ok(())
+        })
+    }
+
+    fn finish(&mut self, totals: &Totals) -> Result<()> {
+        let body = self.body.take().ok_or_else(super::finished)?;
+        body.finish(totals, |w, vertices, faces| L::header(w, vertices, faces))
+    }
+}
 
 /// Buffer size of each spool.
 const BUFFER_BYTES: usize = 1 << 20;

@@ -39,8 +39,9 @@ struct Block {
 
 impl Block {
     /// The finished block as a chunk: references into the next block follow
-    /// this block's own vertices.
-    fn into_chunk(self, plane: usize) -> Chunk {
+    /// this block's own vertices. A mirroring index-to-world map reverses the
+    /// winding, so that triangles stay counter-clockwise seen from outside.
+    fn into_chunk(self, plane: usize, mirrored: bool) -> Chunk {
         let own = self.vertices.len() as u32;
         let resolve = |r: u32| {
             if r & NEXT_BLOCK != 0 {
@@ -51,7 +52,18 @@ impl Block {
         };
         Chunk {
             plane: plane as u64,
-            triangles: self.triangles.iter().map(|t| t.map(resolve)).collect(),
+            triangles: self
+                .triangles
+                .iter()
+                .map(|t| {
+                    let [a, b, c] = t.map(resolve);
+                    if mirrored {
+                        [a, c, b]
+                    } else {
+                        [a, b, c]
+                    }
+                })
+                .collect(),
             vertices: self.vertices,
         }
     }
@@ -194,9 +206,9 @@ impl Plane {
     }
 }
 
-/// `origin + index * spacing`, rounded to f32.
+/// The world position of a grid index, rounded to f32.
 fn physical(grid: &Grid, index: [f64; 3]) -> [f32; 3] {
-    [0, 1, 2].map(|i| (grid.origin[i] + index[i] * grid.spacing[i]) as f32)
+    grid.world(index).map(|c| c as f32)
 }
 
 /// Processes cell layers `layers` and returns one chunk per layer (plus the
@@ -210,6 +222,7 @@ pub fn process_slab(
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
     let start = Instant::now();
+    let mirrored = grid.is_mirrored();
     let mut stats = Stats::default();
     let mut chunks = Vec::with_capacity(layers.len() + 1);
     let mut block = Block::default();
@@ -248,11 +261,11 @@ pub fn process_slab(
         layer_cells(
             &grid, params, &bottom, &top, &ze, &mut block, &mut cell, &mut stats,
         )?;
-        chunks.push(std::mem::replace(&mut block, next).into_chunk(z));
+        chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
         std::mem::swap(&mut bottom, &mut top);
     }
     if layers.end == nz - 1 {
-        chunks.push(block.into_chunk(nz - 1));
+        chunks.push(block.into_chunk(nz - 1, mirrored));
     }
     // Release this slab's planes (its last plane is released by the slab
     // above, whose first plane it is). Should the slab below still be reading

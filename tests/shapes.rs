@@ -188,6 +188,7 @@ fn coordinates_are_physical() {
         dims: [12, 12, 12],
         spacing: [0.5, 2.0, 3.0],
         origin: [10.0, -5.0, 1.0],
+        direction: tmc::volume::IDENTITY,
     };
     let vol = ArrayVolume::new(grid, ball.data().to_vec()).expect("volume");
     let unit = extract(&ball, &params(false)).expect("unit").0;
@@ -220,4 +221,40 @@ fn nan_samples_are_outside_like_ties() {
     assert!(ma == extract(&b, &params(true)).expect("iso").0);
     assert!(ma.vertices.iter().flatten().all(|c| c.is_finite()));
     assert!(check_mesh(&ma).is_closed_manifold());
+}
+
+#[test]
+fn rotations_and_reflections_map_vertices_and_keep_normals_outward() {
+    let ball = synth::sphere(12, 4.0);
+    let unit = extract(&ball, &params(true)).expect("unit").0;
+    let (c, s) = (0.6f64, 0.8f64);
+    let rotation = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]];
+    let reflection = [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for direction in [rotation, reflection] {
+        let grid = Grid {
+            dims: [12; 3],
+            spacing: [0.5, 2.0, 3.0],
+            origin: [10.0, -5.0, 1.0],
+            direction,
+        };
+        let vol = ArrayVolume::new(grid, ball.data().to_vec()).expect("volume");
+        let mesh = extract(&vol, &params(true)).expect("mapped").0;
+        assert_eq!(mesh.vertices.len(), unit.vertices.len());
+        for (u, p) in unit.vertices.iter().zip(&mesh.vertices) {
+            // The unit mesh's --close padding starts at -1: its coordinates
+            // are grid indices.
+            let w = grid.world(u.map(f64::from));
+            for k in 0..3 {
+                assert!(
+                    (f64::from(p[k]) - w[k]).abs() < 1e-4,
+                    "{u:?} -> {p:?} vs {w:?}"
+                );
+            }
+        }
+        assert!(
+            signed_volume(&mesh) > 0.0,
+            "normals point inward for {direction:?}"
+        );
+        assert!(check_mesh(&mesh).is_closed_manifold());
+    }
 }

@@ -42,6 +42,7 @@ fn small_grid() -> Grid {
         dims: [12, 10, 8],
         spacing: [0.5, 0.7, 1.3],
         origin: [0.0; 3],
+        direction: tmc::volume::IDENTITY,
     }
 }
 
@@ -163,6 +164,7 @@ fn nrrd_header_is_standard() {
         dims: [5, 4, 3],
         spacing: [0.5, 1.0, 2.5],
         origin: [0.0; 3],
+        direction: tmc::volume::IDENTITY,
     };
     let source = Synthetic::new(Kind::Sphere, grid, ScalarType::U16, 0).unwrap();
     write_volume(&path, &source, ScalarType::U16, None).unwrap();
@@ -254,6 +256,7 @@ fn head_skull_is_a_closed_manifold() {
         dims: [64, 60, 48],
         spacing: [1.0, 1.0, 1.3],
         origin: [0.0; 3],
+        direction: tmc::volume::IDENTITY,
     };
     for scalar in [ScalarType::I16, ScalarType::U8] {
         let head = Synthetic::new(Kind::Head, grid, scalar, 11).unwrap();
@@ -320,6 +323,7 @@ fn cli_synth_writes_and_says_how_to_read_raw() {
         dims: [8, 7, 6],
         spacing: [1.0, 1.0, 2.0],
         origin: [0.0; 3],
+        direction: tmc::volume::IDENTITY,
     };
     let expected = samples(&Synthetic::new(Kind::Torus, grid, ScalarType::I16, 0).unwrap());
     let read = tmc::volume::open(&nrrd, None).unwrap();

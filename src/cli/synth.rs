@@ -116,6 +116,7 @@ pub(crate) fn run(args: &SynthArgs) -> Result<()> {
         dims: args.dims,
         spacing: args.spacing.unwrap_or([1.0; 3]),
         origin: [0.0; 3],
+        direction: tmc::volume::IDENTITY,
     };
     let kind = args.kind.kind();
     let format = VolumeFormat::from_path(&args.output)?;

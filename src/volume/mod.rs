@@ -25,7 +25,8 @@ use std::ops::Range;
 use std::path::Path;
 
 /// Geometry of a regular grid: sample counts and the index-to-world map
-/// `origin + index * spacing` (x varies fastest in memory).
+/// `world = origin + direction * (index * spacing)` (x varies fastest in
+/// memory).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Grid {
     /// Samples along x, y, z.
@@ -34,16 +35,45 @@ pub struct Grid {
     pub spacing: [f64; 3],
     /// Physical position of sample (0, 0, 0).
     pub origin: [f64; 3],
+    /// Direction cosines: column `j` is the unit world direction of index
+    /// axis `j` (`direction[i][j]`, row = world axis), as in NIfTI and ITK.
+    /// A reflection (negative determinant) flips the triangles' winding so
+    /// that normals still point outward.
+    pub direction: [[f64; 3]; 3],
 }
 
+/// The identity direction matrix: index axes along world axes.
+pub const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+
 impl Grid {
-    /// A grid with unit spacing and zero origin.
+    /// A grid with unit spacing, zero origin and identity direction.
     pub fn unit(dims: [usize; 3]) -> Self {
         Grid {
             dims,
             spacing: [1.0; 3],
             origin: [0.0; 3],
+            direction: IDENTITY,
         }
+    }
+
+    /// World position of the (fractional) grid index `index`.
+    pub fn world(&self, index: [f64; 3]) -> [f64; 3] {
+        let scaled = [0, 1, 2].map(|j| index[j] * self.spacing[j]);
+        [0, 1, 2].map(|i| {
+            self.origin[i]
+                + self.direction[i][0] * scaled[0]
+                + self.direction[i][1] * scaled[1]
+                + self.direction[i][2] * scaled[2]
+        })
+    }
+
+    /// Does the index-to-world map mirror space (negative determinant)?
+    pub fn is_mirrored(&self) -> bool {
+        let d = &self.direction;
+        let det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
+            - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
+            + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
+        det < 0.0
     }
 
     /// Samples in one z-plane.

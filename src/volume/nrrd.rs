@@ -7,11 +7,10 @@
 //! `byte skip` (`-1` for raw data at the end of the file). Other fields and
 //! `key:=value` pairs are ignored.
 //!
-//! The grid is assumed axis-aligned: the spacing along each axis is the norm
-//! of its `space directions` vector and any rotation (or axis flip) is
-//! ignored, so the mesh lives in the index frame scaled by the spacing and
-//! shifted by `space origin`. Detached headers (`data file`) are not
-//! supported.
+//! The spacing along each axis is the norm of its `space directions` vector
+//! and its direction the unit vector, so the mesh lives in the NRRD's space,
+//! rotation or axis flip included, shifted by `space origin`. Detached
+//! headers (`data file`) are not supported.
 
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::{Endian, Grid, ScalarType};
@@ -39,6 +38,8 @@ struct Header {
     endian: Option<Endian>,
     encoding: Option<Encoding>,
     spacing: Option<[f64; 3]>,
+    /// Unit vectors of the `space directions`, as columns.
+    direction: Option<[[f64; 3]; 3]>,
     origin: Option<[f64; 3]>,
     line_skip: u64,
     /// `None` for `byte skip: -1` (raw data ends the file).
@@ -109,6 +110,7 @@ pub fn open(path: &Path) -> Result<RawVolume> {
         dims,
         spacing: header.spacing.unwrap_or([1.0; 3]),
         origin: header.origin.unwrap_or([0.0; 3]),
+        direction: header.direction.unwrap_or(super::IDENTITY),
     };
     let data_len = data_bytes(dims, scalar)
         .ok_or_else(|| fail(format!("sizes {} are too large", dims_text(dims))))?;
@@ -268,13 +270,25 @@ fn parse_line(line: &str, header: &mut Header) -> std::result::Result<(), String
                 ));
             }
             let mut spacing = [1.0; 3];
-            for (s, v) in spacing.iter_mut().zip(&vectors) {
+            let mut direction = super::IDENTITY;
+            for (j, v) in vectors.iter().enumerate() {
                 if let Some(v) = v {
-                    *s = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+                    if v.len() != 3 {
+                        return Err(format!("bad 'space directions' '{value}' (need 3-vectors)"));
+                    }
+                    let norm = v.iter().map(|c| c * c).sum::<f64>().sqrt();
+                    if !(norm.is_finite() && norm > 0.0) {
+                        return Err(format!("'space directions' vector {} has no length", j + 1));
+                    }
+                    spacing[j] = norm;
+                    for i in 0..3 {
+                        direction[i][j] = v[i] / norm;
+                    }
                 }
             }
             // Directions take precedence over `spacings`.
             header.spacing = Some(spacing);
+            header.direction = Some(direction);
         }
         "space origin" => {
             let origin = match vectors(value).as_deref() {

@@ -15,13 +15,13 @@ pub struct Padded<'a> {
 
 impl<'a> Padded<'a> {
     /// Pads `inner`; the grid grows by two samples per axis and its origin
-    /// moves one spacing down.
+    /// moves one sample back along every index axis.
     pub fn new(inner: &'a dyn SampleSource) -> Self {
         let g = *inner.grid();
         let grid = Grid {
             dims: g.dims.map(|d| d + 2),
-            spacing: g.spacing,
-            origin: [0, 1, 2].map(|i| g.origin[i] - g.spacing[i]),
+            origin: g.world([-1.0; 3]),
+            ..g
         };
         Padded { inner, grid }
     }

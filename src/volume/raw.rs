@@ -100,6 +100,7 @@ impl RawVolume {
                 dims: options.dims,
                 spacing: options.spacing,
                 origin: options.origin,
+                direction: super::IDENTITY,
             },
             scalar: options.scalar,
             endian: options.endian,

@@ -224,13 +224,21 @@ fn missing_or_bad_input_fails_with_one_line_and_no_output() {
         "{line}"
     );
 
+    let unknown = dir.path().join("in.xyz");
+    fs::write(&unknown, b"x").unwrap();
+    let line = assert_one_line(
+        &tmc(&["extract", s(&unknown), "--iso", "0", "-o", s(&output)]),
+        1,
+    );
+    assert!(line.contains("unknown input format"), "{line}");
+
     let vti = dir.path().join("in.vti");
     fs::write(&vti, b"x").unwrap();
     let line = assert_one_line(
         &tmc(&["extract", s(&vti), "--iso", "0", "-o", s(&output)]),
         1,
     );
-    assert!(line.contains("unknown input format"), "{line}");
+    assert!(line.contains("not a VTK XML file"), "{line}");
 
     assert!(!output.exists());
 }

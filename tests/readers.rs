@@ -417,7 +417,7 @@ fn raw_bad_inputs_give_errors() {
 #[test]
 fn unknown_extension_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
-    let path = write_file(dir.path(), "v.vti", b"data");
+    let path = write_file(dir.path(), "v.xyz", b"data");
     assert!(open_err(&path, None).contains("unknown input format"));
 }
 

@@ -7,11 +7,16 @@
 //! plane, as a `.nrrd`, `.npy` or raw file.
 
 mod array;
+pub mod metaimage;
+pub mod nifti;
 pub mod npy;
 pub mod nrrd;
 mod padded;
 pub mod raw;
 mod scalar;
+pub mod tiff_stack;
+pub mod vti;
+pub mod vtk_legacy;
 pub mod write;
 
 pub use array::ArrayVolume;
@@ -136,11 +141,16 @@ pub struct RawOptions {
     pub origin: [f64; 3],
 }
 
-/// Opens a volume file, choosing the reader by extension (`.npy`, `.nrrd`)
-/// or, when `raw` is given, reading headerless samples.
+/// Opens a volume file, choosing the reader by extension (`.npy`, `.nrrd`,
+/// `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`, `.tif`/`.tiff`; a
+/// directory or a glob pattern is a TIFF stack) or, when `raw` is given,
+/// reading headerless samples.
 pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
     if let Some(options) = raw {
         return Ok(Box::new(raw::RawVolume::open(path, options)?));
+    }
+    if path.is_dir() || tiff_stack::is_pattern(path) {
+        return Ok(Box::new(tiff_stack::open(path)?));
     }
     let ext = path
         .extension()
@@ -150,8 +160,16 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
     match ext.as_str() {
         "npy" => Ok(Box::new(npy::open(path)?)),
         "nrrd" => Ok(Box::new(nrrd::open(path)?)),
+        "nii" | "hdr" => Ok(Box::new(nifti::open(path)?)),
+        "gz" if path.to_string_lossy().to_ascii_lowercase().ends_with(".nii.gz") => {
+            Ok(Box::new(nifti::open(path)?))
+        }
+        "mhd" | "mha" => Ok(Box::new(metaimage::open(path)?)),
+        "vtk" => Ok(Box::new(vtk_legacy::open(path)?)),
+        "vti" => Ok(Box::new(vti::open(path)?)),
+        "tif" | "tiff" => Ok(Box::new(tiff_stack::open(path)?)),
         _ => Err(crate::Error::Invalid(format!(
-            "{}: unknown input format (expected .npy or .nrrd, or give --dims and --dtype for raw data)",
+            "{}: unknown input format (expected .npy, .nrrd, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff or a directory of TIFFs, or give --dims and --dtype for raw data)",
             path.display()
         ))),
     }

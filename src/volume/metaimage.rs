@@ -1,0 +1,413 @@
+//! The MetaImage reader (`.mhd` header + data file, `.mha` attached data).
+//!
+//! Understood keys: `ObjectType` (must be `Image`), `NDims` (must be 3),
+//! `DimSize`, `ElementType` (`MET_UCHAR`, `MET_CHAR`, `MET_USHORT`,
+//! `MET_SHORT`, `MET_UINT`, `MET_INT`, `MET_FLOAT`, `MET_DOUBLE`),
+//! `ElementNumberOfChannels` (must be 1), `ElementSpacing` (else
+//! `ElementSize`), `Offset` / `Origin` / `Position`, `TransformMatrix` /
+//! `Rotation` / `Orientation`, `BinaryDataByteOrderMSB` /
+//! `ElementByteOrderMSB`, `CompressedData` (zlib, decompressed into memory),
+//! `HeaderSize` (`-1`: the data ends the file) and `ElementDataFile`, which
+//! ends the header: `LOCAL` (data follows the header), a file name relative
+//! to the header, or `LIST` / `LIST 2D` followed by one file name per z
+//! slice. File name patterns (`%03d.raw 1 10 1`) are not supported.
+//!
+//! As for NIfTI, the grid stays axis-aligned: [`MetaImageVolume::direction`]
+//! exposes the rotation, which is not applied to the [`Grid`].
+
+use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
+use super::{Access, Endian, Grid, SampleSource, ScalarType};
+use crate::{Error, Result};
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// Longest header accepted (without the file list of `LIST`).
+const MAX_HEADER: u64 = 1 << 20;
+
+/// A MetaImage volume.
+#[derive(Debug)]
+pub struct MetaImageVolume {
+    grid: Grid,
+    data: Data,
+    direction: [[f64; 3]; 3],
+}
+
+/// Where the samples of a [`MetaImageVolume`] are.
+#[derive(Debug)]
+enum Data {
+    /// One data file (or the attached data, or decompressed bytes).
+    Volume(RawVolume),
+    /// One single-plane volume per z slice (`ElementDataFile = LIST`).
+    Slices(Vec<RawVolume>),
+}
+
+impl MetaImageVolume {
+    /// The direction cosines: `direction()[r][c]` is component `r` of the
+    /// unit vector of index axis `c` (from `TransformMatrix`, whose
+    /// consecutive triples are the axis vectors, as ITK writes it; the
+    /// identity when absent). Not applied to the [`Grid`].
+    pub fn direction(&self) -> [[f64; 3]; 3] {
+        self.direction
+    }
+
+    /// Whether the samples come from one file per slice (`LIST`).
+    pub fn is_slice_list(&self) -> bool {
+        matches!(self.data, Data::Slices(_))
+    }
+}
+
+impl SampleSource for MetaImageVolume {
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        match &self.data {
+            Data::Volume(v) => v.read_plane(z, out),
+            Data::Slices(slices) => {
+                let slice = slices.get(z).ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "plane {z} out of range: the volume has {} planes",
+                        slices.len()
+                    ))
+                })?;
+                slice.read_plane(0, out)
+            }
+        }
+    }
+
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        match &self.data {
+            Data::Volume(v) => v.advise(planes, access),
+            Data::Slices(slices) => {
+                let end = planes.end.min(slices.len());
+                for s in slices.get(planes.start..end).unwrap_or_default() {
+                    s.advise(0..1, access);
+                }
+            }
+        }
+    }
+
+    fn sample_bytes(&self) -> usize {
+        match &self.data {
+            Data::Volume(v) => v.sample_bytes(),
+            Data::Slices(s) => s.first().map_or(8, |v| v.sample_bytes()),
+        }
+    }
+}
+
+/// The keys of a MetaImage header that the reader uses.
+#[derive(Debug, Default)]
+struct Header {
+    dims: Option<[usize; 3]>,
+    scalar: Option<ScalarType>,
+    spacing: Option<[f64; 3]>,
+    size: Option<[f64; 3]>,
+    origin: Option<[f64; 3]>,
+    matrix: Option<[f64; 9]>,
+    big_endian: bool,
+    compressed: bool,
+    /// `Some(-1)` means the data ends the file.
+    header_size: Option<i64>,
+    data_file: Option<String>,
+}
+
+/// Opens a MetaImage volume (`.mhd` or `.mha`).
+pub fn open(path: &Path) -> Result<MetaImageVolume> {
+    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut reader = BufReader::new(file);
+    let mut consumed = 0u64;
+    let mut header = Header::default();
+    while header.data_file.is_none() {
+        if consumed > MAX_HEADER {
+            return Err(fail("MetaImage header too long".into()));
+        }
+        let line = read_line(&mut reader, &mut consumed)
+            .map_err(|e| Error::io(path, e))?
+            .ok_or_else(|| fail("the header has no ElementDataFile line".into()))?;
+        parse_line(&line, &mut header).map_err(fail)?;
+    }
+
+    let dims = header.dims.ok_or_else(|| fail("missing DimSize".into()))?;
+    let scalar = header
+        .scalar
+        .ok_or_else(|| fail("missing ElementType".into()))?;
+    let spacing = header.spacing.or(header.size).unwrap_or([1.0; 3]);
+    let grid = Grid {
+        dims,
+        spacing,
+        origin: header.origin.unwrap_or([0.0; 3]),
+        // Axis-aligned for now: TransformMatrix is exposed by `direction()`.
+        direction: super::IDENTITY,
+    };
+    let endian = if header.big_endian {
+        Endian::Big
+    } else {
+        Endian::Little
+    };
+    let direction = match header.matrix {
+        Some(m) => {
+            let mut d = [[0.0; 3]; 3];
+            for (r, row) in d.iter_mut().enumerate() {
+                for (c, x) in row.iter_mut().enumerate() {
+                    *x = m[3 * c + r];
+                }
+            }
+            d
+        }
+        None => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+    };
+    let data_len = data_bytes(dims, scalar)
+        .ok_or_else(|| fail(format!("DimSize {} is too large", dims_text(dims))))?;
+    let layout = |offset: u64| Layout {
+        grid,
+        scalar,
+        endian,
+        offset,
+        order: Order::XFastest,
+    };
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let data_file = header.data_file.clone().unwrap_or_default();
+    let words: Vec<&str> = data_file.split_whitespace().collect();
+
+    let data = match words.as_slice() {
+        ["LOCAL"] => {
+            let mut file = reader.into_inner();
+            if header.compressed {
+                file.seek(SeekFrom::Start(consumed))
+                    .map_err(|e| Error::io(path, e))?;
+                let bytes = inflate(path, file, data_len)?;
+                Data::Volume(RawVolume::from_bytes(path, bytes, layout(0))?)
+            } else {
+                Data::Volume(RawVolume::map_file(path, &file, layout(consumed))?)
+            }
+        }
+        ["LIST"] | ["LIST", "2D" | "2d"] => {
+            if header.compressed {
+                return Err(fail(
+                    "CompressedData with ElementDataFile = LIST is not supported".into(),
+                ));
+            }
+            let mut names = Vec::new();
+            while names.len() < dims[2] {
+                match read_line(&mut reader, &mut consumed).map_err(|e| Error::io(path, e))? {
+                    Some(line) if line.trim().is_empty() => {}
+                    Some(line) => names.push(line.trim().to_string()),
+                    None => {
+                        return Err(fail(format!(
+                            "ElementDataFile = LIST names {} files, DimSize needs {} slices",
+                            names.len(),
+                            dims[2]
+                        )))
+                    }
+                }
+            }
+            let plane = Grid {
+                dims: [dims[0], dims[1], 1],
+                ..grid
+            };
+            let plane_len = data_len / dims[2] as u64;
+            let mut slices = Vec::with_capacity(names.len());
+            for name in names {
+                let slice_path = dir.join(name);
+                let file = File::open(&slice_path).map_err(|e| Error::io(&slice_path, e))?;
+                let offset = data_offset(&slice_path, &file, header.header_size, plane_len)?;
+                let slice_layout = Layout {
+                    grid: plane,
+                    ..layout(offset)
+                };
+                slices.push(RawVolume::map_file(&slice_path, &file, slice_layout)?);
+            }
+            Data::Slices(slices)
+        }
+        ["LIST", other] => {
+            return Err(fail(format!(
+                "ElementDataFile = LIST {other} is not supported (only one 2-D file per slice)"
+            )))
+        }
+        [_, _, ..] if data_file.contains('%') => {
+            return Err(fail(format!(
+                "ElementDataFile pattern '{data_file}' is not supported"
+            )))
+        }
+        _ => {
+            let data_path: PathBuf = dir.join(data_file.trim());
+            let file = File::open(&data_path).map_err(|e| Error::io(&data_path, e))?;
+            if header.compressed {
+                let bytes = inflate(&data_path, file, data_len)?;
+                Data::Volume(RawVolume::from_bytes(&data_path, bytes, layout(0))?)
+            } else {
+                let offset = data_offset(&data_path, &file, header.header_size, data_len)?;
+                Data::Volume(RawVolume::map_file(&data_path, &file, layout(offset))?)
+            }
+        }
+    };
+    Ok(MetaImageVolume {
+        grid,
+        data,
+        direction,
+    })
+}
+
+/// The offset of `len` bytes of samples in `file`, after `HeaderSize` bytes
+/// (`-1`: at the end of the file).
+fn data_offset(path: &Path, file: &File, header_size: Option<i64>, len: u64) -> Result<u64> {
+    match header_size {
+        None => Ok(0),
+        Some(-1) => {
+            let size = file.metadata().map_err(|e| Error::io(path, e))?.len();
+            size.checked_sub(len).ok_or_else(|| {
+                Error::Format(format!(
+                    "{}: file has {size} bytes, the samples need {len}",
+                    path.display()
+                ))
+            })
+        }
+        Some(n) => Ok(n as u64),
+    }
+}
+
+/// Decompresses zlib data from `file`, which must hold exactly `len` bytes.
+fn inflate(path: &Path, file: File, len: u64) -> Result<Vec<u8>> {
+    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
+    let want = usize::try_from(len).map_err(|_| fail("data too large".into()))?;
+    let mut bytes = Vec::new();
+    bytes
+        .try_reserve_exact(want)
+        .map_err(|_| fail(format!("not enough memory to decompress {len} bytes")))?;
+    let mut decoder = flate2::read::ZlibDecoder::new(BufReader::new(file));
+    let got = decoder
+        .by_ref()
+        .take(len)
+        .read_to_end(&mut bytes)
+        .map_err(|e| fail(format!("bad zlib data: {e}")))? as u64;
+    if got < len {
+        return Err(fail(format!(
+            "compressed data holds {got} bytes, DimSize and ElementType need {len}"
+        )));
+    }
+    // Read to the end of the stream so that its checksum is verified.
+    io::copy(&mut decoder, &mut io::sink()).map_err(|e| fail(format!("bad zlib data: {e}")))?;
+    Ok(bytes)
+}
+
+/// Reads one line (without `\n` or `\r\n`), counting the bytes consumed;
+/// `None` at the end of the file.
+fn read_line(reader: &mut impl BufRead, consumed: &mut u64) -> io::Result<Option<String>> {
+    let mut buf = Vec::new();
+    let n = reader
+        .by_ref()
+        .take(MAX_HEADER)
+        .read_until(b'\n', &mut buf)?;
+    if n == 0 {
+        return Ok(None);
+    }
+    *consumed += n as u64;
+    if buf.last() == Some(&b'\n') {
+        buf.pop();
+        if buf.last() == Some(&b'\r') {
+            buf.pop();
+        }
+    }
+    Ok(Some(String::from_utf8_lossy(&buf).into_owned()))
+}
+
+/// Parses `n` numbers.
+fn numbers<const N: usize>(key: &str, value: &str) -> std::result::Result<[f64; N], String> {
+    let parsed: Option<Vec<f64>> = value
+        .split_whitespace()
+        .map(|s| s.parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect();
+    parsed
+        .and_then(|v| <[f64; N]>::try_from(v).ok())
+        .ok_or_else(|| format!("bad {key} '{value}' (need {N} numbers)"))
+}
+
+/// Parses a boolean value (`True` / `False`, `1` / `0`).
+fn boolean(key: &str, value: &str) -> std::result::Result<bool, String> {
+    match value.to_ascii_lowercase().as_str() {
+        "true" | "1" => Ok(true),
+        "false" | "0" => Ok(false),
+        _ => Err(format!("bad {key} '{value}' (need True or False)")),
+    }
+}
+
+/// Parses one `Key = Value` header line into `header`.
+fn parse_line(line: &str, header: &mut Header) -> std::result::Result<(), String> {
+    if line.trim().is_empty() {
+        return Ok(());
+    }
+    let Some((key, value)) = line.split_once('=') else {
+        return Err(format!("bad header line '{line}' (need 'Key = Value')"));
+    };
+    let key = key.trim();
+    let value = value.trim();
+    match key.to_ascii_lowercase().as_str() {
+        "objecttype" if !value.eq_ignore_ascii_case("image") => {
+            return Err(format!(
+                "ObjectType '{value}' is not supported (need Image)"
+            ))
+        }
+        "ndims" if value != "3" => return Err(format!("NDims {value} is not supported (need 3)")),
+        "dimsize" => {
+            let parsed: Option<Vec<usize>> = value
+                .split_whitespace()
+                .map(|s| s.parse().ok().filter(|&n| n > 0))
+                .collect();
+            header.dims = Some(
+                parsed
+                    .and_then(|v| <[usize; 3]>::try_from(v).ok())
+                    .ok_or_else(|| format!("bad DimSize '{value}' (need 3 positive integers)"))?,
+            );
+        }
+        "elementtype" => {
+            header.scalar = Some(match value {
+                "MET_UCHAR" => ScalarType::U8,
+                "MET_CHAR" => ScalarType::I8,
+                "MET_USHORT" => ScalarType::U16,
+                "MET_SHORT" => ScalarType::I16,
+                "MET_UINT" => ScalarType::U32,
+                "MET_INT" => ScalarType::I32,
+                "MET_FLOAT" => ScalarType::F32,
+                "MET_DOUBLE" => ScalarType::F64,
+                _ => return Err(format!(
+                    "ElementType '{value}' is not supported (MET_UCHAR, MET_CHAR, MET_USHORT, MET_SHORT, MET_UINT, MET_INT, MET_FLOAT, MET_DOUBLE)"
+                )),
+            });
+        }
+        "elementnumberofchannels" if value != "1" => {
+            return Err(format!(
+                "ElementNumberOfChannels {value} is not supported (need 1)"
+            ))
+        }
+        "elementspacing" => header.spacing = Some(numbers(key, value)?),
+        "elementsize" => header.size = Some(numbers(key, value)?),
+        "offset" | "origin" | "position" => header.origin = Some(numbers(key, value)?),
+        "transformmatrix" | "rotation" | "orientation" => {
+            header.matrix = Some(numbers(key, value)?)
+        }
+        "binarydatabyteordermsb" | "elementbyteordermsb" => {
+            header.big_endian = boolean(key, value)?
+        }
+        "compresseddata" => header.compressed = boolean(key, value)?,
+        "headersize" => {
+            let n: i64 = value
+                .parse()
+                .ok()
+                .filter(|&n| n >= -1)
+                .ok_or_else(|| format!("bad HeaderSize '{value}'"))?;
+            header.header_size = Some(n);
+        }
+        "elementdatafile" => {
+            if value.is_empty() {
+                return Err("empty ElementDataFile".into());
+            }
+            header.data_file = Some(value.to_string());
+        }
+        _ => {}
+    }
+    Ok(())
+}

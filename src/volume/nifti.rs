@@ -1,0 +1,409 @@
+//! The NIfTI-1 and NIfTI-2 reader (`.nii`, `.nii.gz`, `.hdr` + `.img`).
+//!
+//! The version is detected from `sizeof_hdr` (348 or 540) in either byte
+//! order. Supported datatypes: uint8, int8, uint16, int16, uint32, int32,
+//! float32 and float64. The volume must be 3-D (`dim[0]` = 3, or more with
+//! every extra dimension equal to 1). Spacing is `|pixdim[1..=3]|`; when
+//! `scl_slope` is nonzero and the pair is not (1, 0), samples are returned
+//! as `value * scl_slope + scl_inter` so isovalues are in physical units.
+//!
+//! The origin is the translation of the sform (`sform_code > 0`), else the
+//! qform offsets (`qform_code > 0`), else zero. The rotation part of that
+//! transform is available from [`NiftiVolume::direction`], but the [`Grid`]
+//! stays axis-aligned: the mesh lives in the index frame scaled by the
+//! spacing and shifted by the origin (applying the full affine is left to
+//! the caller).
+//!
+//! Uncompressed data is memory-mapped; a `.nii.gz` file is decompressed into
+//! memory as a whole (a streaming reader could come later).
+
+use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
+use super::{Access, Endian, Grid, SampleSource, ScalarType};
+use crate::{Error, Result};
+use std::fs::File;
+use std::io::{BufReader, Read};
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// A NIfTI volume: the stored samples, their scaling and orientation.
+#[derive(Debug)]
+pub struct NiftiVolume {
+    inner: RawVolume,
+    version: u8,
+    scaling: Option<(f64, f64)>,
+    direction: [[f64; 3]; 3],
+}
+
+impl NiftiVolume {
+    /// The NIfTI version of the header (1 or 2).
+    pub fn version(&self) -> u8 {
+        self.version
+    }
+
+    /// `(scl_slope, scl_inter)` when samples are scaled on reading.
+    pub fn scaling(&self) -> Option<(f64, f64)> {
+        self.scaling
+    }
+
+    /// The stored sample type (before scaling).
+    pub fn scalar(&self) -> ScalarType {
+        self.inner.scalar()
+    }
+
+    /// The direction cosines: `direction()[r][c]` is component `r` (x, y, z)
+    /// of the unit vector of index axis `c`, from the sform when
+    /// `sform_code > 0`, else from the qform quaternion when
+    /// `qform_code > 0`, else the identity. Not applied to the [`Grid`].
+    pub fn direction(&self) -> [[f64; 3]; 3] {
+        self.direction
+    }
+}
+
+impl SampleSource for NiftiVolume {
+    fn grid(&self) -> &Grid {
+        self.inner.grid()
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        self.inner.read_plane(z, out)?;
+        if let Some((slope, inter)) = self.scaling {
+            for v in out.iter_mut() {
+                *v = *v * slope + inter;
+            }
+        }
+        Ok(())
+    }
+
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        self.inner.advise(planes, access);
+    }
+
+    fn sample_bytes(&self) -> usize {
+        self.inner.sample_bytes()
+    }
+}
+
+/// The fields of a NIfTI header that the reader uses.
+struct Header {
+    version: u8,
+    endian: Endian,
+    /// Whether the magic says the data is in a separate `.img` file.
+    pair: bool,
+    scalar: ScalarType,
+    dims: [usize; 3],
+    pixdim: [f64; 4],
+    vox_offset: f64,
+    slope: f64,
+    inter: f64,
+    qform_code: i64,
+    sform_code: i64,
+    quatern: [f64; 3],
+    qoffset: [f64; 3],
+    srow: [[f64; 4]; 3],
+}
+
+/// Little helper reading fixed-offset fields of a header.
+struct Fields<'a> {
+    bytes: &'a [u8],
+    endian: Endian,
+}
+
+impl Fields<'_> {
+    fn raw<const N: usize>(&self, at: usize) -> [u8; N] {
+        let mut b = [0u8; N];
+        b.copy_from_slice(&self.bytes[at..at + N]);
+        if self.endian == Endian::Big {
+            b.reverse();
+        }
+        b
+    }
+    fn i16(&self, at: usize) -> i64 {
+        i64::from(i16::from_le_bytes(self.raw(at)))
+    }
+    fn i32(&self, at: usize) -> i64 {
+        i64::from(i32::from_le_bytes(self.raw(at)))
+    }
+    fn i64(&self, at: usize) -> i64 {
+        i64::from_le_bytes(self.raw(at))
+    }
+    fn f32(&self, at: usize) -> f64 {
+        f64::from(f32::from_le_bytes(self.raw(at)))
+    }
+    fn f64(&self, at: usize) -> f64 {
+        f64::from_le_bytes(self.raw(at))
+    }
+}
+
+/// Opens a NIfTI-1 or NIfTI-2 volume: `.nii`, `.nii.gz`, or a `.hdr` header
+/// whose samples are in the `.img` file of the same stem.
+pub fn open(path: &Path) -> Result<NiftiVolume> {
+    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or_default()
+        .to_ascii_lowercase();
+    if name.ends_with(".gz") {
+        let file = File::open(path).map_err(|e| Error::io(path, e))?;
+        let mut bytes = Vec::new();
+        flate2::read::MultiGzDecoder::new(BufReader::new(file))
+            .read_to_end(&mut bytes)
+            .map_err(|e| fail(format!("bad gzip data: {e}")))?;
+        let header = parse_header(&bytes).map_err(fail)?;
+        if header.pair {
+            return Err(fail(
+                "the header says the data is in a separate .img file (magic ni1/ni2), \
+                 which is not supported for .nii.gz"
+                    .into(),
+            ));
+        }
+        let layout = layout(&header, header.vox_offset).map_err(fail)?;
+        let inner = RawVolume::from_bytes(path, bytes, layout)?;
+        return Ok(volume(header, inner));
+    }
+
+    let mut file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut head = Vec::new();
+    (&mut file)
+        .take(540)
+        .read_to_end(&mut head)
+        .map_err(|e| Error::io(path, e))?;
+    let header = parse_header(&head).map_err(fail)?;
+    let is_hdr = name.ends_with(".hdr");
+    if is_hdr != header.pair {
+        return Err(fail(if is_hdr {
+            "a .hdr file must have the magic 'ni1' or 'ni2' (single-file magic found)".into()
+        } else {
+            "the magic says the data is in a separate .img file: open the .hdr file".into()
+        }));
+    }
+    let min_offset = if header.version == 1 { 348.0 } else { 540.0 };
+    if !is_hdr && header.vox_offset < min_offset {
+        return Err(fail(format!(
+            "vox_offset {} is inside the {min_offset}-byte header",
+            header.vox_offset
+        )));
+    }
+    let layout = layout(&header, header.vox_offset).map_err(fail)?;
+    let inner = if is_hdr {
+        let img = img_path(path);
+        let data = File::open(&img).map_err(|e| Error::io(&img, e))?;
+        RawVolume::map_file(&img, &data, layout)?
+    } else {
+        RawVolume::map_file(path, &file, layout)?
+    };
+    Ok(volume(header, inner))
+}
+
+/// The `.img` file beside a `.hdr` file (same case as the extension).
+fn img_path(hdr: &Path) -> PathBuf {
+    let upper = hdr
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e == "HDR");
+    hdr.with_extension(if upper { "IMG" } else { "img" })
+}
+
+/// Builds the volume from a parsed header and its samples.
+fn volume(header: Header, inner: RawVolume) -> NiftiVolume {
+    let scaling = (header.slope != 0.0
+        && header.slope.is_finite()
+        && header.inter.is_finite()
+        && (header.slope, header.inter) != (1.0, 0.0))
+        .then_some((header.slope, header.inter));
+    let direction = direction(&header);
+    NiftiVolume {
+        inner,
+        version: header.version,
+        scaling,
+        direction,
+    }
+}
+
+/// The sample layout of `header`, the data starting at `offset`.
+fn layout(header: &Header, offset: f64) -> std::result::Result<Layout, String> {
+    if !(offset.is_finite() && offset >= 0.0 && offset.fract() == 0.0 && offset < 9e15) {
+        return Err(format!("bad vox_offset {offset}"));
+    }
+    data_bytes(header.dims, header.scalar)
+        .ok_or_else(|| format!("dims {} are too large", dims_text(header.dims)))?;
+    Ok(Layout {
+        grid: Grid {
+            dims: header.dims,
+            spacing: [
+                header.pixdim[1].abs(),
+                header.pixdim[2].abs(),
+                header.pixdim[3].abs(),
+            ],
+            origin: origin(header),
+            // Axis-aligned for now: the sform/qform rotation is exposed by
+            // `direction()`.
+            direction: super::IDENTITY,
+        },
+        scalar: header.scalar,
+        endian: header.endian,
+        offset: offset as u64,
+        order: Order::XFastest,
+    })
+}
+
+/// The position of sample (0, 0, 0).
+fn origin(h: &Header) -> [f64; 3] {
+    if h.sform_code > 0 {
+        [h.srow[0][3], h.srow[1][3], h.srow[2][3]]
+    } else if h.qform_code > 0 {
+        h.qoffset
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// The direction cosines of the index axes (see [`NiftiVolume::direction`]).
+fn direction(h: &Header) -> [[f64; 3]; 3] {
+    let mut d = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    if h.sform_code > 0 {
+        for c in 0..3 {
+            let norm = (0..3).map(|r| h.srow[r][c].powi(2)).sum::<f64>().sqrt();
+            if norm > 0.0 && norm.is_finite() {
+                for (r, row) in d.iter_mut().enumerate() {
+                    row[c] = h.srow[r][c] / norm;
+                }
+            }
+        }
+    } else if h.qform_code > 0 {
+        let [b, c, dq] = h.quatern;
+        let a = (1.0 - (b * b + c * c + dq * dq)).max(0.0).sqrt();
+        let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
+        d = [
+            [
+                a * a + b * b - c * c - dq * dq,
+                2.0 * (b * c - a * dq),
+                2.0 * (b * dq + a * c) * qfac,
+            ],
+            [
+                2.0 * (b * c + a * dq),
+                a * a + c * c - b * b - dq * dq,
+                2.0 * (c * dq - a * b) * qfac,
+            ],
+            [
+                2.0 * (b * dq - a * c),
+                2.0 * (c * dq + a * b),
+                (a * a + dq * dq - c * c - b * b) * qfac,
+            ],
+        ];
+    }
+    d
+}
+
+/// Parses a NIfTI-1 or NIfTI-2 header from the first bytes of a file.
+fn parse_header(bytes: &[u8]) -> std::result::Result<Header, String> {
+    if bytes.len() < 4 {
+        return Err(format!(
+            "file has {} bytes, too short for a NIfTI header",
+            bytes.len()
+        ));
+    }
+    let word = [bytes[0], bytes[1], bytes[2], bytes[3]];
+    let (size, endian) = match (i32::from_le_bytes(word), i32::from_be_bytes(word)) {
+        (n @ (348 | 540), _) => (n as usize, Endian::Little),
+        (_, n @ (348 | 540)) => (n as usize, Endian::Big),
+        (n, _) => {
+            return Err(format!(
+                "not a NIfTI file: sizeof_hdr is {n}, expected 348 (NIfTI-1) or 540 (NIfTI-2)"
+            ))
+        }
+    };
+    if bytes.len() < size {
+        return Err(format!(
+            "truncated NIfTI header: {} bytes, sizeof_hdr says {size}",
+            bytes.len()
+        ));
+    }
+    let f = Fields { bytes, endian };
+    let v1 = size == 348;
+    let magic = if v1 { &bytes[344..348] } else { &bytes[4..12] };
+    let pair = match (v1, magic) {
+        (true, b"n+1\0") => false,
+        (true, b"ni1\0") => true,
+        (false, m) if m == b"n+2\0\r\n\x1a\n" => false,
+        (false, m) if m == b"ni2\0\r\n\x1a\n" => true,
+        (true, _) => {
+            return Err(
+                "bad NIfTI-1 magic (not 'n+1' or 'ni1'; Analyze 7.5 headers are not supported)"
+                    .into(),
+            )
+        }
+        (false, _) => return Err("bad NIfTI-2 magic (not 'n+2' or 'ni2')".into()),
+    };
+    let datatype = if v1 { f.i16(70) } else { f.i16(12) };
+    let scalar = match datatype {
+        2 => ScalarType::U8,
+        256 => ScalarType::I8,
+        512 => ScalarType::U16,
+        4 => ScalarType::I16,
+        768 => ScalarType::U32,
+        8 => ScalarType::I32,
+        16 => ScalarType::F32,
+        64 => ScalarType::F64,
+        other => {
+            return Err(format!(
+                "NIfTI datatype {other} is not supported (uint8, int8, uint16, int16, uint32, int32, float32, float64)"
+            ))
+        }
+    };
+    let dim = |i: usize| {
+        if v1 {
+            f.i16(40 + 2 * i)
+        } else {
+            f.i64(16 + 8 * i)
+        }
+    };
+    let pixdim = |i: usize| {
+        if v1 {
+            f.f32(76 + 4 * i)
+        } else {
+            f.f64(104 + 8 * i)
+        }
+    };
+    let ndim = dim(0);
+    if !(3..=7).contains(&ndim) || (4..=ndim as usize).any(|i| dim(i) != 1) {
+        let shown: Vec<String> = (0..8).map(|i| dim(i).to_string()).collect();
+        return Err(format!(
+            "dim [{}] is not a 3-D volume (need dim[0] = 3, or extra dimensions of size 1)",
+            shown.join(", ")
+        ));
+    }
+    let mut dims = [0usize; 3];
+    for (i, d) in dims.iter_mut().enumerate() {
+        let n = dim(i + 1);
+        *d = usize::try_from(n)
+            .ok()
+            .filter(|&n| n > 0)
+            .ok_or_else(|| format!("dim[{}] = {n} must be positive", i + 1))?;
+    }
+    let real = |v1_at: usize, v2_at: usize| if v1 { f.f32(v1_at) } else { f.f64(v2_at) };
+    let code = |v1_at: usize, v2_at: usize| if v1 { f.i16(v1_at) } else { f.i32(v2_at) };
+    let vox_offset = if v1 { f.f32(108) } else { f.i64(168) as f64 };
+    let mut srow = [[0.0; 4]; 3];
+    for (r, row) in srow.iter_mut().enumerate() {
+        for (c, x) in row.iter_mut().enumerate() {
+            *x = real(280 + 16 * r + 4 * c, 400 + 32 * r + 8 * c);
+        }
+    }
+    Ok(Header {
+        version: if v1 { 1 } else { 2 },
+        endian,
+        pair,
+        scalar,
+        dims,
+        pixdim: [pixdim(0), pixdim(1), pixdim(2), pixdim(3)],
+        vox_offset,
+        slope: real(112, 176),
+        inter: real(116, 184),
+        qform_code: code(252, 344),
+        sform_code: code(254, 348),
+        quatern: [real(256, 352), real(260, 360), real(264, 368)],
+        qoffset: [real(268, 376), real(272, 384), real(276, 392)],
+        srow,
+    })
+}

@@ -1,0 +1,302 @@
+//! TIFF stacks: one multi-page TIFF (page `k` = plane `z = k`), a directory
+//! of single-page TIFFs, or a glob pattern (`*`, `?` in the file name) naming
+//! single-page TIFFs. Files are sorted by name in natural order (`slice_2`
+//! before `slice_10`).
+//!
+//! Greyscale pages of 8-, 16- or 32-bit unsigned or signed integers or 32-
+//! or 64-bit floats are read, classic TIFF or BigTIFF; every page must have
+//! the same size and type. At open only the page directories are read; a
+//! page is decoded when its plane is asked for, and only the last decoded
+//! page is kept. The grid has unit spacing and zero origin.
+
+use super::{Grid, SampleSource, ScalarType};
+use crate::{Error, Result};
+use std::cmp::Ordering;
+use std::fs::File;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use tiff::decoder::{Decoder, DecodingResult, Limits};
+use tiff::tags::{SampleFormat, Tag};
+use tiff::ColorType;
+
+/// A stack of TIFF pages read one plane at a time.
+#[derive(Debug)]
+pub struct TiffStack {
+    grid: Grid,
+    scalar: ScalarType,
+    /// The file and page index of each plane.
+    pages: Vec<(PathBuf, usize)>,
+    /// The last decoded plane.
+    cache: Mutex<Option<(usize, Vec<f64>)>>,
+}
+
+impl TiffStack {
+    /// The sample type of the pages.
+    pub fn scalar(&self) -> ScalarType {
+        self.scalar
+    }
+}
+
+fn decoder(path: &Path) -> Result<Decoder<BufReader<File>>> {
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    Decoder::new(BufReader::new(file))
+        .map(|d| d.with_limits(Limits::unlimited()))
+        .map_err(|e| Error::Format(format!("{}: not a readable TIFF: {e}", path.display())))
+}
+
+/// Size and sample type of the current page of `dec`.
+fn page_info(
+    dec: &mut Decoder<BufReader<File>>,
+) -> std::result::Result<((u32, u32), ScalarType), String> {
+    let dims = dec.dimensions().map_err(|e| e.to_string())?;
+    let color = dec.colortype().map_err(|e| e.to_string())?;
+    let ColorType::Gray(bits) = color else {
+        return Err(format!(
+            "colour type {color:?} is not supported (need greyscale)"
+        ));
+    };
+    let format = dec
+        .find_tag_unsigned::<u16>(Tag::SampleFormat)
+        .map_err(|e| e.to_string())?
+        .map_or(SampleFormat::Uint, SampleFormat::from_u16_exhaustive);
+    let scalar = match (format, bits) {
+        (SampleFormat::Uint, 8) => ScalarType::U8,
+        (SampleFormat::Uint, 16) => ScalarType::U16,
+        (SampleFormat::Uint, 32) => ScalarType::U32,
+        (SampleFormat::Int, 8) => ScalarType::I8,
+        (SampleFormat::Int, 16) => ScalarType::I16,
+        (SampleFormat::Int, 32) => ScalarType::I32,
+        (SampleFormat::IEEEFP, 32) => ScalarType::F32,
+        (SampleFormat::IEEEFP, 64) => ScalarType::F64,
+        (f, b) => return Err(format!("{b}-bit {f:?} samples are not supported")),
+    };
+    Ok((dims, scalar))
+}
+
+/// Compares names in natural order: digit runs compare as numbers.
+fn natural_cmp(a: &str, b: &str) -> Ordering {
+    let (mut a, mut b) = (a.as_bytes(), b.as_bytes());
+    loop {
+        match (a.first(), b.first()) {
+            (None, None) => return Ordering::Equal,
+            (None, _) => return Ordering::Less,
+            (_, None) => return Ordering::Greater,
+            (Some(x), Some(y)) if x.is_ascii_digit() && y.is_ascii_digit() => {
+                let da = a.iter().take_while(|c| c.is_ascii_digit()).count();
+                let db = b.iter().take_while(|c| c.is_ascii_digit()).count();
+                let (na, nb) = (&a[..da], &b[..db]);
+                let ta = trim_zeros(na);
+                let tb = trim_zeros(nb);
+                let ord = ta.len().cmp(&tb.len()).then(ta.cmp(tb)).then(da.cmp(&db));
+                if ord != Ordering::Equal {
+                    return ord;
+                }
+                a = &a[da..];
+                b = &b[db..];
+            }
+            (Some(x), Some(y)) => {
+                if x != y {
+                    return x.cmp(y);
+                }
+                a = &a[1..];
+                b = &b[1..];
+            }
+        }
+    }
+}
+
+fn trim_zeros(d: &[u8]) -> &[u8] {
+    let z = d.iter().take_while(|&&c| c == b'0').count();
+    &d[z..]
+}
+
+/// Whether `name` matches the glob `pattern` (`*` any run, `?` one char).
+fn glob_match(pattern: &[char], name: &[char]) -> bool {
+    match pattern.first() {
+        None => name.is_empty(),
+        Some('*') => (0..=name.len()).any(|i| glob_match(&pattern[1..], &name[i..])),
+        Some('?') => !name.is_empty() && glob_match(&pattern[1..], &name[1..]),
+        Some(c) => name.first() == Some(c) && glob_match(&pattern[1..], &name[1..]),
+    }
+}
+
+/// Whether `path` is a glob pattern (its file name holds `*` or `?`).
+pub fn is_pattern(path: &Path) -> bool {
+    path.file_name()
+        .and_then(|n| n.to_str())
+        .is_some_and(|n| n.contains(['*', '?']))
+}
+
+/// Opens a TIFF stack: a multi-page file, a directory of single-page TIFFs
+/// (`.tif`/`.tiff`), or a glob pattern in the file name.
+pub fn open(path: &Path) -> Result<TiffStack> {
+    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
+    let files: Vec<PathBuf> = if path.is_dir() || is_pattern(path) {
+        let (dir, pattern) = if path.is_dir() {
+            (path.to_path_buf(), None)
+        } else {
+            let dir = path
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            let pat: Vec<char> = path
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or("")
+                .chars()
+                .collect();
+            (dir.to_path_buf(), Some(pat))
+        };
+        let entries = std::fs::read_dir(&dir).map_err(|e| Error::io(&dir, e))?;
+        let mut names = Vec::new();
+        for entry in entries {
+            let entry = entry.map_err(|e| Error::io(&dir, e))?;
+            let Ok(name) = entry.file_name().into_string() else {
+                continue;
+            };
+            let keep = match &pattern {
+                Some(p) => glob_match(p, &name.chars().collect::<Vec<_>>()),
+                None => {
+                    let lower = name.to_ascii_lowercase();
+                    lower.ends_with(".tif") || lower.ends_with(".tiff")
+                }
+            };
+            if keep && entry.path().is_file() {
+                names.push(name);
+            }
+        }
+        if names.is_empty() {
+            return Err(fail("no TIFF files found".into()));
+        }
+        names.sort_by(|a, b| natural_cmp(a, b));
+        names.into_iter().map(|n| dir.join(n)).collect()
+    } else {
+        vec![path.to_path_buf()]
+    };
+    let multi = files.len() == 1;
+    let mut pages = Vec::new();
+    let mut first: Option<((u32, u32), ScalarType)> = None;
+    for file in &files {
+        let mut dec = decoder(file)?;
+        let mut index = 0usize;
+        loop {
+            let info = page_info(&mut dec)
+                .map_err(|e| Error::Format(format!("{} page {index}: {e}", file.display())))?;
+            match first {
+                None => first = Some(info),
+                Some(f) if f != info => {
+                    return Err(Error::Format(format!(
+                        "{} page {index}: {}x{} {} differs from the first page ({}x{} {})",
+                        file.display(),
+                        info.0 .0,
+                        info.0 .1,
+                        info.1,
+                        f.0 .0,
+                        f.0 .1,
+                        f.1
+                    )))
+                }
+                Some(_) => {}
+            }
+            pages.push((file.clone(), index));
+            if !multi || !dec.more_images() {
+                break;
+            }
+            dec.next_image().map_err(|e| {
+                Error::Format(format!("{} page {}: {e}", file.display(), index + 1))
+            })?;
+            index += 1;
+        }
+    }
+    let ((w, h), scalar) = first.ok_or_else(|| fail("no pages".into()))?;
+    let grid = Grid::unit([w as usize, h as usize, pages.len()]);
+    if grid.dims.contains(&0) {
+        return Err(fail("empty pages".into()));
+    }
+    Ok(TiffStack {
+        grid,
+        scalar,
+        pages,
+        cache: Mutex::new(None),
+    })
+}
+
+impl TiffStack {
+    /// Decodes the page of plane `z` into `out`.
+    fn decode(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        let (file, index) = &self.pages[z];
+        let err = |e: String| Error::Format(format!("{} page {index}: {e}", file.display()));
+        let mut dec = decoder(file)?;
+        dec.seek_to_image(*index).map_err(|e| err(e.to_string()))?;
+        let image = dec.read_image().map_err(|e| err(e.to_string()))?;
+        macro_rules! copy {
+            ($v:expr) => {{
+                if $v.len() < out.len() {
+                    return Err(err(format!(
+                        "page holds {} samples, need {}",
+                        $v.len(),
+                        out.len()
+                    )));
+                }
+                for (o, s) in out.iter_mut().zip($v.iter()) {
+                    *o = f64::from(*s);
+                }
+            }};
+        }
+        match image {
+            DecodingResult::U8(v) => copy!(v),
+            DecodingResult::U16(v) => copy!(v),
+            DecodingResult::U32(v) => copy!(v),
+            DecodingResult::I8(v) => copy!(v),
+            DecodingResult::I16(v) => copy!(v),
+            DecodingResult::I32(v) => copy!(v),
+            DecodingResult::F32(v) => copy!(v),
+            DecodingResult::F64(v) => copy!(v),
+            _ => return Err(err("unsupported sample type".into())),
+        }
+        Ok(())
+    }
+}
+
+impl SampleSource for TiffStack {
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        let nz = self.grid.dims[2];
+        if z >= nz {
+            return Err(Error::Invalid(format!(
+                "plane {z} out of range: the volume has {nz} planes"
+            )));
+        }
+        if out.len() != self.grid.plane_len() {
+            return Err(Error::Invalid(format!(
+                "plane buffer holds {} samples, a plane has {}",
+                out.len(),
+                self.grid.plane_len()
+            )));
+        }
+        let mut cache = self.cache.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some((cz, plane)) = cache.as_ref() {
+            if *cz == z {
+                out.copy_from_slice(plane);
+                return Ok(());
+            }
+        }
+        self.decode(z, out)?;
+        match cache.as_mut() {
+            Some((cz, plane)) => {
+                *cz = z;
+                plane.copy_from_slice(out);
+            }
+            None => *cache = Some((z, out.to_vec())),
+        }
+        Ok(())
+    }
+
+    fn sample_bytes(&self) -> usize {
+        self.scalar.size()
+    }
+}

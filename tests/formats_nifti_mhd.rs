@@ -1,0 +1,382 @@
+//! NIfTI-1/2 and MetaImage readers against fixtures written by nibabel and
+//! SimpleITK (`scripts/fixtures/make_nifti_mhd.py`): geometry, samples
+//! (after scl_slope / scl_inter) and meshes equal to those of the `.npy`
+//! twins, direction cosines, and one clear error per bad input.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use tmc::volume::{self, metaimage, nifti};
+use tmc::{ExtractParams, SampleSource};
+
+fn data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
+}
+
+/// One fixture of the manifest.
+struct Fixture {
+    name: String,
+    file: PathBuf,
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    direction: [[f64; 3]; 3],
+}
+
+fn vec3(v: &serde_json::Value) -> [f64; 3] {
+    let a = v.as_array().expect("array");
+    [0, 1, 2].map(|i| a[i].as_f64().expect("number"))
+}
+
+fn fixtures() -> Vec<Fixture> {
+    let text = fs::read_to_string(data_dir().join("nifti_mhd_manifest.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    json.as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            let d = f["direction"].as_array().unwrap();
+            Fixture {
+                name: f["name"].as_str().unwrap().to_string(),
+                file: data_dir().join(f["file"].as_str().unwrap()),
+                dims: vec3(&f["dims"]).map(|x| x as usize),
+                spacing: vec3(&f["spacing"]),
+                origin: vec3(&f["origin"]),
+                direction: [vec3(&d[0]), vec3(&d[1]), vec3(&d[2])],
+            }
+        })
+        .collect()
+}
+
+fn all_samples(source: &dyn SampleSource) -> Vec<f64> {
+    let grid = *source.grid();
+    let mut out = vec![0.0; grid.plane_len() * grid.dims[2]];
+    for (z, plane) in out.chunks_exact_mut(grid.plane_len()).enumerate() {
+        source.read_plane(z, plane).unwrap();
+    }
+    out
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1.0)
+}
+
+#[test]
+fn manifest_lists_every_kind() {
+    let names: Vec<String> = fixtures().into_iter().map(|f| f.name).collect();
+    assert!(names.len() >= 11, "{names:?}");
+    for ext in [".nii", ".nii.gz", ".hdr", ".mhd", ".mha"] {
+        assert!(
+            fixtures()
+                .iter()
+                .any(|f| f.file.to_string_lossy().ends_with(ext)),
+            "no {ext} fixture"
+        );
+    }
+}
+
+#[test]
+fn fixtures_match_their_npy_twins() {
+    for f in fixtures() {
+        let vol = volume::open(&f.file, None).unwrap_or_else(|e| panic!("{}: {e}", f.name));
+        let twin = data_dir().join(format!("{}.expected.npy", f.name));
+        let npy = volume::open(&twin, None).unwrap();
+        let grid = *vol.grid();
+        assert_eq!(grid.dims, f.dims, "{}", f.name);
+        assert_eq!(npy.grid().dims, f.dims, "{}", f.name);
+        for i in 0..3 {
+            assert!(close(grid.spacing[i], f.spacing[i]), "{}: {grid:?}", f.name);
+            assert!(close(grid.origin[i], f.origin[i]), "{}: {grid:?}", f.name);
+        }
+        let got = all_samples(vol.as_ref());
+        let want = all_samples(npy.as_ref());
+        assert_eq!(got, want, "{}: samples differ", f.name);
+
+        // Same mesh once physical coordinates are accounted for.
+        let (lo, hi) = want
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        let params = ExtractParams {
+            iso: lo + (hi - lo) * 0.4123,
+            ..ExtractParams::default()
+        };
+        let (mesh, _) = tmc::extract(vol.as_ref(), &params).unwrap();
+        let (mesh_npy, _) = tmc::extract(npy.as_ref(), &params).unwrap();
+        assert!(!mesh.triangles.is_empty(), "{}: empty mesh", f.name);
+        assert_eq!(mesh.triangles, mesh_npy.triangles, "{}", f.name);
+        assert_eq!(mesh.vertices.len(), mesh_npy.vertices.len(), "{}", f.name);
+        for (v, w) in mesh.vertices.iter().zip(&mesh_npy.vertices) {
+            for i in 0..3 {
+                let mapped = grid.origin[i] + f64::from(w[i]) * grid.spacing[i];
+                assert!(
+                    close(f64::from(v[i]), mapped),
+                    "{}: vertex {v:?} vs {w:?} mapped {mapped}",
+                    f.name
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn directions_and_header_details() {
+    for f in fixtures() {
+        let path = f.file.to_string_lossy().to_string();
+        let direction = if path.ends_with(".mhd") || path.ends_with(".mha") {
+            metaimage::open(&f.file).unwrap().direction()
+        } else {
+            nifti::open(&f.file).unwrap().direction()
+        };
+        for r in 0..3 {
+            for c in 0..3 {
+                assert!(
+                    (direction[r][c] - f.direction[r][c]).abs() < 1e-6,
+                    "{}: {direction:?} vs {:?}",
+                    f.name,
+                    f.direction
+                );
+            }
+        }
+    }
+    let scaled = nifti::open(&data_dir().join("nifti1_scaled.nii")).unwrap();
+    assert_eq!(scaled.scaling(), Some((2.0, -10.0)));
+    assert_eq!(scaled.version(), 1);
+    let unscaled = nifti::open(&data_dir().join("nifti1_u8.nii")).unwrap();
+    assert_eq!(unscaled.scaling(), None);
+    let v2 = nifti::open(&data_dir().join("nifti2_i16_qform.nii")).unwrap();
+    assert_eq!(v2.version(), 2);
+    assert_eq!(v2.sample_bytes(), 2);
+    let list = metaimage::open(&data_dir().join("mhd_list_i16_be.mhd")).unwrap();
+    assert!(list.is_slice_list());
+    assert_eq!(list.sample_bytes(), 2);
+}
+
+/// The error of opening `path`, checked to be one line.
+fn open_err(path: &Path) -> String {
+    let e = match volume::open(path, None) {
+        Ok(v) => panic!("{} opened: {:?}", path.display(), v.grid()),
+        Err(e) => e.to_string(),
+    };
+    assert!(!e.contains('\n'), "multi-line error: {e}");
+    e
+}
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let path = dir.join(name);
+    fs::write(&path, bytes).unwrap();
+    path
+}
+
+#[test]
+fn bad_nifti_headers_are_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let good = fs::read(data_dir().join("nifti1_u8.nii")).unwrap();
+    let good2 = fs::read(data_dir().join("nifti2_f32_sform.nii")).unwrap();
+
+    let e = open_err(&write(d, "short.nii", &good[..200]));
+    assert!(e.contains("truncated NIfTI header"), "{e}");
+    let e = open_err(&write(d, "tiny.nii", &good[..3]));
+    assert!(e.contains("too short"), "{e}");
+    let e = open_err(&write(d, "nodata.nii", &good[..good.len() - 10]));
+    assert!(e.contains("need"), "{e}");
+    let e = open_err(&write(d, "empty.nii", &[]));
+    assert!(e.contains("too short"), "{e}");
+
+    let mut bad = good.clone();
+    bad[..4].copy_from_slice(&349i32.to_le_bytes());
+    let e = open_err(&write(d, "sizeof.nii", &bad));
+    assert!(e.contains("sizeof_hdr is 349"), "{e}");
+
+    let mut bad = good.clone();
+    bad[70..72].copy_from_slice(&128i16.to_le_bytes()); // RGB24
+    let e = open_err(&write(d, "rgb.nii", &bad));
+    assert!(e.contains("datatype 128 is not supported"), "{e}");
+
+    let mut bad = good2.clone();
+    bad[12..14].copy_from_slice(&1792i16.to_le_bytes()); // complex128
+    let e = open_err(&write(d, "complex2.nii", &bad));
+    assert!(e.contains("datatype 1792"), "{e}");
+
+    let mut bad = good.clone();
+    bad[40..42].copy_from_slice(&4i16.to_le_bytes());
+    bad[48..50].copy_from_slice(&3i16.to_le_bytes()); // dim[4] = 3 time points
+    let e = open_err(&write(d, "time.nii", &bad));
+    assert!(e.contains("not a 3-D volume"), "{e}");
+    bad[48..50].copy_from_slice(&1i16.to_le_bytes()); // dim[4] = 1: fine
+    let ok = write(d, "time1.nii", &bad);
+    assert_eq!(volume::open(&ok, None).unwrap().grid().dims, [9, 7, 6]);
+
+    let mut bad = good.clone();
+    bad[42..44].copy_from_slice(&0i16.to_le_bytes());
+    let e = open_err(&write(d, "zero.nii", &bad));
+    assert!(e.contains("dim[1] = 0"), "{e}");
+
+    let mut bad = good.clone();
+    bad[344..348].copy_from_slice(b"xx1\0");
+    let e = open_err(&write(d, "magic.nii", &bad));
+    assert!(e.contains("magic"), "{e}");
+
+    let mut bad = good.clone();
+    bad[108..112].copy_from_slice(&1.0e9f32.to_le_bytes());
+    let e = open_err(&write(d, "offset.nii", &bad));
+    assert!(e.contains("need"), "{e}");
+
+    bad[108..112].copy_from_slice(&0.0f32.to_le_bytes());
+    let e = open_err(&write(d, "offset0.nii", &bad));
+    assert!(e.contains("inside the 348-byte header"), "{e}");
+
+    let mut bad = good.clone();
+    bad[80..84].copy_from_slice(&0.0f32.to_le_bytes()); // pixdim[1] = 0
+    let e = open_err(&write(d, "spacing.nii", &bad));
+    assert!(e.contains("spacing"), "{e}");
+
+    // A .hdr without its .img, and a single-file header named .hdr.
+    let hdr = fs::read(data_dir().join("nifti1_pair.hdr")).unwrap();
+    let e = open_err(&write(d, "alone.hdr", &hdr));
+    assert!(e.contains("alone.img"), "{e}");
+    let e = open_err(&write(d, "single.hdr", &good));
+    assert!(e.contains("magic"), "{e}");
+
+    // Truncated and corrupt gzip.
+    let gz = fs::read(data_dir().join("nifti1_f32_gz.nii.gz")).unwrap();
+    let e = open_err(&write(d, "cut.nii.gz", &gz[..gz.len() / 2]));
+    assert!(e.contains("gzip"), "{e}");
+    let e = open_err(&write(d, "notgz.nii.gz", &good));
+    assert!(e.contains("gzip"), "{e}");
+    let mut bad = gz.clone();
+    let n = bad.len();
+    bad[n - 6] ^= 0xff; // CRC
+    let e = open_err(&write(d, "crc.nii.gz", &bad));
+    assert!(e.contains("gzip"), "{e}");
+}
+
+#[test]
+fn bad_metaimage_headers_are_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let raw = fs::read(data_dir().join("mhd_u8.raw")).unwrap();
+    write(d, "data.raw", &raw);
+    let header = |lines: &[&str]| lines.join("\n") + "\n";
+    let base = [
+        "ObjectType = Image",
+        "NDims = 3",
+        "DimSize = 9 7 6",
+        "ElementType = MET_UCHAR",
+        "ElementSpacing = 0.5 1 2",
+        "ElementDataFile = data.raw",
+    ];
+    let ok = write(d, "ok.mhd", header(&base).as_bytes());
+    assert_eq!(volume::open(&ok, None).unwrap().grid().dims, [9, 7, 6]);
+
+    let with = |i: usize, line: &str| {
+        let mut l = base.to_vec();
+        l[i] = line;
+        header(&l)
+    };
+    let e = open_err(&write(d, "dims.mhd", with(2, "DimSize = 9 7 7").as_bytes()));
+    assert!(e.contains("file has 378 bytes"), "{e}");
+    let e = open_err(&write(d, "dims2.mhd", with(2, "DimSize = 9 7").as_bytes()));
+    assert!(e.contains("bad DimSize"), "{e}");
+    let e = open_err(&write(
+        d,
+        "type.mhd",
+        with(3, "ElementType = MET_LONG_LONG").as_bytes(),
+    ));
+    assert!(
+        e.contains("ElementType 'MET_LONG_LONG' is not supported"),
+        "{e}"
+    );
+    let e = open_err(&write(d, "ndims.mhd", with(1, "NDims = 2").as_bytes()));
+    assert!(e.contains("NDims 2"), "{e}");
+    let e = open_err(&write(
+        d,
+        "obj.mhd",
+        with(0, "ObjectType = Tube").as_bytes(),
+    ));
+    assert!(e.contains("ObjectType"), "{e}");
+    let e = open_err(&write(d, "nofile.mhd", header(&base[..5]).as_bytes()));
+    assert!(e.contains("no ElementDataFile"), "{e}");
+    let e = open_err(&write(
+        d,
+        "missing.mhd",
+        with(5, "ElementDataFile = gone.raw").as_bytes(),
+    ));
+    assert!(e.contains("gone.raw"), "{e}");
+    let e = open_err(&write(
+        d,
+        "notype.mhd",
+        header(&[base[2], base[5]]).as_bytes(),
+    ));
+    assert!(e.contains("missing ElementType"), "{e}");
+    let e = open_err(&write(d, "garbage.mhd", b"\x00\x01 binary junk"));
+    assert!(e.contains("bad header line"), "{e}");
+    let e = open_err(&write(
+        d,
+        "spacing.mhd",
+        with(4, "ElementSpacing = 1 x 2").as_bytes(),
+    ));
+    assert!(e.contains("bad ElementSpacing"), "{e}");
+    let e = open_err(&write(
+        d,
+        "pattern.mhd",
+        with(5, "ElementDataFile = slice%03d.raw 1 6 1").as_bytes(),
+    ));
+    assert!(e.contains("pattern"), "{e}");
+
+    // HeaderSize: -1 reads the end of the file; too large is an error.
+    let mut padded = vec![7u8; 11];
+    padded.extend_from_slice(&raw);
+    write(d, "padded.raw", &padded);
+    let mut l = base.to_vec();
+    l[5] = "HeaderSize = -1";
+    l.push("ElementDataFile = padded.raw");
+    let end = write(d, "end.mhd", header(&l).as_bytes());
+    let want = all_samples(volume::open(&ok, None).unwrap().as_ref());
+    assert_eq!(
+        all_samples(volume::open(&end, None).unwrap().as_ref()),
+        want
+    );
+    l[5] = "HeaderSize = 12";
+    let e = open_err(&write(d, "skip.mhd", header(&l).as_bytes()));
+    assert!(e.contains("need"), "{e}");
+    l[5] = "HeaderSize = -1";
+    l[2] = "DimSize = 9 7 7";
+    let e = open_err(&write(d, "endshort.mhd", header(&l).as_bytes()));
+    assert!(e.contains("the samples need"), "{e}");
+
+    // LIST with too few slice files, and a missing slice file.
+    let mut l = base.to_vec();
+    l[5] = "ElementDataFile = LIST";
+    l.push("data.raw");
+    let e = open_err(&write(d, "list.mhd", header(&l).as_bytes()));
+    assert!(e.contains("LIST names 1 files"), "{e}");
+    l.resize(l.len() + 5, "nowhere.raw");
+    let e = open_err(&write(d, "list2.mhd", header(&l).as_bytes()));
+    assert!(e.contains("nowhere.raw"), "{e}");
+
+    // Truncated, corrupt and too-short zlib data in a .mha.
+    let mha = fs::read(data_dir().join("mha_f32_zlib.mha")).unwrap();
+    let e = open_err(&write(d, "cut.mha", &mha[..mha.len() - 100]));
+    assert!(e.contains("zlib"), "{e}");
+    let mut bad = mha.clone();
+    let n = bad.len();
+    bad[n - 2] ^= 0xff; // Adler-32
+    let e = open_err(&write(d, "adler.mha", &bad));
+    assert!(e.contains("zlib"), "{e}");
+    let e = open_err(&write(d, "grown.mha", &mha_with_dims(&mha, "9 7 9")));
+    assert!(e.contains("compressed data holds 1512 bytes"), "{e}");
+
+    // Uncompressed .mha truncated.
+    let mha = fs::read(data_dir().join("mha_i16.mha")).unwrap();
+    let e = open_err(&write(d, "cut16.mha", &mha[..mha.len() - 1]));
+    assert!(e.contains("need 756"), "{e}");
+}
+
+/// `mha` with its DimSize value replaced (same length).
+fn mha_with_dims(mha: &[u8], dims: &str) -> Vec<u8> {
+    let key = b"DimSize = ";
+    let at = mha.windows(key.len()).position(|w| w == key).unwrap() + key.len();
+    let mut out = mha.to_vec();
+    out[at..at + dims.len()].copy_from_slice(dims.as_bytes());
+    out
+}

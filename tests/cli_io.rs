@@ -2,6 +2,8 @@
 //! no output left behind on failure) and the mesh writers, round-tripped
 //! through small parsers written here.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -404,40 +406,6 @@ fn parse_obj(text: &str) -> Mesh {
     mesh
 }
 
-/// Parses an OFF file.
-fn parse_off(text: &str) -> Mesh {
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("OFF"));
-    let counts: Vec<usize> = lines
-        .next()
-        .unwrap()
-        .split_whitespace()
-        .map(|p| p.parse().unwrap())
-        .collect();
-    let mut mesh = Mesh::default();
-    for _ in 0..counts[0] {
-        let v: Vec<f32> = lines
-            .next()
-            .unwrap()
-            .split_whitespace()
-            .map(|p| p.parse().unwrap())
-            .collect();
-        mesh.vertices.push([v[0], v[1], v[2]]);
-    }
-    for _ in 0..counts[1] {
-        let f: Vec<u32> = lines
-            .next()
-            .unwrap()
-            .split_whitespace()
-            .map(|p| p.parse().unwrap())
-            .collect();
-        assert_eq!(f[0], 3);
-        mesh.triangles.push([f[1], f[2], f[3]]);
-    }
-    assert_eq!(lines.next(), None);
-    mesh
-}
-
 /// Parses a binary STL into facets (normal, three corners).
 fn parse_stl(bytes: &[u8]) -> Vec<[[f32; 3]; 4]> {
     assert!(!bytes.starts_with(b"solid"));
@@ -469,7 +437,7 @@ fn writers_round_trip() {
         let back = match ext {
             "ply" | "PLY" => parse_ply(&bytes),
             "obj" => parse_obj(std::str::from_utf8(&bytes).unwrap()),
-            _ => parse_off(std::str::from_utf8(&bytes).unwrap()),
+            _ => common::parse_off(std::str::from_utf8(&bytes).unwrap()),
         };
         assert_eq!(back, mesh, "{ext}");
     }

@@ -3,6 +3,8 @@
 //! file replays into any sink with the same result; a failure at any point
 //! leaves nothing behind; the standalone Python reader agrees with tmc's.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -272,40 +274,6 @@ fn python_ready() -> bool {
         .unwrap_or(false)
 }
 
-/// Parses the ASCII OFF file `read_tmesh.py --off` writes.
-fn parse_off(text: &str) -> Mesh {
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("OFF"));
-    let counts: Vec<usize> = lines
-        .next()
-        .unwrap()
-        .split_whitespace()
-        .map(|w| w.parse().unwrap())
-        .collect();
-    let mut mesh = Mesh::default();
-    for _ in 0..counts[0] {
-        let v: Vec<f32> = lines
-            .next()
-            .unwrap()
-            .split_whitespace()
-            .map(|w| w.parse().unwrap())
-            .collect();
-        mesh.vertices.push([v[0], v[1], v[2]]);
-    }
-    for _ in 0..counts[1] {
-        let f: Vec<u32> = lines
-            .next()
-            .unwrap()
-            .split_whitespace()
-            .map(|w| w.parse().unwrap())
-            .collect();
-        assert_eq!(f[0], 3);
-        mesh.triangles.push([f[1], f[2], f[3]]);
-    }
-    assert_eq!(lines.next(), None);
-    mesh
-}
-
 #[test]
 fn the_python_reader_agrees_with_tmc() {
     if !python_ready() {
@@ -344,7 +312,7 @@ fn the_python_reader_agrees_with_tmc() {
     );
     assert!(stdout.contains(&summary), "{stdout}");
     assert!(stdout.contains("iso 0.0, method tmc, inside high, close True"));
-    let mesh = parse_off(&fs::read_to_string(&off).unwrap());
+    let mesh = common::parse_off(&fs::read_to_string(&off).unwrap());
     assert_eq!(mesh.vertices.len(), expected.vertices.len());
     assert!(mesh == expected, "the meshes differ");
 

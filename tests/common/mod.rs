@@ -80,3 +80,38 @@ pub fn transform<T: Copy + Default>(
     }
     (nd, out)
 }
+
+/// Parses an ASCII OFF file of triangles (an independent reader for the
+/// writers' output).
+pub fn parse_off(text: &str) -> tmc::Mesh {
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("OFF"));
+    let counts: Vec<usize> = lines
+        .next()
+        .unwrap()
+        .split_whitespace()
+        .map(|w| w.parse().unwrap())
+        .collect();
+    let mut mesh = tmc::Mesh::default();
+    for _ in 0..counts[0] {
+        let v: Vec<f32> = lines
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|w| w.parse().unwrap())
+            .collect();
+        mesh.vertices.push([v[0], v[1], v[2]]);
+    }
+    for _ in 0..counts[1] {
+        let f: Vec<u32> = lines
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|w| w.parse().unwrap())
+            .collect();
+        assert_eq!(f[0], 3);
+        mesh.triangles.push([f[1], f[2], f[3]]);
+    }
+    assert_eq!(lines.next(), None);
+    mesh
+}

@@ -17,14 +17,14 @@
 
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::{Access, Endian, Grid, SampleSource, ScalarType};
+// One line reader and one header limit (1 MiB, without the file list of
+// `LIST`) for both text-header formats.
+use super::nrrd::{read_line, MAX_HEADER};
 use crate::{Error, Result};
 use std::fs::File;
-use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
+use std::io::{self, BufReader, Read, Seek, SeekFrom};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-
-/// Longest header accepted (without the file list of `LIST`).
-const MAX_HEADER: u64 = 1 << 20;
 
 /// A MetaImage volume.
 #[derive(Debug)]
@@ -292,27 +292,6 @@ fn inflate(path: &Path, file: File, len: u64) -> Result<Vec<u8>> {
     // Read to the end of the stream so that its checksum is verified.
     io::copy(&mut decoder, &mut io::sink()).map_err(|e| fail(format!("bad zlib data: {e}")))?;
     Ok(bytes)
-}
-
-/// Reads one line (without `\n` or `\r\n`), counting the bytes consumed;
-/// `None` at the end of the file.
-fn read_line(reader: &mut impl BufRead, consumed: &mut u64) -> io::Result<Option<String>> {
-    let mut buf = Vec::new();
-    let n = reader
-        .by_ref()
-        .take(MAX_HEADER)
-        .read_until(b'\n', &mut buf)?;
-    if n == 0 {
-        return Ok(None);
-    }
-    *consumed += n as u64;
-    if buf.last() == Some(&b'\n') {
-        buf.pop();
-        if buf.last() == Some(&b'\r') {
-            buf.pop();
-        }
-    }
-    Ok(Some(String::from_utf8_lossy(&buf).into_owned()))
 }
 
 /// Parses `n` numbers.

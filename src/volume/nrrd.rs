@@ -20,7 +20,7 @@ use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 /// Longest header accepted.
-const MAX_HEADER: u64 = 1 << 20;
+pub(crate) const MAX_HEADER: u64 = 1 << 20;
 
 /// How the data after the header is encoded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -172,7 +172,10 @@ pub fn open(path: &Path) -> Result<RawVolume> {
 
 /// Reads one line (without `\n` or `\r\n`), counting the bytes consumed;
 /// `None` at the end of the file.
-fn read_line(reader: &mut impl BufRead, consumed: &mut u64) -> io::Result<Option<String>> {
+pub(crate) fn read_line(
+    reader: &mut impl BufRead,
+    consumed: &mut u64,
+) -> io::Result<Option<String>> {
     let mut buf = Vec::new();
     let n = reader
         .by_ref()

@@ -102,11 +102,24 @@ fn fixtures_match_their_npy_twins() {
         let (mesh, _) = tmc::extract(vol.as_ref(), &params).unwrap();
         let (mesh_npy, _) = tmc::extract(npy.as_ref(), &params).unwrap();
         assert!(!mesh.triangles.is_empty(), "{}: empty mesh", f.name);
-        assert_eq!(mesh.triangles, mesh_npy.triangles, "{}", f.name);
+        // A mirroring map reverses every triangle, so normals stay outward.
+        let want: Vec<[u32; 3]> = if det(&f.direction) < 0.0 {
+            mesh_npy
+                .triangles
+                .iter()
+                .map(|&[a, b, c]| [a, c, b])
+                .collect()
+        } else {
+            mesh_npy.triangles.clone()
+        };
+        assert_eq!(mesh.triangles, want, "{}", f.name);
         assert_eq!(mesh.vertices.len(), mesh_npy.vertices.len(), "{}", f.name);
         for (v, w) in mesh.vertices.iter().zip(&mesh_npy.vertices) {
+            // The manifest's affine, not the reader's grid.
+            let scaled = [0, 1, 2].map(|j| f64::from(w[j]) * f.spacing[j]);
             for i in 0..3 {
-                let mapped = grid.origin[i] + f64::from(w[i]) * grid.spacing[i];
+                let mapped =
+                    f.origin[i] + (0..3).map(|j| f.direction[i][j] * scaled[j]).sum::<f64>();
                 assert!(
                     close(f64::from(v[i]), mapped),
                     "{}: vertex {v:?} vs {w:?} mapped {mapped}",
@@ -115,6 +128,12 @@ fn fixtures_match_their_npy_twins() {
             }
         }
     }
+}
+
+fn det(d: &[[f64; 3]; 3]) -> f64 {
+    d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
+        - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
+        + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0])
 }
 
 #[test]
@@ -225,8 +244,20 @@ fn bad_nifti_headers_are_errors() {
     let e = open_err(&write(d, "offset0.nii", &bad));
     assert!(e.contains("inside the 348-byte header"), "{e}");
 
+    // The sform (code 2 here) rules: a zero column is refused, pixdim unused.
     let mut bad = good.clone();
-    bad[80..84].copy_from_slice(&0.0f32.to_le_bytes()); // pixdim[1] = 0
+    for row in [280, 296, 312] {
+        bad[row..row + 4].copy_from_slice(&0.0f32.to_le_bytes()); // srow_*[0] = 0
+    }
+    let e = open_err(&write(d, "sform0.nii", &bad));
+    assert!(e.contains("sform: direction of axis 0"), "{e}");
+    let mut sform_only = good.clone();
+    sform_only[80..84].copy_from_slice(&0.0f32.to_le_bytes()); // pixdim[1] = 0
+    let v = volume::open(&write(d, "pixdim0.nii", &sform_only), None).unwrap();
+    assert_eq!(v.grid().spacing, [0.5, 1.0, 2.0]);
+    // With the qform only, pixdim is the spacing: zero is refused.
+    let mut bad = fs::read(data_dir().join("nifti1_i16_qform_flip.nii")).unwrap();
+    bad[80..84].copy_from_slice(&0.0f32.to_le_bytes());
     let e = open_err(&write(d, "spacing.nii", &bad));
     assert!(e.contains("spacing"), "{e}");
 

@@ -106,6 +106,48 @@ fn vti_all_encodings() {
     }
 }
 
+/// An oblique, mirrored `Direction` and an extent not starting at 0: the
+/// grid maps indices where VTK says they are, and the mesh is the twin's
+/// mapped by that affine with every triangle reversed.
+#[test]
+fn vti_oblique_mirrored_direction() {
+    let src = volume::open(&data("vt_oblique.vti"), None).unwrap();
+    let twin = volume::open(&data("vt_twin.npy"), None).unwrap();
+    let g = *src.grid();
+    assert!(g.is_mirrored());
+    let text = std::fs::read_to_string(data("vt_oblique.json")).unwrap();
+    let points: serde_json::Value = serde_json::from_str(&text).unwrap();
+    for p in points.as_array().unwrap() {
+        let index = [0, 1, 2].map(|a| p["index"][a].as_f64().unwrap());
+        let want = [0, 1, 2].map(|a| p["world"][a].as_f64().unwrap());
+        let got = g.world(index);
+        for a in 0..3 {
+            assert!(
+                (got[a] - want[a]).abs() < 1e-9,
+                "{index:?}: {got:?} vs {want:?}"
+            );
+        }
+    }
+    assert_eq!(planes(&*src), planes(&*twin));
+    let params = ExtractParams {
+        iso: 41.0,
+        ..ExtractParams::default()
+    };
+    let (mesh, _) = extract(&*src, &params).unwrap();
+    let (want, _) = extract(&*twin, &params).unwrap();
+    let reversed: Vec<[u32; 3]> = want.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect();
+    assert_eq!(mesh.triangles, reversed);
+    for (v, w) in mesh.vertices.iter().zip(&want.vertices) {
+        let mapped = g.world(w.map(f64::from));
+        for a in 0..3 {
+            assert!(
+                (f64::from(v[a]) - mapped[a]).abs() < 1e-4,
+                "{v:?} vs {mapped:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn tiff_multi_page_bigtiff_directory_and_glob() {
     check(&data("vt_multi_u16.tif"), false);

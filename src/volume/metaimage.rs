@@ -6,23 +6,25 @@
 //! `ElementNumberOfChannels` (must be 1), `ElementSpacing` (else
 //! `ElementSize`), `Offset` / `Origin` / `Position`, `TransformMatrix` /
 //! `Rotation` / `Orientation`, `BinaryDataByteOrderMSB` /
-//! `ElementByteOrderMSB`, `CompressedData` (zlib, decompressed into memory),
+//! `ElementByteOrderMSB`, `CompressedData` (zlib, decompressed into a temporary file),
 //! `HeaderSize` (`-1`: the data ends the file) and `ElementDataFile`, which
 //! ends the header: `LOCAL` (data follows the header), a file name relative
 //! to the header, or `LIST` / `LIST 2D` followed by one file name per z
 //! slice. File name patterns (`%03d.raw 1 10 1`) are not supported.
 //!
-//! As for NIfTI, the grid stays axis-aligned: [`MetaImageVolume::direction`]
-//! exposes the rotation, which is not applied to the [`Grid`].
+//! The `TransformMatrix` goes into the [`Grid`] with the spacing and
+//! origin, so vertices are in the image's world frame (ITK's LPS
+//! millimetres as written by ITK); a mirroring matrix flips the winding.
 
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
-use super::{Access, Endian, Grid, SampleSource, ScalarType};
+use super::spill::spill;
+use super::{set_direction, Access, Endian, Grid, SampleSource, ScalarType};
 // One line reader and one header limit (1 MiB, without the file list of
 // `LIST`) for both text-header formats.
 use super::nrrd::{read_line, MAX_HEADER};
 use crate::{Error, Result};
 use std::fs::File;
-use std::io::{self, BufReader, Read, Seek, SeekFrom};
+use std::io::{BufReader, Seek, SeekFrom};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -31,7 +33,6 @@ use std::path::{Path, PathBuf};
 pub struct MetaImageVolume {
     grid: Grid,
     data: Data,
-    direction: [[f64; 3]; 3],
 }
 
 /// Where the samples of a [`MetaImageVolume`] are.
@@ -47,9 +48,9 @@ impl MetaImageVolume {
     /// The direction cosines: `direction()[r][c]` is component `r` of the
     /// unit vector of index axis `c` (from `TransformMatrix`, whose
     /// consecutive triples are the axis vectors, as ITK writes it; the
-    /// identity when absent). Not applied to the [`Grid`].
+    /// identity when absent); the same as the grid's.
     pub fn direction(&self) -> [[f64; 3]; 3] {
-        self.direction
+        self.grid.direction
     }
 
     /// Whether the samples come from one file per slice (`LIST`).
@@ -136,11 +137,10 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
         .scalar
         .ok_or_else(|| fail("missing ElementType".into()))?;
     let spacing = header.spacing.or(header.size).unwrap_or([1.0; 3]);
-    let grid = Grid {
+    let mut grid = Grid {
         dims,
         spacing,
         origin: header.origin.unwrap_or([0.0; 3]),
-        // Axis-aligned for now: TransformMatrix is exposed by `direction()`.
         direction: super::IDENTITY,
     };
     let endian = if header.big_endian {
@@ -148,18 +148,11 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
     } else {
         Endian::Little
     };
-    let direction = match header.matrix {
-        Some(m) => {
-            let mut d = [[0.0; 3]; 3];
-            for (r, row) in d.iter_mut().enumerate() {
-                for (c, x) in row.iter_mut().enumerate() {
-                    *x = m[3 * c + r];
-                }
-            }
-            d
-        }
-        None => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-    };
+    if let Some(m) = header.matrix {
+        // Consecutive triples are the axis vectors (columns).
+        let matrix = [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[3 * c + r]));
+        set_direction(&mut grid, matrix).map_err(|e| fail(format!("TransformMatrix: {e}")))?;
+    }
     let data_len = data_bytes(dims, scalar)
         .ok_or_else(|| fail(format!("DimSize {} is too large", dims_text(dims))))?;
     let layout = |offset: u64| Layout {
@@ -179,8 +172,8 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
             if header.compressed {
                 file.seek(SeekFrom::Start(consumed))
                     .map_err(|e| Error::io(path, e))?;
-                let bytes = inflate(path, file, data_len)?;
-                Data::Volume(RawVolume::from_bytes(path, bytes, layout(0))?)
+                let samples = inflate(path, file, data_len)?;
+                Data::Volume(RawVolume::map_file(path, &samples, layout(0))?)
             } else {
                 Data::Volume(RawVolume::map_file(path, &file, layout(consumed))?)
             }
@@ -237,19 +230,15 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
             let data_path: PathBuf = dir.join(data_file.trim());
             let file = File::open(&data_path).map_err(|e| Error::io(&data_path, e))?;
             if header.compressed {
-                let bytes = inflate(&data_path, file, data_len)?;
-                Data::Volume(RawVolume::from_bytes(&data_path, bytes, layout(0))?)
+                let samples = inflate(&data_path, file, data_len)?;
+                Data::Volume(RawVolume::map_file(&data_path, &samples, layout(0))?)
             } else {
                 let offset = data_offset(&data_path, &file, header.header_size, data_len)?;
                 Data::Volume(RawVolume::map_file(&data_path, &file, layout(offset))?)
             }
         }
     };
-    Ok(MetaImageVolume {
-        grid,
-        data,
-        direction,
-    })
+    Ok(MetaImageVolume { grid, data })
 }
 
 /// The offset of `len` bytes of samples in `file`, after `HeaderSize` bytes
@@ -270,28 +259,18 @@ fn data_offset(path: &Path, file: &File, header_size: Option<i64>, len: u64) -> 
     }
 }
 
-/// Decompresses zlib data from `file`, which must hold exactly `len` bytes.
-fn inflate(path: &Path, file: File, len: u64) -> Result<Vec<u8>> {
-    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
-    let want = usize::try_from(len).map_err(|_| fail("data too large".into()))?;
-    let mut bytes = Vec::new();
-    bytes
-        .try_reserve_exact(want)
-        .map_err(|_| fail(format!("not enough memory to decompress {len} bytes")))?;
-    let mut decoder = flate2::read::ZlibDecoder::new(BufReader::new(file));
-    let got = decoder
-        .by_ref()
-        .take(len)
-        .read_to_end(&mut bytes)
-        .map_err(|e| fail(format!("bad zlib data: {e}")))? as u64;
+/// Decompresses the zlib data in `file`, which must hold at least `len`
+/// bytes, into a temporary file to be mapped (see [`super::spill`]).
+fn inflate(path: &Path, file: File, len: u64) -> Result<File> {
+    let decoder = flate2::read::ZlibDecoder::new(BufReader::new(file));
+    let (samples, got) = spill(path, "zlib", &[], decoder, len)?;
     if got < len {
-        return Err(fail(format!(
-            "compressed data holds {got} bytes, DimSize and ElementType need {len}"
+        return Err(Error::Format(format!(
+            "{}: compressed data holds {got} bytes, DimSize and ElementType need {len}",
+            path.display()
         )));
     }
-    // Read to the end of the stream so that its checksum is verified.
-    io::copy(&mut decoder, &mut io::sink()).map_err(|e| fail(format!("bad zlib data: {e}")))?;
-    Ok(bytes)
+    Ok(samples)
 }
 
 /// Parses `n` numbers.

@@ -14,6 +14,7 @@ pub mod nrrd;
 mod padded;
 pub mod raw;
 mod scalar;
+mod spill;
 pub mod tiff_stack;
 pub mod vti;
 pub mod vtk_legacy;
@@ -173,4 +174,39 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
             path.display()
         ))),
     }
+}
+
+/// Puts an index-to-world matrix into `grid`: column `j` of `matrix` is the
+/// world step along index axis `j` before scaling by `grid.spacing[j]`. Its
+/// length multiplies that spacing and its unit vector becomes the
+/// direction, so [`Grid::direction`] always holds unit columns. A matrix
+/// with a non-finite entry, a zero column or (nearly) parallel columns is
+/// refused: it cannot map a grid to a volume of space.
+pub(crate) fn set_direction(
+    grid: &mut Grid,
+    matrix: [[f64; 3]; 3],
+) -> std::result::Result<(), String> {
+    let mut unit = [[0.0; 3]; 3];
+    for c in 0..3 {
+        let norm = (0..3).map(|r| matrix[r][c].powi(2)).sum::<f64>().sqrt();
+        if !(norm.is_finite() && norm > 0.0) {
+            return Err(format!(
+                "direction of axis {c} ({}, {}, {}) is not a usable vector",
+                matrix[0][c], matrix[1][c], matrix[2][c]
+            ));
+        }
+        for r in 0..3 {
+            unit[r][c] = matrix[r][c] / norm;
+        }
+        grid.spacing[c] *= norm;
+    }
+    let d = &unit;
+    let det = d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
+        - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
+        + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0]);
+    if det.abs() < 1e-6 {
+        return Err("the direction matrix is singular (axes are parallel)".into());
+    }
+    grid.direction = unit;
+    Ok(())
 }

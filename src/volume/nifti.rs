@@ -3,22 +3,23 @@
 //! The version is detected from `sizeof_hdr` (348 or 540) in either byte
 //! order. Supported datatypes: uint8, int8, uint16, int16, uint32, int32,
 //! float32 and float64. The volume must be 3-D (`dim[0]` = 3, or more with
-//! every extra dimension equal to 1). Spacing is `|pixdim[1..=3]|`; when
+//! every extra dimension equal to 1). When
 //! `scl_slope` is nonzero and the pair is not (1, 0), samples are returned
 //! as `value * scl_slope + scl_inter` so isovalues are in physical units.
 //!
-//! The origin is the translation of the sform (`sform_code > 0`), else the
-//! qform offsets (`qform_code > 0`), else zero. The rotation part of that
-//! transform is available from [`NiftiVolume::direction`], but the [`Grid`]
-//! stays axis-aligned: the mesh lives in the index frame scaled by the
-//! spacing and shifted by the origin (applying the full affine is left to
-//! the caller).
+//! The index-to-world map is the sform (`sform_code > 0`), else the qform
+//! (`qform_code > 0`), else the `pixdim` scaling, as the standard orders
+//! them; it goes into the [`Grid`] whole (spacing, origin and direction
+//! cosines), so vertices are in the NIfTI world frame (RAS+ millimetres),
+//! and a mirrored map (e.g. `qfac = -1`) flips the winding so normals
+//! still point outward.
 //!
-//! Uncompressed data is memory-mapped; a `.nii.gz` file is decompressed into
-//! memory as a whole (a streaming reader could come later).
+//! Uncompressed data is memory-mapped; a `.nii.gz` file is decompressed
+//! once into a temporary file that is then mapped (see [`super::spill`]).
 
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
-use super::{Access, Endian, Grid, SampleSource, ScalarType};
+use super::spill::spill;
+use super::{set_direction, Access, Endian, Grid, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::{BufReader, Read};
@@ -31,7 +32,6 @@ pub struct NiftiVolume {
     inner: RawVolume,
     version: u8,
     scaling: Option<(f64, f64)>,
-    direction: [[f64; 3]; 3],
 }
 
 impl NiftiVolume {
@@ -53,9 +53,9 @@ impl NiftiVolume {
     /// The direction cosines: `direction()[r][c]` is component `r` (x, y, z)
     /// of the unit vector of index axis `c`, from the sform when
     /// `sform_code > 0`, else from the qform quaternion when
-    /// `qform_code > 0`, else the identity. Not applied to the [`Grid`].
+    /// `qform_code > 0`, else the identity (the same as the grid's).
     pub fn direction(&self) -> [[f64; 3]; 3] {
-        self.direction
+        self.inner.grid().direction
     }
 }
 
@@ -145,11 +145,13 @@ pub fn open(path: &Path) -> Result<NiftiVolume> {
         .to_ascii_lowercase();
     if name.ends_with(".gz") {
         let file = File::open(path).map_err(|e| Error::io(path, e))?;
-        let mut bytes = Vec::new();
-        flate2::read::MultiGzDecoder::new(BufReader::new(file))
-            .read_to_end(&mut bytes)
+        let mut decoder = flate2::read::MultiGzDecoder::new(BufReader::new(file));
+        let mut head = Vec::new();
+        (&mut decoder)
+            .take(540)
+            .read_to_end(&mut head)
             .map_err(|e| fail(format!("bad gzip data: {e}")))?;
-        let header = parse_header(&bytes).map_err(fail)?;
+        let header = parse_header(&head).map_err(fail)?;
         if header.pair {
             return Err(fail(
                 "the header says the data is in a separate .img file (magic ni1/ni2), \
@@ -158,7 +160,11 @@ pub fn open(path: &Path) -> Result<NiftiVolume> {
             ));
         }
         let layout = layout(&header, header.vox_offset).map_err(fail)?;
-        let inner = RawVolume::from_bytes(path, bytes, layout)?;
+        let need = data_bytes(header.dims, header.scalar)
+            .and_then(|n| n.checked_add(layout.offset))
+            .ok_or_else(|| fail("dims are too large".into()))?;
+        let (samples, _) = spill(path, "gzip", &head, decoder, need)?;
+        let inner = RawVolume::map_file(path, &samples, layout)?;
         return Ok(volume(header, inner));
     }
 
@@ -211,12 +217,10 @@ fn volume(header: Header, inner: RawVolume) -> NiftiVolume {
         && header.inter.is_finite()
         && (header.slope, header.inter) != (1.0, 0.0))
         .then_some((header.slope, header.inter));
-    let direction = direction(&header);
     NiftiVolume {
         inner,
         version: header.version,
         scaling,
-        direction,
     }
 }
 
@@ -228,18 +232,7 @@ fn layout(header: &Header, offset: f64) -> std::result::Result<Layout, String> {
     data_bytes(header.dims, header.scalar)
         .ok_or_else(|| format!("dims {} are too large", dims_text(header.dims)))?;
     Ok(Layout {
-        grid: Grid {
-            dims: header.dims,
-            spacing: [
-                header.pixdim[1].abs(),
-                header.pixdim[2].abs(),
-                header.pixdim[3].abs(),
-            ],
-            origin: origin(header),
-            // Axis-aligned for now: the sform/qform rotation is exposed by
-            // `direction()`.
-            direction: super::IDENTITY,
-        },
+        grid: grid(header)?,
         scalar: header.scalar,
         endian: header.endian,
         offset: offset as u64,
@@ -247,52 +240,57 @@ fn layout(header: &Header, offset: f64) -> std::result::Result<Layout, String> {
     })
 }
 
-/// The position of sample (0, 0, 0).
-fn origin(h: &Header) -> [f64; 3] {
+/// The index-to-world map, as NIfTI's three methods define it: the sform
+/// when `sform_code > 0` (its columns are the scaled axes), else the qform
+/// (quaternion rotation, `qfac` flipping the third axis, `|pixdim|`
+/// spacing, `qoffset` origin), else `pixdim` scaling alone.
+fn grid(h: &Header) -> std::result::Result<Grid, String> {
+    let mut grid = Grid {
+        dims: h.dims,
+        spacing: [h.pixdim[1].abs(), h.pixdim[2].abs(), h.pixdim[3].abs()],
+        origin: [0.0; 3],
+        direction: super::IDENTITY,
+    };
     if h.sform_code > 0 {
-        [h.srow[0][3], h.srow[1][3], h.srow[2][3]]
+        grid.spacing = [1.0; 3];
+        grid.origin = [h.srow[0][3], h.srow[1][3], h.srow[2][3]];
+        let matrix = [0, 1, 2].map(|r| [h.srow[r][0], h.srow[r][1], h.srow[r][2]]);
+        set_direction(&mut grid, matrix).map_err(|e| format!("sform: {e}"))?;
     } else if h.qform_code > 0 {
-        h.qoffset
-    } else {
-        [0.0; 3]
+        grid.origin = h.qoffset;
+        set_direction(&mut grid, qform_rotation(h)).map_err(|e| format!("qform: {e}"))?;
     }
+    if grid.spacing.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return Err(format!(
+            "voxel spacing {:?} must be positive and finite",
+            grid.spacing
+        ));
+    }
+    Ok(grid)
 }
 
-/// The direction cosines of the index axes (see [`NiftiVolume::direction`]).
-fn direction(h: &Header) -> [[f64; 3]; 3] {
-    let mut d = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    if h.sform_code > 0 {
-        for c in 0..3 {
-            let norm = (0..3).map(|r| h.srow[r][c].powi(2)).sum::<f64>().sqrt();
-            if norm > 0.0 && norm.is_finite() {
-                for (r, row) in d.iter_mut().enumerate() {
-                    row[c] = h.srow[r][c] / norm;
-                }
-            }
-        }
-    } else if h.qform_code > 0 {
-        let [b, c, dq] = h.quatern;
-        let a = (1.0 - (b * b + c * c + dq * dq)).max(0.0).sqrt();
-        let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
-        d = [
-            [
-                a * a + b * b - c * c - dq * dq,
-                2.0 * (b * c - a * dq),
-                2.0 * (b * dq + a * c) * qfac,
-            ],
-            [
-                2.0 * (b * c + a * dq),
-                a * a + c * c - b * b - dq * dq,
-                2.0 * (c * dq - a * b) * qfac,
-            ],
-            [
-                2.0 * (b * dq - a * c),
-                2.0 * (c * dq + a * b),
-                (a * a + dq * dq - c * c - b * b) * qfac,
-            ],
-        ];
-    }
-    d
+/// The qform's rotation matrix, its third column multiplied by `qfac`.
+fn qform_rotation(h: &Header) -> [[f64; 3]; 3] {
+    let [b, c, d] = h.quatern;
+    let a = (1.0 - (b * b + c * c + d * d)).max(0.0).sqrt();
+    let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
+    [
+        [
+            a * a + b * b - c * c - d * d,
+            2.0 * (b * c - a * d),
+            2.0 * (b * d + a * c) * qfac,
+        ],
+        [
+            2.0 * (b * c + a * d),
+            a * a + c * c - b * b - d * d,
+            2.0 * (c * d - a * b) * qfac,
+        ],
+        [
+            2.0 * (b * d - a * c),
+            2.0 * (c * d + a * b),
+            (a * a + d * d - c * c - b * b) * qfac,
+        ],
+    ]
 }
 
 /// Parses a NIfTI-1 or NIfTI-2 header from the first bytes of a file.

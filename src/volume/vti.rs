@@ -9,11 +9,10 @@
 //! in either `byte_order`. Raw uncompressed appended data is memory-mapped;
 //! everything else is decoded into memory.
 //!
-//! The grid is axis-aligned: a `Direction` matrix is parsed and exposed by
-//! [`VtiVolume::direction`] but not applied, so the mesh lives in the index
-//! frame scaled by the spacing and shifted by the origin. Sample index
-//! `(i, j, k)` of `WholeExtent = x0 x1 y0 y1 z0 z1` sits at
-//! `Origin + (x0 + i, y0 + j, z0 + k) * Spacing`.
+//! As in VTK, sample index `(i, j, k)` of `WholeExtent = x0 x1 y0 y1 z0 z1`
+//! sits at `Origin + Direction * ((x0 + i, y0 + j, z0 + k) * Spacing)`
+//! (`Direction` row-major, the identity when absent); the whole map goes
+//! into the [`Grid`], a mirroring `Direction` flipping the winding.
 
 use super::raw::{Layout, Order, RawVolume};
 use super::{Access, Endian, Grid, SampleSource, ScalarType};
@@ -32,15 +31,13 @@ const MAX_XML: usize = 1 << 30;
 #[derive(Debug)]
 pub struct VtiVolume {
     inner: RawVolume,
-    direction: [[f64; 3]; 3],
 }
 
 impl VtiVolume {
-    /// The `Direction` matrix of the image (row-major; identity if absent).
-    /// It is not applied to [`SampleSource::grid`], which stays
-    /// axis-aligned.
+    /// The `Direction` matrix of the image (identity if absent); the same
+    /// as the grid's.
     pub fn direction(&self) -> [[f64; 3]; 3] {
-        self.direction
+        self.inner.grid().direction
     }
 
     /// The stored sample type (`f64` for ASCII data).
@@ -140,7 +137,6 @@ fn xml_type(name: &str) -> std::result::Result<ScalarType, String> {
 /// Where and how the samples of the chosen array are stored.
 struct Header {
     grid: Grid,
-    direction: [[f64; 3]; 3],
     scalar: ScalarType,
     endian: Endian,
     /// Width of a binary header integer (4 or 8).
@@ -341,10 +337,7 @@ pub fn open(path: &Path) -> Result<VtiVolume> {
             }
             let inner =
                 RawVolume::from_bytes(path, bytes, layout(ScalarType::F64, Endian::Little))?;
-            return Ok(VtiVolume {
-                inner,
-                direction: h.direction,
-            });
+            return Ok(VtiVolume { inner });
         }
         "binary" => {
             let chars: Vec<u8> = h
@@ -385,10 +378,7 @@ pub fn open(path: &Path) -> Result<VtiVolume> {
                     let mut l = layout(h.scalar, h.endian);
                     l.offset = at + h.word as u64;
                     let inner = RawVolume::map_file(path, &file, l)?;
-                    return Ok(VtiVolume {
-                        inner,
-                        direction: h.direction,
-                    });
+                    return Ok(VtiVolume { inner });
                 }
                 "raw" => {
                     let mut rest = Vec::new();
@@ -421,10 +411,7 @@ pub fn open(path: &Path) -> Result<VtiVolume> {
         )));
     }
     let inner = RawVolume::from_bytes(path, bytes, layout(h.scalar, h.endian))?;
-    Ok(VtiVolume {
-        inner,
-        direction: h.direction,
-    })
+    Ok(VtiVolume { inner })
 }
 
 fn find_bytes(hay: &[u8], needle: &[u8]) -> Option<usize> {
@@ -489,13 +476,15 @@ fn parse_header(text: &str) -> std::result::Result<Header, String> {
             direction[r].copy_from_slice(&d[3 * r..3 * r + 3]);
         }
     }
-    let grid = Grid {
+    let mut grid = Grid {
         dims,
         spacing: [spacing[0], spacing[1], spacing[2]],
-        origin: std::array::from_fn(|a| origin[a] + ext[2 * a] as f64 * spacing[a]),
-        // Axis-aligned for now: Direction is exposed by `direction()`.
+        origin: [origin[0], origin[1], origin[2]],
         direction: super::IDENTITY,
     };
+    super::set_direction(&mut grid, direction).map_err(|e| format!("Direction: {e}"))?;
+    // The grid starts at the extent's first sample.
+    grid.origin = grid.world([ext[0] as f64, ext[2] as f64, ext[4] as f64]);
     let pieces = text.matches("<Piece").count();
     if pieces > 1 {
         return Err(format!("{pieces} pieces are not supported (need 1)"));
@@ -556,7 +545,6 @@ fn parse_header(text: &str) -> std::result::Result<Header, String> {
     };
     Ok(Header {
         grid,
-        direction,
         scalar,
         endian,
         word,

@@ -75,6 +75,12 @@ struct Plane {
     z: usize,
     /// `value - iso` (or `iso - value`), NaN replaced by 0 (outside).
     g: Vec<f64>,
+    /// `g > 0` per sample, as 0 or 1.
+    inside: Vec<u8>,
+    /// Per square of the plane (indexed by its first sample `y * nx + x`),
+    /// the inside bits of its corners `x + 2y`: the lower or upper half of
+    /// a cell's configuration, so a cell costs two byte loads to classify.
+    square: Vec<u8>,
     /// Local vertex index per x-edge (`(nx - 1) * ny`), or [`NONE`].
     xe: Vec<u32>,
     /// Local vertex index per y-edge (`nx * (ny - 1)`), or [`NONE`].
@@ -126,6 +132,8 @@ impl Plane {
         Plane {
             z: 0,
             g: vec![0.0; nx * ny],
+            inside: vec![0; nx * ny],
+            square: vec![0; nx * ny],
             xe: vec![NONE; (nx - 1) * ny],
             ye: vec![NONE; nx * (ny - 1)],
             rows: vec![RowSigns::default(); ny],
@@ -153,53 +161,63 @@ impl Plane {
             Inside::High => (params.iso, 1.0),
             Inside::Low => (params.iso, -1.0),
         };
-        for v in self.g.iter_mut() {
+        for (v, inside) in self.g.iter_mut().zip(self.inside.iter_mut()) {
             let d = (*v - iso) * sign;
             *v = if d.is_nan() {
                 0.0
             } else {
                 d.clamp(-1e150, 1e150)
             };
+            *inside = u8::from(*v > 0.0);
         }
-        let g = &self.g;
+        let (g, s) = (&self.g, &self.inside);
         let mut count = 0u32;
         for y in 0..ny {
-            let row = &mut self.rows[y];
-            *row = RowSigns {
-                lead: g[y * nx] > 0.0,
-                tail: g[y * nx + nx - 1] > 0.0,
-                first: nx,
-                last: 0,
-            };
+            let row = y * nx;
+            let signs = &s[row..row + nx];
+            let slots = &mut self.xe[y * (nx - 1)..(y + 1) * (nx - 1)];
+            slots.fill(NONE);
+            let mut first = nx;
+            let mut last = 0;
             for x in 0..nx - 1 {
-                let (a, b) = (g[y * nx + x], g[y * nx + x + 1]);
-                let slot = &mut self.xe[y * (nx - 1) + x];
-                *slot = NONE;
-                if (a > 0.0) != (b > 0.0) {
-                    row.first = row.first.min(x + 1);
-                    row.last = x + 1;
-                    *slot = count;
+                if signs[x] != signs[x + 1] {
+                    first = first.min(x + 1);
+                    last = x + 1;
+                    slots[x] = count;
                     count += 1;
+                    let (a, b) = (g[row + x], g[row + x + 1]);
                     owned.push(physical(
                         &grid,
                         [x as f64 + a / (a - b), y as f64, z as f64],
                     ));
                 }
             }
+            self.rows[y] = RowSigns {
+                lead: signs[0] != 0,
+                tail: signs[nx - 1] != 0,
+                first,
+                last,
+            };
         }
         for y in 0..ny - 1 {
-            for x in 0..nx {
-                let (a, b) = (g[y * nx + x], g[(y + 1) * nx + x]);
-                let slot = &mut self.ye[y * nx + x];
-                *slot = NONE;
-                if (a > 0.0) != (b > 0.0) {
-                    *slot = count;
+            let row = y * nx;
+            let (lower, upper) = (&s[row..row + nx], &s[row + nx..row + 2 * nx]);
+            let slots = &mut self.ye[row..row + nx];
+            slots.fill(NONE);
+            for x in active_range(&[self.rows[y], self.rows[y + 1]], 0, nx) {
+                if lower[x] != upper[x] {
+                    slots[x] = count;
                     count += 1;
+                    let (a, b) = (g[row + x], g[row + nx + x]);
                     owned.push(physical(
                         &grid,
                         [x as f64, y as f64 + a / (a - b), z as f64],
                     ));
                 }
+            }
+            let squares = &mut self.square[row..row + nx - 1];
+            for (x, q) in squares.iter_mut().enumerate() {
+                *q = lower[x] | lower[x + 1] << 1 | upper[x] << 2 | upper[x + 1] << 3;
             }
         }
         Ok(())
@@ -248,8 +266,8 @@ pub fn process_slab(
         for y in 0..ny {
             for x in active_range(&[bottom.rows[y], top.rows[y]], 0, nx) {
                 let i = y * nx + x;
-                let (a, b) = (bottom.g[i], top.g[i]);
-                if (a > 0.0) != (b > 0.0) {
+                if bottom.inside[i] != top.inside[i] {
+                    let (a, b) = (bottom.g[i], top.g[i]);
                     ze[i] = local_index(&block)?;
                     block.vertices.push(physical(
                         &grid,
@@ -309,41 +327,28 @@ fn layer_cells(
         ];
         for x in active_range(&rows, 1, nx - 1) {
             let i = y * nx + x;
-            let idx = [i, i + 1, i + nx, i + nx + 1];
-            let g: [f64; 8] = [
-                bottom.g[idx[0]],
-                bottom.g[idx[1]],
-                bottom.g[idx[2]],
-                bottom.g[idx[3]],
-                top.g[idx[0]],
-                top.g[idx[1]],
-                top.g[idx[2]],
-                top.g[idx[3]],
-            ];
-            let config = g
-                .iter()
-                .enumerate()
-                .fold(0u8, |m, (c, &v)| m | (u8::from(v > 0.0) << c));
+            let config = bottom.square[i] | top.square[i] << 4;
             if config == 0 || config == 255 {
                 continue;
             }
             let xi = y * (nx - 1) + x;
-            let edge_ref = |e: u8| -> u32 {
-                match e {
-                    0 => bottom.xe[xi],
-                    1 => bottom.xe[xi + nx - 1],
-                    2 => top.xe[xi] | NEXT_BLOCK,
-                    3 => top.xe[xi + nx - 1] | NEXT_BLOCK,
-                    4 => bottom.ye[i],
-                    5 => bottom.ye[i + 1],
-                    6 => top.ye[i] | NEXT_BLOCK,
-                    7 => top.ye[i + 1] | NEXT_BLOCK,
-                    8 => ze[i],
-                    9 => ze[i + 1],
-                    10 => ze[i + nx],
-                    _ => ze[i + nx + 1],
-                }
-            };
+            // Edge numbering of `kernel::cube`; upper-plane edges belong to
+            // the next block.
+            let edge_refs = [
+                bottom.xe[xi],
+                bottom.xe[xi + nx - 1],
+                top.xe[xi] | NEXT_BLOCK,
+                top.xe[xi + nx - 1] | NEXT_BLOCK,
+                bottom.ye[i],
+                bottom.ye[i + 1],
+                top.ye[i] | NEXT_BLOCK,
+                top.ye[i + 1] | NEXT_BLOCK,
+                ze[i],
+                ze[i + 1],
+                ze[i + nx],
+                ze[i + nx + 1],
+            ];
+            let edge_ref = |e: u8| edge_refs[e as usize];
             let ambiguous = t.is_ambiguous[config as usize];
             if ambiguous {
                 stats.ambiguous_cells += 1;
@@ -356,6 +361,17 @@ fn layer_cells(
                 }
                 continue;
             }
+            let idx = [i, i + 1, i + nx, i + nx + 1];
+            let g: [f64; 8] = [
+                bottom.g[idx[0]],
+                bottom.g[idx[1]],
+                bottom.g[idx[2]],
+                bottom.g[idx[3]],
+                top.g[idx[0]],
+                top.g[idx[1]],
+                top.g[idx[2]],
+                top.g[idx[3]],
+            ];
             cell.clear();
             triangulate_ambiguous(&g, config, stats, cell);
             let first_interior = local_index(block)?;

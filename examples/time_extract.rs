@@ -1,0 +1,175 @@
+//! Times `tmc::extract` alone: the volume is read whole into memory first and
+//! the mesh is left in memory, so the figure is the extraction itself, the
+//! same thing `scripts/bench-peers` times for the peer libraries (VTK Flying
+//! Edges, MC33, scikit-image, PyMCubes), which also start from an array in
+//! memory and return a mesh in memory.
+//!
+//! Two ways to run it:
+//!
+//! * `time_extract VOLUME --iso V --method tmc --threads 1 --runs 5` runs
+//!   five extractions and prints one JSON line per run;
+//! * `time_extract VOLUME --iso V --serve` loads the volume once, prints a
+//!   `{"ready":...}` line, then reads requests `METHOD THREADS` (e.g.
+//!   `tmc 2`) from stdin, one per line, and answers each with one JSON line.
+//!   The benchmark driver uses this to interleave tmc's runs with the peers'
+//!   without reloading the volume.
+//!
+//! Build with `cargo build --release --example time_extract`.
+
+use clap::{Parser, ValueEnum};
+use std::io::{BufRead, Write};
+use std::path::PathBuf;
+use std::time::Instant;
+use tmc::{extract, ArrayVolume, ExtractParams, Method, SampleSource};
+
+/// Times tmc's extraction of a volume held in memory (JSON lines on stdout).
+#[derive(Debug, Parser)]
+struct Args {
+    /// The volume (any format `tmc extract` reads).
+    volume: PathBuf,
+    /// The isovalue.
+    #[arg(long, allow_hyphen_values = true)]
+    iso: f64,
+    /// The cell algorithm.
+    #[arg(long, value_enum, default_value_t = MethodArg::Tmc)]
+    method: MethodArg,
+    /// Worker threads (0 = all cores).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    /// Timed extractions.
+    #[arg(long, default_value_t = 1)]
+    runs: usize,
+    /// Untimed extractions before the timed ones.
+    #[arg(long, default_value_t = 0)]
+    warmup: usize,
+    /// Read requests `METHOD THREADS` from stdin instead of using the
+    /// options above.
+    #[arg(long)]
+    serve: bool,
+}
+
+/// `--method`.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum MethodArg {
+    /// Grosso's hybrid marching cubes.
+    Tmc,
+    /// Standard marching cubes.
+    Mc,
+}
+
+impl MethodArg {
+    fn method(self) -> Method {
+        match self {
+            MethodArg::Tmc => Method::Tmc,
+            MethodArg::Mc => Method::Mc,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            MethodArg::Tmc => "tmc",
+            MethodArg::Mc => "mc",
+        }
+    }
+}
+
+/// Reads every plane of `path` into an [`ArrayVolume`].
+fn load(path: &std::path::Path) -> tmc::Result<ArrayVolume> {
+    let source = tmc::volume::open(path, None)?;
+    let grid = *source.grid();
+    let plane = grid.plane_len();
+    let mut data = vec![0.0; plane * grid.dims[2]];
+    for (z, out) in data.chunks_exact_mut(plane).enumerate() {
+        source.read_plane(z, out)?;
+    }
+    ArrayVolume::new(grid, data)
+}
+
+/// One extraction: seconds, triangles, vertices. The mesh is dropped after
+/// the clock stops.
+fn run_once(
+    volume: &ArrayVolume,
+    iso: f64,
+    method: MethodArg,
+    threads: usize,
+) -> tmc::Result<(f64, u64, u64)> {
+    let params = ExtractParams {
+        iso,
+        method: method.method(),
+        threads,
+        ..Default::default()
+    };
+    let start = Instant::now();
+    let (mesh, stats) = extract(volume, &params)?;
+    let seconds = start.elapsed().as_secs_f64();
+    drop(mesh);
+    Ok((seconds, stats.triangles, stats.vertices))
+}
+
+fn report(
+    out: &mut impl Write,
+    method: MethodArg,
+    threads: usize,
+    (seconds, triangles, vertices): (f64, u64, u64),
+) -> std::io::Result<()> {
+    let line = serde_json::json!({
+        "method": method.name(),
+        "threads": threads,
+        "seconds": seconds,
+        "triangles": triangles,
+        "vertices": vertices,
+    });
+    writeln!(out, "{line}")?;
+    out.flush()
+}
+
+fn serve(volume: &ArrayVolume, iso: f64) -> Result<(), Box<dyn std::error::Error>> {
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    for line in std::io::stdin().lock().lines() {
+        let line = line?;
+        let words: Vec<&str> = line.split_whitespace().collect();
+        let (method, threads) = match words.as_slice() {
+            [] => continue,
+            [m, t] => (
+                MethodArg::from_str(m, true)?,
+                t.parse::<usize>()
+                    .map_err(|e| format!("bad thread count {t:?}: {e}"))?,
+            ),
+            _ => return Err(format!("expected 'METHOD THREADS', got {line:?}").into()),
+        };
+        report(
+            &mut out,
+            method,
+            threads,
+            run_once(volume, iso, method, threads)?,
+        )?;
+    }
+    Ok(())
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args = Args::parse();
+    let start = Instant::now();
+    let volume = load(&args.volume)?;
+    let load_seconds = start.elapsed().as_secs_f64();
+    if args.serve {
+        let ready = serde_json::json!({
+            "ready": true,
+            "dims": volume.grid().dims,
+            "load_seconds": load_seconds,
+        });
+        println!("{ready}");
+        return serve(&volume, args.iso);
+    }
+    for _ in 0..args.warmup {
+        run_once(&volume, args.iso, args.method, args.threads)?;
+    }
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    for _ in 0..args.runs {
+        let timing = run_once(&volume, args.iso, args.method, args.threads)?;
+        report(&mut out, args.method, args.threads, timing)?;
+    }
+    Ok(())
+}

@@ -6,7 +6,6 @@ use serde_json::Value;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use tmc::SampleSource;
 
 /// Runs the built `tmc` with `args`.
 fn tmc(args: &[&str]) -> Output {

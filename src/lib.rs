@@ -27,6 +27,7 @@
 pub mod check;
 pub mod error;
 pub mod export;
+pub mod histogram;
 pub mod kernel;
 pub mod mesh;
 pub mod meshfile;

@@ -1,11 +1,11 @@
 //! `tmc extract`: volume in, isosurface mesh out.
 
+use super::raw_input::RawArgs;
 use super::{memory, progress, report, values, CONVENTIONS};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-use tmc::volume::{Endian, RawOptions, ScalarType};
 use tmc::{Error, ExtractParams, Grid, Inside, Method, PipelineOptions, Result};
 
 /// Extract the isosurface of a volume at an isovalue and write it as a mesh.
@@ -69,41 +69,9 @@ pub(crate) struct ExtractArgs {
     #[arg(short, long, conflicts_with = "stats")]
     pub quiet: bool,
 
-    /// Raw input: samples along x, y, z (e.g. 256,256,128); needs --dtype.
-    #[arg(long, value_name = "X,Y,Z", value_parser = values::dims, requires = "dtype", help_heading = "Raw input (headerless samples, x fastest)")]
-    pub dims: Option<[usize; 3]>,
-
-    /// Raw input: sample type, one of u8, i8, u16, i16, u32, i32, f32, f64;
-    /// needs --dims.
-    #[arg(long, value_name = "T", value_parser = values::dtype, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
-    pub dtype: Option<ScalarType>,
-
-    /// Raw input: byte order of multi-byte samples [default: little].
-    #[arg(
-        long,
-        value_enum,
-        requires = "dims",
-        help_heading = "Raw input (headerless samples, x fastest)"
-    )]
-    pub endian: Option<EndianArg>,
-
-    /// Raw input: bytes to skip before the first sample [default: 0].
-    #[arg(
-        long,
-        value_name = "N",
-        requires = "dims",
-        help_heading = "Raw input (headerless samples, x fastest)"
-    )]
-    pub header_bytes: Option<u64>,
-
-    /// Raw input: distance between samples along x, y, z, finite and positive
-    /// [default: 1,1,1].
-    #[arg(long, value_name = "X,Y,Z", value_parser = values::spacing, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
-    pub spacing: Option<[f64; 3]>,
-
-    /// Raw input: position of the first sample [default: 0,0,0].
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::origin, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
-    pub origin: Option<[f64; 3]>,
+    /// Headerless input: --dims, --dtype, --endian, ...
+    #[command(flatten)]
+    pub raw: RawArgs,
 }
 
 /// `--method`.
@@ -125,32 +93,7 @@ pub(crate) enum InsideArg {
     Low,
 }
 
-/// `--endian`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub(crate) enum EndianArg {
-    /// Least significant byte first.
-    Little,
-    /// Most significant byte first.
-    Big,
-}
-
 impl ExtractArgs {
-    /// The raw-input options, if `--dims` was given.
-    fn raw_options(&self) -> Option<RawOptions> {
-        let (dims, scalar) = (self.dims?, self.dtype?);
-        Some(RawOptions {
-            dims,
-            scalar,
-            endian: match self.endian {
-                Some(EndianArg::Big) => Endian::Big,
-                Some(EndianArg::Little) | None => Endian::Little,
-            },
-            header_bytes: self.header_bytes.unwrap_or(0),
-            spacing: self.spacing.unwrap_or([1.0; 3]),
-            origin: self.origin.unwrap_or([0.0; 3]),
-        })
-    }
-
     /// The extraction parameters.
     fn params(&self) -> ExtractParams {
         ExtractParams {
@@ -172,7 +115,7 @@ impl ExtractArgs {
 /// Runs `tmc extract`.
 pub(crate) fn run(args: &ExtractArgs) -> Result<()> {
     let started = Instant::now();
-    let raw = args.raw_options();
+    let raw = args.raw.options();
     let source = tmc::volume::open(&args.input, raw.as_ref())?;
     let grid = *source.grid();
     check_grid(&args.input, &grid)?;

@@ -6,8 +6,10 @@
 mod check;
 mod convert;
 mod extract;
+mod info;
 mod memory;
 mod progress;
+mod raw_input;
 mod report;
 mod synth;
 mod values;
@@ -75,6 +77,7 @@ enum Command {
     Extract(extract::ExtractArgs),
     Convert(convert::ConvertArgs),
     Check(check::CheckArgs),
+    Info(info::InfoArgs),
     Synth(synth::SynthArgs),
 }
 
@@ -89,6 +92,7 @@ pub fn main() -> ExitCode {
         Command::Extract(args) => extract::run(&args),
         Command::Convert(args) => convert::run(&args),
         Command::Check(args) => check::run(&args),
+        Command::Info(args) => info::run(&args),
         Command::Synth(args) => synth::run(&args),
     }));
     match result {

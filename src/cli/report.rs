@@ -53,7 +53,7 @@ pub(crate) fn bytes_read(stats: &Stats, grid: &Grid, sample_bytes: usize, close:
 }
 
 /// `bytes` with a binary prefix: `12.3 MiB`.
-fn human_bytes(bytes: u64) -> String {
+pub(crate) fn human_bytes(bytes: u64) -> String {
     let units = ["B", "KiB", "MiB", "GiB", "TiB"];
     let mut value = bytes as f64;
     let mut unit = 0;

@@ -97,6 +97,13 @@ impl SampleSource for MetaImageVolume {
             Data::Slices(s) => s.first().map_or(8, |v| v.sample_bytes()),
         }
     }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        match &self.data {
+            Data::Volume(v) => v.stored_type(),
+            Data::Slices(s) => s.first().and_then(|v| v.stored_type()),
+        }
+    }
 }
 
 /// The keys of a MetaImage header that the reader uses.

@@ -15,6 +15,7 @@ mod padded;
 pub mod raw;
 mod scalar;
 mod spill;
+pub mod summary;
 pub mod tiff_stack;
 pub mod vti;
 pub mod vtk_legacy;
@@ -24,6 +25,7 @@ pub use array::ArrayVolume;
 pub use padded::Padded;
 pub use raw::RawVolume;
 pub use scalar::{decode_samples, decode_strided, encode_samples, Endian, ScalarType};
+pub use summary::{summarize, Suggestions, Summary, SummaryOptions};
 pub use write::{write_volume, VolumeFormat};
 
 use crate::Result;
@@ -114,6 +116,13 @@ pub trait SampleSource: Sync {
     fn sample_bytes(&self) -> usize {
         8
     }
+
+    /// The sample type as stored in the file (before any scaling), if the
+    /// source knows it; `None` (the default) for computed or in-memory
+    /// sources. Only reported, never used to read.
+    fn stored_type(&self) -> Option<ScalarType> {
+        None
+    }
 }
 
 /// What the pipeline is about to do with some planes (see [`SampleSource::advise`]).
@@ -173,6 +182,46 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
             "{}: unknown input format (expected .npy, .nrrd, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff or a directory of TIFFs, or give --dims and --dtype for raw data)",
             path.display()
         ))),
+    }
+}
+
+/// The name of the format [`open`] reads `path` as ("NRRD", "NIfTI-1",
+/// "TIFF stack", "raw", ...), or `None` if `open` would refuse the
+/// extension. A NIfTI file is named by its version, read from the first
+/// bytes of the header (`None` if they cannot be read). Keep this match in step with `open`: one
+/// line per format.
+pub fn format_name(path: &Path, raw: Option<&RawOptions>) -> Option<&'static str> {
+    if raw.is_some() {
+        return Some("raw");
+    }
+    if path.is_dir() || tiff_stack::is_pattern(path) {
+        return Some("TIFF stack");
+    }
+    let lower = path.to_string_lossy().to_ascii_lowercase();
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "npy" => Some("NumPy"),
+        "nrrd" => Some("NRRD"),
+        "nii" | "hdr" => nifti_name(path),
+        "gz" if lower.ends_with(".nii.gz") => nifti_name(path),
+        "mhd" | "mha" => Some("MetaImage"),
+        "vtk" => Some("VTK legacy"),
+        "vti" => Some("VTK ImageData"),
+        "tif" | "tiff" => Some("TIFF stack"),
+        _ => None,
+    }
+}
+
+/// "NIfTI-1" or "NIfTI-2", from the header of `path`.
+fn nifti_name(path: &Path) -> Option<&'static str> {
+    match nifti::version(path)? {
+        1 => Some("NIfTI-1"),
+        2 => Some("NIfTI-2"),
+        _ => None,
     }
 }
 

@@ -81,6 +81,10 @@ impl SampleSource for NiftiVolume {
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        Some(self.inner.scalar())
+    }
 }
 
 /// The fields of a NIfTI header that the reader uses.
@@ -199,6 +203,27 @@ pub fn open(path: &Path) -> Result<NiftiVolume> {
         RawVolume::map_file(path, &file, layout)?
     };
     Ok(volume(header, inner))
+}
+
+/// The NIfTI version (1 or 2) of the file at `path`, from its `sizeof_hdr`
+/// alone (the first 4 bytes, decompressed for `.gz`); `None` if it cannot
+/// be read or is neither. Cheaper than [`open`] when only the name of the
+/// format is wanted.
+pub fn version(path: &Path) -> Option<u8> {
+    let file = File::open(path).ok()?;
+    let gz = path.to_string_lossy().to_ascii_lowercase().ends_with(".gz");
+    let mut reader: Box<dyn Read> = if gz {
+        Box::new(flate2::read::MultiGzDecoder::new(BufReader::new(file)))
+    } else {
+        Box::new(file)
+    };
+    let mut word = [0u8; 4];
+    reader.read_exact(&mut word).ok()?;
+    match (i32::from_le_bytes(word), i32::from_be_bytes(word)) {
+        (348, _) | (_, 348) => Some(1),
+        (540, _) | (_, 540) => Some(2),
+        _ => None,
+    }
 }
 
 /// The `.img` file beside a `.hdr` file (same case as the extension).

@@ -58,4 +58,8 @@ impl SampleSource for Padded<'_> {
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }
+
+    fn stored_type(&self) -> Option<super::ScalarType> {
+        self.inner.stored_type()
+    }
 }

@@ -253,6 +253,10 @@ impl SampleSource for RawVolume {
     fn sample_bytes(&self) -> usize {
         self.scalar.size()
     }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        Some(self.scalar)
+    }
 }
 
 /// Checks dims (at least 1), spacing (finite, positive) and origin (finite).

@@ -299,4 +299,8 @@ impl SampleSource for TiffStack {
     fn sample_bytes(&self) -> usize {
         self.scalar.size()
     }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        Some(self.scalar)
+    }
 }

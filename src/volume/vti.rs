@@ -59,6 +59,9 @@ impl SampleSource for VtiVolume {
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }
+    fn stored_type(&self) -> Option<ScalarType> {
+        Some(self.inner.scalar())
+    }
 }
 
 /// The `key="value"` attributes of an XML tag.

@@ -1,0 +1,313 @@
+//! `tmc info`: what a volume holds, and which isovalues to try.
+//!
+//! Before extracting a surface one needs the grid (is the spacing right? is
+//! the volume mirrored?) and the range of values (which isovalue?). This
+//! command opens the input as `tmc extract` would, prints its header facts,
+//! and streams the samples twice, plane by plane (never the whole volume in
+//! memory), for the range, the NaN count, the mean and a histogram whose
+//! Otsu thresholds are offered as isovalues.
+
+use super::raw_input::RawArgs;
+use super::report::human_bytes;
+use clap::Args;
+use serde::Serialize;
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use tmc::volume::{summarize, RawOptions, Summary, SummaryOptions};
+use tmc::{Error, Grid, Result, SampleSource};
+
+/// Text at the end of `tmc info --help`.
+const INFO_HELP: &str = "\
+Suggested isovalues:
+  Otsu's method on a histogram of the finite samples (--bins bins between the
+  minimum and the maximum, or one bin per integer for integer data of a
+  narrower range). Two-level Otsu gives two isovalues that split the values
+  into three classes (air / soft tissue / bone in CT); single-level Otsu gives
+  one. Each lies in the middle of the gap of empty bins at its cut, strictly
+  between the minimum and the maximum. For integer-valued data it is a
+  half-integer (floor + 0.5): no sample equals it, so no sample ties with the
+  isovalue (a tie would be legal, equal is outside, but a half-integer makes
+  the result obvious). Otherwise it is rounded to a power of ten no larger
+  than the bin width.
+
+Cost:
+  Two streamed passes over the samples, in parallel over planes: the range
+  first, then the histogram. Volumes of more than 2^28 samples get a histogram
+  of every k-th plane only (k reported; set it with --plane-step); the range,
+  counts and mean are always exact.
+
+JSON keys (--json; one object on one line):
+  input, format          the path and the reader (NRRD, NIfTI-1, NIfTI-2,
+                         MetaImage, VTK legacy, VTK ImageData, TIFF stack,
+                         NumPy, raw)
+  file_bytes             size of the input file (all files of a directory);
+                         null for a glob pattern
+  data_bytes             samples * stored sample size; null if unknown
+  dims, samples          samples along x, y, z and their product
+  sample_type            stored type (u8 i8 u16 i16 u32 i32 f32 f64; before
+                         any NIfTI scaling), or null
+  spacing, origin        [x, y, z]
+  direction              3x3, rows = world axes, column j = index axis j
+  affine                 4x4 index-to-world matrix, rows:
+                         world = affine * [i, j, k, 1]
+  min, max, mean         over finite samples; null if there are none
+  nan_count, infinite_count
+  integer_valued         every finite sample is a whole number
+  histogram_bins         bins used; null for fewer than 2 distinct values
+  histogram_plane_step   k: the histogram counted planes 0, k, 2k, ...
+  suggested_iso          [low, high] from two-level Otsu, or [] if none
+  suggested_iso_single   single-level Otsu, or null";
+
+/// Describe a volume: format, grid, value range and suggested isovalues.
+///
+/// Opens the input as 'tmc extract' does (any input format, or raw samples
+/// with --dims and --dtype), prints its grid and index-to-world map, and
+/// streams the samples for the minimum, maximum, mean, NaN count and the
+/// isovalues that Otsu's method suggests.
+#[derive(Debug, Args)]
+#[command(after_help = INFO_HELP)]
+pub(crate) struct InfoArgs {
+    /// Input volume: .npy, .nrrd, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti,
+    /// .tif/.tiff, a directory or pattern of TIFFs, or headerless samples
+    /// with --dims and --dtype.
+    #[arg(value_name = "INPUT")]
+    pub input: PathBuf,
+
+    /// Print one JSON object on stdout instead of text (keys below).
+    #[arg(long)]
+    pub json: bool,
+
+    /// Histogram bins between the minimum and the maximum (3 to 4096).
+    #[arg(long, value_name = "N", default_value_t = 1024, value_parser = clap::value_parser!(u16).range(3..=4096))]
+    pub bins: u16,
+
+    /// Build the histogram from every N-th plane only; 0 (the default)
+    /// chooses 1 unless the volume has more than 2^28 samples.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub plane_step: usize,
+
+    /// Headerless input: --dims, --dtype, --endian, ...
+    #[command(flatten)]
+    pub raw: RawArgs,
+}
+
+/// Samples the histogram pass reads at most when `--plane-step` is automatic.
+const HISTOGRAM_BUDGET: u64 = 1 << 28;
+
+/// The JSON object of `--json` (see `INFO_HELP` for the keys).
+#[derive(Debug, Serialize)]
+struct Info {
+    input: String,
+    format: &'static str,
+    file_bytes: Option<u64>,
+    data_bytes: Option<u64>,
+    dims: [usize; 3],
+    samples: u64,
+    sample_type: Option<&'static str>,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    direction: [[f64; 3]; 3],
+    affine: [[f64; 4]; 4],
+    min: Option<f64>,
+    max: Option<f64>,
+    mean: Option<f64>,
+    nan_count: u64,
+    infinite_count: u64,
+    integer_valued: bool,
+    histogram_bins: Option<usize>,
+    histogram_plane_step: usize,
+    suggested_iso: Vec<f64>,
+    suggested_iso_single: Option<f64>,
+}
+
+/// Runs `tmc info`.
+pub(crate) fn run(args: &InfoArgs) -> Result<()> {
+    let raw = args.raw.options();
+    let source = tmc::volume::open(&args.input, raw.as_ref())?;
+    let grid = *source.grid();
+    let samples: u64 = grid.dims.iter().map(|&n| n as u64).product();
+    let plane_step = if args.plane_step > 0 {
+        args.plane_step
+    } else {
+        usize::try_from(samples.div_ceil(HISTOGRAM_BUDGET).max(1)).unwrap_or(usize::MAX)
+    };
+    let options = SummaryOptions {
+        bins: usize::from(args.bins),
+        plane_step,
+    };
+    let summary = summarize(source.as_ref(), &options)?;
+    let info = describe(&args.input, raw.as_ref(), source.as_ref(), &grid, &summary);
+    let mut out = io::stdout().lock();
+    let written = if args.json {
+        serde_json::to_writer(&mut out, &info)
+            .map_err(io::Error::from)
+            .and_then(|()| writeln!(out))
+    } else {
+        write_text(&mut out, &info)
+    };
+    written
+        .and_then(|()| out.flush())
+        .map_err(|e| Error::io("standard output", e))
+}
+
+/// Gathers everything reported about the volume.
+fn describe(
+    input: &Path,
+    raw: Option<&RawOptions>,
+    source: &dyn SampleSource,
+    grid: &Grid,
+    summary: &Summary,
+) -> Info {
+    let stored = source.stored_type();
+    let suggestions = summary.suggestions();
+    Info {
+        input: input.display().to_string(),
+        format: tmc::volume::format_name(input, raw).unwrap_or("unknown"),
+        file_bytes: file_bytes(input),
+        data_bytes: stored.map(|t| summary.samples.saturating_mul(t.size() as u64)),
+        dims: grid.dims,
+        samples: summary.samples,
+        sample_type: stored.map(|t| t.name()),
+        spacing: grid.spacing,
+        origin: grid.origin,
+        direction: grid.direction,
+        affine: affine(grid),
+        min: summary.min,
+        max: summary.max,
+        mean: summary.mean,
+        nan_count: summary.nan,
+        infinite_count: summary.infinite,
+        integer_valued: summary.integer_valued,
+        histogram_bins: summary.histogram.as_ref().map(|h| h.counts.len()),
+        histogram_plane_step: summary.plane_step,
+        suggested_iso: suggestions.pair.map(Vec::from).unwrap_or_default(),
+        suggested_iso_single: suggestions.single,
+    }
+}
+
+/// The 4x4 index-to-world matrix: `world = A * [i, j, k, 1]`, with
+/// `A[r][c] = direction[r][c] * spacing[c]` and the origin as last column.
+fn affine(grid: &Grid) -> [[f64; 4]; 4] {
+    let mut a = [[0.0; 4]; 4];
+    for (r, row) in a.iter_mut().take(3).enumerate() {
+        for (c, v) in row.iter_mut().take(3).enumerate() {
+            *v = grid.direction[r][c] * grid.spacing[c];
+        }
+        row[3] = grid.origin[r];
+    }
+    a[3][3] = 1.0;
+    a
+}
+
+/// Size of the input: the file, or the regular files directly in a
+/// directory; `None` for a glob pattern or if it cannot be read.
+fn file_bytes(path: &Path) -> Option<u64> {
+    let meta = std::fs::metadata(path).ok()?;
+    if meta.is_file() {
+        return Some(meta.len());
+    }
+    if meta.is_dir() {
+        let mut total = 0u64;
+        for entry in std::fs::read_dir(path).ok()? {
+            let meta = entry.ok()?.metadata().ok()?;
+            if meta.is_file() {
+                total += meta.len();
+            }
+        }
+        return Some(total);
+    }
+    None
+}
+
+/// Numbers joined by spaces.
+fn join(values: &[f64]) -> String {
+    values
+        .iter()
+        .map(|v| v.to_string())
+        .collect::<Vec<_>>()
+        .join("  ")
+}
+
+/// Rows of numbers as lines, columns aligned.
+fn matrix<const N: usize>(rows: &[[f64; N]]) -> Vec<String> {
+    let cells: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| r.iter().map(|v| v.to_string()).collect())
+        .collect();
+    let width = cells.iter().flatten().map(String::len).max().unwrap_or(0);
+    cells
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|c| format!("{c:>width$}"))
+                .collect::<Vec<_>>()
+                .join("  ")
+        })
+        .collect()
+}
+
+/// Writes the report as aligned `label  value` lines.
+fn write_text(w: &mut impl Write, info: &Info) -> io::Result<()> {
+    let optional = |v: Option<f64>| v.map_or_else(|| "none".to_string(), |v| v.to_string());
+    let mut rows: Vec<(&str, String)> = vec![
+        ("input", info.input.clone()),
+        ("format", info.format.to_string()),
+    ];
+    if let Some(bytes) = info.file_bytes {
+        rows.push((
+            "file size",
+            format!("{} ({bytes} bytes)", human_bytes(bytes)),
+        ));
+    }
+    let [x, y, z] = info.dims;
+    rows.push((
+        "dims",
+        format!("{x} x {y} x {z} ({} samples)", info.samples),
+    ));
+    rows.push((
+        "sample type",
+        info.sample_type.unwrap_or("unknown").to_string(),
+    ));
+    rows.push(("spacing", join(&info.spacing)));
+    rows.push(("origin", join(&info.origin)));
+    for (i, line) in matrix(&info.direction).into_iter().enumerate() {
+        rows.push((if i == 0 { "direction" } else { "" }, line));
+    }
+    for (i, line) in matrix(&info.affine).into_iter().enumerate() {
+        let label = match i {
+            0 => "index to world",
+            1 => "(4x4 affine)",
+            _ => "",
+        };
+        rows.push((label, line));
+    }
+    rows.push(("min", optional(info.min)));
+    rows.push(("max", optional(info.max)));
+    rows.push(("mean", optional(info.mean)));
+    rows.push(("NaN samples", info.nan_count.to_string()));
+    if info.infinite_count > 0 {
+        rows.push(("infinite samples", info.infinite_count.to_string()));
+    }
+    if let Some(bins) = info.histogram_bins {
+        let planes = match info.histogram_plane_step {
+            1 => "every plane".to_string(),
+            k => format!("planes 0, {k}, {}, ... (--plane-step {k})", 2 * k),
+        };
+        rows.push(("histogram", format!("{bins} bins, {planes}")));
+    }
+    rows.push((
+        "suggested iso",
+        match info.suggested_iso[..] {
+            [a, b] => format!("{a}  {b}  (two-level Otsu, 3 classes)"),
+            _ => "none (fewer than two distinct values)".to_string(),
+        },
+    ));
+    if let Some(t) = info.suggested_iso_single {
+        rows.push(("single iso", format!("{t}  (Otsu, 2 classes)")));
+    }
+    let width = rows.iter().map(|(l, _)| l.len()).max().unwrap_or(0);
+    for (label, value) in &rows {
+        writeln!(w, "{label:<width$}  {value}")?;
+    }
+    Ok(())
+}

@@ -1,0 +1,74 @@
+//! The raw-input options (`--dims`, `--dtype`, ...), shared by every
+//! subcommand that opens a volume, so that raw data is described the same
+//! way everywhere.
+
+use super::values;
+use clap::{Args, ValueEnum};
+use tmc::volume::{Endian, RawOptions, ScalarType};
+
+/// How to read headerless samples; all absent for a file with a header.
+#[derive(Debug, Args)]
+pub(crate) struct RawArgs {
+    /// Raw input: samples along x, y, z (e.g. 256,256,128); needs --dtype.
+    #[arg(long, value_name = "X,Y,Z", value_parser = values::dims, requires = "dtype", help_heading = "Raw input (headerless samples, x fastest)")]
+    pub dims: Option<[usize; 3]>,
+
+    /// Raw input: sample type, one of u8, i8, u16, i16, u32, i32, f32, f64;
+    /// needs --dims.
+    #[arg(long, value_name = "T", value_parser = values::dtype, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    pub dtype: Option<ScalarType>,
+
+    /// Raw input: byte order of multi-byte samples [default: little].
+    #[arg(
+        long,
+        value_enum,
+        requires = "dims",
+        help_heading = "Raw input (headerless samples, x fastest)"
+    )]
+    pub endian: Option<EndianArg>,
+
+    /// Raw input: bytes to skip before the first sample [default: 0].
+    #[arg(
+        long,
+        value_name = "N",
+        requires = "dims",
+        help_heading = "Raw input (headerless samples, x fastest)"
+    )]
+    pub header_bytes: Option<u64>,
+
+    /// Raw input: distance between samples along x, y, z, finite and positive
+    /// [default: 1,1,1].
+    #[arg(long, value_name = "X,Y,Z", value_parser = values::spacing, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    pub spacing: Option<[f64; 3]>,
+
+    /// Raw input: position of the first sample [default: 0,0,0].
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::origin, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    pub origin: Option<[f64; 3]>,
+}
+
+/// `--endian`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum EndianArg {
+    /// Least significant byte first.
+    Little,
+    /// Most significant byte first.
+    Big,
+}
+
+impl RawArgs {
+    /// The raw-input options, if `--dims` was given.
+    pub(crate) fn options(&self) -> Option<RawOptions> {
+        let (dims, scalar) = (self.dims?, self.dtype?);
+        Some(RawOptions {
+            dims,
+            scalar,
+            endian: match self.endian {
+                Some(EndianArg::Big) => Endian::Big,
+                Some(EndianArg::Little) | None => Endian::Little,
+            },
+            header_bytes: self.header_bytes.unwrap_or(0),
+            spacing: self.spacing.unwrap_or([1.0; 3]),
+            origin: self.origin.unwrap_or([0.0; 3]),
+        })
+    }
+}

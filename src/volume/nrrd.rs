@@ -161,8 +161,8 @@ fn read_header(path: &Path) -> Result<(Header, u64)> {
         read_line(reader, consumed).map_err(|e| Error::io(path, e))
     };
 
-    let first = next(&mut reader, &mut consumed)?
-        .ok_or_else(|| fail("empty file, not a NRRD".into()))?;
+    let first =
+        next(&mut reader, &mut consumed)?.ok_or_else(|| fail("empty file, not a NRRD".into()))?;
     if !first.starts_with("NRRD") {
         return Err(fail("not a NRRD file (no NRRD magic)".into()));
     }

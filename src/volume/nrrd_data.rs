@@ -122,8 +122,12 @@ pub(crate) fn decompressed(
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     let name = encoding.name();
     let bad = |e: io::Error| fail(format!("bad {name} data: {e}"));
-    let len = data_bytes(layout.grid.dims, layout.scalar)
-        .ok_or_else(|| fail(format!("sizes {} are too large", dims_text(layout.grid.dims))))?;
+    let len = data_bytes(layout.grid.dims, layout.scalar).ok_or_else(|| {
+        fail(format!(
+            "sizes {} are too large",
+            dims_text(layout.grid.dims)
+        ))
+    })?;
     let input = BufReader::new(file);
     let mut decoder: Box<dyn Read> = match encoding {
         Encoding::Bzip2 => Box::new(bzip2::read::MultiBzDecoder::new(input)),
@@ -168,8 +172,8 @@ fn ascii(path: &Path, mut reader: impl BufRead, skip: u64, layout: Layout) -> Re
         .try_fold(1usize, |acc, &d| acc.checked_mul(d))
         .filter(|n| n.checked_mul(8).is_some())
         .ok_or_else(|| fail(format!("sizes {} are too large", dims_text(dims))))?;
-    let skipped =
-        io::copy(&mut reader.by_ref().take(skip), &mut io::sink()).map_err(|e| Error::io(path, e))?;
+    let skipped = io::copy(&mut reader.by_ref().take(skip), &mut io::sink())
+        .map_err(|e| Error::io(path, e))?;
     if skipped < skip {
         return Err(fail("'byte skip' goes past the end of the file".into()));
     }

@@ -286,16 +286,11 @@ fn space_directions(value: &str) -> Result<([f64; 3], [[f64; 3]; 3]), String> {
             ));
         };
         if v.len() != 3 {
-            return Err(format!(
-                "bad 'space directions' '{value}' (need 3-vectors)"
-            ));
+            return Err(format!("bad 'space directions' '{value}' (need 3-vectors)"));
         }
         let norm = v.iter().map(|c| c * c).sum::<f64>().sqrt();
         if !(norm.is_finite() && norm > 0.0) {
-            return Err(format!(
-                "'space directions' vector {} has no length",
-                j + 1
-            ));
+            return Err(format!("'space directions' vector {} has no length", j + 1));
         }
         spacing[j] = norm;
         for (i, row) in direction.iter_mut().enumerate() {

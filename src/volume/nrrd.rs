@@ -98,6 +98,10 @@ pub fn open(path: &Path) -> Result<NrrdVolume> {
         Some(d) => return Err(fail(format!("dimension {d} is not supported (need 3)"))),
         None => return Err(fail("missing 'dimension' field".into())),
     }
+    let (spacing, direction) = match &header.directions {
+        Some(directions) => directions.clone().map_err(fail)?,
+        None => (header.spacings.unwrap_or([1.0; 3]), super::IDENTITY),
+    };
     let dims = match header.sizes.as_deref() {
         Some(&[x, y, z]) => [x, y, z],
         Some(s) => return Err(fail(format!("'sizes' has {} values, need 3", s.len()))),
@@ -110,10 +114,6 @@ pub fn open(path: &Path) -> Result<NrrdVolume> {
         (Some(e), _, _) => e,
         (None, 1, _) | (None, _, Encoding::Ascii) => Endian::Little,
         (None, _, _) => return Err(fail(format!("missing 'endian' field for type {scalar}"))),
-    };
-    let (spacing, direction) = match header.directions {
-        Some((spacing, direction)) => (spacing, direction),
-        None => (header.spacings.unwrap_or([1.0; 3]), super::IDENTITY),
     };
     let grid = Grid {
         dims,

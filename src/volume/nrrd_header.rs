@@ -89,8 +89,10 @@ pub(crate) struct Header {
     /// From `spacings` (absolute values).
     pub spacings: Option<[f64; 3]>,
     /// From `space directions`: the vector lengths and the unit vectors as
-    /// columns. Takes precedence over `spacings`.
-    pub directions: Option<([f64; 3], [[f64; 3]; 3])>,
+    /// columns, or why they do not fit a 3-D grid (reported after a wrong
+    /// `dimension`, the likelier cause). Takes precedence over `spacings`.
+    #[allow(clippy::type_complexity)]
+    pub directions: Option<Result<([f64; 3], [[f64; 3]; 3]), String>>,
     pub origin: Option<[f64; 3]>,
     /// The `space` name (`left-posterior-superior`, ...), recorded only.
     pub space: Option<String>,
@@ -210,7 +212,7 @@ pub(crate) fn parse_line(line: &str, header: &mut Header) -> Result<(), String> 
             }
             header.spacings = Some(spacing);
         }
-        "space directions" => header.directions = Some(space_directions(value)?),
+        "space directions" => header.directions = Some(space_directions(value)),
         "space origin" => {
             header.origin = Some(match vectors(value).as_deref() {
                 Some([Some(v)]) if v.len() == 3 => [v[0], v[1], v[2]],

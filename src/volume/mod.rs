@@ -13,6 +13,7 @@ pub mod npy;
 pub mod nrrd;
 mod nrrd_data;
 mod nrrd_header;
+mod nrrd_pattern;
 mod padded;
 pub mod raw;
 mod scalar;

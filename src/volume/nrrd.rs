@@ -21,8 +21,9 @@
 //! rotation or axis flip included, shifted by `space origin`.
 
 use super::nrrd_data::{open_data, DataFormat};
-use super::nrrd_header::{format_number, parse_line, DataFile, Encoding, Header};
+use super::nrrd_header::{parse_line, DataFile, Encoding, Header};
 pub(crate) use super::nrrd_header::{read_line, MAX_HEADER};
+use super::nrrd_pattern::format_number;
 use super::raw::dims_text;
 use super::slab_stack::SlabStack;
 use super::{Access, Endian, Grid, SampleSource, ScalarType};

@@ -7,6 +7,7 @@
 //! `#` lines are comments, `key:=value` pairs and unknown fields are
 //! ignored.
 
+use super::nrrd_pattern::format_number;
 use super::{Endian, ScalarType};
 use std::io::{self, BufRead, Read};
 
@@ -363,70 +364,5 @@ fn data_file(value: &str) -> Result<DataFile, String> {
             })
         }
         _ => Ok(DataFile::Single(value.to_string())),
-    }
-}
-
-/// Writes `n` into the printf `format`, which holds exactly one integer
-/// conversion (`%d`, `%i` or `%u`, with optional `0`, `-`, `+` or space
-/// flags and a width); `%%` is a percent sign.
-pub(crate) fn format_number(format: &str, n: i64) -> Result<String, String> {
-    let bad = || format!("bad 'data file' format '{format}' (need one %d)");
-    let mut out = String::new();
-    let mut chars = format.chars().peekable();
-    let mut done = false;
-    while let Some(c) = chars.next() {
-        if c != '%' {
-            out.push(c);
-            continue;
-        }
-        if chars.peek() == Some(&'%') {
-            chars.next();
-            out.push('%');
-            continue;
-        }
-        if done {
-            return Err(bad());
-        }
-        let (mut zero, mut left, mut plus) = (false, false, false);
-        while let Some(&f) = chars.peek() {
-            match f {
-                '0' => zero = true,
-                '-' => left = true,
-                '+' => plus = true,
-                ' ' => {}
-                _ => break,
-            }
-            chars.next();
-        }
-        let mut width = 0usize;
-        while let Some(d) = chars.peek().and_then(|c| c.to_digit(10)) {
-            width = width.saturating_mul(10).saturating_add(d as usize).min(64);
-            chars.next();
-        }
-        if !matches!(chars.next(), Some('d' | 'i' | 'u')) {
-            return Err(bad());
-        }
-        let sign = if n < 0 {
-            "-"
-        } else if plus {
-            "+"
-        } else {
-            ""
-        };
-        let digits = n.unsigned_abs().to_string();
-        let pad = width.saturating_sub(sign.len() + digits.len());
-        if left {
-            out.push_str(&format!("{sign}{digits}{}", " ".repeat(pad)));
-        } else if zero {
-            out.push_str(&format!("{sign}{}{digits}", "0".repeat(pad)));
-        } else {
-            out.push_str(&format!("{}{sign}{digits}", " ".repeat(pad)));
-        }
-        done = true;
-    }
-    if done {
-        Ok(out)
-    } else {
-        Err(bad())
     }
 }

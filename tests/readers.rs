@@ -593,9 +593,9 @@ fn nrrd_bad_files_give_errors() {
             "type 'int64' is not supported",
         ),
         (
-            "ascii",
-            with("encoding", Some("encoding: ascii")),
-            "encoding 'ascii' is not supported",
+            "hex",
+            with("encoding", Some("encoding: hex")),
+            "encoding 'hex' is not supported",
         ),
         ("no encoding", with("encoding", None), "missing 'encoding'"),
         ("no endian", with("endian", None), "missing 'endian'"),
@@ -606,8 +606,8 @@ fn nrrd_bad_files_give_errors() {
         ),
         (
             "detached",
-            with("encoding", Some("data file: v.raw")),
-            "detached data",
+            with("endian", Some("endian: little\ndata file: v.raw")),
+            "cannot open data file",
         ),
         (
             "directions",

@@ -31,9 +31,14 @@ Sign convention:
 Input formats:
   .npy   numpy array, 3-D of shape (nz, ny, nx), C or Fortran order,
          dtype u1 i1 u2 i2 u4 i4 f4 f8 in either byte order; unit spacing
-  .nrrd  attached header, dimension 3, encoding raw or gzip, any 8/16/32-bit
-         integer type, float or double; spacing from 'space directions' (vector
-         norms, axis-aligned grid assumed) or 'spacings', origin from 'space origin'
+  .nrrd  NRRD, dimension 3, attached data or (also .nhdr) 'data file': one
+  .nhdr  file, 'LIST [subdim]' (names on the following lines) or a printf
+         pattern 'slice%03d.raw MIN MAX STEP [subdim]', one slice (subdim 2)
+         or a block of slices (subdim 3) per file; encoding raw (mapped),
+         gzip, bzip2 or ascii; any 8/16/32-bit integer type, float or double
+         (not 64-bit integers); 'line skip' and 'byte skip' (-1: data at the
+         end) apply to each data file; grid from 'space directions' (rotation
+         and mirroring applied) or 'spacings', origin from 'space origin'
   raw    headerless samples, x fastest: give --dims and --dtype
 
 Output formats (chosen by the extension of -o):

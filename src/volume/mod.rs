@@ -11,9 +11,13 @@ pub mod metaimage;
 pub mod nifti;
 pub mod npy;
 pub mod nrrd;
+mod nrrd_data;
+mod nrrd_header;
+mod nrrd_pattern;
 mod padded;
 pub mod raw;
 mod scalar;
+mod slab_stack;
 mod spill;
 pub mod summary;
 pub mod tiff_stack;
@@ -152,7 +156,7 @@ pub struct RawOptions {
 }
 
 /// Opens a volume file, choosing the reader by extension (`.npy`, `.nrrd`,
-/// `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`, `.tif`/`.tiff`; a
+/// `.nhdr`, `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`, `.tif`/`.tiff`; a
 /// directory or a glob pattern is a TIFF stack) or, when `raw` is given,
 /// reading headerless samples.
 pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
@@ -169,7 +173,7 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
         .unwrap_or_default();
     match ext.as_str() {
         "npy" => Ok(Box::new(npy::open(path)?)),
-        "nrrd" => Ok(Box::new(nrrd::open(path)?)),
+        "nrrd" | "nhdr" => Ok(Box::new(nrrd::open(path)?)),
         "nii" | "hdr" => Ok(Box::new(nifti::open(path)?)),
         "gz" if path.to_string_lossy().to_ascii_lowercase().ends_with(".nii.gz") => {
             Ok(Box::new(nifti::open(path)?))
@@ -179,7 +183,7 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
         "vti" => Ok(Box::new(vti::open(path)?)),
         "tif" | "tiff" => Ok(Box::new(tiff_stack::open(path)?)),
         _ => Err(crate::Error::Invalid(format!(
-            "{}: unknown input format (expected .npy, .nrrd, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff or a directory of TIFFs, or give --dims and --dtype for raw data)",
+            "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff or a directory of TIFFs, or give --dims and --dtype for raw data)",
             path.display()
         ))),
     }

@@ -283,7 +283,11 @@ fn grid(h: &Header) -> std::result::Result<Grid, String> {
         set_direction(&mut grid, matrix).map_err(|e| format!("sform: {e}"))?;
     } else if h.qform_code > 0 {
         grid.origin = h.qoffset;
+        // A rotation: its columns differ from unit length only by rounding,
+        // which must not leak into the spacing.
+        let spacing = grid.spacing;
         set_direction(&mut grid, qform_rotation(h)).map_err(|e| format!("qform: {e}"))?;
+        grid.spacing = spacing;
     }
     if grid.spacing.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
         return Err(format!(

@@ -1,0 +1,206 @@
+//! Opening the samples of one NRRD data file (or the data attached to a
+//! `.nrrd` header) as a [`RawVolume`]: `line skip` and `byte skip` applied,
+//! then raw data memory-mapped, compressed data decompressed, text parsed.
+//!
+//! Every data file of a multi-file NRRD goes through [`open_data`] on its
+//! own, so the skips apply to each file, as the format says.
+
+use super::nrrd_header::{read_line, Encoding};
+use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
+use super::{Endian, Grid, ScalarType};
+use crate::{Error, Result};
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
+use std::path::Path;
+
+/// How the samples are stored in every data file.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct DataFormat {
+    pub scalar: ScalarType,
+    pub endian: Endian,
+    pub encoding: Encoding,
+    /// Lines to skip before the byte skip.
+    pub line_skip: u64,
+    /// Bytes to skip after the lines (decompressed bytes for compressed
+    /// data); `None`: raw data ends the file.
+    pub byte_skip: Option<u64>,
+}
+
+/// Opens the samples of `grid` stored in `path` from byte `start` on (the
+/// end of the header for attached data, else 0). `header` is the NRRD
+/// header that names the file, for the error when it cannot be opened.
+pub(crate) fn open_data(
+    header: &Path,
+    path: &Path,
+    start: u64,
+    grid: Grid,
+    format: &DataFormat,
+) -> Result<RawVolume> {
+    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
+    let file = File::open(path).map_err(|e| {
+        if path == header {
+            Error::io(path, e)
+        } else {
+            Error::Format(format!(
+                "{}: cannot open data file {}: {e}",
+                header.display(),
+                path.display()
+            ))
+        }
+    })?;
+    let scalar = format.scalar;
+    let data_len = data_bytes(grid.dims, scalar)
+        .ok_or_else(|| fail(format!("sizes {} are too large", dims_text(grid.dims))))?;
+    let mut reader = BufReader::new(file);
+    reader
+        .seek(SeekFrom::Start(start))
+        .map_err(|e| Error::io(path, e))?;
+    let mut offset = start;
+    for _ in 0..format.line_skip {
+        read_line(&mut reader, &mut offset)
+            .map_err(|e| Error::io(path, e))?
+            .ok_or_else(|| fail("'line skip' goes past the end of the file".into()))?;
+    }
+    let layout = |offset: u64| Layout {
+        grid,
+        scalar,
+        endian: format.endian,
+        offset,
+        order: Order::XFastest,
+    };
+    let skip = || {
+        format
+            .byte_skip
+            .ok_or_else(|| fail("'byte skip: -1' is only allowed with raw encoding".into()))
+    };
+    match format.encoding {
+        Encoding::Raw => {
+            let file = reader.into_inner();
+            let offset = match format.byte_skip {
+                Some(skip) => offset
+                    .checked_add(skip)
+                    .ok_or_else(|| fail("'byte skip' is too large".into()))?,
+                None => {
+                    let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
+                    len.checked_sub(data_len).ok_or_else(|| {
+                        fail(format!(
+                            "file has {len} bytes, sizes {} {scalar} need {data_len}",
+                            dims_text(grid.dims)
+                        ))
+                    })?
+                }
+            };
+            RawVolume::map_file(path, &file, layout(offset))
+        }
+        Encoding::Gzip | Encoding::Bzip2 => {
+            let skip = skip()?;
+            let mut file = reader.into_inner();
+            file.seek(SeekFrom::Start(offset))
+                .map_err(|e| Error::io(path, e))?;
+            decompressed(path, format.encoding, file, skip, layout(0))
+        }
+        Encoding::Ascii => {
+            let skip = skip()?;
+            ascii(path, reader, skip, layout(0))
+        }
+    }
+}
+
+/// Decompresses the `encoding` stream that starts at the current position
+/// of `file`, drops its first `skip` bytes and wraps the next ones as the
+/// samples of `layout` (whose offset must be 0).
+///
+/// The samples go to a temporary file that is then memory-mapped (see
+/// [`super::spill`]), so the volume is never held in memory.
+pub(crate) fn decompressed(
+    path: &Path,
+    encoding: Encoding,
+    file: File,
+    skip: u64,
+    layout: Layout,
+) -> Result<RawVolume> {
+    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
+    let name = encoding.name();
+    let bad = |e: io::Error| fail(format!("bad {name} data: {e}"));
+    let len = data_bytes(layout.grid.dims, layout.scalar).ok_or_else(|| {
+        fail(format!(
+            "sizes {} are too large",
+            dims_text(layout.grid.dims)
+        ))
+    })?;
+    let input = BufReader::new(file);
+    let mut decoder: Box<dyn Read> = match encoding {
+        Encoding::Bzip2 => Box::new(bzip2::read::MultiBzDecoder::new(input)),
+        _ => Box::new(flate2::read::MultiGzDecoder::new(input)),
+    };
+    let short = |got: u64| {
+        fail(format!(
+            "{name} data holds {got} bytes, sizes {} {} need {len} after a {skip}-byte skip",
+            dims_text(layout.grid.dims),
+            layout.scalar
+        ))
+    };
+    let skipped = io::copy(&mut decoder.by_ref().take(skip), &mut io::sink()).map_err(bad)?;
+    if skipped < skip {
+        return Err(short(skipped));
+    }
+    let (samples, got) = super::spill::spill(path, name, &[], decoder, len)?;
+    if got < len {
+        return Err(short(skip + got));
+    }
+    RawVolume::map_file(path, &samples, layout)
+}
+
+/// Parses the numbers of `ascii` data (separated by whitespace or commas)
+/// after `skip` bytes into the samples of `layout`, held as `f64` in
+/// memory (exact for every type).
+fn ascii(path: &Path, mut reader: impl BufRead, skip: u64, layout: Layout) -> Result<RawVolume> {
+    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
+    let dims = layout.grid.dims;
+    let count = dims
+        .iter()
+        .try_fold(1usize, |acc, &d| acc.checked_mul(d))
+        .filter(|n| n.checked_mul(8).is_some())
+        .ok_or_else(|| fail(format!("sizes {} are too large", dims_text(dims))))?;
+    let skipped = io::copy(&mut reader.by_ref().take(skip), &mut io::sink())
+        .map_err(|e| Error::io(path, e))?;
+    if skipped < skip {
+        return Err(fail("'byte skip' goes past the end of the file".into()));
+    }
+    let mut values: Vec<f64> = Vec::new();
+    values
+        .try_reserve_exact(count)
+        .map_err(|_| fail(format!("not enough memory for {count} ascii values")))?;
+    let mut line = Vec::new();
+    while values.len() < count {
+        line.clear();
+        if reader
+            .read_until(b'\n', &mut line)
+            .map_err(|e| Error::io(path, e))?
+            == 0
+        {
+            return Err(fail(format!(
+                "ascii data holds {} values, sizes {} need {count}",
+                values.len(),
+                dims_text(dims)
+            )));
+        }
+        let text = String::from_utf8_lossy(&line);
+        for word in text.split(|c: char| c.is_whitespace() || c == ',') {
+            if word.is_empty() || values.len() == count {
+                continue;
+            }
+            let v: f64 = word
+                .parse()
+                .map_err(|_| fail(format!("bad number '{word}' in ascii data")))?;
+            values.push(v);
+        }
+    }
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let layout = Layout {
+        scalar: ScalarType::F64,
+        endian: Endian::Little,
+        ..layout
+    };
+    RawVolume::from_bytes(path, bytes, layout)
+}

@@ -7,6 +7,7 @@
 //! plane, as a `.nrrd`, `.npy` or raw file.
 
 mod array;
+pub mod dicom;
 pub mod metaimage;
 pub mod nifti;
 pub mod npy;
@@ -142,12 +143,17 @@ pub struct RawOptions {
 }
 
 /// Opens a volume file, choosing the reader by extension (`.npy`, `.nrrd`,
-/// `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`, `.tif`/`.tiff`; a
-/// directory or a glob pattern is a TIFF stack) or, when `raw` is given,
-/// reading headerless samples.
+/// `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`, `.tif`/`.tiff`,
+/// `.dcm`; a directory holding DICOM files is a DICOM series, another
+/// directory or a glob pattern is a TIFF stack; a file with the DICOM magic
+/// is DICOM whatever its name) or, when `raw` is given, reading headerless
+/// samples.
 pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
     if let Some(options) = raw {
         return Ok(Box::new(raw::RawVolume::open(path, options)?));
+    }
+    if path.is_dir() && dicom::dir_has_dicom(path) {
+        return Ok(Box::new(dicom::open(path)?));
     }
     if path.is_dir() || tiff_stack::is_pattern(path) {
         return Ok(Box::new(tiff_stack::open(path)?));
@@ -168,8 +174,10 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
         "vtk" => Ok(Box::new(vtk_legacy::open(path)?)),
         "vti" => Ok(Box::new(vti::open(path)?)),
         "tif" | "tiff" => Ok(Box::new(tiff_stack::open(path)?)),
+        "dcm" => Ok(Box::new(dicom::open(path)?)),
+        _ if dicom::has_magic(path) => Ok(Box::new(dicom::open(path)?)),
         _ => Err(crate::Error::Invalid(format!(
-            "{}: unknown input format (expected .npy, .nrrd, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff or a directory of TIFFs, or give --dims and --dtype for raw data)",
+            "{}: unknown input format (expected .npy, .nrrd, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff, .dcm, a directory of TIFFs or DICOM files, or give --dims and --dtype for raw data)",
             path.display()
         ))),
     }

@@ -32,6 +32,11 @@ Input formats:
   .nrrd  attached header, dimension 3, encoding raw or gzip, any 8/16/32-bit
          integer type, float or double; spacing from 'space directions' (vector
          norms, axis-aligned grid assumed) or 'spacings', origin from 'space origin'
+  DICOM  a directory of slice files (DICM magic or .dcm; other files skipped),
+         one slice file (its series in its directory) or a multi-frame .dcm;
+         slices sorted by position along the normal, RescaleSlope/Intercept
+         applied per slice (CT in HU), patient (LPS) coordinates; one series
+         per directory; uncompressed, RLE and JPEG (not JPEG 2000/JPEG-LS)
   raw    headerless samples, x fastest: give --dims and --dtype
 
 Output formats (chosen by the extension of -o):

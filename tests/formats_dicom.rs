@@ -4,6 +4,9 @@
 //! per-slice rescale, meshes equal to those of the `.npy` twins mapped by the
 //! full affine, and one clear error per bad series.
 
+use dicom_core::{DataElement, PrimitiveValue, VR};
+use dicom_dictionary_std::tags;
+use dicom_object::Tag;
 use std::fs;
 use std::path::{Path, PathBuf};
 use tmc::volume::{self, dicom, Grid};
@@ -327,4 +330,101 @@ fn non_dicom_files_are_skipped() {
     assert!(!dicom::has_magic(&dir.join("README")));
     assert!(dicom::dir_has_dicom(&dir));
     assert_eq!(dicom::open(&dir).unwrap().grid().dims, [9, 7, 6]);
+}
+
+/// Rewrites file `name` of directory `dir` after `edit`.
+fn edit_file(dir: &Path, name: &str, edit: impl FnOnce(&mut dicom_object::DefaultDicomObject)) {
+    let path = dir.join(name);
+    let mut obj = dicom_object::open_file(&path).unwrap();
+    edit(&mut obj);
+    obj.write_to_file(&path).unwrap();
+}
+
+fn put_ds(obj: &mut dicom_object::DefaultDicomObject, tag: Tag, text: &str) {
+    obj.put(DataElement::new(tag, VR::DS, PrimitiveValue::from(text)));
+}
+
+#[test]
+fn inconsistent_headers_are_errors() {
+    // No ImagePositionPatient.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_003.dcm", |o| {
+        o.remove_element(tags::IMAGE_POSITION_PATIENT);
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("slice_003.dcm: no ImagePositionPatient"), "{e}");
+
+    // Colour samples.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_001.dcm", |o| {
+        o.put(DataElement::new(
+            tags::SAMPLES_PER_PIXEL,
+            VR::US,
+            PrimitiveValue::from(3u16),
+        ));
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("3 samples per pixel"), "{e}");
+
+    // Another BitsAllocated.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_005.dcm", |o| {
+        o.put(DataElement::new(
+            tags::BITS_ALLOCATED,
+            VR::US,
+            PrimitiveValue::from(32u16),
+        ));
+    });
+    let e = open_err(tmp.path());
+    assert!(
+        e.contains("slice_005.dcm: sample type (32 bits allocated"),
+        "{e}"
+    );
+
+    // Another orientation.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_002.dcm", |o| {
+        put_ds(o, tags::IMAGE_ORIENTATION_PATIENT, "0\\1\\0\\1\\0\\0");
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("ImageOrientationPatient"), "{e}");
+    assert!(e.contains("differs from"), "{e}");
+
+    // A slice shifted sideways (gantry tilt).
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_004.dcm", |o| {
+        put_ds(o, tags::IMAGE_POSITION_PATIENT, "-19\\15\\15");
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("not stacked along their normal"), "{e}");
+
+    // Another pixel spacing.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_000.dcm", |o| {
+        put_ds(o, tags::PIXEL_SPACING, "0.6\\0.8");
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("PixelSpacing"), "{e}");
+}
+
+#[test]
+fn jpeg_baseline_is_decoded() {
+    // Lossy: the decoded samples approximate the encoded ones.
+    let vol = volume::open(&data_dir().join("dicom_jpeg"), None).unwrap();
+    let npy = volume::open(&data_dir().join("dicom_jpeg.expected.npy"), None).unwrap();
+    let grid = *vol.grid();
+    assert_eq!(grid.dims, [9, 7, 6]);
+    assert_eq!(grid.spacing, [1.0, 1.0, 2.0]);
+    let order: Vec<usize> = (0..6).rev().collect();
+    let got = samples_in_order(vol.as_ref(), &order);
+    let want = samples_in_order(npy.as_ref(), &order);
+    let worst = got
+        .iter()
+        .zip(&want)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 12.0, "JPEG samples off by {worst}");
+    let mean = got.iter().sum::<f64>() / got.len() as f64;
+    let mean_want = want.iter().sum::<f64>() / want.len() as f64;
+    assert!((mean - mean_want).abs() < 2.0, "{mean} vs {mean_want}");
 }

@@ -64,6 +64,8 @@ const GAP_TOLERANCE: f64 = 1e-3;
 /// A DICOM series read one slice at a time.
 #[derive(Debug)]
 pub struct DicomSeries {
+    /// The directory (or multi-frame file) the series was read from.
+    source: PathBuf,
     grid: Grid,
     series_uid: String,
     format: Format,
@@ -680,6 +682,7 @@ fn assemble(dir: &Path, series_uid: String, headers: Vec<Header>) -> Result<Dico
         direction: [0, 1, 2].map(|i| [row[i], col[i], normal[i]]),
     };
     Ok(DicomSeries {
+        source: dir.to_path_buf(),
         grid,
         series_uid,
         format,
@@ -717,7 +720,7 @@ impl SampleSource for DicomSeries {
         let plane = self.planes.get(z).ok_or_else(|| {
             Error::Invalid(format!(
                 "{}: plane {z} is beyond the {} slices",
-                self.series_uid,
+                self.source.display(),
                 self.planes.len()
             ))
         })?;

@@ -39,6 +39,11 @@ Input formats:
          (not 64-bit integers); 'line skip' and 'byte skip' (-1: data at the
          end) apply to each data file; grid from 'space directions' (rotation
          and mirroring applied) or 'spacings', origin from 'space origin'
+  DICOM  a directory of slice files (DICM magic or .dcm; other files skipped),
+         one slice file (its series in its directory) or a multi-frame .dcm;
+         slices sorted by position along the normal, RescaleSlope/Intercept
+         applied per slice (CT in HU), patient (LPS) coordinates; one series
+         per directory; uncompressed, RLE and JPEG (not JPEG 2000/JPEG-LS)
   raw    headerless samples, x fastest: give --dims and --dtype
 
 Output formats (chosen by the extension of -o):

@@ -7,6 +7,7 @@
 //! plane, as a `.nrrd`, `.npy` or raw file.
 
 mod array;
+pub mod dicom;
 pub mod metaimage;
 pub mod nifti;
 pub mod npy;
@@ -155,68 +156,120 @@ pub struct RawOptions {
     pub origin: [f64; 3],
 }
 
-/// Opens a volume file, choosing the reader by extension (`.npy`, `.nrrd`,
-/// `.nhdr`, `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`, `.tif`/`.tiff`; a
-/// directory or a glob pattern is a TIFF stack) or, when `raw` is given,
-/// reading headerless samples.
+/// The formats [`open`] reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Headerless samples described by [`RawOptions`].
+    Raw,
+    /// NumPy `.npy`.
+    Npy,
+    /// NRRD, attached (`.nrrd`) or detached (`.nhdr`) header.
+    Nrrd,
+    /// NIfTI-1 or NIfTI-2 (`.nii`, `.nii.gz`, `.hdr` + `.img`).
+    Nifti,
+    /// MetaImage (`.mhd`, `.mha`).
+    MetaImage,
+    /// Legacy VTK `STRUCTURED_POINTS` (`.vtk`).
+    VtkLegacy,
+    /// VTK XML ImageData (`.vti`).
+    Vti,
+    /// A multi-page TIFF, or a directory or glob of single-page TIFFs.
+    TiffStack,
+    /// A DICOM series (a directory, one slice file or a multi-frame file).
+    Dicom,
+}
+
+impl Format {
+    /// The reader for `path`: raw when `raw` options are given; a directory
+    /// holding DICOM files is a DICOM series, another directory or a glob
+    /// pattern a TIFF stack; otherwise by extension (`.npy`, `.nrrd`,
+    /// `.nhdr`, `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`,
+    /// `.tif`/`.tiff`, `.dcm`), and a file with the DICOM magic is DICOM
+    /// whatever its name. `None` if no reader fits.
+    pub fn detect(path: &Path, raw: bool) -> Option<Format> {
+        if raw {
+            return Some(Format::Raw);
+        }
+        if path.is_dir() && dicom::dir_has_dicom(path) {
+            return Some(Format::Dicom);
+        }
+        if path.is_dir() || tiff_stack::is_pattern(path) {
+            return Some(Format::TiffStack);
+        }
+        let name = path.to_string_lossy().to_ascii_lowercase();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "npy" => Some(Format::Npy),
+            "nrrd" | "nhdr" => Some(Format::Nrrd),
+            "nii" | "hdr" => Some(Format::Nifti),
+            "gz" if name.ends_with(".nii.gz") => Some(Format::Nifti),
+            "mhd" | "mha" => Some(Format::MetaImage),
+            "vtk" => Some(Format::VtkLegacy),
+            "vti" => Some(Format::Vti),
+            "tif" | "tiff" => Some(Format::TiffStack),
+            "dcm" => Some(Format::Dicom),
+            _ if dicom::has_magic(path) => Some(Format::Dicom),
+            _ => None,
+        }
+    }
+
+    /// A short human name ("NRRD", "NIfTI", "TIFF stack", ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            Format::Raw => "raw",
+            Format::Npy => "NumPy",
+            Format::Nrrd => "NRRD",
+            Format::Nifti => "NIfTI",
+            Format::MetaImage => "MetaImage",
+            Format::VtkLegacy => "VTK legacy",
+            Format::Vti => "VTK ImageData",
+            Format::TiffStack => "TIFF stack",
+            Format::Dicom => "DICOM",
+        }
+    }
+}
+
+/// Opens a volume, choosing the reader with [`Format::detect`].
 pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
     if let Some(options) = raw {
         return Ok(Box::new(raw::RawVolume::open(path, options)?));
     }
-    if path.is_dir() || tiff_stack::is_pattern(path) {
-        return Ok(Box::new(tiff_stack::open(path)?));
-    }
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase())
-        .unwrap_or_default();
-    match ext.as_str() {
-        "npy" => Ok(Box::new(npy::open(path)?)),
-        "nrrd" | "nhdr" => Ok(Box::new(nrrd::open(path)?)),
-        "nii" | "hdr" => Ok(Box::new(nifti::open(path)?)),
-        "gz" if path.to_string_lossy().to_ascii_lowercase().ends_with(".nii.gz") => {
-            Ok(Box::new(nifti::open(path)?))
-        }
-        "mhd" | "mha" => Ok(Box::new(metaimage::open(path)?)),
-        "vtk" => Ok(Box::new(vtk_legacy::open(path)?)),
-        "vti" => Ok(Box::new(vti::open(path)?)),
-        "tif" | "tiff" => Ok(Box::new(tiff_stack::open(path)?)),
-        _ => Err(crate::Error::Invalid(format!(
-            "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff or a directory of TIFFs, or give --dims and --dtype for raw data)",
+    let format = Format::detect(path, false).ok_or_else(|| {
+        crate::Error::Invalid(format!(
+            "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff, .dcm, a directory of TIFFs or DICOM files, or give --dims and --dtype for raw data)",
             path.display()
-        ))),
-    }
+        ))
+    })?;
+    Ok(match format {
+        Format::Raw => {
+            return Err(crate::Error::Invalid(format!(
+                "{}: raw samples need --dims and --dtype",
+                path.display()
+            )))
+        }
+        Format::Npy => Box::new(npy::open(path)?),
+        Format::Nrrd => Box::new(nrrd::open(path)?),
+        Format::Nifti => Box::new(nifti::open(path)?),
+        Format::MetaImage => Box::new(metaimage::open(path)?),
+        Format::VtkLegacy => Box::new(vtk_legacy::open(path)?),
+        Format::Vti => Box::new(vti::open(path)?),
+        Format::TiffStack => Box::new(tiff_stack::open(path)?),
+        Format::Dicom => Box::new(dicom::open(path)?),
+    })
 }
 
 /// The name of the format [`open`] reads `path` as ("NRRD", "NIfTI-1",
-/// "TIFF stack", "raw", ...), or `None` if `open` would refuse the
-/// extension. A NIfTI file is named by its version, read from the first
-/// bytes of the header (`None` if they cannot be read). Keep this match in step with `open`: one
-/// line per format.
+/// "TIFF stack", "raw", ...), or `None` if `open` would refuse it. A NIfTI
+/// file is named by its version, read from the first bytes of the header
+/// (`None` if they cannot be read).
 pub fn format_name(path: &Path, raw: Option<&RawOptions>) -> Option<&'static str> {
-    if raw.is_some() {
-        return Some("raw");
-    }
-    if path.is_dir() || tiff_stack::is_pattern(path) {
-        return Some("TIFF stack");
-    }
-    let lower = path.to_string_lossy().to_ascii_lowercase();
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase())
-        .unwrap_or_default();
-    match ext.as_str() {
-        "npy" => Some("NumPy"),
-        "nrrd" => Some("NRRD"),
-        "nii" | "hdr" => nifti_name(path),
-        "gz" if lower.ends_with(".nii.gz") => nifti_name(path),
-        "mhd" | "mha" => Some("MetaImage"),
-        "vtk" => Some("VTK legacy"),
-        "vti" => Some("VTK ImageData"),
-        "tif" | "tiff" => Some("TIFF stack"),
-        _ => None,
+    match Format::detect(path, raw.is_some())? {
+        Format::Nifti => nifti_name(path),
+        format => Some(format.name()),
     }
 }
 

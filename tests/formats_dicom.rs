@@ -1,0 +1,430 @@
+//! DICOM series reader against fixtures written by pydicom
+//! (`scripts/fixtures/make_dicom.py`): geometry (slices sorted by position
+//! along the normal, PixelSpacing order, orientation), samples after the
+//! per-slice rescale, meshes equal to those of the `.npy` twins mapped by the
+//! full affine, and one clear error per bad series.
+
+use dicom_core::{DataElement, PrimitiveValue, VR};
+use dicom_dictionary_std::tags;
+use dicom_object::Tag;
+use std::fs;
+use std::path::{Path, PathBuf};
+use tmc::volume::{self, dicom, Grid};
+use tmc::{ExtractParams, SampleSource};
+
+fn data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
+}
+
+/// One fixture of the manifest.
+struct Fixture {
+    name: String,
+    file: PathBuf,
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    direction: [[f64; 3]; 3],
+}
+
+fn vec3(v: &serde_json::Value) -> [f64; 3] {
+    let a = v.as_array().expect("array");
+    [0, 1, 2].map(|i| a[i].as_f64().expect("number"))
+}
+
+fn fixtures() -> Vec<Fixture> {
+    let text = fs::read_to_string(data_dir().join("dicom_manifest.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    json.as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            let d = f["direction"].as_array().unwrap();
+            Fixture {
+                name: f["name"].as_str().unwrap().to_string(),
+                file: data_dir().join(f["file"].as_str().unwrap()),
+                dims: vec3(&f["dims"]).map(|x| x as usize),
+                spacing: vec3(&f["spacing"]),
+                origin: vec3(&f["origin"]),
+                direction: [vec3(&d[0]), vec3(&d[1]), vec3(&d[2])],
+            }
+        })
+        .collect()
+}
+
+/// All planes, read in the order `order` and stored at their own place.
+fn samples_in_order(source: &dyn SampleSource, order: &[usize]) -> Vec<f64> {
+    let grid = *source.grid();
+    let n = grid.plane_len();
+    let mut out = vec![0.0; n * grid.dims[2]];
+    for &z in order {
+        source.read_plane(z, &mut out[z * n..(z + 1) * n]).unwrap();
+    }
+    out
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * a.abs().max(b.abs()).max(1.0)
+}
+
+fn check_grid(name: &str, grid: &Grid, f: &Fixture) {
+    assert_eq!(grid.dims, f.dims, "{name}");
+    for i in 0..3 {
+        assert!(
+            close(grid.spacing[i], f.spacing[i], 1e-9),
+            "{name}: {grid:?}"
+        );
+        assert!(close(grid.origin[i], f.origin[i], 1e-9), "{name}: {grid:?}");
+        for j in 0..3 {
+            // pydicom writes decimal strings of at most 16 characters.
+            assert!(
+                (grid.direction[i][j] - f.direction[i][j]).abs() < 1e-9,
+                "{name}: {:?} vs {:?}",
+                grid.direction,
+                f.direction
+            );
+        }
+    }
+}
+
+#[test]
+fn manifest_lists_every_kind() {
+    let names: Vec<String> = fixtures().into_iter().map(|f| f.name).collect();
+    for want in [
+        "dicom_ct",
+        "dicom_shuffled",
+        "dicom_oblique",
+        "dicom_implicit_u8",
+        "dicom_big_endian",
+        "dicom_rle",
+        "dicom_enhanced",
+        "dicom_multiframe",
+    ] {
+        assert!(names.iter().any(|n| n == want), "no {want} in {names:?}");
+    }
+}
+
+#[test]
+fn fixtures_match_their_npy_twins() {
+    for f in fixtures() {
+        let vol = volume::open(&f.file, None).unwrap_or_else(|e| panic!("{}: {e}", f.name));
+        let twin = data_dir().join(format!("{}.expected.npy", f.name));
+        let npy = volume::open(&twin, None).unwrap();
+        let grid = *vol.grid();
+        check_grid(&f.name, &grid, &f);
+        assert_eq!(npy.grid().dims, f.dims, "{}", f.name);
+
+        let nz = grid.dims[2];
+        let forward: Vec<usize> = (0..nz).collect();
+        let scrambled: Vec<usize> = (0..nz).map(|k| (k * 5 + 3) % nz).collect();
+        let want = samples_in_order(npy.as_ref(), &forward);
+        assert_eq!(
+            samples_in_order(vol.as_ref(), &forward),
+            want,
+            "{}: samples differ",
+            f.name
+        );
+        assert_eq!(
+            samples_in_order(vol.as_ref(), &scrambled),
+            want,
+            "{}: samples differ when read out of order",
+            f.name
+        );
+
+        // Same mesh once the full index-to-world map is applied.
+        let (lo, hi) = want
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        let params = ExtractParams {
+            iso: lo + (hi - lo) * 0.4123,
+            ..ExtractParams::default()
+        };
+        let (mesh, _) = tmc::extract(vol.as_ref(), &params).unwrap();
+        let (mesh_npy, _) = tmc::extract(npy.as_ref(), &params).unwrap();
+        assert!(!mesh.triangles.is_empty(), "{}: empty mesh", f.name);
+        let expected: Vec<[u32; 3]> = if grid.is_mirrored() {
+            mesh_npy
+                .triangles
+                .iter()
+                .map(|t| [t[0], t[2], t[1]])
+                .collect()
+        } else {
+            mesh_npy.triangles.clone()
+        };
+        assert_eq!(mesh.triangles, expected, "{}", f.name);
+        assert_eq!(mesh.vertices.len(), mesh_npy.vertices.len(), "{}", f.name);
+        let extent = grid
+            .world([0.0; 3])
+            .iter()
+            .fold(1.0f64, |m, v| m.max(v.abs()));
+        for (v, w) in mesh.vertices.iter().zip(&mesh_npy.vertices) {
+            let mapped = grid.world(w.map(f64::from));
+            for i in 0..3 {
+                assert!(
+                    (f64::from(v[i]) - mapped[i]).abs() <= 1e-5 * extent,
+                    "{}: vertex {v:?} vs {w:?} mapped {mapped:?}",
+                    f.name
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn slices_are_sorted_by_position_not_name() {
+    let s = dicom::open(&data_dir().join("dicom_shuffled")).unwrap();
+    assert_eq!(s.sample_bytes(), 2);
+    // Each file holds its own rescale; sorted by position they are these.
+    let want = [
+        (1.0, 0.0),
+        (2.0, -10.0),
+        (0.5, 3.0),
+        (1.0, -7.0),
+        (4.0, 1.5),
+        (0.25, 0.0),
+    ];
+    for (z, w) in want.iter().enumerate() {
+        assert_eq!(s.rescale(z), Some(*w), "plane {z}");
+    }
+    let names: Vec<String> = (0..6)
+        .map(|z| {
+            let file = s.plane_file(z).unwrap().file_name().unwrap();
+            file.to_string_lossy().to_string()
+        })
+        .collect();
+    let mut by_name = names.clone();
+    by_name.sort();
+    assert_ne!(names, by_name, "name order happens to be position order");
+    assert!(s.series_uid().starts_with("1.2.826.0.1.3680043.8.498"));
+}
+
+#[test]
+fn one_slice_file_opens_its_series() {
+    let dir = data_dir().join("dicom_oblique");
+    let whole = dicom::open(&dir).unwrap();
+    let mut files: Vec<PathBuf> = fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    let one = volume::open(&files[2], None).unwrap();
+    assert_eq!(one.grid(), whole.grid());
+    // A file of one of two series selects that series.
+    let two = data_dir().join("dicom_bad_two_series");
+    let s = volume::open(&two.join("other_0.dcm"), None).unwrap();
+    assert_eq!(s.grid().dims, [3, 2, 3]);
+    let s = volume::open(&two.join("slice_000.dcm"), None).unwrap();
+    assert_eq!(s.grid().dims, [3, 2, 2]);
+}
+
+#[test]
+fn a_series_can_be_chosen_by_uid() {
+    let two = data_dir().join("dicom_bad_two_series");
+    let uid = "1.2.826.0.1.3680043.8.498.7777.32";
+    let s = dicom::open_series(&two, Some(uid)).unwrap();
+    assert_eq!(s.series_uid(), uid);
+    assert_eq!(s.grid().dims, [3, 2, 3]);
+    let e = dicom::open_series(&two, Some("1.2.3"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no DICOM series 1.2.3"), "{e}");
+}
+
+/// The error of opening `path`, checked to be one line.
+fn open_err(path: &Path) -> String {
+    let e = match volume::open(path, None) {
+        Ok(v) => panic!("{} opened: {:?}", path.display(), v.grid()),
+        Err(e) => e.to_string(),
+    };
+    assert!(!e.contains('\n'), "multi-line error: {e}");
+    e
+}
+
+#[test]
+fn bad_series_are_errors() {
+    let e = open_err(&data_dir().join("dicom_bad_gap"));
+    assert!(
+        e.contains("slice gap 2.5 mm between positions 2.5 and 5 differs from the usual 1.25 mm"),
+        "{e}"
+    );
+    assert!(e.contains("missing slice"), "{e}");
+
+    let e = open_err(&data_dir().join("dicom_bad_rows"));
+    assert!(
+        e.contains("3x3 slice (Columns x Rows) differs from the 3x2"),
+        "{e}"
+    );
+
+    let e = open_err(&data_dir().join("dicom_bad_two_series"));
+    assert!(e.contains("2 DICOM series in one directory"), "{e}");
+    assert!(
+        e.contains("1.2.826.0.1.3680043.8.498.7777.31 (2 slices)"),
+        "{e}"
+    );
+    assert!(
+        e.contains("1.2.826.0.1.3680043.8.498.7777.32 (3 slices)"),
+        "{e}"
+    );
+
+    let e = open_err(&data_dir().join("dicom_bad_j2k"));
+    assert!(e.contains("transfer syntax"), "{e}");
+    assert!(e.contains("not supported"), "{e}");
+    assert!(e.contains("j2k.dcm"), "{e}");
+}
+
+/// A copy of fixture directory `name` in a temporary directory.
+fn copy_series(name: &str) -> tempfile::TempDir {
+    let tmp = tempfile::tempdir().unwrap();
+    for entry in fs::read_dir(data_dir().join(name)).unwrap() {
+        let path = entry.unwrap().path();
+        fs::copy(&path, tmp.path().join(path.file_name().unwrap())).unwrap();
+    }
+    tmp
+}
+
+#[test]
+fn damaged_series_are_errors() {
+    // A file with the magic that does not parse is named.
+    let tmp = copy_series("dicom_ct");
+    let mut bytes = vec![0u8; 128];
+    bytes.extend_from_slice(b"DICM\x02\x00\x00\x00garbage");
+    fs::write(tmp.path().join("broken"), &bytes).unwrap();
+    let e = open_err(tmp.path());
+    assert!(e.contains("broken: not a readable DICOM file"), "{e}");
+
+    // The same slice twice.
+    let tmp = copy_series("dicom_ct");
+    fs::copy(
+        tmp.path().join("slice_002.dcm"),
+        tmp.path().join("copy_of_2.dcm"),
+    )
+    .unwrap();
+    let e = open_err(tmp.path());
+    assert!(e.contains("two slices at the same position"), "{e}");
+
+    // Too few bytes: truncated pixel data.
+    let tmp = copy_series("dicom_ct");
+    let path = tmp.path().join("slice_004.dcm");
+    let bytes = fs::read(&path).unwrap();
+    fs::write(&path, &bytes[..bytes.len() - 40]).unwrap();
+    let result = volume::open(tmp.path(), None).and_then(|v| {
+        let mut plane = vec![0.0; v.grid().plane_len()];
+        (0..v.grid().dims[2]).try_for_each(|z| v.read_plane(z, &mut plane))
+    });
+    let e = result.unwrap_err().to_string();
+    assert!(e.contains("slice_004.dcm"), "{e}");
+    assert!(!e.contains('\n'), "{e}");
+
+    // An empty directory is not DICOM: it goes to the TIFF reader; a
+    // directory with only non-DICOM files is not a DICOM series either.
+    let tmp = tempfile::tempdir().unwrap();
+    fs::write(tmp.path().join("README"), b"hello").unwrap();
+    assert!(!dicom::dir_has_dicom(tmp.path()));
+    let e = dicom::open(tmp.path()).unwrap_err().to_string();
+    assert!(e.contains("no DICOM image files found"), "{e}");
+}
+
+#[test]
+fn non_dicom_files_are_skipped() {
+    let dir = data_dir().join("dicom_shuffled");
+    assert!(dir.join("README").exists());
+    assert!(!dicom::has_magic(&dir.join("README")));
+    assert!(dicom::dir_has_dicom(&dir));
+    assert_eq!(dicom::open(&dir).unwrap().grid().dims, [9, 7, 6]);
+}
+
+/// Rewrites file `name` of directory `dir` after `edit`.
+fn edit_file(dir: &Path, name: &str, edit: impl FnOnce(&mut dicom_object::DefaultDicomObject)) {
+    let path = dir.join(name);
+    let mut obj = dicom_object::open_file(&path).unwrap();
+    edit(&mut obj);
+    obj.write_to_file(&path).unwrap();
+}
+
+fn put_ds(obj: &mut dicom_object::DefaultDicomObject, tag: Tag, text: &str) {
+    obj.put(DataElement::new(tag, VR::DS, PrimitiveValue::from(text)));
+}
+
+#[test]
+fn inconsistent_headers_are_errors() {
+    // No ImagePositionPatient.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_003.dcm", |o| {
+        o.remove_element(tags::IMAGE_POSITION_PATIENT);
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("slice_003.dcm: no ImagePositionPatient"), "{e}");
+
+    // Colour samples.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_001.dcm", |o| {
+        o.put(DataElement::new(
+            tags::SAMPLES_PER_PIXEL,
+            VR::US,
+            PrimitiveValue::from(3u16),
+        ));
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("3 samples per pixel"), "{e}");
+
+    // Another BitsAllocated.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_005.dcm", |o| {
+        o.put(DataElement::new(
+            tags::BITS_ALLOCATED,
+            VR::US,
+            PrimitiveValue::from(32u16),
+        ));
+    });
+    let e = open_err(tmp.path());
+    assert!(
+        e.contains("slice_005.dcm: sample type (32 bits allocated"),
+        "{e}"
+    );
+
+    // Another orientation.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_002.dcm", |o| {
+        put_ds(o, tags::IMAGE_ORIENTATION_PATIENT, "0\\1\\0\\1\\0\\0");
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("ImageOrientationPatient"), "{e}");
+    assert!(e.contains("differs from"), "{e}");
+
+    // A slice shifted sideways (gantry tilt).
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_004.dcm", |o| {
+        put_ds(o, tags::IMAGE_POSITION_PATIENT, "-19\\15\\15");
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("not stacked along their normal"), "{e}");
+
+    // Another pixel spacing.
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_000.dcm", |o| {
+        put_ds(o, tags::PIXEL_SPACING, "0.6\\0.8");
+    });
+    let e = open_err(tmp.path());
+    assert!(e.contains("PixelSpacing"), "{e}");
+}
+
+#[test]
+fn jpeg_baseline_is_decoded() {
+    // Lossy: the decoded samples approximate the encoded ones.
+    let vol = volume::open(&data_dir().join("dicom_jpeg"), None).unwrap();
+    let npy = volume::open(&data_dir().join("dicom_jpeg.expected.npy"), None).unwrap();
+    let grid = *vol.grid();
+    assert_eq!(grid.dims, [9, 7, 6]);
+    assert_eq!(grid.spacing, [1.0, 1.0, 2.0]);
+    let order: Vec<usize> = (0..6).rev().collect();
+    let got = samples_in_order(vol.as_ref(), &order);
+    let want = samples_in_order(npy.as_ref(), &order);
+    let worst = got
+        .iter()
+        .zip(&want)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= 12.0, "JPEG samples off by {worst}");
+    let mean = got.iter().sum::<f64>() / got.len() as f64;
+    let mean_want = want.iter().sum::<f64>() / want.len() as f64;
+    assert!((mean - mean_want).abs() < 2.0, "{mean} vs {mean_want}");
+}

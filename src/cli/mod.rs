@@ -39,12 +39,26 @@ Input formats:
          (not 64-bit integers); 'line skip' and 'byte skip' (-1: data at the
          end) apply to each data file; grid from 'space directions' (rotation
          and mirroring applied) or 'spacings', origin from 'space origin'
+  .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types up to
+         32 bits, float, double; scl_slope/scl_inter applied (ISO in physical
+         units); grid from the sform, else the qform, else pixdim
+  .mhd   MetaImage, also .mha; ElementDataFile LOCAL, a file or LIST; zlib
+         (CompressedData); HeaderSize; TransformMatrix, Offset, ElementSpacing
+  .vtk   legacy VTK STRUCTURED_POINTS, binary (big-endian) or ASCII
+  .vti   VTK XML ImageData: ascii, binary or appended, raw or base64, zlib;
+         Origin, Spacing, Direction
+  .tif   a multi-page TIFF (or BigTIFF), or a directory or glob ('dir/*.tif')
+         of single-page TIFFs in natural name order; 8/16/32-bit; unit spacing
   DICOM  a directory of slice files (DICM magic or .dcm; other files skipped),
          one slice file (its series in its directory) or a multi-frame .dcm;
          slices sorted by position along the normal, RescaleSlope/Intercept
          applied per slice (CT in HU), patient (LPS) coordinates; one series
          per directory; uncompressed, RLE and JPEG (not JPEG 2000/JPEG-LS)
   raw    headerless samples, x fastest: give --dims and --dtype
+  Vertices are in the file's world frame (spacing, origin and direction
+  cosines applied; a mirroring map flips the winding). Uncompressed data is
+  memory-mapped; gzip, bzip2 and zlib data is decompressed once into a
+  temporary file in TMPDIR and mapped. 'tmc info' shows how a file is read.
 
 Output formats (chosen by the extension of -o):
   .ply   binary little-endian, shared vertices

@@ -13,12 +13,15 @@
 //! offsets. Inside a slab no hashing is needed: edge caches are plain arrays.
 
 use crate::kernel::cell::INTERIOR;
-use crate::kernel::tables::tables;
+mod bits;
+
+use crate::kernel::tables::{tables, Tables};
 use crate::kernel::{triangulate_ambiguous, CellMesh};
 use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
 use crate::volume::Access;
 use crate::{Error, Grid, Result, SampleSource, Stats};
+use bits::{below, each_bit, next, SignBits};
 use glam::DVec3;
 use std::ops::Range;
 use std::time::Instant;
@@ -41,7 +44,7 @@ impl Block {
     /// The finished block as a chunk: references into the next block follow
     /// this block's own vertices. A mirroring index-to-world map reverses the
     /// winding, so that triangles stay counter-clockwise seen from outside.
-    fn into_chunk(self, plane: usize, mirrored: bool) -> Chunk {
+    fn into_chunk(mut self, plane: usize, mirrored: bool) -> Chunk {
         let own = self.vertices.len() as u32;
         let resolve = |r: u32| {
             if r & NEXT_BLOCK != 0 {
@@ -50,80 +53,43 @@ impl Block {
                 r
             }
         };
+        for t in &mut self.triangles {
+            let [a, b, c] = t.map(resolve);
+            *t = if mirrored { [a, c, b] } else { [a, b, c] };
+        }
         Chunk {
             plane: plane as u64,
-            triangles: self
-                .triangles
-                .iter()
-                .map(|t| {
-                    let [a, b, c] = t.map(resolve);
-                    if mirrored {
-                        [a, c, b]
-                    } else {
-                        [a, b, c]
-                    }
-                })
-                .collect(),
+            triangles: self.triangles,
             vertices: self.vertices,
+        }
+    }
+
+    /// An empty block with room for as much as `like` holds, so that a
+    /// layer like the previous one does not grow its vectors step by step.
+    fn sized_like(like: &Block) -> Block {
+        Block {
+            vertices: Vec::with_capacity(like.vertices.len() + like.vertices.len() / 4),
+            triangles: Vec::with_capacity(like.triangles.len() + like.triangles.len() / 4),
         }
     }
 }
 
 /// One plane of values relative to the isovalue, with its edge vertices;
 /// two of them are reused, plane after plane, by a slab.
+///
+/// Edge caches are written for crossed edges only: an entry of an edge
+/// without a sign change is stale, and never read, because the tables and
+/// the ambiguous-cell kernel only refer to edges whose ends differ in sign.
 struct Plane {
     z: usize,
     /// `value - iso` (or `iso - value`), NaN replaced by 0 (outside).
     g: Vec<f64>,
-    /// `g > 0` per sample, as 0 or 1.
-    inside: Vec<u8>,
-    /// Per square of the plane (indexed by its first sample `y * nx + x`),
-    /// the inside bits of its corners `x + 2y`: the lower or upper half of
-    /// a cell's configuration, so a cell costs two byte loads to classify.
-    square: Vec<u8>,
-    /// Local vertex index per x-edge (`(nx - 1) * ny`), or [`NONE`].
+    /// `g > 0` per sample.
+    inside: SignBits,
+    /// Local vertex index per crossed x-edge (`(nx - 1) * ny` entries).
     xe: Vec<u32>,
-    /// Local vertex index per y-edge (`nx * (ny - 1)`), or [`NONE`].
+    /// Local vertex index per crossed y-edge (`nx * (ny - 1)` entries).
     ye: Vec<u32>,
-    /// Where the sign changes along each row, to skip uniform runs of cells.
-    rows: Vec<RowSigns>,
-}
-
-/// The signs along one row of a plane, summarised: every sample before
-/// `first` has the sign `lead`, every sample from `last` on has the sign
-/// `tail` (Flying Edges' trimming).
-#[derive(Debug, Clone, Copy, Default)]
-struct RowSigns {
-    lead: bool,
-    tail: bool,
-    /// First sample whose sign differs from its predecessor (`nx` if none).
-    first: usize,
-    /// Last such sample (0 if none).
-    last: usize,
-}
-
-/// The range of positions along a row where rows with these summaries can
-/// disagree in sign or change sign: outside it all of them are uniform and
-/// equal. `shift` is 1 for cells (cell x spans samples x and x + 1) and 0 for
-/// samples.
-fn active_range(rows: &[RowSigns], shift: usize, len: usize) -> Range<usize> {
-    let lead = rows[0].lead;
-    let tail = rows[0].tail;
-    let start = if rows.iter().all(|r| r.lead == lead) {
-        rows.iter()
-            .map(|r| r.first)
-            .min()
-            .unwrap_or(0)
-            .saturating_sub(shift)
-    } else {
-        0
-    };
-    let end = if rows.iter().all(|r| r.tail == tail) {
-        rows.iter().map(|r| r.last).max().unwrap_or(len)
-    } else {
-        len
-    };
-    start.min(end)..end.min(len)
 }
 
 impl Plane {
@@ -132,11 +98,9 @@ impl Plane {
         Plane {
             z: 0,
             g: vec![0.0; nx * ny],
-            inside: vec![0; nx * ny],
-            square: vec![0; nx * ny],
+            inside: SignBits::new(nx, ny),
             xe: vec![NONE; (nx - 1) * ny],
             ye: vec![NONE; nx * (ny - 1)],
-            rows: vec![RowSigns::default(); ny],
         }
     }
 
@@ -161,63 +125,57 @@ impl Plane {
             Inside::High => (params.iso, 1.0),
             Inside::Low => (params.iso, -1.0),
         };
-        for (v, inside) in self.g.iter_mut().zip(self.inside.iter_mut()) {
-            let d = (*v - iso) * sign;
-            *v = if d.is_nan() {
-                0.0
-            } else {
-                d.clamp(-1e150, 1e150)
-            };
-            *inside = u8::from(*v > 0.0);
+        for y in 0..ny {
+            let values = &mut self.g[y * nx..(y + 1) * nx];
+            let bits = self.inside.row_mut(y);
+            for (word, chunk) in bits.iter_mut().zip(values.chunks_mut(64)) {
+                let mut w = 0u64;
+                for (j, v) in chunk.iter_mut().enumerate() {
+                    let d = (*v - iso) * sign;
+                    *v = if d.is_nan() {
+                        0.0
+                    } else {
+                        d.clamp(-1e150, 1e150)
+                    };
+                    w |= u64::from(*v > 0.0) << j;
+                }
+                *word = w;
+            }
         }
-        let (g, s) = (&self.g, &self.inside);
+        let g = &self.g;
+        let words = self.inside.words() - 1;
         let mut count = 0u32;
         for y in 0..ny {
-            let row = y * nx;
-            let signs = &s[row..row + nx];
+            let row = self.inside.row(y);
             let slots = &mut self.xe[y * (nx - 1)..(y + 1) * (nx - 1)];
-            slots.fill(NONE);
-            let mut first = nx;
-            let mut last = 0;
-            for x in 0..nx - 1 {
-                if signs[x] != signs[x + 1] {
-                    first = first.min(x + 1);
-                    last = x + 1;
+            for k in 0..words {
+                let crossed = (row[k] ^ next(row, k)) & below(nx - 1, k);
+                each_bit(crossed, k, |x| {
                     slots[x] = count;
                     count += 1;
-                    let (a, b) = (g[row + x], g[row + x + 1]);
+                    let (a, b) = (g[y * nx + x], g[y * nx + x + 1]);
                     owned.push(physical(
                         &grid,
                         [x as f64 + a / (a - b), y as f64, z as f64],
                     ));
-                }
+                    Ok::<(), Error>(())
+                })?;
             }
-            self.rows[y] = RowSigns {
-                lead: signs[0] != 0,
-                tail: signs[nx - 1] != 0,
-                first,
-                last,
-            };
         }
         for y in 0..ny - 1 {
-            let row = y * nx;
-            let (lower, upper) = (&s[row..row + nx], &s[row + nx..row + 2 * nx]);
-            let slots = &mut self.ye[row..row + nx];
-            slots.fill(NONE);
-            for x in active_range(&[self.rows[y], self.rows[y + 1]], 0, nx) {
-                if lower[x] != upper[x] {
+            let (lower, upper) = (self.inside.row(y), self.inside.row(y + 1));
+            let slots = &mut self.ye[y * nx..(y + 1) * nx];
+            for k in 0..words {
+                each_bit(lower[k] ^ upper[k], k, |x| {
                     slots[x] = count;
                     count += 1;
-                    let (a, b) = (g[row + x], g[row + nx + x]);
+                    let (a, b) = (g[y * nx + x], g[(y + 1) * nx + x]);
                     owned.push(physical(
                         &grid,
                         [x as f64, y as f64 + a / (a - b), z as f64],
                     ));
-                }
-            }
-            let squares = &mut self.square[row..row + nx - 1];
-            for (x, q) in squares.iter_mut().enumerate() {
-                *q = lower[x] | lower[x + 1] << 1 | upper[x] << 2 | upper[x + 1] << 3;
+                    Ok::<(), Error>(())
+                })?;
             }
         }
         Ok(())
@@ -257,28 +215,37 @@ pub fn process_slab(
         &mut stats,
     )?;
     let mut cell = CellMesh::new();
+    let tables = tables();
     let mut ze = vec![NONE; nx * ny];
     for z in layers.clone() {
-        let mut next = Block::default();
+        let mut next = Block::sized_like(&block);
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
-        ze.fill(NONE);
+        let words = bottom.inside.words() - 1;
         for y in 0..ny {
-            for x in active_range(&[bottom.rows[y], top.rows[y]], 0, nx) {
-                let i = y * nx + x;
-                if bottom.inside[i] != top.inside[i] {
+            let (lower, upper) = (bottom.inside.row(y), top.inside.row(y));
+            for k in 0..words {
+                each_bit(lower[k] ^ upper[k], k, |x| {
+                    let i = y * nx + x;
                     let (a, b) = (bottom.g[i], top.g[i]);
                     ze[i] = local_index(&block)?;
                     block.vertices.push(physical(
                         &grid,
                         [x as f64, y as f64, z as f64 + a / (a - b)],
                     ));
-                }
+                    Ok(())
+                })?;
             }
         }
-        layer_cells(
-            &grid, params, &bottom, &top, &ze, &mut block, &mut cell, &mut stats,
-        )?;
+        let layer = Layer {
+            grid: &grid,
+            params,
+            tables,
+            bottom: &bottom,
+            top: &top,
+            ze: &ze,
+        };
+        layer_cells(&layer, &mut block, &mut cell, &mut stats)?;
         chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
         std::mem::swap(&mut bottom, &mut top);
     }
@@ -303,92 +270,133 @@ fn local_index(block: &Block) -> Result<u32> {
     Ok(n as u32)
 }
 
-/// Triangulates the cells between planes `bottom` and `top`.
-#[allow(clippy::too_many_arguments)]
+/// What the cells of one layer are triangulated from.
+struct Layer<'a> {
+    grid: &'a Grid,
+    params: &'a ExtractParams,
+    tables: &'a Tables,
+    bottom: &'a Plane,
+    top: &'a Plane,
+    /// Local vertex index per crossed z-edge between the planes.
+    ze: &'a [u32],
+}
+
+/// Triangulates the cells between planes `bottom` and `top`, visiting only
+/// the cells whose corners are not all on one side.
 fn layer_cells(
-    grid: &Grid,
-    params: &ExtractParams,
-    bottom: &Plane,
-    top: &Plane,
-    ze: &[u32],
+    layer: &Layer,
     block: &mut Block,
     cell: &mut CellMesh,
     stats: &mut Stats,
 ) -> Result<()> {
-    let [nx, ny, _] = grid.dims;
-    let t = tables();
-    let z = bottom.z;
+    let [nx, ny, _] = layer.grid.dims;
+    let (bottom, top) = (layer.bottom, layer.top);
+    let words = bottom.inside.words() - 1;
     for y in 0..ny - 1 {
         let rows = [
-            bottom.rows[y],
-            bottom.rows[y + 1],
-            top.rows[y],
-            top.rows[y + 1],
+            bottom.inside.row(y),
+            bottom.inside.row(y + 1),
+            top.inside.row(y),
+            top.inside.row(y + 1),
         ];
-        for x in active_range(&rows, 1, nx - 1) {
-            let i = y * nx + x;
-            let config = bottom.square[i] | top.square[i] << 4;
-            if config == 0 || config == 255 {
-                continue;
-            }
-            let xi = y * (nx - 1) + x;
-            // Edge numbering of `kernel::cube`; upper-plane edges belong to
-            // the next block.
-            let edge_refs = [
-                bottom.xe[xi],
-                bottom.xe[xi + nx - 1],
-                top.xe[xi] | NEXT_BLOCK,
-                top.xe[xi + nx - 1] | NEXT_BLOCK,
-                bottom.ye[i],
-                bottom.ye[i + 1],
-                top.ye[i] | NEXT_BLOCK,
-                top.ye[i + 1] | NEXT_BLOCK,
-                ze[i],
-                ze[i + 1],
-                ze[i + nx],
-                ze[i + nx + 1],
-            ];
-            let edge_ref = |e: u8| edge_refs[e as usize];
-            let ambiguous = t.is_ambiguous[config as usize];
-            if ambiguous {
-                stats.ambiguous_cells += 1;
-            }
-            if !ambiguous || params.method == Method::Mc {
-                let range =
-                    t.mc_start[config as usize] as usize..t.mc_start[config as usize + 1] as usize;
-                for tri in &t.mc_tris[range] {
-                    block.triangles.push(tri.map(edge_ref));
+        for k in 0..words {
+            // Corner c (cube numbering, c = x + 2y + 4z) of cell x is bit x
+            // of rows[c / 2], shifted by one sample when c is odd.
+            let corners: [u64; 8] = std::array::from_fn(|c| {
+                let row = rows[c / 2];
+                if c % 2 == 0 {
+                    row[k]
+                } else {
+                    next(row, k)
                 }
-                continue;
-            }
-            let idx = [i, i + 1, i + nx, i + nx + 1];
-            let g: [f64; 8] = [
-                bottom.g[idx[0]],
-                bottom.g[idx[1]],
-                bottom.g[idx[2]],
-                bottom.g[idx[3]],
-                top.g[idx[0]],
-                top.g[idx[1]],
-                top.g[idx[2]],
-                top.g[idx[3]],
-            ];
-            cell.clear();
-            triangulate_ambiguous(&g, config, stats, cell);
-            let first_interior = local_index(block)?;
-            for p in &cell.interior {
-                let index = DVec3::new(x as f64, y as f64, z as f64) + *p;
-                block.vertices.push(physical(grid, index.to_array()));
-            }
-            for tri in &cell.triangles {
-                block.triangles.push(tri.map(|r| {
-                    if r < INTERIOR {
-                        edge_ref(r)
-                    } else {
-                        first_interior + (r - INTERIOR) as u32
-                    }
-                }));
-            }
+            });
+            let any = corners.iter().fold(0, |m, w| m | w);
+            let all = corners.iter().fold(u64::MAX, |m, w| m & w);
+            let mixed = any & !all & below(nx - 1, k);
+            each_bit(mixed, k, |x| {
+                let j = x % 64;
+                let config = corners
+                    .iter()
+                    .enumerate()
+                    .fold(0u8, |m, (c, w)| m | (((w >> j) & 1) as u8) << c);
+                cell_at(layer, block, cell, stats, x, y, config)
+            })?;
         }
+    }
+    Ok(())
+}
+
+/// Triangulates cell `(x, y)` of the layer, whose configuration `config`
+/// is neither empty nor full.
+#[inline]
+fn cell_at(
+    layer: &Layer,
+    block: &mut Block,
+    cell: &mut CellMesh,
+    stats: &mut Stats,
+    x: usize,
+    y: usize,
+    config: u8,
+) -> Result<()> {
+    let Layer {
+        grid,
+        params,
+        tables: t,
+        bottom,
+        top,
+        ze,
+    } = *layer;
+    let nx = grid.dims[0];
+    let i = y * nx + x;
+    let xi = y * (nx - 1) + x;
+    // Edge numbering of `kernel::cube`; upper-plane edges belong to the
+    // next block.
+    let edge_refs = [
+        bottom.xe[xi],
+        bottom.xe[xi + nx - 1],
+        top.xe[xi] | NEXT_BLOCK,
+        top.xe[xi + nx - 1] | NEXT_BLOCK,
+        bottom.ye[i],
+        bottom.ye[i + 1],
+        top.ye[i] | NEXT_BLOCK,
+        top.ye[i + 1] | NEXT_BLOCK,
+        ze[i],
+        ze[i + 1],
+        ze[i + nx],
+        ze[i + nx + 1],
+    ];
+    let edge_ref = |e: u8| edge_refs[e as usize];
+    let ambiguous = t.is_ambiguous[config as usize];
+    if ambiguous {
+        stats.ambiguous_cells += 1;
+    }
+    if !ambiguous || params.method == Method::Mc {
+        let range = t.mc_start[config as usize] as usize..t.mc_start[config as usize + 1] as usize;
+        for tri in &t.mc_tris[range] {
+            block.triangles.push(tri.map(edge_ref));
+        }
+        return Ok(());
+    }
+    let corners = [i, i + 1, i + nx, i + nx + 1];
+    let g: [f64; 8] = std::array::from_fn(|c| {
+        let plane = if c < 4 { bottom } else { top };
+        plane.g[corners[c % 4]]
+    });
+    cell.clear();
+    triangulate_ambiguous(&g, config, stats, cell);
+    let first_interior = local_index(block)?;
+    for p in &cell.interior {
+        let index = DVec3::new(x as f64, y as f64, bottom.z as f64) + *p;
+        block.vertices.push(physical(grid, index.to_array()));
+    }
+    for tri in &cell.triangles {
+        block.triangles.push(tri.map(|r| {
+            if r < INTERIOR {
+                edge_ref(r)
+            } else {
+                first_interior + (r - INTERIOR) as u32
+            }
+        }));
     }
     Ok(())
 }

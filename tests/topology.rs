@@ -285,6 +285,37 @@ fn random_volumes_match_the_oracle() {
     assert_eq!(cases, 3000);
 }
 
+/// Rows whose length is near a multiple of 64: the slab loop classifies 64
+/// samples to a word, so cells and edges at word ends must be seen too.
+#[test]
+fn rows_across_word_boundaries_match_the_oracle() {
+    let mut rng = Pcg64::seed_from_u64(7);
+    for (trial, nx) in [2, 3, 63, 64, 65, 66, 127, 128, 129, 130, 193]
+        .into_iter()
+        .enumerate()
+    {
+        let n = [nx, 4, 3];
+        let len = n.iter().product();
+        for kind in 0..2 {
+            let values: Vec<f64> = (0..len)
+                .map(|i| {
+                    let x = i % nx;
+                    match kind {
+                        // crossings everywhere
+                        0 => rng.gen_range(0..4) as f64,
+                        // crossings only near the ends and the word seams
+                        _ => f64::from(x == 0 || x == nx - 1 || x % 64 == 63 || x % 64 == 0) * 2.0,
+                    }
+                })
+                .collect();
+            for iso in [0.5, 1.0, 1.5] {
+                check_closed(n, &values, iso)
+                    .unwrap_or_else(|e| panic!("trial {trial} nx {nx} kind {kind} iso {iso}: {e}"));
+            }
+        }
+    }
+}
+
 /// The inner hexagon of every tunnel met in random cells: consecutive
 /// vertices differ in exactly one coordinate, and every vertex and every
 /// edge midpoint lies on the level set.

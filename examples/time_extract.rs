@@ -20,6 +20,7 @@ use clap::{Parser, ValueEnum};
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
 use std::time::Instant;
+use tmc::volume::ScalarType;
 use tmc::{extract, ArrayVolume, ExtractParams, Method, SampleSource};
 
 /// Times tmc's extraction of a volume held in memory (JSON lines on stdout).
@@ -73,8 +74,9 @@ impl MethodArg {
     }
 }
 
-/// Reads every plane of `path` into an [`ArrayVolume`].
-fn load(path: &std::path::Path) -> tmc::Result<ArrayVolume> {
+/// Reads every plane of `path` into an [`ArrayVolume`] of the file's own
+/// sample type when that is `f32` (as the peers hold it), else of `f64`.
+fn load(path: &std::path::Path) -> tmc::Result<Box<dyn SampleSource>> {
     let source = tmc::volume::open(path, None)?;
     let grid = *source.grid();
     let plane = grid.plane_len();
@@ -82,13 +84,17 @@ fn load(path: &std::path::Path) -> tmc::Result<ArrayVolume> {
     for (z, out) in data.chunks_exact_mut(plane).enumerate() {
         source.read_plane(z, out)?;
     }
-    ArrayVolume::new(grid, data)
+    if source.stored_type() == Some(ScalarType::F32) {
+        let narrow: Vec<f32> = data.iter().map(|&v| v as f32).collect();
+        return Ok(Box::new(ArrayVolume::new(grid, narrow)?));
+    }
+    Ok(Box::new(ArrayVolume::new(grid, data)?))
 }
 
 /// One extraction: seconds, triangles, vertices. The mesh is dropped after
 /// the clock stops.
 fn run_once(
-    volume: &ArrayVolume,
+    volume: &dyn SampleSource,
     iso: f64,
     method: MethodArg,
     threads: usize,
@@ -123,7 +129,7 @@ fn report(
     out.flush()
 }
 
-fn serve(volume: &ArrayVolume, iso: f64) -> Result<(), Box<dyn std::error::Error>> {
+fn serve(volume: &dyn SampleSource, iso: f64) -> Result<(), Box<dyn std::error::Error>> {
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for line in std::io::stdin().lock().lines() {
@@ -160,15 +166,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "load_seconds": load_seconds,
         });
         println!("{ready}");
-        return serve(&volume, args.iso);
+        return serve(volume.as_ref(), args.iso);
     }
     for _ in 0..args.warmup {
-        run_once(&volume, args.iso, args.method, args.threads)?;
+        run_once(volume.as_ref(), args.iso, args.method, args.threads)?;
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for _ in 0..args.runs {
-        let timing = run_once(&volume, args.iso, args.method, args.threads)?;
+        let timing = run_once(volume.as_ref(), args.iso, args.method, args.threads)?;
         report(&mut out, args.method, args.threads, timing)?;
     }
     Ok(())

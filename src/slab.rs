@@ -82,8 +82,10 @@ impl Block {
 /// the ambiguous-cell kernel only refer to edges whose ends differ in sign.
 struct Plane {
     z: usize,
-    /// `value - iso` (or `iso - value`), NaN replaced by 0 (outside).
+    /// The samples as read; [`Level::rel`] turns one into the kernel's
+    /// value where it is needed (at crossed edges and ambiguous cells).
     g: Vec<f64>,
+    level: Level,
     /// `g > 0` per sample.
     inside: SignBits,
     /// Local vertex index per crossed x-edge (`(nx - 1) * ny` entries).
@@ -92,12 +94,55 @@ struct Plane {
     ye: Vec<u32>,
 }
 
+/// Which side of the isovalue is inside, and the value the kernel sees.
+#[derive(Debug, Clone, Copy)]
+struct Level {
+    iso: f64,
+    /// 1 for `Inside::High`, -1 for `Inside::Low`.
+    sign: f64,
+}
+
+impl Level {
+    fn new(params: &ExtractParams) -> Self {
+        let sign = match params.inside {
+            Inside::High => 1.0,
+            Inside::Low => -1.0,
+        };
+        Level {
+            iso: params.iso,
+            sign,
+        }
+    }
+
+    /// `value - iso` (`iso - value` for `Inside::Low`), NaN as 0 (a tie,
+    /// outside), clamped to +-1e150 so that differences of two stay finite.
+    #[inline]
+    fn rel(self, value: f64) -> f64 {
+        let d = (value - self.iso) * self.sign;
+        if d.is_nan() {
+            0.0
+        } else {
+            d.clamp(-1e150, 1e150)
+        }
+    }
+
+    /// `rel(value) > 0`: strictly on the inside (NaN and ties are outside).
+    #[inline]
+    fn is_inside(self, value: f64) -> bool {
+        (value - self.iso) * self.sign > 0.0
+    }
+}
+
 impl Plane {
     fn new(grid: &Grid) -> Self {
         let [nx, ny, _] = grid.dims;
         Plane {
             z: 0,
             g: vec![0.0; nx * ny],
+            level: Level {
+                iso: 0.0,
+                sign: 1.0,
+            },
             inside: SignBits::new(nx, ny),
             xe: vec![NONE; (nx - 1) * ny],
             ye: vec![NONE; nx * (ny - 1)],
@@ -121,25 +166,16 @@ impl Plane {
         source.read_plane(z, &mut self.g)?;
         stats.planes_read += 1;
         stats.read_seconds += start.elapsed().as_secs_f64();
-        let (iso, sign) = match params.inside {
-            Inside::High => (params.iso, 1.0),
-            Inside::Low => (params.iso, -1.0),
-        };
+        let level = Level::new(params);
+        self.level = level;
         for y in 0..ny {
-            let values = &mut self.g[y * nx..(y + 1) * nx];
+            let values = &self.g[y * nx..(y + 1) * nx];
             let bits = self.inside.row_mut(y);
-            for (word, chunk) in bits.iter_mut().zip(values.chunks_mut(64)) {
-                let mut w = 0u64;
-                for (j, v) in chunk.iter_mut().enumerate() {
-                    let d = (*v - iso) * sign;
-                    *v = if d.is_nan() {
-                        0.0
-                    } else {
-                        d.clamp(-1e150, 1e150)
-                    };
-                    w |= u64::from(*v > 0.0) << j;
-                }
-                *word = w;
+            for (word, chunk) in bits.iter_mut().zip(values.chunks(64)) {
+                *word = chunk
+                    .iter()
+                    .enumerate()
+                    .fold(0u64, |w, (j, &v)| w | u64::from(level.is_inside(v)) << j);
             }
         }
         let g = &self.g;
@@ -153,7 +189,7 @@ impl Plane {
                 each_bit(crossed, k, |x| {
                     slots[x] = count;
                     count += 1;
-                    let (a, b) = (g[y * nx + x], g[y * nx + x + 1]);
+                    let (a, b) = (level.rel(g[y * nx + x]), level.rel(g[y * nx + x + 1]));
                     owned.push(physical(
                         &grid,
                         [x as f64 + a / (a - b), y as f64, z as f64],
@@ -169,7 +205,7 @@ impl Plane {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     slots[x] = count;
                     count += 1;
-                    let (a, b) = (g[y * nx + x], g[(y + 1) * nx + x]);
+                    let (a, b) = (level.rel(g[y * nx + x]), level.rel(g[(y + 1) * nx + x]));
                     owned.push(physical(
                         &grid,
                         [x as f64, y as f64 + a / (a - b), z as f64],
@@ -227,7 +263,7 @@ pub fn process_slab(
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     let i = y * nx + x;
-                    let (a, b) = (bottom.g[i], top.g[i]);
+                    let (a, b) = (bottom.level.rel(bottom.g[i]), top.level.rel(top.g[i]));
                     ze[i] = local_index(&block)?;
                     block.vertices.push(physical(
                         &grid,
@@ -380,7 +416,7 @@ fn cell_at(
     let corners = [i, i + 1, i + nx, i + nx + 1];
     let g: [f64; 8] = std::array::from_fn(|c| {
         let plane = if c < 4 { bottom } else { top };
-        plane.g[corners[c % 4]]
+        plane.level.rel(plane.g[corners[c % 4]])
     });
     cell.clear();
     triangulate_ambiguous(&g, config, stats, cell);

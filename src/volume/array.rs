@@ -1,18 +1,41 @@
 //! An in-memory volume, for tests and for callers that already hold samples.
+//!
+//! The samples keep their own type (`u8` ... `f64`): a caller holding a
+//! 16-bit CT in memory does not need a four times larger `f64` copy; each
+//! plane is converted when the slab loop reads it.
 
 use super::{Grid, SampleSource};
 use crate::{Error, Result};
 
-/// Samples held in memory, x fastest, then y, then z.
-#[derive(Debug, Clone)]
-pub struct ArrayVolume {
-    grid: Grid,
-    data: Vec<f64>,
+/// A sample type an [`ArrayVolume`] can hold; every one converts to `f64`
+/// exactly.
+pub trait Sample: Copy + Send + Sync + 'static {
+    /// The value as an `f64`.
+    fn to_f64(self) -> f64;
 }
 
-impl ArrayVolume {
+macro_rules! exact_sample {
+    ($($t:ty),*) => {$(
+        impl Sample for $t {
+            #[inline]
+            fn to_f64(self) -> f64 {
+                f64::from(self)
+            }
+        }
+    )*};
+}
+exact_sample!(u8, i8, u16, i16, u32, i32, f32, f64);
+
+/// Samples held in memory, x fastest, then y, then z.
+#[derive(Debug, Clone)]
+pub struct ArrayVolume<T = f64> {
+    grid: Grid,
+    data: Vec<T>,
+}
+
+impl<T: Sample> ArrayVolume<T> {
     /// Wraps `data` (length `dims[0] * dims[1] * dims[2]`) on `grid`.
-    pub fn new(grid: Grid, data: Vec<f64>) -> Result<Self> {
+    pub fn new(grid: Grid, data: Vec<T>) -> Result<Self> {
         let expected = grid.dims.iter().product::<usize>();
         if data.len() != expected {
             return Err(Error::Invalid(format!(
@@ -25,6 +48,13 @@ impl ArrayVolume {
         Ok(ArrayVolume { grid, data })
     }
 
+    /// The samples, x fastest.
+    pub fn data(&self) -> &[T] {
+        &self.data
+    }
+}
+
+impl ArrayVolume<f64> {
     /// Builds a volume with unit spacing by evaluating `f(x, y, z)` at every sample.
     pub fn from_fn(dims: [usize; 3], mut f: impl FnMut(usize, usize, usize) -> f64) -> Self {
         let mut data = Vec::with_capacity(dims.iter().product());
@@ -40,21 +70,46 @@ impl ArrayVolume {
             data,
         }
     }
-
-    /// The samples, x fastest.
-    pub fn data(&self) -> &[f64] {
-        &self.data
-    }
 }
 
-impl SampleSource for ArrayVolume {
+impl<T: Sample> SampleSource for ArrayVolume<T> {
     fn grid(&self) -> &Grid {
         &self.grid
     }
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
         let n = self.grid.plane_len();
-        out.copy_from_slice(&self.data[z * n..(z + 1) * n]);
+        for (o, v) in out.iter_mut().zip(&self.data[z * n..(z + 1) * n]) {
+            *o = v.to_f64();
+        }
         Ok(())
+    }
+
+    fn sample_bytes(&self) -> usize {
+        std::mem::size_of::<T>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn narrow_samples_read_as_their_f64_values() {
+        let grid = Grid::unit([3, 2, 2]);
+        let wide: Vec<f64> = (0..12).map(|i| f64::from(i * 5000)).collect();
+        let narrow: Vec<u16> = (0..12).map(|i| i * 5000).collect();
+        let (a, b) = (
+            ArrayVolume::new(grid, wide).unwrap(),
+            ArrayVolume::new(grid, narrow).unwrap(),
+        );
+        assert_eq!(b.sample_bytes(), 2);
+        let (mut pa, mut pb) = (vec![0.0; 6], vec![1.0; 6]);
+        for z in 0..2 {
+            a.read_plane(z, &mut pa).unwrap();
+            b.read_plane(z, &mut pb).unwrap();
+            assert_eq!(pa, pb);
+        }
+        assert!(ArrayVolume::new(grid, vec![0f32; 11]).is_err());
     }
 }

@@ -26,7 +26,7 @@ pub mod vti;
 pub mod vtk_legacy;
 pub mod write;
 
-pub use array::ArrayVolume;
+pub use array::{ArrayVolume, Sample};
 pub use padded::Padded;
 pub use raw::RawVolume;
 pub use scalar::{decode_samples, decode_strided, encode_samples, Endian, ScalarType};

@@ -80,7 +80,26 @@ pub struct Progress {
 pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mesh, Stats)> {
     let mut builder = MeshBuilder::default();
     let stats = extract_to(source, params, &PipelineOptions::default(), &mut builder)?;
-    Ok((builder.into_mesh(), stats))
+    // The chunks are joined on as many threads as the extraction used.
+    let pool = thread_pool(worker_threads(params))?;
+    Ok((pool.install(|| builder.into_mesh()), stats))
+}
+
+/// The number of worker threads `params` asks for (0: one per core).
+fn worker_threads(params: &ExtractParams) -> usize {
+    if params.threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        params.threads
+    }
+}
+
+/// A rayon pool of `threads` threads.
+fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Invalid(format!("cannot start {threads} threads: {e}")))
 }
 
 /// Extracts the isosurface of `source` at `params.iso`, streaming chunks in
@@ -125,11 +144,7 @@ pub fn extract_to(
         )));
     }
     let layers = dims[2] - 1;
-    let threads = if params.threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        params.threads
-    };
+    let threads = worker_threads(params);
     let depth = if options.slab_depth > 0 {
         options.slab_depth.min(64)
     } else {
@@ -161,10 +176,7 @@ pub fn extract_to(
             report(&seam);
         }
     } else {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|e| Error::Invalid(format!("cannot start {threads} threads: {e}")))?;
+        let pool = thread_pool(threads)?;
         // At most `window` slabs computed but not yet written.
         let window = threads + 1;
         let (tx, rx) = crossbeam::channel::unbounded();

@@ -40,10 +40,11 @@ impl<'a> Seam<'a> {
         let mut written = 0;
         while let Some((chunks, stats)) = self.pending.remove(&self.next) {
             let start = Instant::now();
-            for chunk in &chunks {
-                self.sink.chunk(self.totals.vertices, chunk)?;
-                self.totals.vertices += chunk.vertices.len() as u64;
-                self.totals.triangles += chunk.triangles.len() as u64;
+            for chunk in chunks {
+                let (vertices, triangles) = (chunk.vertices.len(), chunk.triangles.len());
+                self.sink.take_chunk(self.totals.vertices, chunk)?;
+                self.totals.vertices += vertices as u64;
+                self.totals.triangles += triangles as u64;
                 self.totals.chunks += 1;
             }
             self.stats.add_counts(&stats);

@@ -57,20 +57,54 @@ pub trait MeshSink {
     fn begin(&mut self, info: &MeshInfo) -> Result<()>;
     /// One chunk; `base` is the global index of its first vertex.
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()>;
+    /// The same, handing the chunk over: a sink that keeps chunks (the
+    /// in-memory [`MeshBuilder`]) takes them without copying. By default
+    /// the same as [`MeshSink::chunk`].
+    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
+        self.chunk(base, &chunk)
+    }
     /// Called once after the last chunk; a file sink commits its output here.
     fn finish(&mut self, totals: &Totals) -> Result<()>;
 }
 
 /// Builds an in-memory [`Mesh`] (32-bit indices).
+///
+/// Chunks are kept as they come and joined once at the end, into vectors of
+/// exactly the final size, several chunks at a time on rayon's current pool:
+/// a mesh grown chunk by chunk would be copied again at every doubling and
+/// fault in its pages on the thread that feeds the workers.
 #[derive(Debug, Default)]
 pub struct MeshBuilder {
-    mesh: Mesh,
+    chunks: Vec<(u64, Chunk)>,
+    vertices: u64,
+    triangles: usize,
 }
 
 impl MeshBuilder {
     /// The mesh built so far.
     pub fn into_mesh(self) -> Mesh {
-        self.mesh
+        use rayon::prelude::*;
+        let mut vertices = vec![[0.0f32; 3]; self.vertices as usize];
+        let mut triangles = vec![[0u32; 3]; self.triangles];
+        let mut jobs = Vec::with_capacity(self.chunks.len());
+        let (mut v_rest, mut t_rest) = (&mut vertices[..], &mut triangles[..]);
+        for (base, chunk) in &self.chunks {
+            let (v, vr) = std::mem::take(&mut v_rest).split_at_mut(chunk.vertices.len());
+            let (t, tr) = std::mem::take(&mut t_rest).split_at_mut(chunk.triangles.len());
+            (v_rest, t_rest) = (vr, tr);
+            jobs.push((*base as u32, chunk, v, t));
+        }
+        jobs.into_par_iter().for_each(|(base, chunk, v, t)| {
+            v.copy_from_slice(&chunk.vertices);
+            // May point into the next chunk, whose own check bounds it.
+            for (out, tri) in t.iter_mut().zip(&chunk.triangles) {
+                *out = tri.map(|i| base + i);
+            }
+        });
+        Mesh {
+            vertices,
+            triangles,
+        }
     }
 }
 
@@ -80,6 +114,10 @@ impl MeshSink for MeshBuilder {
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
+        self.take_chunk(base, chunk.clone())
+    }
+
+    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
         let end = base + chunk.vertices.len() as u64;
         if end > u32::MAX as u64 {
             return Err(Error::Invalid(format!(
@@ -87,14 +125,9 @@ impl MeshSink for MeshBuilder {
                 u32::MAX
             )));
         }
-        self.mesh.vertices.extend_from_slice(&chunk.vertices);
-        // May point into the next chunk, whose own check bounds it.
-        self.mesh.triangles.extend(
-            chunk
-                .triangles
-                .iter()
-                .map(|t| t.map(|i| (base + i as u64) as u32)),
-        );
+        self.vertices = end;
+        self.triangles += chunk.triangles.len();
+        self.chunks.push((base, chunk));
         Ok(())
     }
 

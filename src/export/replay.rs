@@ -16,7 +16,7 @@ pub fn replay(reader: &mut TmeshReader, sink: &mut dyn MeshSink) -> Result<Total
     for i in 0..count {
         let base = reader.entries()[i].vertex_base;
         let chunk = reader.chunk(i)?;
-        sink.chunk(base, &chunk)?;
+        sink.take_chunk(base, chunk)?;
     }
     let totals = Totals {
         vertices: reader.vertices(),

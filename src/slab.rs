@@ -19,7 +19,7 @@ use crate::kernel::tables::{tables, Tables};
 use crate::kernel::{triangulate_ambiguous, CellMesh};
 use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
-use crate::volume::Access;
+use crate::volume::{Access, IDENTITY};
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use bits::{below, each_bit, next, SignBits};
 use glam::DVec3;
@@ -45,17 +45,19 @@ impl Block {
     /// this block's own vertices. A mirroring index-to-world map reverses the
     /// winding, so that triangles stay counter-clockwise seen from outside.
     fn into_chunk(mut self, plane: usize, mirrored: bool) -> Chunk {
-        let own = self.vertices.len() as u32;
-        let resolve = |r: u32| {
-            if r & NEXT_BLOCK != 0 {
-                own + (r & !NEXT_BLOCK)
-            } else {
-                r
+        // A tagged reference `NEXT_BLOCK + r` becomes `own + r`, without a
+        // branch: the tag bit selects the offset (wrapping arithmetic).
+        let shift = (self.vertices.len() as u32).wrapping_sub(NEXT_BLOCK);
+        let resolve = |r: u32| r.wrapping_add(shift & 0u32.wrapping_sub(r >> 31));
+        if mirrored {
+            for t in &mut self.triangles {
+                let [a, b, c] = t.map(resolve);
+                *t = [a, c, b];
             }
-        };
-        for t in &mut self.triangles {
-            let [a, b, c] = t.map(resolve);
-            *t = if mirrored { [a, c, b] } else { [a, b, c] };
+        } else {
+            for r in self.triangles.as_flattened_mut() {
+                *r = resolve(*r);
+            }
         }
         Chunk {
             plane: plane as u64,
@@ -125,12 +127,6 @@ impl Level {
             d.clamp(-1e150, 1e150)
         }
     }
-
-    /// `rel(value) > 0`: strictly on the inside (NaN and ties are outside).
-    #[inline]
-    fn is_inside(self, value: f64) -> bool {
-        (value - self.iso) * self.sign > 0.0
-    }
 }
 
 impl Plane {
@@ -159,8 +155,8 @@ impl Plane {
         owned: &mut Vec<[f32; 3]>,
         stats: &mut Stats,
     ) -> Result<()> {
-        let grid = *source.grid();
-        let [nx, ny, _] = grid.dims;
+        let place = Placement::new(source.grid());
+        let [nx, ny, _] = place.grid.dims;
         self.z = z;
         let start = Instant::now();
         source.read_plane(z, &mut self.g)?;
@@ -171,11 +167,13 @@ impl Plane {
         for y in 0..ny {
             let values = &self.g[y * nx..(y + 1) * nx];
             let bits = self.inside.row_mut(y);
-            for (word, chunk) in bits.iter_mut().zip(values.chunks(64)) {
-                *word = chunk
-                    .iter()
-                    .enumerate()
-                    .fold(0u64, |w, (j, &v)| w | u64::from(level.is_inside(v)) << j);
+            // Inside means `rel(v) > 0`: for a finite isovalue that is one
+            // plain comparison (NaN compares false either way, a tie is
+            // outside), which lets the packing loop vectorise.
+            if level.sign > 0.0 {
+                pack_bits(values, bits, |v| v > level.iso);
+            } else {
+                pack_bits(values, bits, |v| v < level.iso);
             }
         }
         let g = &self.g;
@@ -190,10 +188,7 @@ impl Plane {
                     slots[x] = count;
                     count += 1;
                     let (a, b) = (level.rel(g[y * nx + x]), level.rel(g[y * nx + x + 1]));
-                    owned.push(physical(
-                        &grid,
-                        [x as f64 + a / (a - b), y as f64, z as f64],
-                    ));
+                    owned.push(place.at([x as f64 + a / (a - b), y as f64, z as f64]));
                     Ok::<(), Error>(())
                 })?;
             }
@@ -206,10 +201,7 @@ impl Plane {
                     slots[x] = count;
                     count += 1;
                     let (a, b) = (level.rel(g[y * nx + x]), level.rel(g[(y + 1) * nx + x]));
-                    owned.push(physical(
-                        &grid,
-                        [x as f64, y as f64 + a / (a - b), z as f64],
-                    ));
+                    owned.push(place.at([x as f64, y as f64 + a / (a - b), z as f64]));
                     Ok::<(), Error>(())
                 })?;
             }
@@ -218,9 +210,49 @@ impl Plane {
     }
 }
 
-/// The world position of a grid index, rounded to f32.
-fn physical(grid: &Grid, index: [f64; 3]) -> [f32; 3] {
-    grid.world(index).map(|c| c as f32)
+/// Sets bit `j` of word `k` of `bits` when `inside(values[64 k + j])`.
+#[inline(always)]
+fn pack_bits(values: &[f64], bits: &mut [u64], inside: impl Fn(f64) -> bool) {
+    for (word, chunk) in bits.iter_mut().zip(values.chunks(64)) {
+        let mut w = 0u64;
+        for (j, eight) in chunk.chunks(8).enumerate() {
+            let byte = eight
+                .iter()
+                .enumerate()
+                .fold(0u64, |b, (i, &v)| b | u64::from(inside(v)) << i);
+            w |= byte << (8 * j);
+        }
+        *word = w;
+    }
+}
+
+/// The grid's index-to-world map, rounded to f32, with a shortcut for the
+/// usual axis-aligned grid (bit for bit the same result: the zero terms of
+/// an identity direction add nothing).
+#[derive(Clone, Copy)]
+struct Placement {
+    grid: Grid,
+    axis_aligned: bool,
+}
+
+impl Placement {
+    fn new(grid: &Grid) -> Self {
+        Placement {
+            grid: *grid,
+            axis_aligned: grid.direction == IDENTITY,
+        }
+    }
+
+    /// The world position of a (fractional) grid index.
+    #[inline]
+    fn at(&self, index: [f64; 3]) -> [f32; 3] {
+        let g = &self.grid;
+        if self.axis_aligned {
+            std::array::from_fn(|i| (g.origin[i] + index[i] * g.spacing[i]) as f32)
+        } else {
+            g.world(index).map(|c| c as f32)
+        }
+    }
 }
 
 /// Processes cell layers `layers` and returns one chunk per layer (plus the
@@ -235,6 +267,7 @@ pub fn process_slab(
     let [nx, ny, nz] = grid.dims;
     let start = Instant::now();
     let mirrored = grid.is_mirrored();
+    let place = Placement::new(&grid);
     let mut stats = Stats::default();
     let mut chunks = Vec::with_capacity(layers.len() + 1);
     let mut block = Block::default();
@@ -265,16 +298,15 @@ pub fn process_slab(
                     let i = y * nx + x;
                     let (a, b) = (bottom.level.rel(bottom.g[i]), top.level.rel(top.g[i]));
                     ze[i] = local_index(&block)?;
-                    block.vertices.push(physical(
-                        &grid,
-                        [x as f64, y as f64, z as f64 + a / (a - b)],
-                    ));
+                    block
+                        .vertices
+                        .push(place.at([x as f64, y as f64, z as f64 + a / (a - b)]));
                     Ok(())
                 })?;
             }
         }
         let layer = Layer {
-            grid: &grid,
+            place: &place,
             params,
             tables,
             bottom: &bottom,
@@ -308,7 +340,7 @@ fn local_index(block: &Block) -> Result<u32> {
 
 /// What the cells of one layer are triangulated from.
 struct Layer<'a> {
-    grid: &'a Grid,
+    place: &'a Placement,
     params: &'a ExtractParams,
     tables: &'a Tables,
     bottom: &'a Plane,
@@ -325,7 +357,7 @@ fn layer_cells(
     cell: &mut CellMesh,
     stats: &mut Stats,
 ) -> Result<()> {
-    let [nx, ny, _] = layer.grid.dims;
+    let [nx, ny, _] = layer.place.grid.dims;
     let (bottom, top) = (layer.bottom, layer.top);
     let words = bottom.inside.words() - 1;
     for y in 0..ny - 1 {
@@ -375,14 +407,14 @@ fn cell_at(
     config: u8,
 ) -> Result<()> {
     let Layer {
-        grid,
+        place,
         params,
         tables: t,
         bottom,
         top,
         ze,
     } = *layer;
-    let nx = grid.dims[0];
+    let nx = place.grid.dims[0];
     let i = y * nx + x;
     let xi = y * (nx - 1) + x;
     // Edge numbering of `kernel::cube`; upper-plane edges belong to the
@@ -423,7 +455,7 @@ fn cell_at(
     let first_interior = local_index(block)?;
     for p in &cell.interior {
         let index = DVec3::new(x as f64, y as f64, bottom.z as f64) + *p;
-        block.vertices.push(physical(grid, index.to_array()));
+        block.vertices.push(place.at(index.to_array()));
     }
     for tri in &cell.triangles {
         block.triangles.push(tri.map(|r| {

@@ -56,12 +56,15 @@ enum MethodArg {
     Tmc,
     /// Standard marching cubes.
     Mc,
+    /// No extraction: one pass over the samples in memory (their maximum),
+    /// the memory-bandwidth floor an extraction is compared with.
+    Pass,
 }
 
 impl MethodArg {
     fn method(self) -> Method {
         match self {
-            MethodArg::Tmc => Method::Tmc,
+            MethodArg::Tmc | MethodArg::Pass => Method::Tmc,
             MethodArg::Mc => Method::Mc,
         }
     }
@@ -70,13 +73,53 @@ impl MethodArg {
         match self {
             MethodArg::Tmc => "tmc",
             MethodArg::Mc => "mc",
+            MethodArg::Pass => "pass",
         }
+    }
+}
+
+/// A volume held in memory, as `f32` (as the peers hold it) or `f64`.
+enum Loaded {
+    F32(ArrayVolume<f32>),
+    F64(ArrayVolume<f64>),
+}
+
+impl Loaded {
+    fn source(&self) -> &dyn SampleSource {
+        match self {
+            Loaded::F32(v) => v,
+            Loaded::F64(v) => v,
+        }
+    }
+
+    /// One pass over every sample (their maximum) on `threads` threads,
+    /// in slabs of planes like the extraction: the bandwidth floor.
+    fn pass(&self, threads: usize) -> tmc::Result<f64> {
+        use rayon::prelude::*;
+        let plane = self.source().grid().plane_len();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| tmc::Error::Invalid(e.to_string()))?;
+        let max = pool.install(|| match self {
+            Loaded::F32(v) => v
+                .data()
+                .par_chunks(plane * 16)
+                .map(|c| c.iter().fold(f32::MIN, |m, &x| m.max(x)) as f64)
+                .reduce(|| f64::MIN, f64::max),
+            Loaded::F64(v) => v
+                .data()
+                .par_chunks(plane * 16)
+                .map(|c| c.iter().fold(f64::MIN, |m, &x| m.max(x)))
+                .reduce(|| f64::MIN, f64::max),
+        });
+        Ok(max)
     }
 }
 
 /// Reads every plane of `path` into an [`ArrayVolume`] of the file's own
 /// sample type when that is `f32` (as the peers hold it), else of `f64`.
-fn load(path: &std::path::Path) -> tmc::Result<Box<dyn SampleSource>> {
+fn load(path: &std::path::Path) -> tmc::Result<Loaded> {
     let source = tmc::volume::open(path, None)?;
     let grid = *source.grid();
     let plane = grid.plane_len();
@@ -86,19 +129,25 @@ fn load(path: &std::path::Path) -> tmc::Result<Box<dyn SampleSource>> {
     }
     if source.stored_type() == Some(ScalarType::F32) {
         let narrow: Vec<f32> = data.iter().map(|&v| v as f32).collect();
-        return Ok(Box::new(ArrayVolume::new(grid, narrow)?));
+        return Ok(Loaded::F32(ArrayVolume::new(grid, narrow)?));
     }
-    Ok(Box::new(ArrayVolume::new(grid, data)?))
+    Ok(Loaded::F64(ArrayVolume::new(grid, data)?))
 }
 
 /// One extraction: seconds, triangles, vertices. The mesh is dropped after
 /// the clock stops.
 fn run_once(
-    volume: &dyn SampleSource,
+    volume: &Loaded,
     iso: f64,
     method: MethodArg,
     threads: usize,
 ) -> tmc::Result<(f64, u64, u64)> {
+    if let MethodArg::Pass = method {
+        let start = Instant::now();
+        std::hint::black_box(volume.pass(threads)?);
+        return Ok((start.elapsed().as_secs_f64(), 0, 0));
+    }
+    let volume = volume.source();
     let params = ExtractParams {
         iso,
         method: method.method(),
@@ -129,7 +178,7 @@ fn report(
     out.flush()
 }
 
-fn serve(volume: &dyn SampleSource, iso: f64) -> Result<(), Box<dyn std::error::Error>> {
+fn serve(volume: &Loaded, iso: f64) -> Result<(), Box<dyn std::error::Error>> {
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for line in std::io::stdin().lock().lines() {
@@ -162,19 +211,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if args.serve {
         let ready = serde_json::json!({
             "ready": true,
-            "dims": volume.grid().dims,
+            "dims": volume.source().grid().dims,
             "load_seconds": load_seconds,
         });
         println!("{ready}");
-        return serve(volume.as_ref(), args.iso);
+        return serve(&volume, args.iso);
     }
     for _ in 0..args.warmup {
-        run_once(volume.as_ref(), args.iso, args.method, args.threads)?;
+        run_once(&volume, args.iso, args.method, args.threads)?;
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for _ in 0..args.runs {
-        let timing = run_once(volume.as_ref(), args.iso, args.method, args.threads)?;
+        let timing = run_once(&volume, args.iso, args.method, args.threads)?;
         report(&mut out, args.method, args.threads, timing)?;
     }
     Ok(())

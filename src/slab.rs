@@ -19,7 +19,7 @@ use crate::kernel::tables::{tables, Tables};
 use crate::kernel::{triangulate_ambiguous, CellMesh};
 use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
-use crate::volume::{Access, IDENTITY};
+use crate::volume::{Access, LentPlane, Sample, IDENTITY};
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use bits::{below, each_bit, next, SignBits};
 use glam::DVec3;
@@ -82,13 +82,14 @@ impl Block {
 /// Edge caches are written for crossed edges only: an entry of an edge
 /// without a sign change is stale, and never read, because the tables and
 /// the ambiguous-cell kernel only refer to edges whose ends differ in sign.
-struct Plane {
+struct Plane<'s> {
     z: usize,
-    /// The samples as read; [`Level::rel`] turns one into the kernel's
-    /// value where it is needed (at crossed edges and ambiguous cells).
-    g: Vec<f64>,
+    /// The samples as the source lends them, if it does; else `read`.
+    lent: Option<LentPlane<'s>>,
+    /// The samples as read, when the source lends none.
+    read: Vec<f64>,
     level: Level,
-    /// `g > 0` per sample.
+    /// `rel(sample) > 0` per sample.
     inside: SignBits,
     /// Local vertex index per crossed x-edge (`(nx - 1) * ny` entries).
     xe: Vec<u32>,
@@ -129,12 +130,13 @@ impl Level {
     }
 }
 
-impl Plane {
+impl<'s> Plane<'s> {
     fn new(grid: &Grid) -> Self {
         let [nx, ny, _] = grid.dims;
         Plane {
             z: 0,
-            g: vec![0.0; nx * ny],
+            lent: None,
+            read: Vec::new(),
             level: Level {
                 iso: 0.0,
                 sign: 1.0,
@@ -145,11 +147,17 @@ impl Plane {
         }
     }
 
+    /// The kernel's value of sample `i` (see [`Level::rel`]).
+    #[inline]
+    fn rel(&self, i: usize) -> f64 {
+        rel_at(self.lent, &self.read, self.level, i)
+    }
+
     /// Reads and classifies plane `z`; appends the positions of its edge
     /// vertices to `owned`.
     fn load(
         &mut self,
-        source: &dyn SampleSource,
+        source: &'s dyn SampleSource,
         params: &ExtractParams,
         z: usize,
         owned: &mut Vec<[f32; 3]>,
@@ -159,24 +167,28 @@ impl Plane {
         let [nx, ny, _] = place.grid.dims;
         self.z = z;
         let start = Instant::now();
-        source.read_plane(z, &mut self.g)?;
+        self.lent = source.lend_plane(z).filter(|p| p.len() == nx * ny);
+        if self.lent.is_none() {
+            self.read.resize(nx * ny, 0.0);
+            source.read_plane(z, &mut self.read)?;
+        }
         stats.planes_read += 1;
         stats.read_seconds += start.elapsed().as_secs_f64();
         let level = Level::new(params);
         self.level = level;
-        for y in 0..ny {
-            let values = &self.g[y * nx..(y + 1) * nx];
-            let bits = self.inside.row_mut(y);
-            // Inside means `rel(v) > 0`: for a finite isovalue that is one
-            // plain comparison (NaN compares false either way, a tie is
-            // outside), which lets the packing loop vectorise.
-            if level.sign > 0.0 {
-                pack_bits(values, bits, |v| v > level.iso);
-            } else {
-                pack_bits(values, bits, |v| v < level.iso);
-            }
+        match self.lent {
+            None => classify(&self.read, nx, level, &mut self.inside),
+            Some(LentPlane::U8(s)) => classify(s, nx, level, &mut self.inside),
+            Some(LentPlane::I8(s)) => classify(s, nx, level, &mut self.inside),
+            Some(LentPlane::U16(s)) => classify(s, nx, level, &mut self.inside),
+            Some(LentPlane::I16(s)) => classify(s, nx, level, &mut self.inside),
+            Some(LentPlane::U32(s)) => classify(s, nx, level, &mut self.inside),
+            Some(LentPlane::I32(s)) => classify(s, nx, level, &mut self.inside),
+            Some(LentPlane::F32(s)) => classify(s, nx, level, &mut self.inside),
+            Some(LentPlane::F64(s)) => classify(s, nx, level, &mut self.inside),
         }
-        let g = &self.g;
+        let (lent, read) = (self.lent, &self.read);
+        let rel = |i: usize| rel_at(lent, read, level, i);
         let words = self.inside.words() - 1;
         let mut count = 0u32;
         for y in 0..ny {
@@ -187,7 +199,7 @@ impl Plane {
                 each_bit(crossed, k, |x| {
                     slots[x] = count;
                     count += 1;
-                    let (a, b) = (level.rel(g[y * nx + x]), level.rel(g[y * nx + x + 1]));
+                    let (a, b) = (rel(y * nx + x), rel(y * nx + x + 1));
                     owned.push(place.at([x as f64 + a / (a - b), y as f64, z as f64]));
                     Ok::<(), Error>(())
                 })?;
@@ -200,7 +212,7 @@ impl Plane {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     slots[x] = count;
                     count += 1;
-                    let (a, b) = (level.rel(g[y * nx + x]), level.rel(g[(y + 1) * nx + x]));
+                    let (a, b) = (rel(y * nx + x), rel((y + 1) * nx + x));
                     owned.push(place.at([x as f64, y as f64 + a / (a - b), z as f64]));
                     Ok::<(), Error>(())
                 })?;
@@ -210,9 +222,35 @@ impl Plane {
     }
 }
 
+/// The kernel's value of sample `i` of a plane, lent or read.
+#[inline(always)]
+fn rel_at(lent: Option<LentPlane>, read: &[f64], level: Level, i: usize) -> f64 {
+    let value = match lent {
+        Some(samples) => samples.get(i),
+        None => read[i],
+    };
+    level.rel(value)
+}
+
+/// Sets the inside bits of a plane of `samples`, rows of `nx`.
+///
+/// Inside means `rel(v) > 0`: for a finite isovalue that is one plain
+/// comparison in `f64` (exact for every sample type; NaN compares false
+/// either way, a tie is outside), which lets the packing loop vectorise.
+fn classify<T: Sample>(samples: &[T], nx: usize, level: Level, inside: &mut SignBits) {
+    for (y, values) in samples.chunks_exact(nx).enumerate() {
+        let bits = inside.row_mut(y);
+        if level.sign > 0.0 {
+            pack_bits(values, bits, |v| v.to_f64() > level.iso);
+        } else {
+            pack_bits(values, bits, |v| v.to_f64() < level.iso);
+        }
+    }
+}
+
 /// Sets bit `j` of word `k` of `bits` when `inside(values[64 k + j])`.
 #[inline(always)]
-fn pack_bits(values: &[f64], bits: &mut [u64], inside: impl Fn(f64) -> bool) {
+fn pack_bits<T: Copy>(values: &[T], bits: &mut [u64], inside: impl Fn(T) -> bool) {
     for (word, chunk) in bits.iter_mut().zip(values.chunks(64)) {
         let mut w = 0u64;
         for (j, eight) in chunk.chunks(8).enumerate() {
@@ -296,7 +334,7 @@ pub fn process_slab(
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     let i = y * nx + x;
-                    let (a, b) = (bottom.level.rel(bottom.g[i]), top.level.rel(top.g[i]));
+                    let (a, b) = (bottom.rel(i), top.rel(i));
                     ze[i] = local_index(&block)?;
                     block
                         .vertices
@@ -343,8 +381,8 @@ struct Layer<'a> {
     place: &'a Placement,
     params: &'a ExtractParams,
     tables: &'a Tables,
-    bottom: &'a Plane,
-    top: &'a Plane,
+    bottom: &'a Plane<'a>,
+    top: &'a Plane<'a>,
     /// Local vertex index per crossed z-edge between the planes.
     ze: &'a [u32],
 }
@@ -448,7 +486,7 @@ fn cell_at(
     let corners = [i, i + 1, i + nx, i + nx + 1];
     let g: [f64; 8] = std::array::from_fn(|c| {
         let plane = if c < 4 { bottom } else { top };
-        plane.level.rel(plane.g[corners[c % 4]])
+        plane.rel(corners[c % 4])
     });
     cell.clear();
     triangulate_ambiguous(&g, config, stats, cell);

@@ -844,3 +844,88 @@ fn decode_is_exact_and_keeps_nan() {
     volume::decode_strided(ScalarType::U8, Endian::Little, &bytes, 0, 2, &mut out);
     assert_eq!(out, [1.0, 2.0, 3.0]);
 }
+
+/// Lent planes (memory-mapped samples used as stored) hold the same values
+/// as `read_plane`, for every type; planes that cannot be lent (unaligned,
+/// foreign byte order) are not; and an extraction gives the same mesh
+/// either way.
+#[test]
+fn lent_planes_match_read_planes_and_give_the_same_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let dims = [9usize, 7, 5];
+    let n: usize = dims.iter().product();
+    let all = [
+        ScalarType::U8,
+        ScalarType::I8,
+        ScalarType::U16,
+        ScalarType::I16,
+        ScalarType::U32,
+        ScalarType::I32,
+        ScalarType::F32,
+        ScalarType::F64,
+    ];
+    for scalar in all {
+        // A blob with a few extremes first (NaN, infinities for floats).
+        let value = |i: usize| {
+            let [x, y, z] = [i % dims[0], i / dims[0] % dims[1], i / (dims[0] * dims[1])];
+            let r =
+                ((x as f64 - 4.0).powi(2) + (y as f64 - 3.0).powi(2) + (z as f64 - 2.0).powi(2))
+                    .sqrt();
+            if i < 5 {
+                sample_value(scalar, i)
+            } else {
+                (r * 20.0).round()
+            }
+        };
+        let mut lent_paths = Vec::new();
+        for (header, endian) in [
+            (0u64, Endian::native()),
+            (1, Endian::native()),
+            (0, Endian::Big),
+        ] {
+            let mut bytes = vec![0u8; header as usize];
+            for i in 0..n {
+                bytes.extend(encode(scalar, endian, value(i)));
+            }
+            let path = write_file(dir.path(), &format!("v{header}{endian:?}.raw"), &bytes);
+            let options = RawOptions {
+                dims,
+                scalar,
+                endian,
+                header_bytes: header,
+                spacing: [1.0; 3],
+                origin: [0.0; 3],
+            };
+            let raw = volume::RawVolume::open(&path, &options).unwrap();
+            let what = format!("{scalar:?} header {header} {endian:?}");
+            let aligned = header as usize % scalar.size() == 0;
+            let can_lend = aligned && endian == Endian::native();
+            let mut plane = vec![0.0; dims[0] * dims[1]];
+            for z in 0..dims[2] {
+                raw.read_plane(z, &mut plane).unwrap();
+                match raw.lend_plane(z) {
+                    Some(lent) => {
+                        assert!(can_lend, "{what}: lent a plane it cannot lend");
+                        let got: Vec<f64> = (0..lent.len()).map(|i| lent.get(i)).collect();
+                        assert_same(&got, &plane, &what);
+                    }
+                    None => assert!(!can_lend, "{what}: did not lend plane {z}"),
+                }
+            }
+            lent_paths.push((raw, what));
+        }
+        let params = tmc::ExtractParams {
+            iso: 30.5,
+            threads: 1,
+            ..Default::default()
+        };
+        let meshes: Vec<_> = lent_paths
+            .iter()
+            .map(|(raw, what)| (tmc::extract(raw, &params).unwrap().0, what))
+            .collect();
+        assert!(!meshes[0].0.triangles.is_empty(), "{scalar:?}: empty mesh");
+        for (mesh, what) in &meshes[1..] {
+            assert_eq!(mesh, &meshes[0].0, "{what}: mesh differs from the lent one");
+        }
+    }
+}

@@ -4,7 +4,7 @@
 //! 16-bit CT in memory does not need a four times larger `f64` copy; each
 //! plane is converted when the slab loop reads it.
 
-use super::{Grid, SampleSource};
+use super::{Grid, LentPlane, SampleSource};
 use crate::{Error, Result};
 
 /// A sample type an [`ArrayVolume`] can hold; every one converts to `f64`
@@ -12,19 +12,24 @@ use crate::{Error, Result};
 pub trait Sample: Copy + Send + Sync + 'static {
     /// The value as an `f64`.
     fn to_f64(self) -> f64;
+    /// Samples of this type as a [`LentPlane`].
+    fn lend(samples: &[Self]) -> LentPlane<'_>;
 }
 
 macro_rules! exact_sample {
-    ($($t:ty),*) => {$(
+    ($($t:ty => $v:ident),*) => {$(
         impl Sample for $t {
             #[inline]
             fn to_f64(self) -> f64 {
                 f64::from(self)
             }
+            fn lend(samples: &[Self]) -> LentPlane<'_> {
+                LentPlane::$v(samples)
+            }
         }
     )*};
 }
-exact_sample!(u8, i8, u16, i16, u32, i32, f32, f64);
+exact_sample!(u8 => U8, i8 => I8, u16 => U16, i16 => I16, u32 => U32, i32 => I32, f32 => F32, f64 => F64);
 
 /// Samples held in memory, x fastest, then y, then z.
 #[derive(Debug, Clone)]
@@ -83,6 +88,11 @@ impl<T: Sample> SampleSource for ArrayVolume<T> {
             *o = v.to_f64();
         }
         Ok(())
+    }
+
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        let n = self.grid.plane_len();
+        self.data.get(z * n..(z + 1) * n).map(T::lend)
     }
 
     fn sample_bytes(&self) -> usize {

@@ -8,6 +8,7 @@
 
 mod array;
 pub mod dicom;
+mod lent;
 pub mod metaimage;
 pub mod nifti;
 pub mod npy;
@@ -27,6 +28,7 @@ pub mod vtk_legacy;
 pub mod write;
 
 pub use array::{ArrayVolume, Sample};
+pub use lent::LentPlane;
 pub use padded::Padded;
 pub use raw::RawVolume;
 pub use scalar::{decode_samples, decode_strided, encode_samples, Endian, ScalarType};
@@ -106,6 +108,15 @@ pub trait SampleSource: Sync {
     /// Writes the samples of plane `z` (x fastest) into `out`, whose length
     /// is `grid().plane_len()`.
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()>;
+
+    /// Plane `z` as stored, when the source holds it in memory in native
+    /// byte order and without scaling, so that no `f64` copy is needed;
+    /// `None` (the default) makes the caller use [`SampleSource::read_plane`].
+    /// Both must give the same values.
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        let _ = z;
+        None
+    }
 
     /// A hint about planes `planes`: they will be read soon, or this reader
     /// of them is done. A memory-mapped source passes it to the kernel, so

@@ -26,7 +26,7 @@ pub(crate) use super::nrrd_header::{read_line, MAX_HEADER};
 use super::nrrd_pattern::format_number;
 use super::raw::dims_text;
 use super::slab_stack::SlabStack;
-use super::{Access, Endian, Grid, SampleSource, ScalarType};
+use super::{Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::BufReader;
@@ -75,6 +75,10 @@ impl SampleSource for NrrdVolume {
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
         self.data.read_plane(z, out)
+    }
+
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        self.data.lend_plane(z)
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

@@ -6,7 +6,7 @@
 //! [`RawVolume`] over the data that follows.
 
 use super::scalar::{decode_samples, decode_strided};
-use super::{Access, Endian, Grid, RawOptions, SampleSource, ScalarType};
+use super::{Access, Endian, Grid, LentPlane, RawOptions, SampleSource, ScalarType};
 use crate::{Error, Result};
 use memmap2::{Advice, Mmap, UncheckedAdvice};
 use std::fmt;
@@ -248,6 +248,29 @@ impl SampleSource for RawVolume {
             }
         }
         Ok(())
+    }
+
+    /// Lends x-fastest planes in native byte order whose bytes are aligned
+    /// for their type (a header of odd length leaves them unaligned: those
+    /// are decoded by `read_plane`).
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        if self.order != Order::XFastest || self.endian != Endian::native() {
+            return None;
+        }
+        let plane = self.grid.plane_len() * self.scalar.size();
+        let start = self.offset + z.checked_mul(plane)?;
+        let bytes = self.storage.bytes().get(start..start.checked_add(plane)?)?;
+        let lent = match self.scalar {
+            ScalarType::U8 => LentPlane::U8(bytes),
+            ScalarType::I8 => LentPlane::I8(bytemuck::try_cast_slice(bytes).ok()?),
+            ScalarType::U16 => LentPlane::U16(bytemuck::try_cast_slice(bytes).ok()?),
+            ScalarType::I16 => LentPlane::I16(bytemuck::try_cast_slice(bytes).ok()?),
+            ScalarType::U32 => LentPlane::U32(bytemuck::try_cast_slice(bytes).ok()?),
+            ScalarType::I32 => LentPlane::I32(bytemuck::try_cast_slice(bytes).ok()?),
+            ScalarType::F32 => LentPlane::F32(bytemuck::try_cast_slice(bytes).ok()?),
+            ScalarType::F64 => LentPlane::F64(bytemuck::try_cast_slice(bytes).ok()?),
+        };
+        Some(lent)
     }
 
     fn sample_bytes(&self) -> usize {

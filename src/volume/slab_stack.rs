@@ -6,7 +6,7 @@
 //! bytes), so nothing is read before the slab loop asks for a plane;
 //! plane `z` lives in file `z / depth` at plane `z % depth`.
 
-use super::{Access, Grid, RawVolume, SampleSource};
+use super::{Access, Grid, LentPlane, RawVolume, SampleSource};
 use crate::{Error, Result};
 use std::ops::Range;
 
@@ -49,6 +49,10 @@ impl SampleSource for SlabStack {
             ))
         })?;
         slab.read_plane(z % self.depth, out)
+    }
+
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        self.slabs.get(z / self.depth)?.lend_plane(z % self.depth)
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

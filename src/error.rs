@@ -19,6 +19,16 @@ pub enum Error {
     /// The options are invalid (bad isovalue, unknown extension, ...).
     #[error("{0}")]
     Invalid(String),
+    /// The extraction was cancelled through
+    /// [`PipelineOptions::cancel`](crate::PipelineOptions::cancel) (the CLI
+    /// sets that flag on SIGINT or SIGTERM).
+    #[error("interrupted")]
+    Interrupted,
+    /// Memory for the named purpose could not be had: `--max-memory` is too
+    /// small for the pipeline, or an allocation proportional to the input or
+    /// the output failed.
+    #[error("{0}")]
+    OutOfMemory(String),
 }
 
 /// Result alias for the crate.
@@ -32,4 +42,22 @@ impl Error {
             source,
         }
     }
+
+    /// An [`Error::OutOfMemory`] for a failed reservation of `count` items
+    /// of `T` for `what`.
+    pub fn alloc<T>(what: &str, count: usize) -> Self {
+        let bytes = (count as u128) * (std::mem::size_of::<T>() as u128);
+        Error::OutOfMemory(format!(
+            "out of memory: cannot allocate {bytes} bytes for {what}"
+        ))
+    }
+}
+
+/// A vector with room for `count` items of `T`, or [`Error::OutOfMemory`]
+/// naming `what` when that much memory cannot be had (instead of an abort).
+pub fn try_vec<T>(what: &str, count: usize) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(count)
+        .map_err(|_| Error::alloc::<T>(what, count))?;
+    Ok(v)
 }

@@ -21,7 +21,7 @@ pub const WORK_BYTES_PER_SAMPLE: u64 = 48;
 pub const OUTPUT_BYTES_PER_CELL: u64 = 4;
 
 /// Bytes taken whatever the grid: output buffers, thread stacks, tables.
-pub const FIXED_BYTES: u64 = 32 << 20;
+pub const FIXED_BYTES: u64 = 16 << 20;
 
 /// The thinnest slab the budget may choose (cell layers).
 pub const MIN_DEPTH: usize = 2;

@@ -188,7 +188,7 @@ pub fn extract_to(
         .map(|z| z..(z + depth).min(layers))
         .collect();
     sink.begin(&info)?;
-    let mut seam = Seam::new(sink);
+    let mut seam = Seam::new(sink).with_cancel(options.cancel);
     let report = |seam: &Seam| {
         if let Some(progress) = options.progress {
             let done = slabs[..seam.written()].iter().map(|r| r.len()).sum();

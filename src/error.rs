@@ -61,3 +61,24 @@ pub fn try_vec<T>(what: &str, count: usize) -> Result<Vec<T>> {
         .map_err(|_| Error::alloc::<T>(what, count))?;
     Ok(v)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_impossible_allocation_is_an_error_not_an_abort() {
+        // Beyond isize::MAX bytes, and 64 TiB (more than this machine has).
+        for count in [usize::MAX / 2, 1 << 46] {
+            let err = try_vec::<u64>("the test", count).unwrap_err();
+            assert!(matches!(err, Error::OutOfMemory(_)), "{err:?}");
+            let text = err.to_string();
+            assert!(
+                text.starts_with("out of memory: cannot allocate")
+                    && text.ends_with("bytes for the test"),
+                "{text}"
+            );
+        }
+        assert_eq!(try_vec::<u8>("a little", 10).unwrap().capacity(), 10);
+    }
+}

@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::cli::{assert_one_line, names, s, sphere_npy, temp_files, tmc, tmc_within};
+use common::cli::{assert_one_line, names, npy_header, s, sphere_npy, temp_files, tmc, tmc_within};
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -23,14 +23,7 @@ fn file(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
 
 /// A `.npy` file with header dictionary `dict` and `data` zero bytes.
 fn npy(dir: &Path, name: &str, dict: &str, data: usize) -> PathBuf {
-    let mut header = dict.to_string();
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
+    let mut bytes = npy_header(dict);
     bytes.resize(bytes.len() + data, 0);
     file(dir, name, &bytes)
 }
@@ -63,6 +56,13 @@ fn args(path: &Path, rest: &[&str]) -> Vec<String> {
     std::iter::once(s(path).to_string())
         .chain(rest.iter().map(|a| a.to_string()))
         .collect()
+}
+
+/// A 4x4x4 raw volume of zero bytes, with `rest` after its raw options.
+fn raw4(dir: &Path, rest: &[&str]) -> Vec<String> {
+    let mut all = vec!["--dims", "4,4,4", "--dtype", "u8"];
+    all.extend(rest);
+    args(&file(dir, "z.raw", &[0; 64]), &all)
 }
 
 /// The table: name, setup, expected message substring, exit status.
@@ -174,36 +174,13 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
         ),
         (
             "raw with a negative spacing",
-            |d| {
-                let rest = [
-                    "--dims",
-                    "4,4,4",
-                    "--dtype",
-                    "u8",
-                    "--spacing=-1,1,1",
-                    "--iso",
-                    "0",
-                ];
-                args(&file(d, "z.raw", &[0; 64]), &rest)
-            },
+            |d| raw4(d, &["--spacing=-1,1,1", "--iso", "0"]),
             "spacing must be positive",
             2,
         ),
         (
             "raw with a NaN spacing",
-            |d| {
-                let rest = [
-                    "--dims",
-                    "4,4,4",
-                    "--dtype",
-                    "u8",
-                    "--spacing",
-                    "nan,1,1",
-                    "--iso",
-                    "0",
-                ];
-                args(&file(d, "z.raw", &[0; 64]), &rest)
-            },
+            |d| raw4(d, &["--spacing", "nan,1,1", "--iso", "0"]),
             "'nan,1,1' is not three comma-separated finite numbers",
             2,
         ),
@@ -236,18 +213,7 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
         ),
         (
             "isovalue above the data with --require-surface",
-            |d| {
-                let rest = [
-                    "--dims",
-                    "4,4,4",
-                    "--dtype",
-                    "u8",
-                    "--iso",
-                    "5",
-                    "--require-surface",
-                ];
-                args(&file(d, "z.raw", &[0; 64]), &rest)
-            },
+            |d| raw4(d, &["--iso", "5", "--require-surface"]),
             "no surface at isovalue 5: every sample of",
             1,
         ),

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::cli::{assert_one_line, names, s, sphere_npy, tmc};
+use common::cli::{assert_one_line, names, npy_header, s, sphere_npy, tmc};
 use std::fs;
 use std::path::{Path, PathBuf};
 use tmc::export::{check_output_path, write_atomically, write_mesh};
@@ -27,9 +27,12 @@ fn help_states_the_convention_formats_and_exit_codes() {
             "'tmc check' on an STL file is not meaningful",
             ".tmesh",
             "tmc convert",
-            "0  success",
-            "1  failure",
-            "2  usage error",
+            "0    success",
+            "1    failure",
+            "disk full",
+            "'tmc check' also exits 1 when the mesh is not a consistently",
+            "2    usage error",
+            "130  interrupted by SIGINT, 143 by SIGTERM",
         ] {
             assert!(text.contains(needle), "{args:?}: help lacks '{needle}'");
         }
@@ -45,6 +48,8 @@ fn help_states_the_convention_formats_and_exit_codes() {
         "--json",
         "--threads",
         "--slab-depth",
+        "--max-memory",
+        "--require-surface",
         "--dims",
         "--dtype",
         "--endian",
@@ -564,15 +569,7 @@ fn extract_is_quiet_without_stats_and_reads_raw_and_nrrd() {
 /// Writes `tmc::synth::noise(24, 3, 1)` as a little-endian f64 `.npy`.
 fn noise_npy(dir: &Path, name: &str) -> PathBuf {
     let volume = tmc::synth::noise(24, 3, 1);
-    let mut header =
-        "{'descr': '<f8', 'fortran_order': False, 'shape': (24, 24, 24), }".to_string();
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
+    let mut bytes = npy_header("{'descr': '<f8', 'fortran_order': False, 'shape': (24, 24, 24), }");
     for v in volume.data() {
         bytes.extend_from_slice(&v.to_le_bytes());
     }

@@ -27,12 +27,10 @@ pub fn assert_one_line(out: &Output, code: i32) -> String {
     stderr.trim_end().to_string()
 }
 
-/// Writes a little-endian f32 `.npy` of a sphere's distance field (shape
-/// `(nz, ny, nx)`), positive inside.
-pub fn sphere_npy(dir: &Path, name: &str, dims: [usize; 3]) -> PathBuf {
-    let [nx, ny, nz] = dims;
-    let mut header =
-        format!("{{'descr': '<f4', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}");
+/// The bytes of a version 1.0 `.npy` header holding the dictionary `dict`
+/// (padded so the data starts at a multiple of 64).
+pub fn npy_header(dict: &str) -> Vec<u8> {
+    let mut header = dict.to_string();
     while (10 + header.len() + 1) % 64 != 0 {
         header.push(' ');
     }
@@ -40,6 +38,16 @@ pub fn sphere_npy(dir: &Path, name: &str, dims: [usize; 3]) -> PathBuf {
     let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
     bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
     bytes.extend_from_slice(header.as_bytes());
+    bytes
+}
+
+/// Writes a little-endian f32 `.npy` of a sphere's distance field (shape
+/// `(nz, ny, nx)`), positive inside.
+pub fn sphere_npy(dir: &Path, name: &str, dims: [usize; 3]) -> PathBuf {
+    let [nx, ny, nz] = dims;
+    let mut bytes = npy_header(&format!(
+        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}"
+    ));
     let c = |n: usize| (n as f32 - 1.0) / 2.0;
     for z in 0..nz {
         for y in 0..ny {

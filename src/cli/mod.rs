@@ -84,7 +84,7 @@ Exit status:
        manifold (non-manifold edges or vertices, inconsistent orientation)
   2    usage error (unknown option, missing or malformed value)
   130  interrupted by SIGINT, 143 by SIGTERM: the extraction stops at the next
-       slab and no output is left (a second signal exits at once)";
+       slab or chunk and no output is left";
 
 /// Topologically correct and manifold isosurfaces (Grosso 2016 marching cubes).
 ///

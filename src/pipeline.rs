@@ -67,8 +67,9 @@ pub struct PipelineOptions<'a> {
     /// Called on the writing thread after each slab is written.
     pub progress: Option<&'a (dyn Fn(&Progress) + Sync)>,
     /// Set to `true` (from any thread or a signal handler) to stop the
-    /// extraction: it is looked at before each slab starts and before the
-    /// output is finished, and the extraction then returns
+    /// extraction: it is looked at before each slab starts, before each
+    /// chunk is written and before the output is finished (one relaxed
+    /// atomic load each), and the extraction then returns
     /// [`Error::Interrupted`] without finishing the sink.
     pub cancel: Option<&'a AtomicBool>,
     /// A memory budget in bytes: the slab depth and the slabs in flight are

@@ -19,6 +19,16 @@ pub enum Error {
     /// The options are invalid (bad isovalue, unknown extension, ...).
     #[error("{0}")]
     Invalid(String),
+    /// The extraction was cancelled through
+    /// [`PipelineOptions::cancel`](crate::PipelineOptions::cancel) (the CLI
+    /// sets that flag on SIGINT or SIGTERM).
+    #[error("interrupted")]
+    Interrupted,
+    /// Memory for the named purpose could not be had: `--max-memory` is too
+    /// small for the pipeline, or an allocation proportional to the input or
+    /// the output failed.
+    #[error("{0}")]
+    OutOfMemory(String),
 }
 
 /// Result alias for the crate.
@@ -31,5 +41,44 @@ impl Error {
             path: path.into(),
             source,
         }
+    }
+
+    /// An [`Error::OutOfMemory`] for a failed reservation of `count` items
+    /// of `T` for `what`.
+    pub fn alloc<T>(what: &str, count: usize) -> Self {
+        let bytes = (count as u128) * (std::mem::size_of::<T>() as u128);
+        Error::OutOfMemory(format!(
+            "out of memory: cannot allocate {bytes} bytes for {what}"
+        ))
+    }
+}
+
+/// A vector with room for `count` items of `T`, or [`Error::OutOfMemory`]
+/// naming `what` when that much memory cannot be had (instead of an abort).
+pub fn try_vec<T>(what: &str, count: usize) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(count)
+        .map_err(|_| Error::alloc::<T>(what, count))?;
+    Ok(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_impossible_allocation_is_an_error_not_an_abort() {
+        // Beyond isize::MAX bytes, and 64 TiB (more than this machine has).
+        for count in [usize::MAX / 2, 1 << 46] {
+            let err = try_vec::<u64>("the test", count).unwrap_err();
+            assert!(matches!(err, Error::OutOfMemory(_)), "{err:?}");
+            let text = err.to_string();
+            assert!(
+                text.starts_with("out of memory: cannot allocate")
+                    && text.ends_with("bytes for the test"),
+                "{text}"
+            );
+        }
+        assert_eq!(try_vec::<u8>("a little", 10).unwrap().capacity(), 10);
     }
 }

@@ -24,6 +24,7 @@
 //!   toward lower values (`Inside::Low` flips the roles of high and low).
 //! * Coordinates are physical: `origin + index * spacing`, x fastest.
 
+pub mod budget;
 pub mod check;
 pub mod error;
 pub mod export;

@@ -6,6 +6,7 @@ use crate::slab::process_slab;
 use crate::volume::Padded;
 use crate::{Error, Mesh, Result, SampleSource, Stats};
 use std::ops::Range;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Which algorithm triangulates the cells.
@@ -65,6 +66,28 @@ pub struct PipelineOptions<'a> {
     pub slab_depth: usize,
     /// Called on the writing thread after each slab is written.
     pub progress: Option<&'a (dyn Fn(&Progress) + Sync)>,
+    /// Set to `true` (from any thread or a signal handler) to stop the
+    /// extraction: it is looked at before each slab starts, before each
+    /// chunk is written and before the output is finished (one relaxed
+    /// atomic load each), and the extraction then returns
+    /// [`Error::Interrupted`] without finishing the sink.
+    pub cancel: Option<&'a AtomicBool>,
+    /// A memory budget in bytes: the slab depth and the slabs in flight are
+    /// chosen to fit it (see [`crate::budget`]), and the extraction fails
+    /// with [`Error::OutOfMemory`] if even the thinnest slabs do not fit.
+    /// `None`: no budget.
+    pub max_memory: Option<u64>,
+}
+
+impl PipelineOptions<'_> {
+    /// Fails with [`Error::Interrupted`] once the cancel flag is set (one
+    /// relaxed load).
+    fn check_cancel(&self) -> Result<()> {
+        match self.cancel {
+            Some(flag) if flag.load(Ordering::Relaxed) => Err(Error::Interrupted),
+            _ => Ok(()),
+        }
+    }
 }
 
 /// How far an extraction has got.
@@ -82,7 +105,7 @@ pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mes
     let stats = extract_to(source, params, &PipelineOptions::default(), &mut builder)?;
     // The chunks are joined on as many threads as the extraction used.
     let pool = thread_pool(worker_threads(params))?;
-    Ok((pool.install(|| builder.into_mesh()), stats))
+    Ok((pool.install(|| builder.try_into_mesh())?, stats))
 }
 
 /// The number of worker threads `params` asks for (0: one per core).
@@ -153,12 +176,20 @@ pub fn extract_to(
         // memory grows with the plane size far more than with the depth.
         ((64 << 20) / source.grid().plane_len().max(1)).clamp(16, 64)
     };
+    let plan = crate::budget::plan(
+        source.grid().plane_len(),
+        threads,
+        depth,
+        options.max_memory,
+    )?;
+    let depth = plan.depth;
+    options.check_cancel()?;
     let slabs: Vec<Range<usize>> = (0..layers)
         .step_by(depth)
         .map(|z| z..(z + depth).min(layers))
         .collect();
     sink.begin(&info)?;
-    let mut seam = Seam::new(sink);
+    let mut seam = Seam::new(sink).with_cancel(options.cancel);
     let report = |seam: &Seam| {
         if let Some(progress) = options.progress {
             let done = slabs[..seam.written()].iter().map(|r| r.len()).sum();
@@ -168,7 +199,11 @@ pub fn extract_to(
             });
         }
     };
-    let run = |i: usize| process_slab(source, params, slabs[i].clone());
+    let run = |i: usize| {
+        options.check_cancel()?;
+        source.check_unchanged()?;
+        process_slab(source, params, slabs[i].clone())
+    };
     if threads == 1 {
         for i in 0..slabs.len() {
             let (chunks, stats) = run(i)?;
@@ -178,7 +213,7 @@ pub fn extract_to(
     } else {
         let pool = thread_pool(threads)?;
         // At most `window` slabs computed but not yet written.
-        let window = threads + 1;
+        let window = plan.window;
         let (tx, rx) = crossbeam::channel::unbounded();
         pool.in_place_scope(|scope| -> Result<()> {
             let run = &run;
@@ -208,6 +243,7 @@ pub fn extract_to(
             Ok(())
         })?;
     }
+    options.check_cancel()?;
     let (mut stats, totals) = seam.finish()?;
     stats.vertices = totals.vertices;
     stats.triangles = totals.triangles;

@@ -8,8 +8,9 @@
 //! inside one process (part files of `tmc merge` carry their seam keys).
 
 use crate::sink::{Chunk, MeshSink, Totals};
-use crate::{Result, Stats};
+use crate::{Error, Result, Stats};
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Reorders finished slabs and forwards their chunks to a sink in plane order.
@@ -19,6 +20,7 @@ pub struct Seam<'a> {
     next: usize,
     totals: Totals,
     stats: Stats,
+    cancel: Option<&'a AtomicBool>,
 }
 
 impl<'a> Seam<'a> {
@@ -30,7 +32,15 @@ impl<'a> Seam<'a> {
             next: 0,
             totals: Totals::default(),
             stats: Stats::default(),
+            cancel: None,
         }
+    }
+
+    /// Makes [`Seam::accept`] fail with [`Error::Interrupted`] before the
+    /// next chunk once `flag` is set.
+    pub fn with_cancel(mut self, flag: Option<&'a AtomicBool>) -> Self {
+        self.cancel = flag;
+        self
     }
 
     /// Accepts slab `index`; writes it and every waiting successor when it
@@ -41,6 +51,9 @@ impl<'a> Seam<'a> {
         while let Some((chunks, stats)) = self.pending.remove(&self.next) {
             let start = Instant::now();
             for chunk in chunks {
+                if self.cancel.is_some_and(|f| f.load(Ordering::Relaxed)) {
+                    return Err(Error::Interrupted);
+                }
                 let (vertices, triangles) = (chunk.vertices.len(), chunk.triangles.len());
                 self.sink.take_chunk(self.totals.vertices, chunk)?;
                 self.totals.vertices += vertices as u64;

@@ -81,11 +81,21 @@ pub struct MeshBuilder {
 }
 
 impl MeshBuilder {
-    /// The mesh built so far.
+    /// The mesh built so far. Panics if memory for it cannot be had; see
+    /// [`MeshBuilder::try_into_mesh`].
     pub fn into_mesh(self) -> Mesh {
+        self.try_into_mesh().unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// The mesh built so far, or [`Error::OutOfMemory`] if its vertex and
+    /// triangle arrays cannot be allocated.
+    pub fn try_into_mesh(self) -> Result<Mesh> {
         use rayon::prelude::*;
-        let mut vertices = vec![[0.0f32; 3]; self.vertices as usize];
-        let mut triangles = vec![[0u32; 3]; self.triangles];
+        let nv = self.vertices as usize;
+        let mut vertices = crate::error::try_vec("the mesh's vertices", nv)?;
+        vertices.resize(nv, [0.0f32; 3]);
+        let mut triangles = crate::error::try_vec("the mesh's triangles", self.triangles)?;
+        triangles.resize(self.triangles, [0u32; 3]);
         let mut jobs = Vec::with_capacity(self.chunks.len());
         let (mut v_rest, mut t_rest) = (&mut vertices[..], &mut triangles[..]);
         for (base, chunk) in &self.chunks {
@@ -101,10 +111,10 @@ impl MeshBuilder {
                 *out = tri.map(|i| base + i);
             }
         });
-        Mesh {
+        Ok(Mesh {
             vertices,
             triangles,
-        }
+        })
     }
 }
 

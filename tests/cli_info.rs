@@ -2,18 +2,12 @@
 //! range and suggested isovalues checked against values computed here),
 //! every fixture format, raw input, and one-line errors.
 
+mod common;
+
+use common::cli::{npy_header, tmc};
 use serde_json::Value;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-/// Runs the built `tmc` with `args`.
-fn tmc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tmc"))
-        .args(args)
-        .output()
-        .expect("run tmc")
-}
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
@@ -38,15 +32,9 @@ fn info_json(path: &Path, extra: &[&str]) -> Value {
 /// (`<f4` or `<u2`) holding `values` (x fastest).
 fn write_npy(path: &Path, descr: &str, dims: [usize; 3], values: &[f64]) {
     let [nx, ny, nz] = dims;
-    let mut header =
-        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
+    let mut bytes = npy_header(&format!(
+        "{{'descr': '{descr}', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}"
+    ));
     for &v in values {
         match descr {
             "<f4" => bytes.extend_from_slice(&(v as f32).to_le_bytes()),
@@ -323,7 +311,7 @@ fn head_ct_suggestion_is_sensible() {
     assert!((skin2 - skin).abs() < 100.0 && (bone2 - bone).abs() < 200.0);
 }
 
-/// Bad input: one `tmc: PATH: ...` line, nothing on stdout, exit 1.
+/// Bad input: one `tmc: error: PATH: ...` line, nothing on stdout, exit 1.
 #[test]
 fn bad_input_is_one_error_line() {
     let dir = tempfile::tempdir().unwrap();
@@ -344,7 +332,7 @@ fn bad_input_is_one_error_line() {
             assert!(out.stdout.is_empty());
             assert_eq!(stderr.lines().count(), 1, "{stderr}");
             assert!(
-                stderr.starts_with(&format!("tmc: {}", path.display())),
+                stderr.starts_with(&format!("tmc: error: {}", path.display())),
                 "{stderr}"
             );
         }

@@ -5,6 +5,7 @@
 
 mod common;
 
+use common::cli::names;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -39,16 +40,6 @@ fn stream(
         ..Default::default()
     };
     extract_to(source, params, &options, sink.as_mut())
-}
-
-/// The names in `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 /// Reads a whole `.tmesh` file with tmc's reader.

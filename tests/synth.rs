@@ -2,22 +2,16 @@
 //! exactly, headers are standard, output is deterministic, the head phantom
 //! gives a closed manifold skull, and `tmc synth` fails cleanly.
 
+mod common;
+
+use common::cli::{names, tmc};
 use std::fs;
 use std::path::Path;
-use std::process::{Command, Output};
 use tmc::synth::{hounsfield_to_stored, unit_to_stored, Kind, Synthetic, HEAD_SKULL_ISO_HU};
 use tmc::volume::{
     decode_samples, encode_samples, write_volume, Endian, RawOptions, ScalarType, VolumeFormat,
 };
 use tmc::{ExtractParams, Grid, SampleSource};
-
-/// Runs the built `tmc` with `args`.
-fn tmc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tmc"))
-        .args(args)
-        .output()
-        .expect("run tmc")
-}
 
 /// `path` as a `&str`.
 fn s(path: &Path) -> &str {
@@ -44,16 +38,6 @@ fn small_grid() -> Grid {
         origin: [0.0; 3],
         direction: tmc::volume::IDENTITY,
     }
-}
-
-/// The names in `dir`.
-fn names(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
 }
 
 #[test]

@@ -140,6 +140,36 @@ impl MeshReport {
             && self.inconsistent_edges == 0
     }
 
+    /// True when the mesh is a consistently oriented 2-manifold, possibly
+    /// with boundary (an open surface): everything [`is_closed_manifold`]
+    /// asks for except that boundary edges are allowed.
+    ///
+    /// [`is_closed_manifold`]: MeshReport::is_closed_manifold
+    pub fn is_oriented_manifold(&self) -> bool {
+        self.invalid_triangles == 0
+            && self.degenerate_triangles == 0
+            && self.non_manifold_edges == 0
+            && self.non_manifold_vertices == 0
+            && self.inconsistent_edges == 0
+    }
+
+    /// One line naming what keeps the mesh from being a consistently
+    /// oriented manifold (empty when [`MeshReport::is_oriented_manifold`]).
+    pub fn defects(&self) -> String {
+        [
+            (self.invalid_triangles, "invalid triangles"),
+            (self.degenerate_triangles, "degenerate triangles"),
+            (self.non_manifold_edges, "non-manifold edges"),
+            (self.non_manifold_vertices, "non-manifold vertices"),
+            (self.inconsistent_edges, "inconsistently oriented edges"),
+        ]
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+    }
+
     /// Sum of the genera of the components, when every component has one.
     pub fn total_genus(&self) -> Option<i64> {
         self.per_component.iter().map(|c| c.genus).sum()

@@ -72,7 +72,7 @@ fn read_tmesh(path: &Path) -> Result<Mesh> {
     }
     let mut builder = MeshBuilder::default();
     replay(&mut reader, &mut builder)?;
-    Ok(builder.into_mesh())
+    builder.try_into_mesh()
 }
 
 fn stl_error(path: &Path) -> Error {

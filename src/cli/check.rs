@@ -8,8 +8,11 @@ use tmc::{Error, Result};
 /// Check a mesh file (.ply, .obj, .off, .tmesh, .stl) and report the result.
 ///
 /// Reports the mesh's topology checks (as text, or as one JSON object with
-/// --json); the exit status is 0 whenever the file could be read (the report
-/// is the result) and 1 if it could not. A .tmesh file has every chunk's
+/// --json) on stdout. The exit status is 0 when the mesh is a consistently
+/// oriented manifold (boundary edges, i.e. an open surface, are allowed),
+/// and 1, after the report and with one line on stderr, when it has invalid
+/// or degenerate triangles, non-manifold edges or vertices or
+/// inconsistently oriented edges; also 1 if the file could not be read. A .tmesh file has every chunk's
 /// checksum verified; a damaged chunk is named. STL cannot share vertices,
 /// so topology checks on STL files are not meaningful; check a .ply, .obj,
 /// .off or .tmesh file instead.
@@ -37,5 +40,14 @@ pub(crate) fn run(args: &CheckArgs) -> Result<()> {
     } else {
         report.print_text(&mut out).map_err(stdout_err)?;
     }
-    out.flush().map_err(stdout_err)
+    out.flush().map_err(stdout_err)?;
+    if report.is_oriented_manifold() {
+        Ok(())
+    } else {
+        Err(Error::Format(format!(
+            "{}: not a consistently oriented manifold: {}",
+            args.mesh.display(),
+            report.defects()
+        )))
+    }
 }

@@ -1,10 +1,12 @@
 //! `tmc extract`: volume in, isosurface mesh out.
 
 use super::raw_input::RawArgs;
+use super::require_surface::RequireSurface;
 use super::{memory, progress, report, values, CONVENTIONS};
 use clap::{Args, ValueEnum};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tmc::{Error, ExtractParams, Grid, Inside, Method, PipelineOptions, Result};
 
@@ -64,6 +66,20 @@ pub(crate) struct ExtractArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=64))]
     pub slab_depth: Option<u16>,
 
+    /// Bound the pipeline's memory to about BYTES (suffixes K, M, G, T:
+    /// powers of 1024): the slab depth and the slabs in flight are chosen to
+    /// fit (an estimate: the memory-mapped input is not counted, the mesh
+    /// of a waiting slab is assumed dense); an error if even one slab of 2
+    /// layers per worker does not fit. The output does not depend on it.
+    #[arg(long, value_name = "BYTES", value_parser = values::bytes)]
+    pub max_memory: Option<u64>,
+
+    /// Fail (exit 1, no output) when there is no surface, i.e. every
+    /// sample is on the same side of the isovalue. Without it such a run
+    /// writes an empty mesh, prints a note and exits 0.
+    #[arg(long)]
+    pub require_surface: bool,
+
     /// Print nothing on stderr but errors (no progress bar). A progress bar
     /// is shown otherwise, when stderr is a terminal.
     #[arg(short, long, conflicts_with = "stats")]
@@ -112,10 +128,11 @@ impl ExtractArgs {
     }
 }
 
-/// Runs `tmc extract`.
-pub(crate) fn run(args: &ExtractArgs) -> Result<()> {
+/// Runs `tmc extract`; setting `cancel` stops it with [`Error::Interrupted`].
+pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     let started = Instant::now();
     let raw = args.raw.options();
+    check_distinct(&args.input, &args.output)?;
     let source = tmc::volume::open(&args.input, raw.as_ref())?;
     let grid = *source.grid();
     check_grid(&args.input, &grid)?;
@@ -136,10 +153,31 @@ pub(crate) fn run(args: &ExtractArgs) -> Result<()> {
     let options = PipelineOptions {
         slab_depth: args.slab_depth.map_or(0, usize::from),
         progress: Some(&on_progress),
+        cancel,
+        max_memory: args.max_memory,
     };
     let mut sink = tmc::export::create_sink(&args.output)?;
-    let stats = tmc::extract_to(source.as_ref(), &params, &options, sink.as_mut())?;
+    let no_surface = format!(
+        "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
+        args.iso,
+        args.input.display()
+    );
+    let stats = if args.require_surface {
+        let mut sink = RequireSurface {
+            inner: sink.as_mut(),
+            message: format!("{no_surface}; nothing written (--require-surface)"),
+        };
+        tmc::extract_to(source.as_ref(), &params, &options, &mut sink)?
+    } else {
+        tmc::extract_to(source.as_ref(), &params, &options, sink.as_mut())?
+    };
     drop(bar);
+    if stats.triangles == 0 && !args.quiet {
+        eprintln!(
+            "tmc: note: {no_surface}; wrote an empty mesh to {}",
+            args.output.display()
+        );
+    }
     peak_anon.sample();
     let resources = report::Resources {
         slab_depth: args.slab_depth.map(usize::from),
@@ -184,6 +222,35 @@ fn check_grid(input: &Path, grid: &Grid) -> Result<()> {
                 grid.dims[2]
             )));
         }
+    }
+    Ok(())
+}
+
+/// Refuses to write the output over the input (also through a symbolic or
+/// hard link): the input is read while the output is written.
+fn check_distinct(input: &Path, output: &Path) -> Result<()> {
+    let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(output)) else {
+        return Ok(());
+    };
+    #[cfg(unix)]
+    let same = {
+        use std::os::unix::fs::MetadataExt;
+        a.dev() == b.dev() && a.ino() == b.ino()
+    };
+    #[cfg(not(unix))]
+    let same = {
+        let _ = (a, b);
+        matches!(
+            (std::fs::canonicalize(input), std::fs::canonicalize(output)),
+            (Ok(x), Ok(y)) if x == y
+        )
+    };
+    if same {
+        return Err(Error::Invalid(format!(
+            "{}: the output is the input file {}; choose another output path",
+            output.display(),
+            input.display()
+        )));
     }
     Ok(())
 }

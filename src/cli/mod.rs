@@ -1,7 +1,8 @@
 //! Command-line parsing, dispatch and error reporting.
 //!
-//! Every failure is reported as exactly one line `tmc: <message>` on stderr;
-//! the exit status is 0 on success, 1 on failure and 2 on a usage error.
+//! Every failure is reported as exactly one line `tmc: error: <message>` on
+//! stderr; the exit status is 0 on success, 1 on failure, 2 on a usage error
+//! and 130 or 143 when SIGINT or SIGTERM interrupted an extraction.
 
 mod check;
 mod convert;
@@ -11,6 +12,8 @@ mod memory;
 mod progress;
 mod raw_input;
 mod report;
+mod require_surface;
+mod signals;
 mod synth;
 mod values;
 
@@ -73,9 +76,15 @@ Output formats (chosen by the extension of -o):
   The output is written atomically: on failure nothing is left at the path.
 
 Exit status:
-  0  success
-  1  failure (unreadable or malformed input, unwritable output, ...)
-  2  usage error (unknown option, missing or malformed value)";
+  0    success (also when the isovalue is outside the data range: a note on
+       stderr and an empty mesh, unless --require-surface is given)
+  1    failure (unreadable, malformed or changing input, unwritable output,
+       disk full, --max-memory too small, ...; one line 'tmc: error: ...');
+       'tmc check' also exits 1 when the mesh is not a consistently oriented
+       manifold (non-manifold edges or vertices, inconsistent orientation)
+  2    usage error (unknown option, missing or malformed value)
+  130  interrupted by SIGINT, 143 by SIGTERM: the extraction stops at the next
+       slab or chunk and no output is left";
 
 /// Topologically correct and manifold isosurfaces (Grosso 2016 marching cubes).
 ///
@@ -112,8 +121,22 @@ pub fn main() -> ExitCode {
         Err(e) => return usage_error(&e),
     };
     install_panic_hook();
+    if let Err(e) = signals::install_sigbus() {
+        eprintln!("tmc: error: cannot install the SIGBUS handler: {e}");
+        return ExitCode::FAILURE;
+    }
+    let interrupts = match cli.command {
+        Command::Extract(_) => match signals::Interrupts::install() {
+            Ok(i) => Some(i),
+            Err(e) => {
+                eprintln!("tmc: error: cannot install the SIGINT/SIGTERM handlers: {e}");
+                return ExitCode::FAILURE;
+            }
+        },
+        _ => None,
+    };
     let result = panic::catch_unwind(AssertUnwindSafe(|| match cli.command {
-        Command::Extract(args) => extract::run(&args),
+        Command::Extract(args) => extract::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Convert(args) => convert::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Info(args) => info::run(&args),
@@ -121,8 +144,16 @@ pub fn main() -> ExitCode {
     }));
     match result {
         Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(tmc::Error::Interrupted)) => {
+            let (name, code) = interrupts
+                .as_ref()
+                .and_then(|i| i.received())
+                .unwrap_or(("a signal", 130));
+            eprintln!("tmc: error: interrupted by {name}; no output was written");
+            ExitCode::from(code)
+        }
         Ok(Err(e)) => {
-            eprintln!("tmc: {}", one_line(&e.to_string()));
+            eprintln!("tmc: error: {}", one_line(&e.to_string()));
             ExitCode::FAILURE
         }
         // The panic hook has printed the message.
@@ -157,7 +188,11 @@ fn usage_error(e: &clap::Error) -> ExitCode {
                     tips.push(format!(" (tip: {})", tip.trim()));
                 }
             }
-            eprintln!("tmc: {}{}; see 'tmc --help'", head.join(" "), tips.concat());
+            eprintln!(
+                "tmc: error: {}{}; see 'tmc --help'",
+                head.join(" "),
+                tips.concat()
+            );
             ExitCode::from(2)
         }
     }

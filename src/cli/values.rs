@@ -72,3 +72,43 @@ fn triple_floats(text: &str) -> Result<[f64; 3], String> {
 pub(crate) fn dtype(text: &str) -> Result<ScalarType, String> {
     text.parse::<ScalarType>().map_err(|e| e.to_string())
 }
+
+/// Parses a byte count with an optional binary suffix: `1048576`, `512K`,
+/// `512M`, `4G`, `1T` (also `512MiB`, `4GB`: powers of 1024 either way).
+pub(crate) fn bytes(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let bad = || format!("'{text}' is not a byte count (e.g. 1048576, 512M, 4G)");
+    let digits = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
+    let (number, suffix) = t.split_at(digits);
+    let number: u64 = number.parse().map_err(|_| bad())?;
+    let shift = match suffix.trim().to_ascii_uppercase().as_str() {
+        "" | "B" => 0,
+        "K" | "KB" | "KIB" => 10,
+        "M" | "MB" | "MIB" => 20,
+        "G" | "GB" | "GIB" => 30,
+        "T" | "TB" | "TIB" => 40,
+        _ => return Err(bad()),
+    };
+    number
+        .checked_mul(1u64 << shift)
+        .ok_or_else(|| format!("'{text}' is too large"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::bytes;
+
+    #[test]
+    fn byte_counts_take_binary_suffixes() {
+        assert_eq!(bytes("1000"), Ok(1000));
+        assert_eq!(bytes("512M"), Ok(512 << 20));
+        assert_eq!(bytes("4G"), Ok(4 << 30));
+        assert_eq!(bytes("2gib"), Ok(2 << 30));
+        assert_eq!(bytes("64k"), Ok(64 << 10));
+        assert!(bytes("").is_err());
+        assert!(bytes("M").is_err());
+        assert!(bytes("1.5G").is_err());
+        assert!(bytes("-1").is_err());
+        assert!(bytes("99999999999T").is_err());
+    }
+}

@@ -58,7 +58,8 @@ impl TmeshReader {
         if &head[0..4] != b"INDX" || count.checked_mul(INDEX_ENTRY_BYTES as u64) != Some(room) {
             return Err(bad("the chunk index is damaged".into()));
         }
-        let mut raw = vec![0u8; room as usize];
+        let mut raw = crate::error::try_vec::<u8>("the .tmesh chunk index", room as usize)?;
+        raw.resize(room as usize, 0);
         file.read_exact(&mut raw).map_err(io)?;
         if crc32fast::hash(&raw) != le_u32(&head[4..]) {
             return Err(bad("the chunk index checksum does not match".into()));
@@ -144,7 +145,9 @@ impl TmeshReader {
         if e.offset + (CHUNK_HEADER_BYTES as u64) + size > limit {
             return Err(bad("payload overlaps the next chunk"));
         }
-        let mut payload = vec![0u8; size as usize];
+        let size = usize::try_from(size).map_err(|_| bad("payload size is too large"))?;
+        let mut payload = crate::error::try_vec::<u8>("a .tmesh chunk", size)?;
+        payload.resize(size, 0);
         self.file.read_exact(&mut payload).map_err(io)?;
         if crc32fast::hash(&payload) != le_u32(&h[4..]) {
             return Err(bad("payload checksum mismatch (the data is damaged)"));
@@ -162,7 +165,7 @@ impl TmeshReader {
             .collect();
         let next = self.entries.get(i + 1).map_or(0, |n| n.vertex_count) as u64;
         let bound = e.vertex_count as u64 + next;
-        let mut triangles = Vec::with_capacity(nt);
+        let mut triangles = crate::error::try_vec("a .tmesh chunk's triangles", nt)?;
         for t in raw[nv * 12..].chunks_exact(12) {
             let tri = [le_u32(t), le_u32(&t[4..]), le_u32(&t[8..])];
             if tri.iter().any(|&k| k as u64 >= bound) {

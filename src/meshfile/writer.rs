@@ -45,8 +45,9 @@ impl TmeshWriter {
 }
 
 /// The payload of a chunk before compression: positions, then relative indices.
-pub(crate) fn raw_payload(chunk: &Chunk) -> Vec<u8> {
-    let mut raw = Vec::with_capacity(chunk.vertices.len() * 12 + chunk.triangles.len() * 12);
+pub(crate) fn raw_payload(chunk: &Chunk) -> Result<Vec<u8>> {
+    let len = (chunk.vertices.len() + chunk.triangles.len()).saturating_mul(12);
+    let mut raw = crate::error::try_vec::<u8>("a .tmesh chunk", len)?;
     for v in &chunk.vertices {
         for c in v {
             raw.extend_from_slice(&c.to_le_bytes());
@@ -57,7 +58,7 @@ pub(crate) fn raw_payload(chunk: &Chunk) -> Vec<u8> {
             raw.extend_from_slice(&i.to_le_bytes());
         }
     }
-    raw
+    Ok(raw)
 }
 
 impl MeshSink for TmeshWriter {
@@ -71,7 +72,7 @@ impl MeshSink for TmeshWriter {
         if chunk.vertices.is_empty() && chunk.triangles.is_empty() {
             return Ok(());
         }
-        let payload = zstd::bulk::compress(&raw_payload(chunk), ZSTD_LEVEL)
+        let payload = zstd::bulk::compress(&raw_payload(chunk)?, ZSTD_LEVEL)
             .map_err(|e| Error::Invalid(format!("zstd compression failed: {e}")))?;
         let mut h = [0u8; CHUNK_HEADER_BYTES];
         h[0..4].copy_from_slice(b"CHNK");
@@ -96,7 +97,8 @@ impl MeshSink for TmeshWriter {
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
         let index_offset = self.offset;
-        let mut entries = Vec::with_capacity(self.index.len() * 32);
+        let mut entries =
+            crate::error::try_vec::<u8>("the .tmesh chunk index", self.index.len() * 32)?;
         for e in &self.index {
             entries.extend_from_slice(&e.offset.to_le_bytes());
             entries.extend_from_slice(&e.vertex_base.to_le_bytes());

@@ -126,6 +126,14 @@ pub trait SampleSource: Sync {
         let _ = (planes, access);
     }
 
+    /// Checks that the storage behind the samples is still whole: a
+    /// memory-mapped file must not have shrunk below the mapped length (a
+    /// read from the missing part would raise SIGBUS). The pipeline calls
+    /// it before each slab; it must be cheap (one `fstat`). `Ok` by default.
+    fn check_unchanged(&self) -> Result<()> {
+        Ok(())
+    }
+
     /// Bytes one sample takes where it is stored (the file's sample size for
     /// a file reader), for reporting the bytes read; 8 (an `f64`) unless a
     /// source says otherwise.
@@ -244,8 +252,42 @@ impl Format {
     }
 }
 
+/// Refuses an input that is neither a regular file nor a directory (a FIFO,
+/// a socket, a device) before anything opens it: opening a FIFO for reading
+/// blocks until a writer comes. A path that cannot be looked up passes, for
+/// the reader to report.
+pub fn check_input_kind(path: &Path) -> Result<()> {
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(());
+    };
+    let kind = meta.file_type();
+    if kind.is_file() || kind.is_dir() {
+        return Ok(());
+    }
+    #[cfg(unix)]
+    let what = {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            "a FIFO (named pipe)"
+        } else if kind.is_socket() {
+            "a socket"
+        } else if kind.is_char_device() || kind.is_block_device() {
+            "a device"
+        } else {
+            "a special file"
+        }
+    };
+    #[cfg(not(unix))]
+    let what = "a special file";
+    Err(crate::Error::Format(format!(
+        "{}: is {what}, not a regular file or directory; inputs are memory-mapped and must be files",
+        path.display()
+    )))
+}
+
 /// Opens a volume, choosing the reader with [`Format::detect`].
 pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
+    check_input_kind(path)?;
     if let Some(options) = raw {
         return Ok(Box::new(raw::RawVolume::open(path, options)?));
     }
@@ -278,6 +320,7 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
 /// file is named by its version, read from the first bytes of the header
 /// (`None` if they cannot be read).
 pub fn format_name(path: &Path, raw: Option<&RawOptions>) -> Option<&'static str> {
+    check_input_kind(path).ok()?;
     match Format::detect(path, raw.is_some())? {
         Format::Nifti => nifti_name(path),
         format => Some(format.name()),

@@ -78,6 +78,10 @@ impl SampleSource for NiftiVolume {
         self.inner.advise(planes, access);
     }
 
+    fn check_unchanged(&self) -> Result<()> {
+        self.inner.check_unchanged()
+    }
+
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }

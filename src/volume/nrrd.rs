@@ -85,6 +85,10 @@ impl SampleSource for NrrdVolume {
         self.data.advise(planes, access)
     }
 
+    fn check_unchanged(&self) -> Result<()> {
+        self.data.check_unchanged()
+    }
+
     fn sample_bytes(&self) -> usize {
         self.scalar.size()
     }

@@ -39,6 +39,10 @@ impl SampleSource for Padded<'_> {
             .advise(start..planes.end.saturating_sub(1).min(inner), access);
     }
 
+    fn check_unchanged(&self) -> Result<()> {
+        self.inner.check_unchanged()
+    }
+
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
         out.fill(f64::NAN);
         if z == 0 || z == self.grid.dims[2] - 1 {

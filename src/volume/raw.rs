@@ -12,7 +12,7 @@ use memmap2::{Advice, Mmap, UncheckedAdvice};
 use std::fmt;
 use std::fs::File;
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Memory order of the samples of a [`RawVolume`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,6 +86,8 @@ pub struct RawVolume {
     order: Order,
     offset: usize,
     storage: Storage,
+    /// The mapped file and its name, to notice when it shrinks under the map.
+    mapped: Option<(File, PathBuf)>,
 }
 
 impl RawVolume {
@@ -132,7 +134,10 @@ impl RawVolume {
         // The map may be shorter than the metadata said if the file shrank
         // in between: check again against what was actually mapped.
         check_length(path, map.len() as u64, &layout)?;
-        RawVolume::with_storage(path, layout, Storage::Mapped(map))
+        let watch = file.try_clone().map_err(|e| Error::io(path, e))?;
+        let mut volume = RawVolume::with_storage(path, layout, Storage::Mapped(map))?;
+        volume.mapped = Some((watch, path.to_path_buf()));
+        Ok(volume)
     }
 
     /// Wraps samples already in memory (for example, decompressed data).
@@ -157,6 +162,7 @@ impl RawVolume {
             order: layout.order,
             offset,
             storage,
+            mapped: None,
         })
     }
 
@@ -210,6 +216,21 @@ impl SampleSource for RawVolume {
         let start = self.offset + planes.start * plane;
         self.storage
             .advise(start..self.offset + planes.end * plane, access);
+    }
+
+    fn check_unchanged(&self) -> Result<()> {
+        let (Some((file, path)), Storage::Mapped(map)) = (&self.mapped, &self.storage) else {
+            return Ok(());
+        };
+        let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
+        if len < map.len() as u64 {
+            return Err(Error::Format(format!(
+                "{}: the input file changed during the extraction: it shrank from {} to {len} bytes (truncated by another program?)",
+                path.display(),
+                map.len()
+            )));
+        }
+        Ok(())
     }
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {

@@ -68,6 +68,10 @@ impl SampleSource for SlabStack {
         }
     }
 
+    fn check_unchanged(&self) -> Result<()> {
+        self.slabs.iter().try_for_each(|s| s.check_unchanged())
+    }
+
     fn sample_bytes(&self) -> usize {
         self.slabs.first().map_or(8, |s| s.sample_bytes())
     }

@@ -327,7 +327,8 @@ pub fn open(path: &Path) -> Result<VtiVolume> {
     let count = h.grid.dims.iter().product::<usize>();
     let bytes = match h.format.as_str() {
         "ascii" => {
-            let mut bytes = Vec::with_capacity(count * 8);
+            let mut bytes =
+                crate::error::try_vec::<u8>("the ascii DataArray", count.saturating_mul(8))?;
             let mut words = h.content.split_ascii_whitespace();
             for i in 0..count {
                 let w = words

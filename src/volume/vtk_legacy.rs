@@ -184,7 +184,7 @@ pub fn open(path: &Path) -> Result<RawVolume> {
     reader
         .read_to_string(&mut text)
         .map_err(|e| Error::io(path, e))?;
-    let mut bytes = Vec::with_capacity(count * 8);
+    let mut bytes = crate::error::try_vec::<u8>("the ASCII samples", count.saturating_mul(8))?;
     let mut words = text.split_ascii_whitespace();
     for i in 0..count {
         let w = words

@@ -2,6 +2,7 @@
 //! fields, and the comparison of a checked mesh with the oracle.
 #![allow(dead_code)]
 
+pub mod cli;
 pub mod fields;
 pub mod oracle;
 

@@ -1,0 +1,125 @@
+//! The memory budget of an extraction (`--max-memory`): how deep the slabs
+//! are and how many of them are in flight.
+//!
+//! The model counts what grows with the plane size and the slab depth; the
+//! memory-mapped input is not counted (its pages belong to the page cache,
+//! which the kernel reclaims). It is an estimate, not a hard cap: the mesh
+//! of a slab waiting to be written depends on the surface, and is assumed
+//! to take [`OUTPUT_BYTES_PER_CELL`] per cell, about what dense value noise
+//! takes; sparse surfaces (CT skin, bone) take far less.
+
+use crate::{Error, Result};
+
+/// Bytes each worker holds per sample of a z-plane, whatever the depth: two
+/// planes of `f64` samples with their edge-vertex caches and inside bits, and
+/// the z-edge cache.
+pub const WORK_BYTES_PER_SAMPLE: u64 = 48;
+
+/// Bytes the mesh of one cell is assumed to take while its slab waits to be
+/// written (vertices of 12 bytes, triangles of 12 bytes; dense value noise
+/// has about 0.16 triangles per cell).
+pub const OUTPUT_BYTES_PER_CELL: u64 = 4;
+
+/// Bytes taken whatever the grid: output buffers, thread stacks, tables.
+pub const FIXED_BYTES: u64 = 16 << 20;
+
+/// The thinnest slab the budget may choose (cell layers).
+pub const MIN_DEPTH: usize = 2;
+
+/// Slab depth and slabs in flight chosen for a budget.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Plan {
+    /// Cell layers per slab.
+    pub depth: usize,
+    /// Slabs computed or being computed but not yet written (at least one
+    /// per worker).
+    pub window: usize,
+}
+
+/// Estimated peak bytes of `threads` workers on planes of `plane_len`
+/// samples with slabs of `depth` layers, `window` of them in flight.
+pub fn estimate(plane_len: usize, threads: usize, depth: usize, window: usize) -> u128 {
+    let plane = plane_len as u128;
+    let work = threads as u128 * plane * u128::from(WORK_BYTES_PER_SAMPLE);
+    let output = window as u128 * depth as u128 * plane * u128::from(OUTPUT_BYTES_PER_CELL);
+    u128::from(FIXED_BYTES) + work + output
+}
+
+/// Chooses the slab depth and the slabs in flight: `depth` layers and
+/// `threads + 1` slabs when that fits in `max_bytes` (or there is no
+/// budget), otherwise the deepest slabs that fit with `threads + 1`, then
+/// with `threads` slabs in flight. An error when even slabs of
+/// [`MIN_DEPTH`] layers, one per worker, do not fit.
+pub fn plan(
+    plane_len: usize,
+    threads: usize,
+    depth: usize,
+    max_bytes: Option<u64>,
+) -> Result<Plan> {
+    let threads = threads.max(1);
+    let depth = depth.max(1);
+    let full = Plan {
+        depth,
+        window: threads + 1,
+    };
+    let Some(max) = max_bytes else {
+        return Ok(full);
+    };
+    let fits = |p: &Plan| estimate(plane_len, threads, p.depth, p.window) <= u128::from(max);
+    for window in [threads + 1, threads] {
+        let found = (MIN_DEPTH.min(depth)..=depth)
+            .rev()
+            .map(|depth| Plan { depth, window })
+            .find(fits);
+        if let Some(plan) = found {
+            return Ok(plan);
+        }
+    }
+    let needed = estimate(plane_len, threads, MIN_DEPTH.min(depth), threads);
+    Err(Error::OutOfMemory(format!(
+        "--max-memory {max} bytes is too small: {threads} worker(s) on planes of {plane_len} samples need about {needed} bytes (one slab of {} layers each, plus {} MiB of buffers); allow more memory or use fewer --threads",
+        MIN_DEPTH.min(depth),
+        FIXED_BYTES >> 20
+    )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn no_budget_keeps_the_depth_and_window() {
+        assert_eq!(
+            plan(1000, 2, 64, None).unwrap(),
+            Plan {
+                depth: 64,
+                window: 3
+            }
+        );
+    }
+
+    #[test]
+    fn a_budget_thins_the_slabs_then_shrinks_the_window() {
+        let plane = 1 << 20;
+        let roomy = estimate(plane, 2, 64, 3) as u64;
+        assert_eq!(plan(plane, 2, 64, Some(roomy)).unwrap().depth, 64);
+        let tight = estimate(plane, 2, 10, 3) as u64;
+        assert_eq!(
+            plan(plane, 2, 64, Some(tight)).unwrap(),
+            Plan {
+                depth: 10,
+                window: 3
+            }
+        );
+        let tighter = estimate(plane, 2, 2, 2) as u64;
+        assert_eq!(
+            plan(plane, 2, 64, Some(tighter)).unwrap(),
+            Plan {
+                depth: 2,
+                window: 2
+            }
+        );
+        let err = plan(plane, 2, 64, Some(tighter - 1)).unwrap_err();
+        assert!(err.to_string().contains("too small"), "{err}");
+    }
+}

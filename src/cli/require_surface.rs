@@ -1,0 +1,35 @@
+//! `--require-surface`: a sink wrapper that refuses to finish an empty mesh,
+//! so the output file is never committed when there is no surface.
+
+use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Totals};
+
+/// Passes everything to `inner`, but fails instead of finishing when the
+/// mesh has no triangle; `inner` is then dropped unfinished, which leaves
+/// nothing at its output path.
+pub(crate) struct RequireSurface<'a> {
+    /// The sink that writes the output.
+    pub inner: &'a mut dyn MeshSink,
+    /// The error message for an empty mesh.
+    pub message: String,
+}
+
+impl MeshSink for RequireSurface<'_> {
+    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        self.inner.begin(info)
+    }
+
+    fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
+        self.inner.chunk(base, chunk)
+    }
+
+    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
+        self.inner.take_chunk(base, chunk)
+    }
+
+    fn finish(&mut self, totals: &Totals) -> Result<()> {
+        if totals.triangles == 0 {
+            return Err(Error::Invalid(self.message.clone()));
+        }
+        self.inner.finish(totals)
+    }
+}

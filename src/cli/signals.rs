@@ -1,0 +1,87 @@
+//! Signals: SIGINT and SIGTERM cancel an extraction cleanly (exit status
+//! 130 or 143), and a SIGBUS from a memory-mapped input that shrank is
+//! reported as one line instead of a crash.
+
+use signal_hook::consts::{SIGBUS, SIGINT, SIGTERM};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+
+/// The cancel flag that SIGINT and SIGTERM set, and which of them came.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Interrupts {
+    /// Set by either signal; passed to the pipeline as its cancel flag.
+    flag: Arc<AtomicBool>,
+    /// The number of the last of them that arrived (0: none).
+    signal: Arc<AtomicUsize>,
+}
+
+impl Interrupts {
+    /// Installs the handlers. The first SIGINT or SIGTERM only sets the
+    /// flag, so the pipeline stops at its next slab and removes its
+    /// temporary output; a second one exits at once (status 130 or 143)
+    /// in case something does not look at the flag.
+    pub(crate) fn install() -> std::io::Result<Interrupts> {
+        let interrupts = Interrupts::default();
+        for signal in [SIGINT, SIGTERM] {
+            // Registered first, so that it runs before the flag is set and
+            // only fires on a second signal.
+            signal_hook::flag::register_conditional_shutdown(
+                signal,
+                128 + signal,
+                Arc::clone(&interrupts.flag),
+            )?;
+            signal_hook::flag::register_usize(
+                signal,
+                Arc::clone(&interrupts.signal),
+                signal as usize,
+            )?;
+            signal_hook::flag::register(signal, Arc::clone(&interrupts.flag))?;
+        }
+        Ok(interrupts)
+    }
+
+    /// The cancel flag.
+    pub(crate) fn flag(&self) -> &AtomicBool {
+        &self.flag
+    }
+
+    /// The name of the signal that interrupted the run and the exit status
+    /// that goes with it (128 + its number), if one did.
+    pub(crate) fn received(&self) -> Option<(&'static str, u8)> {
+        match self.signal.load(Ordering::SeqCst) {
+            0 => None,
+            s if s == SIGTERM as usize => Some(("SIGTERM", 128 + SIGTERM as u8)),
+            _ => Some(("SIGINT", 128 + SIGINT as u8)),
+        }
+    }
+}
+
+/// The line written on SIGBUS.
+const SIGBUS_MESSAGE: &[u8] = b"tmc: error: input file changed under the memory map (SIGBUS): \
+it was truncated or rewritten by another program during the run; no output was written\n";
+
+/// Installs a SIGBUS handler that writes one line to stderr and exits with
+/// status 1. A memory-mapped input that another program truncates raises
+/// SIGBUS on the next read of a lost page; the pipeline's check of the file
+/// size before each slab catches most such cases with a clean error, this
+/// catches the rest. The temporary output file stays behind (it cannot be
+/// removed safely from a signal handler); nothing appears at the output path.
+pub(crate) fn install_sigbus() -> std::io::Result<()> {
+    let action = || {
+        // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is
+        // a static byte string, valid for the whole call. A short or failed
+        // write changes nothing: the process exits either way.
+        unsafe {
+            libc::write(
+                libc::STDERR_FILENO,
+                SIGBUS_MESSAGE.as_ptr().cast(),
+                SIGBUS_MESSAGE.len(),
+            );
+            libc::_exit(1);
+        }
+    };
+    // SAFETY: the action only calls async-signal-safe functions (see above)
+    // and never returns, so the faulting instruction is not retried; it
+    // touches no lock, allocator or Rust state.
+    unsafe { signal_hook::low_level::register(SIGBUS, action) }.map(|_| ())
+}

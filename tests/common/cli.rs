@@ -1,0 +1,117 @@
+//! Running the built `tmc` binary from integration tests: the command, the
+//! one-line error check, small input files and directory listings.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the built `tmc` with `args`.
+pub fn tmc(args: &[&str]) -> Output {
+    Command::new(tmc_path())
+        .args(args)
+        .output()
+        .expect("run tmc")
+}
+
+/// Asserts exit status `code`, nothing on stdout and exactly one
+/// `tmc: ...` line on stderr; returns that line.
+pub fn assert_one_line(out: &Output, code: i32) -> String {
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(code), "stderr: {stderr}");
+    assert!(out.stdout.is_empty(), "stdout not empty");
+    assert_eq!(stderr.lines().count(), 1, "not one line: {stderr:?}");
+    assert!(
+        stderr.starts_with("tmc: error: "),
+        "no 'tmc: error: ' prefix: {stderr:?}"
+    );
+    stderr.trim_end().to_string()
+}
+
+/// The bytes of a version 1.0 `.npy` header holding the dictionary `dict`
+/// (padded so the data starts at a multiple of 64).
+pub fn npy_header(dict: &str) -> Vec<u8> {
+    let mut header = dict.to_string();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    bytes
+}
+
+/// Writes a little-endian f32 `.npy` of a sphere's distance field (shape
+/// `(nz, ny, nx)`), positive inside.
+pub fn sphere_npy(dir: &Path, name: &str, dims: [usize; 3]) -> PathBuf {
+    let [nx, ny, nz] = dims;
+    let mut bytes = npy_header(&format!(
+        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}"
+    ));
+    let c = |n: usize| (n as f32 - 1.0) / 2.0;
+    for z in 0..nz {
+        for y in 0..ny {
+            for x in 0..nx {
+                let d = ((x as f32 - c(nx)).powi(2)
+                    + (y as f32 - c(ny)).powi(2)
+                    + (z as f32 - c(nz)).powi(2))
+                .sqrt();
+                bytes.extend_from_slice(&(3.0 - d).to_le_bytes());
+            }
+        }
+    }
+    let path = dir.join(name);
+    fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// The names in `dir`, sorted.
+pub fn names(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// `path` as a `&str`.
+pub fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// The built `tmc` binary.
+pub fn tmc_path() -> &'static str {
+    env!("CARGO_BIN_EXE_tmc")
+}
+
+/// Runs the built `tmc` with `args`, killing it and failing the test if it
+/// has not exited after `seconds` (a hang is a bug).
+pub fn tmc_within(args: &[&str], seconds: u64) -> Output {
+    use std::time::{Duration, Instant};
+    let mut child = Command::new(tmc_path())
+        .args(args)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start tmc");
+    let deadline = Instant::now() + Duration::from_secs(seconds);
+    while child.try_wait().expect("wait for tmc").is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("tmc {args:?} still running after {seconds} s: it hangs");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().expect("collect tmc output")
+}
+
+/// The names in `dir` that are temporary files of tmc's atomic output.
+pub fn temp_files(dir: &Path) -> Vec<String> {
+    names(dir)
+        .into_iter()
+        .filter(|n| n.starts_with(".tmc-") && n.ends_with(".tmp"))
+        .collect()
+}

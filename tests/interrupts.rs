@@ -1,0 +1,238 @@
+//! Interrupting a long extraction: SIGINT and SIGTERM stop it within a
+//! second or two with status 130 or 143 and leave nothing behind; SIGKILL
+//! leaves at most a temporary file, never a file at the output path; an
+//! input truncated under the memory map is one clean error, never a crash.
+//! The library's cancel flag returns `Error::Interrupted`.
+
+mod common;
+
+use common::cli::{names, s, temp_files, tmc, tmc_path};
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::AtomicBool;
+use std::sync::{Mutex, OnceLock};
+use std::thread::sleep;
+use std::time::{Duration, Instant};
+
+/// Samples per axis of the test volume: 600^3 u8 value noise takes several
+/// seconds to extract on one thread (about 5 s on the 2-core test machine).
+const N: usize = 600;
+
+/// One extraction at a time: the timings must not compete for the cores.
+static SERIAL: Mutex<()> = Mutex::new(());
+
+/// A directory holding `noise.raw`, written once per test run.
+fn volume() -> &'static Path {
+    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("noise.raw");
+        let dims = format!("{N},{N},{N}");
+        let out = tmc(&[
+            "synth",
+            "noise",
+            "--dims",
+            &dims,
+            "--dtype",
+            "u8",
+            "-o",
+            s(&path),
+            "--quiet",
+        ]);
+        assert!(out.status.success(), "{out:?}");
+        dir
+    })
+    .path()
+}
+
+/// Starts `tmc extract` of `input` (the noise volume's layout) into
+/// `output` on one thread.
+fn start(input: &Path, output: &Path) -> Child {
+    let dims = format!("{N},{N},{N}");
+    Command::new(tmc_path())
+        .args(["extract", s(input), "--dims", &dims, "--dtype", "u8"])
+        .args(["--iso", "127.5", "--threads", "1", "-o", s(output)])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start tmc")
+}
+
+/// Sleeps `seconds`, then fails unless `child` is still running (the test
+/// would prove nothing if the extraction had already finished).
+fn still_running_after(child: &mut Child, seconds: f64) {
+    sleep(Duration::from_secs_f64(seconds));
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the extraction finished before the test could interrupt it; use a larger volume"
+    );
+}
+
+/// Sends `signal` (a name such as `INT`) to `child` with kill(1).
+fn signal(child: &Child, signal: &str) {
+    let status = Command::new("kill")
+        .arg(format!("-{signal}"))
+        .arg(child.id().to_string())
+        .status()
+        .expect("run kill");
+    assert!(status.success());
+}
+
+/// A fresh, empty output directory.
+fn out_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join(name);
+    (dir, output)
+}
+
+#[test]
+fn sigint_and_sigterm_stop_the_extraction_and_remove_the_output() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let input = volume().join("noise.raw");
+    for (name, code, output_name) in [
+        ("INT", 130, "mesh.ply"),
+        ("TERM", 143, "mesh.ply"),
+        ("INT", 130, "mesh.tmesh"),
+    ] {
+        let (dir, output) = out_dir(output_name);
+        let mut child = start(&input, &output);
+        still_running_after(&mut child, 0.5);
+        let sent = Instant::now();
+        signal(&child, name);
+        let out = child.wait_with_output().unwrap();
+        let took = sent.elapsed().as_secs_f64();
+        println!("SIG{name} -> exit after {took:.3} s ({output_name})");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "SIG{name}: {stderr}");
+        assert_eq!(
+            stderr.trim_end(),
+            format!("tmc: error: interrupted by SIG{name}; no output was written")
+        );
+        assert!(took < 2.0, "SIG{name}: took {took:.3} s to exit");
+        assert!(!output.exists());
+        assert!(names(dir.path()).is_empty(), "left {:?}", names(dir.path()));
+    }
+}
+
+#[test]
+fn sigkill_never_leaves_a_file_at_the_output_path() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let input = volume().join("noise.raw");
+    let (dir, output) = out_dir("mesh.ply");
+    let mut child = start(&input, &output);
+    still_running_after(&mut child, 0.5);
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!output.exists());
+    // At most the temporary file of the atomic output.
+    let left = names(dir.path());
+    assert!(left.len() <= 1, "{left:?}");
+    assert_eq!(temp_files(dir.path()), left);
+}
+
+#[test]
+fn an_input_truncated_during_the_extraction_is_a_clean_error() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (dir, output) = out_dir("mesh.tmesh");
+    let input = dir.path().join("shrinking.raw");
+    fs::copy(volume().join("noise.raw"), &input).unwrap();
+    let mut child = start(&input, &output);
+    still_running_after(&mut child, 0.3);
+    fs::OpenOptions::new()
+        .write(true)
+        .open(&input)
+        .unwrap()
+        .set_len(1000)
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("truncated input: {stderr}");
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let caught_by_check = stderr.starts_with(&format!(
+        "tmc: error: {}: the input file changed during the extraction: it shrank from {} to 1000 bytes",
+        input.display(),
+        N * N * N
+    ));
+    let caught_by_sigbus =
+        stderr.starts_with("tmc: error: input file changed under the memory map (SIGBUS)");
+    assert!(caught_by_check || caught_by_sigbus, "{stderr}");
+    assert!(!output.exists());
+    if caught_by_check {
+        // A clean error removes the temporary output too; after SIGBUS it
+        // may stay (it cannot be removed from a signal handler).
+        assert!(temp_files(dir.path()).is_empty());
+    }
+}
+
+#[test]
+fn the_library_stops_when_its_cancel_flag_is_set() {
+    let grid = tmc::Grid::unit([8, 8, 8]);
+    let samples: Vec<f32> = (0..512).map(|i| (i % 7) as f32).collect();
+    let source = tmc::ArrayVolume::new(grid, samples).unwrap();
+    let params = tmc::ExtractParams {
+        iso: 3.5,
+        ..Default::default()
+    };
+    for (set, threads) in [(true, 1), (true, 2), (false, 2)] {
+        let flag = AtomicBool::new(set);
+        let options = tmc::PipelineOptions {
+            cancel: Some(&flag),
+            slab_depth: 2,
+            ..Default::default()
+        };
+        let mut builder = tmc::MeshBuilder::default();
+        let params = tmc::ExtractParams {
+            threads,
+            ..params.clone()
+        };
+        let result = tmc::extract_to(&source, &params, &options, &mut builder);
+        if set {
+            assert!(matches!(result, Err(tmc::Error::Interrupted)), "{result:?}");
+        } else {
+            assert!(result.unwrap().triangles > 0);
+        }
+    }
+}
+
+#[test]
+fn a_mapped_input_that_shrank_is_noticed_before_the_next_slab() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("vol.raw");
+    fs::write(&path, vec![7u8; 16 * 16 * 16]).unwrap();
+    let options = tmc::volume::RawOptions {
+        dims: [16, 16, 16],
+        scalar: tmc::volume::ScalarType::U8,
+        endian: tmc::volume::Endian::Little,
+        header_bytes: 0,
+        spacing: [1.0; 3],
+        origin: [0.0; 3],
+    };
+    let source = tmc::volume::RawVolume::open(&path, &options).unwrap();
+    use tmc::SampleSource;
+    source.check_unchanged().unwrap();
+    fs::OpenOptions::new()
+        .write(true)
+        .open(&path)
+        .unwrap()
+        .set_len(100)
+        .unwrap();
+    let expected = format!(
+        "{}: the input file changed during the extraction: it shrank from 4096 to 100 bytes",
+        path.display()
+    );
+    let err = source.check_unchanged().unwrap_err().to_string();
+    assert!(err.starts_with(&expected), "{err}");
+    // The pipeline asks before the first slab reads a plane.
+    let mut builder = tmc::MeshBuilder::default();
+    let params = tmc::ExtractParams {
+        iso: 3.0,
+        threads: 1,
+        ..Default::default()
+    };
+    let result = tmc::extract_to(&source, &params, &Default::default(), &mut builder);
+    let err = result.unwrap_err().to_string();
+    assert!(err.starts_with(&expected), "{err}");
+}

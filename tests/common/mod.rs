@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod fields;
+pub mod formats;
 pub mod oracle;
 
 use oracle::Topology;

@@ -4,91 +4,23 @@
 //! per-slice rescale, meshes equal to those of the `.npy` twins mapped by the
 //! full affine, and one clear error per bad series.
 
+mod common;
+
+use common::formats::{check_grid, data_dir, fixtures, open_err, samples_in_order};
 use dicom_core::{DataElement, PrimitiveValue, VR};
 use dicom_dictionary_std::tags;
 use dicom_object::Tag;
 use std::fs;
 use std::path::{Path, PathBuf};
-use tmc::volume::{self, dicom, Grid};
+use tmc::volume::{self, dicom};
 use tmc::{ExtractParams, SampleSource};
-
-fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
-}
-
-/// One fixture of the manifest.
-struct Fixture {
-    name: String,
-    file: PathBuf,
-    dims: [usize; 3],
-    spacing: [f64; 3],
-    origin: [f64; 3],
-    direction: [[f64; 3]; 3],
-}
-
-fn vec3(v: &serde_json::Value) -> [f64; 3] {
-    let a = v.as_array().expect("array");
-    [0, 1, 2].map(|i| a[i].as_f64().expect("number"))
-}
-
-fn fixtures() -> Vec<Fixture> {
-    let text = fs::read_to_string(data_dir().join("dicom_manifest.json")).unwrap();
-    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
-    json.as_array()
-        .unwrap()
-        .iter()
-        .map(|f| {
-            let d = f["direction"].as_array().unwrap();
-            Fixture {
-                name: f["name"].as_str().unwrap().to_string(),
-                file: data_dir().join(f["file"].as_str().unwrap()),
-                dims: vec3(&f["dims"]).map(|x| x as usize),
-                spacing: vec3(&f["spacing"]),
-                origin: vec3(&f["origin"]),
-                direction: [vec3(&d[0]), vec3(&d[1]), vec3(&d[2])],
-            }
-        })
-        .collect()
-}
-
-/// All planes, read in the order `order` and stored at their own place.
-fn samples_in_order(source: &dyn SampleSource, order: &[usize]) -> Vec<f64> {
-    let grid = *source.grid();
-    let n = grid.plane_len();
-    let mut out = vec![0.0; n * grid.dims[2]];
-    for &z in order {
-        source.read_plane(z, &mut out[z * n..(z + 1) * n]).unwrap();
-    }
-    out
-}
-
-fn close(a: f64, b: f64, tol: f64) -> bool {
-    (a - b).abs() <= tol * a.abs().max(b.abs()).max(1.0)
-}
-
-fn check_grid(name: &str, grid: &Grid, f: &Fixture) {
-    assert_eq!(grid.dims, f.dims, "{name}");
-    for i in 0..3 {
-        assert!(
-            close(grid.spacing[i], f.spacing[i], 1e-9),
-            "{name}: {grid:?}"
-        );
-        assert!(close(grid.origin[i], f.origin[i], 1e-9), "{name}: {grid:?}");
-        for j in 0..3 {
-            // pydicom writes decimal strings of at most 16 characters.
-            assert!(
-                (grid.direction[i][j] - f.direction[i][j]).abs() < 1e-9,
-                "{name}: {:?} vs {:?}",
-                grid.direction,
-                f.direction
-            );
-        }
-    }
-}
 
 #[test]
 fn manifest_lists_every_kind() {
-    let names: Vec<String> = fixtures().into_iter().map(|f| f.name).collect();
+    let names: Vec<String> = fixtures("dicom_manifest.json")
+        .into_iter()
+        .map(|f| f.name)
+        .collect();
     for want in [
         "dicom_ct",
         "dicom_shuffled",
@@ -105,12 +37,12 @@ fn manifest_lists_every_kind() {
 
 #[test]
 fn fixtures_match_their_npy_twins() {
-    for f in fixtures() {
+    for f in fixtures("dicom_manifest.json") {
         let vol = volume::open(&f.file, None).unwrap_or_else(|e| panic!("{}: {e}", f.name));
         let twin = data_dir().join(format!("{}.expected.npy", f.name));
         let npy = volume::open(&twin, None).unwrap();
         let grid = *vol.grid();
-        check_grid(&f.name, &grid, &f);
+        check_grid(&grid, &f, 1e-9, 1e-9);
         assert_eq!(npy.grid().dims, f.dims, "{}", f.name);
 
         let nz = grid.dims[2];
@@ -227,16 +159,6 @@ fn a_series_can_be_chosen_by_uid() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("no DICOM series 1.2.3"), "{e}");
-}
-
-/// The error of opening `path`, checked to be one line.
-fn open_err(path: &Path) -> String {
-    let e = match volume::open(path, None) {
-        Ok(v) => panic!("{} opened: {:?}", path.display(), v.grid()),
-        Err(e) => e.to_string(),
-    };
-    assert!(!e.contains('\n'), "multi-line error: {e}");
-    e
 }
 
 #[test]

@@ -3,70 +3,24 @@
 //! (after scl_slope / scl_inter) and meshes equal to those of the `.npy`
 //! twins, direction cosines, and one clear error per bad input.
 
+mod common;
+
+use common::formats::{all_samples, check_grid, close, data_dir, det, fixtures, open_err};
 use std::fs;
 use std::path::{Path, PathBuf};
 use tmc::volume::{self, metaimage, nifti};
 use tmc::{ExtractParams, SampleSource};
 
-fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
-}
-
-/// One fixture of the manifest.
-struct Fixture {
-    name: String,
-    file: PathBuf,
-    dims: [usize; 3],
-    spacing: [f64; 3],
-    origin: [f64; 3],
-    direction: [[f64; 3]; 3],
-}
-
-fn vec3(v: &serde_json::Value) -> [f64; 3] {
-    let a = v.as_array().expect("array");
-    [0, 1, 2].map(|i| a[i].as_f64().expect("number"))
-}
-
-fn fixtures() -> Vec<Fixture> {
-    let text = fs::read_to_string(data_dir().join("nifti_mhd_manifest.json")).unwrap();
-    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
-    json.as_array()
-        .unwrap()
-        .iter()
-        .map(|f| {
-            let d = f["direction"].as_array().unwrap();
-            Fixture {
-                name: f["name"].as_str().unwrap().to_string(),
-                file: data_dir().join(f["file"].as_str().unwrap()),
-                dims: vec3(&f["dims"]).map(|x| x as usize),
-                spacing: vec3(&f["spacing"]),
-                origin: vec3(&f["origin"]),
-                direction: [vec3(&d[0]), vec3(&d[1]), vec3(&d[2])],
-            }
-        })
-        .collect()
-}
-
-fn all_samples(source: &dyn SampleSource) -> Vec<f64> {
-    let grid = *source.grid();
-    let mut out = vec![0.0; grid.plane_len() * grid.dims[2]];
-    for (z, plane) in out.chunks_exact_mut(grid.plane_len()).enumerate() {
-        source.read_plane(z, plane).unwrap();
-    }
-    out
-}
-
-fn close(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1.0)
-}
-
 #[test]
 fn manifest_lists_every_kind() {
-    let names: Vec<String> = fixtures().into_iter().map(|f| f.name).collect();
+    let names: Vec<String> = fixtures("nifti_mhd_manifest.json")
+        .into_iter()
+        .map(|f| f.name)
+        .collect();
     assert!(names.len() >= 11, "{names:?}");
     for ext in [".nii", ".nii.gz", ".hdr", ".mhd", ".mha"] {
         assert!(
-            fixtures()
+            fixtures("nifti_mhd_manifest.json")
                 .iter()
                 .any(|f| f.file.to_string_lossy().ends_with(ext)),
             "no {ext} fixture"
@@ -76,17 +30,13 @@ fn manifest_lists_every_kind() {
 
 #[test]
 fn fixtures_match_their_npy_twins() {
-    for f in fixtures() {
+    for f in fixtures("nifti_mhd_manifest.json") {
         let vol = volume::open(&f.file, None).unwrap_or_else(|e| panic!("{}: {e}", f.name));
         let twin = data_dir().join(format!("{}.expected.npy", f.name));
         let npy = volume::open(&twin, None).unwrap();
         let grid = *vol.grid();
-        assert_eq!(grid.dims, f.dims, "{}", f.name);
+        check_grid(&grid, &f, 1e-5, 1e-6);
         assert_eq!(npy.grid().dims, f.dims, "{}", f.name);
-        for i in 0..3 {
-            assert!(close(grid.spacing[i], f.spacing[i]), "{}: {grid:?}", f.name);
-            assert!(close(grid.origin[i], f.origin[i]), "{}: {grid:?}", f.name);
-        }
         let got = all_samples(vol.as_ref());
         let want = all_samples(npy.as_ref());
         assert_eq!(got, want, "{}: samples differ", f.name);
@@ -121,7 +71,7 @@ fn fixtures_match_their_npy_twins() {
                 let mapped =
                     f.origin[i] + (0..3).map(|j| f.direction[i][j] * scaled[j]).sum::<f64>();
                 assert!(
-                    close(f64::from(v[i]), mapped),
+                    close(f64::from(v[i]), mapped, 1e-5),
                     "{}: vertex {v:?} vs {w:?} mapped {mapped}",
                     f.name
                 );
@@ -130,15 +80,9 @@ fn fixtures_match_their_npy_twins() {
     }
 }
 
-fn det(d: &[[f64; 3]; 3]) -> f64 {
-    d[0][0] * (d[1][1] * d[2][2] - d[1][2] * d[2][1])
-        - d[0][1] * (d[1][0] * d[2][2] - d[1][2] * d[2][0])
-        + d[0][2] * (d[1][0] * d[2][1] - d[1][1] * d[2][0])
-}
-
 #[test]
 fn directions_and_header_details() {
-    for f in fixtures() {
+    for f in fixtures("nifti_mhd_manifest.json") {
         let path = f.file.to_string_lossy().to_string();
         let direction = if path.ends_with(".mhd") || path.ends_with(".mha") {
             metaimage::open(&f.file).unwrap().direction()
@@ -167,16 +111,6 @@ fn directions_and_header_details() {
     let list = metaimage::open(&data_dir().join("mhd_list_i16_be.mhd")).unwrap();
     assert!(list.is_slice_list());
     assert_eq!(list.sample_bytes(), 2);
-}
-
-/// The error of opening `path`, checked to be one line.
-fn open_err(path: &Path) -> String {
-    let e = match volume::open(path, None) {
-        Ok(v) => panic!("{} opened: {:?}", path.display(), v.grid()),
-        Err(e) => e.to_string(),
-    };
-    assert!(!e.contains('\n'), "multi-line error: {e}");
-    e
 }
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {

@@ -7,68 +7,17 @@
 //! (vertices mapped through the full affine), and every bad input one clear
 //! line.
 
+mod common;
+
+use common::formats::{all_samples, check_grid, close, data_dir, fixtures, open_err};
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use tmc::volume::{self, nrrd, ScalarType};
 use tmc::{ExtractParams, SampleSource};
 
-fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
-}
-
-/// One fixture of the manifest.
-struct Fixture {
-    name: String,
-    file: PathBuf,
-    dims: [usize; 3],
-    spacing: [f64; 3],
-    origin: [f64; 3],
-    direction: [[f64; 3]; 3],
-    files: usize,
-}
-
-fn vec3(v: &serde_json::Value) -> [f64; 3] {
-    let a = v.as_array().expect("array");
-    [0, 1, 2].map(|i| a[i].as_f64().expect("number"))
-}
-
-fn fixtures() -> Vec<Fixture> {
-    let text = fs::read_to_string(data_dir().join("nrrd_manifest.json")).unwrap();
-    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
-    json.as_array()
-        .unwrap()
-        .iter()
-        .map(|f| {
-            let d = f["direction"].as_array().unwrap();
-            Fixture {
-                name: f["name"].as_str().unwrap().to_string(),
-                file: data_dir().join(f["file"].as_str().unwrap()),
-                dims: vec3(&f["dims"]).map(|x| x as usize),
-                spacing: vec3(&f["spacing"]),
-                origin: vec3(&f["origin"]),
-                direction: [vec3(&d[0]), vec3(&d[1]), vec3(&d[2])],
-                files: f["files"].as_u64().unwrap() as usize,
-            }
-        })
-        .collect()
-}
-
-fn all_samples(source: &dyn SampleSource) -> Vec<f64> {
-    let grid = *source.grid();
-    let mut out = vec![0.0; grid.plane_len() * grid.dims[2]];
-    for (z, plane) in out.chunks_exact_mut(grid.plane_len()).enumerate() {
-        source.read_plane(z, plane).unwrap();
-    }
-    out
-}
-
-fn close(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1.0)
-}
-
 #[test]
 fn manifest_lists_every_kind() {
-    let all = fixtures();
+    let all = fixtures("nrrd_manifest.json");
     assert!(all.len() >= 10, "{}", all.len());
     assert!(all.iter().any(|f| f.file.extension().unwrap() == "nhdr"));
     assert!(all.iter().any(|f| f.file.extension().unwrap() == "nrrd"));
@@ -77,24 +26,13 @@ fn manifest_lists_every_kind() {
 
 #[test]
 fn fixtures_match_their_npy_twins() {
-    for f in fixtures() {
+    for f in fixtures("nrrd_manifest.json") {
         let vol = volume::open(&f.file, None).unwrap_or_else(|e| panic!("{}: {e}", f.name));
         let twin = data_dir().join(format!("{}.expected.npy", f.name));
         let npy = volume::open(&twin, None).unwrap();
         let grid = *vol.grid();
-        assert_eq!(grid.dims, f.dims, "{}", f.name);
+        check_grid(&grid, &f, 1e-5, 1e-9);
         assert_eq!(npy.grid().dims, f.dims, "{}", f.name);
-        for i in 0..3 {
-            assert!(close(grid.spacing[i], f.spacing[i]), "{}: {grid:?}", f.name);
-            assert!(close(grid.origin[i], f.origin[i]), "{}: {grid:?}", f.name);
-            for j in 0..3 {
-                assert!(
-                    (grid.direction[i][j] - f.direction[i][j]).abs() < 1e-9,
-                    "{}: {grid:?}",
-                    f.name
-                );
-            }
-        }
         let got = all_samples(vol.as_ref());
         let want = all_samples(npy.as_ref());
         assert_eq!(got, want, "{}: samples differ", f.name);
@@ -127,7 +65,7 @@ fn fixtures_match_their_npy_twins() {
                 let mapped =
                     f.origin[i] + (0..3).map(|j| f.direction[i][j] * scaled[j]).sum::<f64>();
                 assert!(
-                    close(f64::from(v[i]), mapped),
+                    close(f64::from(v[i]), mapped, 1e-5),
                     "{}: vertex {v:?} vs {w:?} mapped {mapped}",
                     f.name
                 );
@@ -138,7 +76,7 @@ fn fixtures_match_their_npy_twins() {
 
 #[test]
 fn header_details() {
-    for f in fixtures() {
+    for f in fixtures("nrrd_manifest.json") {
         let vol = nrrd::open(&f.file).unwrap();
         assert_eq!(vol.data_files(), f.files, "{}", f.name);
     }
@@ -169,16 +107,6 @@ fn absolute_data_file_name() {
     let vol = volume::open(&path, None).unwrap();
     let twin = volume::open(&data_dir().join("nrrd_detached_rot_f64.expected.npy"), None).unwrap();
     assert_eq!(all_samples(vol.as_ref()), all_samples(twin.as_ref()));
-}
-
-/// The error of opening `path`, checked to be one line that names `path`.
-fn open_err(path: &Path) -> String {
-    let e = match volume::open(path, None) {
-        Ok(v) => panic!("{} opened: {:?}", path.display(), v.grid()),
-        Err(e) => e.to_string(),
-    };
-    assert!(!e.contains('\n'), "multi-line error: {e}");
-    e
 }
 
 /// Copies the fixture files whose names start with `prefix` into `dir`.

@@ -3,6 +3,9 @@
 //! `scripts/fixtures/make_vtk_tiff.py`): same grid, same samples and same
 //! mesh as the `.npy` twin; bad inputs give errors, not panics.
 
+mod common;
+
+use common::formats::{all_samples, data_dir};
 use std::path::{Path, PathBuf};
 use tmc::volume::{self, tiff_stack, vti};
 use tmc::{extract, ExtractParams, SampleSource};
@@ -12,18 +15,13 @@ const SPACING: [f64; 3] = [0.5, 1.0, 2.0];
 const ORIGIN: [f64; 3] = [1.5, -2.0, 3.25];
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
+    data_dir().join(name)
 }
 
+/// All samples, checked to read the same again in reverse plane order.
 fn planes(src: &dyn SampleSource) -> Vec<f64> {
     let g = *src.grid();
-    let mut all = vec![0.0; g.plane_len() * g.dims[2]];
-    for (z, plane) in all.chunks_exact_mut(g.plane_len()).enumerate() {
-        src.read_plane(z, plane).unwrap();
-    }
-    // read again out of order: deterministic
+    let all = all_samples(src);
     let mut again = vec![0.0; g.plane_len()];
     for z in (0..g.dims[2]).rev() {
         src.read_plane(z, &mut again).unwrap();

@@ -40,9 +40,24 @@ impl TiffStack {
 
 fn decoder(path: &Path) -> Result<Decoder<BufReader<File>>> {
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
     Decoder::new(BufReader::new(file))
-        .map(|d| d.with_limits(Limits::unlimited()))
+        .map(|d| d.with_limits(limits(len)))
         .map_err(|e| Error::Format(format!("{}: not a readable TIFF: {e}", path.display())))
+}
+
+/// Decoder limits for a file of `len` bytes. The decoder sizes tag value
+/// lists and page buffers by this limit before reading them, so it must not
+/// be unlimited: a tag claiming 2^31 values in a 2 KB file would allocate
+/// 32 GiB. A page holds at most what its bytes can expand to (1024 times
+/// for deflate and LZW), and never less than the decoder's defaults.
+fn limits(len: u64) -> Limits {
+    let defaults = Limits::default();
+    let cap = usize::try_from(len.saturating_mul(1024)).unwrap_or(usize::MAX);
+    let mut limits = Limits::default();
+    limits.decoding_buffer_size = cap.max(defaults.decoding_buffer_size);
+    limits.intermediate_buffer_size = cap.max(defaults.intermediate_buffer_size);
+    limits
 }
 
 /// Size and sample type of the current page of `dec`.

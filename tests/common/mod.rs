@@ -4,6 +4,7 @@
 
 pub mod cli;
 pub mod fields;
+pub mod formats;
 pub mod oracle;
 
 use oracle::Topology;

@@ -8,7 +8,9 @@ its mesh in memory, so the figures compare the extraction itself:
 
 * tmc 1T / 2T, mc 1T / 2T: tmc::extract with --method tmc or mc and 1 or 2
   threads, timed inside the example `time_extract` (which holds the volume as
-  f64, tmc's in-memory sample type), driven over a pipe;
+  float32, like the peers), driven over a pipe;
+* pass 1T / 2T: no extraction, one pass over the same samples (their maximum),
+  the memory-bandwidth floor a sparse surface is compared with;
 * FE 1T / 2T: VTK vtkFlyingEdges3D (normals, gradients and scalars off), with
   the STDThread SMP backend initialised to 1 or 2 threads (the PyPI wheel's
   default backend is Sequential, i.e. one thread);
@@ -155,7 +157,7 @@ def make_tools(vol: np.ndarray, path: Path, iso: float, args) -> tuple[dict, lis
 
     tmc_server = Server([str(args.time_extract), str(path), "--iso", repr(iso), "--serve"])
     closers.append(tmc_server.close)
-    for method in ("tmc", "mc"):
+    for method in ("tmc", "mc", "pass"):
         for threads in (1, 2):
             tools[f"{method} {threads}T"] = (
                 lambda m=method, t=threads: tmc_server.ask(f"{m} {t}")
@@ -307,6 +309,17 @@ def tables(results: list[dict], args) -> str:
         t = r["triangles"]
         out.append(f"| {r['volume']} | {r['iso']:g} | "
                    + " | ".join(f"{t[c]:,}" if c in t else "—" for c in tcols) + " |")
+    out.append("")
+    out.append("The bandwidth floor: 'pass' = one pass over the samples in memory (their "
+               "maximum, time_extract --method pass), same threads; tmc / pass:")
+    out.append("")
+    out.append("| volume | pass 1T | pass 2T | tmc/pass 1T | tmc/pass 2T |")
+    out.append("|---|---|---|---|---|")
+    for r in results:
+        m = r["median"]
+        out.append(f"| {r['volume']} | {fmt_s(m.get('pass 1T'))} | {fmt_s(m.get('pass 2T'))} | "
+                   f"{fmt_ratio(m.get('tmc 1T'), m.get('pass 1T'))} | "
+                   f"{fmt_ratio(m.get('tmc 2T'), m.get('pass 2T'))} |")
     out.append("")
     out.append("TMC against standard MC (tmc --method mc), same code path, median seconds:")
     out.append("")

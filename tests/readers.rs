@@ -854,17 +854,7 @@ fn lent_planes_match_read_planes_and_give_the_same_mesh() {
     let dir = tempfile::tempdir().unwrap();
     let dims = [9usize, 7, 5];
     let n: usize = dims.iter().product();
-    let all = [
-        ScalarType::U8,
-        ScalarType::I8,
-        ScalarType::U16,
-        ScalarType::I16,
-        ScalarType::U32,
-        ScalarType::I32,
-        ScalarType::F32,
-        ScalarType::F64,
-    ];
-    for scalar in all {
+    for scalar in ScalarType::ALL {
         // A blob with a few extremes first (NaN, infinities for floats).
         let value = |i: usize| {
             let [x, y, z] = [i % dims[0], i / dims[0] % dims[1], i / (dims[0] * dims[1])];

@@ -153,6 +153,16 @@ impl<'s> Plane<'s> {
         rel_at(self.lent, &self.read, self.level, i)
     }
 
+    /// The kernel's values of samples `at`.
+    #[inline]
+    fn rels<const N: usize>(&self, at: [usize; N]) -> [f64; N] {
+        let values = match &self.lent {
+            Some(samples) => samples.get_many(at),
+            None => at.map(|i| self.read[i]),
+        };
+        values.map(|v| self.level.rel(v))
+    }
+
     /// Reads and classifies plane `z`; appends the positions of its edge
     /// vertices to `owned`.
     fn load(
@@ -484,10 +494,8 @@ fn cell_at(
         return Ok(());
     }
     let corners = [i, i + 1, i + nx, i + nx + 1];
-    let g: [f64; 8] = std::array::from_fn(|c| {
-        let plane = if c < 4 { bottom } else { top };
-        plane.rel(corners[c % 4])
-    });
+    let (low, high) = (bottom.rels(corners), top.rels(corners));
+    let g: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
     cell.clear();
     triangulate_ambiguous(&g, config, stats, cell);
     let first_interior = local_index(block)?;

@@ -40,6 +40,21 @@ impl LentPlane<'_> {
         }
     }
 
+    /// Samples `at` as `f64`s, with one look at the type for all of them.
+    #[inline(always)]
+    pub fn get_many<const N: usize>(&self, at: [usize; N]) -> [f64; N] {
+        match self {
+            LentPlane::U8(s) => at.map(|i| f64::from(s[i])),
+            LentPlane::I8(s) => at.map(|i| f64::from(s[i])),
+            LentPlane::U16(s) => at.map(|i| f64::from(s[i])),
+            LentPlane::I16(s) => at.map(|i| f64::from(s[i])),
+            LentPlane::U32(s) => at.map(|i| f64::from(s[i])),
+            LentPlane::I32(s) => at.map(|i| f64::from(s[i])),
+            LentPlane::F32(s) => at.map(|i| f64::from(s[i])),
+            LentPlane::F64(s) => at.map(|i| s[i]),
+        }
+    }
+
     /// Samples in the plane.
     pub fn len(&self) -> usize {
         match self {

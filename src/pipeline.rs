@@ -117,6 +117,21 @@ fn worker_threads(params: &ExtractParams) -> usize {
     }
 }
 
+/// The slab depth when none is asked for: about 64M samples per slab, 16
+/// to 64 layers (a slab re-reads the plane it shares with the slab below, so
+/// thin slabs cost time, while memory grows with the plane size far more
+/// than with the depth); but with several threads, thin enough that there
+/// are about four slabs per thread (at least 8 layers each), because slabs
+/// are the unit of parallel work and a few big ones leave threads idle at
+/// the end.
+fn default_depth(plane_len: usize, layers: usize, threads: usize) -> usize {
+    let by_size = ((64 << 20) / plane_len.max(1)).clamp(16, 64);
+    if threads <= 1 {
+        return by_size;
+    }
+    by_size.min(layers.div_ceil(4 * threads).max(8))
+}
+
 /// A rayon pool of `threads` threads.
 fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
@@ -171,10 +186,7 @@ pub fn extract_to(
     let depth = if options.slab_depth > 0 {
         options.slab_depth.min(64)
     } else {
-        // About 64M samples per slab, 16 to 64 layers: a slab re-reads the
-        // plane it shares with the slab below, so thin slabs cost time, while
-        // memory grows with the plane size far more than with the depth.
-        ((64 << 20) / source.grid().plane_len().max(1)).clamp(16, 64)
+        default_depth(source.grid().plane_len(), layers, threads)
     };
     let plan = crate::budget::plan(
         source.grid().plane_len(),

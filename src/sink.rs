@@ -92,10 +92,8 @@ impl MeshBuilder {
     pub fn try_into_mesh(self) -> Result<Mesh> {
         use rayon::prelude::*;
         let nv = self.vertices as usize;
-        let mut vertices = crate::error::try_vec("the mesh's vertices", nv)?;
-        vertices.resize(nv, [0.0f32; 3]);
-        let mut triangles = crate::error::try_vec("the mesh's triangles", self.triangles)?;
-        triangles.resize(self.triangles, [0u32; 3]);
+        let mut vertices = crate::error::try_zeroed_vec("the mesh's vertices", nv)?;
+        let mut triangles = crate::error::try_zeroed_vec("the mesh's triangles", self.triangles)?;
         let mut jobs = Vec::with_capacity(self.chunks.len());
         let (mut v_rest, mut t_rest) = (&mut vertices[..], &mut triangles[..]);
         for (base, chunk) in &self.chunks {

@@ -66,12 +66,13 @@ impl Block {
         }
     }
 
-    /// An empty block with room for as much as `like` holds, so that a
-    /// layer like the previous one does not grow its vectors step by step.
-    fn sized_like(like: &Block) -> Block {
+    /// An empty block with a quarter more room than the finished block
+    /// `(vertices, triangles)` of the layer below needed, so that a layer
+    /// like it does not grow its vectors step by step.
+    fn sized_like((vertices, triangles): (usize, usize)) -> Block {
         Block {
-            vertices: Vec::with_capacity(like.vertices.len() + like.vertices.len() / 4),
-            triangles: Vec::with_capacity(like.triangles.len() + like.triangles.len() / 4),
+            vertices: Vec::with_capacity(vertices + vertices / 4),
+            triangles: Vec::with_capacity(triangles + triangles / 4),
         }
     }
 }
@@ -334,8 +335,10 @@ pub fn process_slab(
     let mut cell = CellMesh::new();
     let tables = tables();
     let mut ze = vec![NONE; nx * ny];
+    // The sizes of the last finished block (none yet).
+    let mut finished = (0, 0);
     for z in layers.clone() {
-        let mut next = Block::sized_like(&block);
+        let mut next = Block::sized_like(finished);
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
         let words = bottom.inside.words() - 1;
@@ -362,6 +365,7 @@ pub fn process_slab(
             ze: &ze,
         };
         layer_cells(&layer, &mut block, &mut cell, &mut stats)?;
+        finished = (block.vertices.len(), block.triangles.len());
         chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
         std::mem::swap(&mut bottom, &mut top);
     }

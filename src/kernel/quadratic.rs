@@ -30,32 +30,47 @@ pub fn trilinear(g: &[f64; 8], p: DVec3) -> f64 {
     lerp(lerp(b00, b10, y), lerp(b01, b11, y), z)
 }
 
-/// Corner index of local position (x, y, z) in {0,1}^3.
-fn corner(x: usize, y: usize, z: usize) -> usize {
-    x | y << 1 | z << 2
+/// The cut's corner values as `alpha + beta * s`, indexed `[j][k]` with `j`
+/// along the axis after the cut's and `k` along the one after that.
+type Cut = [[(f64, f64); 2]; 2];
+
+/// For each axis and cut slot `[j][k]`: the cell corners (at `s = 0`, at
+/// `s = 1`) whose values the slot interpolates.
+const CUT_CORNERS: [[[[usize; 2]; 2]; 2]; 3] = cut_corners();
+
+const fn cut_corners() -> [[[[usize; 2]; 2]; 2]; 3] {
+    let mut table = [[[[0; 2]; 2]; 2]; 3];
+    let mut axis = 0;
+    while axis < 3 {
+        let mut j = 0;
+        while j < 2 {
+            let mut k = 0;
+            while k < 2 {
+                // Corner c = x + 2y + 4z.
+                let low = j << ((axis + 1) % 3) | k << ((axis + 2) % 3);
+                table[axis][j][k] = [low, low | 1 << axis];
+                k += 1;
+            }
+            j += 1;
+        }
+        axis += 1;
+    }
+    table
 }
 
-/// The cut perpendicular to `axis`: corner values as `alpha + beta * s`,
-/// indexed `[j][k]` with `j` along the next axis and `k` along the one after.
-fn cut(g: &[f64; 8], axis: usize) -> [[(f64, f64); 2]; 2] {
-    let mut out = [[(0.0, 0.0); 2]; 2];
-    for (j, row) in out.iter_mut().enumerate() {
-        for (k, slot) in row.iter_mut().enumerate() {
-            let mut idx = [0usize; 3];
-            idx[(axis + 1) % 3] = j;
-            idx[(axis + 2) % 3] = k;
-            let lo = g[corner(idx[0], idx[1], idx[2])];
-            idx[axis] = 1;
-            let hi = g[corner(idx[0], idx[1], idx[2])];
-            *slot = (lo, hi - lo);
-        }
-    }
-    out
+/// The cut perpendicular to `axis` (a table lookup, so that the per-axis
+/// loops of the callers compile to straight-line code).
+fn cut(g: &[f64; 8], axis: usize) -> Cut {
+    CUT_CORNERS[axis].map(|row| row.map(|[lo, hi]| (g[lo], g[hi] - g[lo])))
 }
 
 /// Coefficients `(a, b, c)` of `D_axis(s) = a s^2 + b s + c`.
 pub fn coefficients(g: &[f64; 8], axis: usize) -> (f64, f64, f64) {
-    let s = cut(g, axis);
+    cut_coefficients(&cut(g, axis))
+}
+
+/// [`coefficients`] of a cut.
+fn cut_coefficients(s: &Cut) -> (f64, f64, f64) {
     let ((a00, b00), (a01, b01)) = (s[0][0], s[0][1]);
     let ((a10, b10), (a11, b11)) = (s[1][0], s[1][1]);
     (
@@ -125,7 +140,11 @@ impl IntoIterator for Roots {
 /// The saddle of the cut `x_axis = s`: the point where its two lines cross,
 /// or `None` when the cut has no saddle.
 pub fn cut_saddle(g: &[f64; 8], axis: usize, s: f64) -> Option<DVec3> {
-    let c = cut(g, axis);
+    saddle_of_cut(&cut(g, axis), axis, s)
+}
+
+/// [`cut_saddle`] of the cut `c` perpendicular to `axis`.
+fn saddle_of_cut(c: &Cut, axis: usize, s: f64) -> Option<DVec3> {
     let v = |j: usize, k: usize| c[j][k].0 + c[j][k].1 * s;
     let (s00, s10, s01, s11) = (v(0, 0), v(1, 0), v(0, 1), v(1, 1));
     let eta = s00 - s10 - s01 + s11;
@@ -159,9 +178,10 @@ pub fn saddle_points(g: &[f64; 8]) -> Saddles {
     const TOL: f64 = 1e-9;
     let mut out = Saddles::default();
     for axis in 0..3 {
-        let (a, b, c) = coefficients(g, axis);
+        let cut = cut(g, axis);
+        let (a, b, c) = cut_coefficients(&cut);
         for s in roots(a, b, c) {
-            if let Some(p) = cut_saddle(g, axis, s) {
+            if let Some(p) = saddle_of_cut(&cut, axis, s) {
                 if p.cmpge(DVec3::splat(-TOL)).all() && p.cmple(DVec3::splat(1.0 + TOL)).all() {
                     out.points[out.len] = p.clamp(DVec3::ZERO, DVec3::ONE);
                     out.len += 1;
@@ -237,6 +257,22 @@ mod tests {
         // Catastrophic cancellation in the textbook formula.
         let r = roots(1.0, -1e8, 1.0);
         assert!((r.as_slice()[0] - 1e-8).abs() < 1e-20);
+    }
+
+    #[test]
+    fn cut_corners_differ_only_along_the_axis() {
+        for (axis, slots) in CUT_CORNERS.iter().enumerate() {
+            for (j, row) in slots.iter().enumerate() {
+                for (k, &[lo, hi]) in row.iter().enumerate() {
+                    let at = |c: usize| [c & 1, c >> 1 & 1, c >> 2 & 1];
+                    let (l, h) = (at(lo), at(hi));
+                    assert_eq!((l[axis], h[axis]), (0, 1));
+                    assert_eq!(l[(axis + 1) % 3], j);
+                    assert_eq!(l[(axis + 2) % 3], k);
+                    assert_eq!((h[(axis + 1) % 3], h[(axis + 2) % 3]), (j, k));
+                }
+            }
+        }
     }
 
     #[test]

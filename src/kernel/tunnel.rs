@@ -244,8 +244,19 @@ fn scaled_integers(g: &[f64; 8]) -> Option<[i128; 8]> {
     if max_bits + shift > LIMIT_BITS {
         return None;
     }
-    let scale = 2f64.powi(shift);
+    // 0 <= shift <= LIMIT_BITS here (max_bits starts at 0).
+    let scale = power_of_two(shift);
     Some(g.map(|v| (v * scale) as i128))
+}
+
+/// `2^e` for `e` in the normal range of f64 (from the exponent bits, no
+/// library call), `2^e` rounded by `powi` otherwise.
+fn power_of_two(e: i32) -> f64 {
+    if (-1022..=1023).contains(&e) {
+        f64::from_bits(((e + 1023) as u64) << 52)
+    } else {
+        2f64.powi(e)
+    }
 }
 
 /// The values scaled by a power of two so the largest magnitude is near 1
@@ -255,9 +266,20 @@ fn normalized(g: &[f64; 8]) -> [f64; 8] {
     if max == 0.0 || !max.is_finite() {
         return *g;
     }
-    let exp = max.log2().floor() as i32;
-    let scale = 2f64.powi(-exp);
-    g.map(|v| v * scale)
+    // floor(log2(max)): the exponent bits of a normal number.
+    let exp = if max >= f64::MIN_POSITIVE {
+        ((max.to_bits() >> 52) & 0x7ff) as i32 - 1023
+    } else {
+        max.log2().floor() as i32
+    };
+    if exp > -1023 {
+        let scale = power_of_two(-exp);
+        g.map(|v| v * scale)
+    } else {
+        // A subnormal max: 2^-exp is beyond f64, so scale in two steps.
+        let (half, rest) = (power_of_two(-exp / 2), power_of_two(-exp - -exp / 2));
+        g.map(|v| v * half * rest)
+    }
 }
 
 #[cfg(test)]
@@ -279,6 +301,21 @@ mod tests {
         assert_eq!(strong, Some(Join { a: 0, b: 7 }));
         let weak = joins([1.0, -10.0, -10.0, -10.0, -10.0, -10.0, -10.0, 1.0]);
         assert!(weak.is_none());
+    }
+
+    #[test]
+    fn power_of_two_is_exact_over_the_whole_range() {
+        for e in -1074..=1023 {
+            assert_eq!(power_of_two(e), 2f64.powi(e), "2^{e}");
+        }
+    }
+
+    #[test]
+    fn normalized_puts_the_largest_magnitude_in_one_to_two() {
+        for max in [1e-300, 3.0e-5, 0.99999999, 1.0, 7.5, 1e150, 1e-310] {
+            let n = normalized(&[max, -max / 3.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+            assert!((1.0..2.0).contains(&n[0]), "{max} -> {}", n[0]);
+        }
     }
 
     #[test]

@@ -19,7 +19,7 @@ use crate::kernel::tables::{tables, Tables};
 use crate::kernel::{triangulate_ambiguous, CellMesh};
 use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
-use crate::volume::{Access, LentPlane, Sample, IDENTITY};
+use crate::volume::{Access, LentPlane, IDENTITY};
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use bits::{below, each_bit, next, SignBits};
 use glam::DVec3;
@@ -188,15 +188,17 @@ impl<'s> Plane<'s> {
         let level = Level::new(params);
         self.level = level;
         match self.lent {
-            None => classify(&self.read, nx, level, &mut self.inside),
-            Some(LentPlane::U8(s)) => classify(s, nx, level, &mut self.inside),
-            Some(LentPlane::I8(s)) => classify(s, nx, level, &mut self.inside),
-            Some(LentPlane::U16(s)) => classify(s, nx, level, &mut self.inside),
-            Some(LentPlane::I16(s)) => classify(s, nx, level, &mut self.inside),
-            Some(LentPlane::U32(s)) => classify(s, nx, level, &mut self.inside),
-            Some(LentPlane::I32(s)) => classify(s, nx, level, &mut self.inside),
-            Some(LentPlane::F32(s)) => classify(s, nx, level, &mut self.inside),
-            Some(LentPlane::F64(s)) => classify(s, nx, level, &mut self.inside),
+            None => self
+                .inside
+                .classify(&self.read, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U8(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I8(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U16(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I16(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::F32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::F64(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
         }
         let (lent, read) = (self.lent, &self.read);
         let rel = |i: usize| rel_at(lent, read, level, i);
@@ -241,38 +243,6 @@ fn rel_at(lent: Option<LentPlane>, read: &[f64], level: Level, i: usize) -> f64 
         None => read[i],
     };
     level.rel(value)
-}
-
-/// Sets the inside bits of a plane of `samples`, rows of `nx`.
-///
-/// Inside means `rel(v) > 0`: for a finite isovalue that is one plain
-/// comparison in `f64` (exact for every sample type; NaN compares false
-/// either way, a tie is outside), which lets the packing loop vectorise.
-fn classify<T: Sample>(samples: &[T], nx: usize, level: Level, inside: &mut SignBits) {
-    for (y, values) in samples.chunks_exact(nx).enumerate() {
-        let bits = inside.row_mut(y);
-        if level.sign > 0.0 {
-            pack_bits(values, bits, |v| v.to_f64() > level.iso);
-        } else {
-            pack_bits(values, bits, |v| v.to_f64() < level.iso);
-        }
-    }
-}
-
-/// Sets bit `j` of word `k` of `bits` when `inside(values[64 k + j])`.
-#[inline(always)]
-fn pack_bits<T: Copy>(values: &[T], bits: &mut [u64], inside: impl Fn(T) -> bool) {
-    for (word, chunk) in bits.iter_mut().zip(values.chunks(64)) {
-        let mut w = 0u64;
-        for (j, eight) in chunk.chunks(8).enumerate() {
-            let byte = eight
-                .iter()
-                .enumerate()
-                .fold(0u64, |b, (i, &v)| b | u64::from(inside(v)) << i);
-            w |= byte << (8 * j);
-        }
-        *word = w;
-    }
 }
 
 /// The grid's index-to-world map, rounded to f32, with a shortcut for the

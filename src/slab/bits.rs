@@ -6,6 +6,8 @@
 //! edges and cells are visited (Flying Edges trims each row to its crossed
 //! span; bits skip every uniform run, not only the ends).
 
+use crate::volume::{Sample, Threshold};
+
 /// One bit per sample (`1` = inside), row by row; each row is padded with
 /// one all-zero word, so the "next sample" of a row's last word is defined.
 #[derive(Debug)]
@@ -39,6 +41,69 @@ impl SignBits {
     pub(super) fn row_mut(&mut self, y: usize) -> &mut [u64] {
         &mut self.bits[y * self.words..(y + 1) * self.words]
     }
+
+    /// Sets the bits of a plane of `samples`, rows of `nx`: inside means
+    /// `v > iso` (`above`) or `v < iso`, NaN and ties outside.
+    ///
+    /// The comparison is made in the samples' own type where that is exact
+    /// (see [`Sample::threshold`]), else in `f64`, which is exact for every
+    /// type; either way the packing loop vectorises.
+    pub(super) fn classify<T: Sample>(&mut self, samples: &[T], nx: usize, iso: f64, above: bool) {
+        let threshold = T::threshold(iso, above);
+        for (y, values) in samples.chunks_exact(nx).enumerate() {
+            let bits = self.row_mut(y);
+            match threshold {
+                Threshold::ViaF64 if above => pack_bits(values, bits, |v| v.to_f64() > iso),
+                Threshold::ViaF64 => pack_bits(values, bits, |v| v.to_f64() < iso),
+                Threshold::Nothing => pack_bits(values, bits, |_| false),
+                Threshold::Everything => pack_bits(values, bits, |_| true),
+                Threshold::Above(t) => pack_bits(values, bits, |v| v > t),
+                Threshold::Below(t) => pack_bits(values, bits, |v| v < t),
+            }
+        }
+    }
+}
+
+/// Sets bit `j` of word `k` of `bits` when `inside(values[64 k + j])`.
+///
+/// Written so that it vectorises: 64 tests into a byte array (one compare
+/// per lane), then each 8 bytes of 0/1 gathered into 8 bits by one
+/// multiplication. About 5x faster than folding the bits in one by one for
+/// 8- and 16-bit samples, 2x for `f32` (measured in a stand-alone loop:
+/// 0.16-0.22 against 0.73-1.0 ns per sample).
+#[inline(always)]
+fn pack_bits<T: Copy>(values: &[T], bits: &mut [u64], inside: impl Fn(T) -> bool) {
+    let chunks = values.chunks_exact(64);
+    let rest = chunks.remainder();
+    let full = values.len() / 64;
+    for (word, chunk) in bits.iter_mut().zip(chunks) {
+        let mut flags = [0u8; 64];
+        for (flag, &v) in flags.iter_mut().zip(chunk) {
+            *flag = u8::from(inside(v));
+        }
+        *word = gather_flags(&flags);
+    }
+    if !rest.is_empty() {
+        let mut flags = [0u8; 64];
+        for (flag, &v) in flags.iter_mut().zip(rest) {
+            *flag = u8::from(inside(v));
+        }
+        bits[full] = gather_flags(&flags);
+    }
+}
+
+/// 64 flags (each 0 or 1) as the bits of a word, flag `i` at bit `i`: for
+/// 8 flags in a little-endian word, the product with `0x0102..80` puts
+/// flag `i` at bit `56 + i` (every partial product lands on its own bit,
+/// so nothing carries).
+#[inline(always)]
+fn gather_flags(flags: &[u8; 64]) -> u64 {
+    let mut word = 0u64;
+    for (j, eight) in flags.chunks_exact(8).enumerate() {
+        let bytes = u64::from_le_bytes(eight.try_into().expect("8 bytes"));
+        word |= (bytes.wrapping_mul(0x0102_0408_1020_4080) >> 56) << (8 * j);
+    }
+    word
 }
 
 /// Word `k` of `row` shifted by one sample: its bit `j` is the bit of sample
@@ -75,6 +140,42 @@ pub(super) fn each_bit<E>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn classify_matches_one_comparison_per_sample() {
+        // Rows that end inside a word, on a word boundary and past one.
+        for nx in [1, 5, 63, 64, 65, 130] {
+            let ny = 3;
+            let values: Vec<i16> = (0..nx * ny)
+                .map(|i| ((i * 7919 + 13) % 41) as i16 - 20)
+                .collect();
+            for iso in [-20.5, -3.0, 0.0, 0.5, 19.0, 25.0] {
+                for above in [true, false] {
+                    let mut bits = SignBits::new(nx, ny);
+                    bits.classify(&values, nx, iso, above);
+                    let floats: Vec<f64> = values.iter().map(|&v| f64::from(v)).collect();
+                    let mut via_f64 = SignBits::new(nx, ny);
+                    via_f64.classify(&floats, nx, iso, above);
+                    for y in 0..ny {
+                        let row = bits.row(y);
+                        assert_eq!(row, via_f64.row(y));
+                        for x in 0..64 * bits.words() {
+                            let bit = row[x / 64] >> (x % 64) & 1 == 1;
+                            let expect = x < nx && {
+                                let v = f64::from(values[y * nx + x]);
+                                if above {
+                                    v > iso
+                                } else {
+                                    v < iso
+                                }
+                            };
+                            assert_eq!(bit, expect, "nx {nx} iso {iso} above {above} x {x}");
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     #[test]
     fn next_shifts_across_words_and_below_masks() {

@@ -27,7 +27,7 @@ pub mod vti;
 pub mod vtk_legacy;
 pub mod write;
 
-pub use array::{ArrayVolume, Sample};
+pub use array::{ArrayVolume, Sample, Threshold};
 pub use lent::LentPlane;
 pub use padded::Padded;
 pub use raw::RawVolume;

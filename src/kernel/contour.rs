@@ -126,11 +126,16 @@ pub fn build(config: u8, joined: u8) -> ContourSet {
 pub fn surface_components(config: u8, joined: u8) -> [u8; 8] {
     let inside = |c: usize| config >> c & 1 == 1;
     let mut label: [u8; 8] = [0, 1, 2, 3, 4, 5, 6, 7];
-    let mut pairs: Vec<(usize, usize)> = EDGE_CORNERS
-        .iter()
-        .filter(|[a, b]| inside(*a) == inside(*b))
-        .map(|&[a, b]| (a, b))
-        .collect();
+    // At most 12 edges and 6 face diagonals; no allocation (the tables
+    // build 16,384 contour sets when a process starts).
+    let mut pairs = [(0usize, 0usize); 18];
+    let mut count = 0;
+    for &[a, b] in &EDGE_CORNERS {
+        if inside(a) == inside(b) {
+            pairs[count] = (a, b);
+            count += 1;
+        }
+    }
     for (f, &q) in FACE_CORNERS.iter().enumerate() {
         if face_is_ambiguous(config, f) {
             let inside_diag = if inside(q[0]) { 0 } else { 1 };
@@ -139,14 +144,15 @@ pub fn surface_components(config: u8, joined: u8) -> [u8; 8] {
             } else {
                 1 - inside_diag
             };
-            pairs.push((q[diag], q[diag + 2]));
+            pairs[count] = (q[diag], q[diag + 2]);
+            count += 1;
         }
     }
     // Tiny fixed-point union: propagate the smallest label.
     let mut changed = true;
     while changed {
         changed = false;
-        for &(a, b) in &pairs {
+        for &(a, b) in &pairs[..count] {
             let m = label[a].min(label[b]);
             if label[a] != m || label[b] != m {
                 label[a] = m;

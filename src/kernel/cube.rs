@@ -42,20 +42,39 @@ pub const FACE_CORNERS: [[usize; 4]; 6] = [
 ];
 
 /// Index of the edge joining corners `a` and `b` (which must be neighbours).
-pub fn edge_between(a: usize, b: usize) -> usize {
+pub const fn edge_between(a: usize, b: usize) -> usize {
     let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-    EDGE_CORNERS
-        .iter()
-        .position(|&[p, q]| p == lo && q == hi)
-        .expect("corners are not neighbours")
+    let mut e = 0;
+    while e < 12 {
+        if EDGE_CORNERS[e][0] == lo && EDGE_CORNERS[e][1] == hi {
+            return e;
+        }
+        e += 1;
+    }
+    panic!("corners are not neighbours")
 }
 
 /// The edges of each face in the cyclic order of [`FACE_CORNERS`]: edge `i`
 /// joins corners `i` and `i + 1` (mod 4) of the face.
-pub fn face_edges(face: usize) -> [usize; 4] {
-    let q = FACE_CORNERS[face];
-    [0, 1, 2, 3].map(|i| edge_between(q[i], q[(i + 1) % 4]))
+pub const fn face_edges(face: usize) -> [usize; 4] {
+    FACE_EDGES[face]
 }
+
+/// [`face_edges`] of every face, computed at compile time.
+const FACE_EDGES: [[usize; 4]; 6] = {
+    let mut table = [[0; 4]; 6];
+    let mut f = 0;
+    while f < 6 {
+        let q = FACE_CORNERS[f];
+        let mut i = 0;
+        while i < 4 {
+            table[f][i] = edge_between(q[i], q[(i + 1) % 4]);
+            i += 1;
+        }
+        f += 1;
+    }
+    table
+};
 
 /// The two faces that contain edge `e`.
 pub fn edge_faces(e: usize) -> [usize; 2] {

@@ -51,8 +51,16 @@ fn build() -> Tables {
                 ambiguous_faces[config] |= 1 << f;
             }
         }
+        // Decisions on faces that are not ambiguous are ignored: build each
+        // distinct set once (most configurations have no ambiguous face).
+        let mask = ambiguous_faces[config];
         for joined in 0..64u8 {
-            contours.push(contour::build(c, joined));
+            let set = if joined & !mask == 0 {
+                contour::build(c, joined)
+            } else {
+                contours[config * 64 + (joined & mask) as usize]
+            };
+            contours.push(set);
         }
         mc_start[config] = mc_tris.len() as u16;
         let set = contours[config * 64];
@@ -147,6 +155,17 @@ fn triangulate_polygon(poly: &[u8], out: &mut Vec<[u8; 3]>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shared_contour_sets_equal_their_own_build() {
+        let t = tables();
+        for config in 0..=255u8 {
+            for joined in 0..64u8 {
+                let set = t.contours[config as usize * 64 + joined as usize];
+                assert_eq!(set, contour::build(config, joined), "{config} {joined}");
+            }
+        }
+    }
 
     #[test]
     fn definition_one_counts() {

@@ -39,9 +39,16 @@ pub struct Join {
 pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Option<Join> {
     let mut joins = Joins::default();
     let mut labels = set.corner_comp;
-    if let Some(ints) = scaled_integers(g) {
-        sweep(&ints, false, &mut labels, &mut joins);
-        sweep(&ints.map(|v| -v), true, &mut labels, &mut joins);
+    if let Some((scale, bits)) = integer_scale(g) {
+        if bits <= SMALL_BITS {
+            let ints = g.map(|v| (v * scale) as i64);
+            sweep(&ints, false, &mut labels, &mut joins);
+            sweep(&ints.map(|v| -v), true, &mut labels, &mut joins);
+        } else {
+            let ints = g.map(|v| (v * scale) as i128);
+            sweep(&ints, false, &mut labels, &mut joins);
+            sweep(&ints.map(|v| -v), true, &mut labels, &mut joins);
+        }
     } else {
         let s = normalized(g);
         sweep(&s, false, &mut labels, &mut joins);
@@ -78,6 +85,13 @@ trait Num:
 }
 
 impl Num for i128 {
+    const ZERO: Self = 0;
+    const ONE: Self = 1;
+    const TWO: Self = 2;
+    const FOUR: Self = 4;
+}
+
+impl Num for i64 {
     const ZERO: Self = 0;
     const ONE: Self = 1;
     const TWO: Self = 2;
@@ -211,9 +225,25 @@ fn joined_on<T: Num>(
     false
 }
 
+/// Magnitude bits up to which the sweep is exact in `i64`: with `|h| <
+/// 2^b`, its largest terms (`value_at`, `qb^2 - 4 qa qc`) stay below
+/// `2^(4b + 7)`, so `b <= 14` fits. Every 8-bit volume and most CTs
+/// (12-bit values) qualify; `i128` takes the rest up to 26 bits.
+const SMALL_BITS: i32 = 14;
+
 /// The eight values as integers after scaling by a power of two, if they
 /// all are (with room for degree-four products in i128).
+#[cfg(test)]
 fn scaled_integers(g: &[f64; 8]) -> Option<[i128; 8]> {
+    let (scale, _) = integer_scale(g)?;
+    Some(g.map(|v| (v * scale) as i128))
+}
+
+/// The power of two that makes all eight values integers, and the
+/// magnitude bits of the largest of those integers, if the values are
+/// integers after such scaling and have at most 26 bits (room for
+/// degree-four products in i128).
+fn integer_scale(g: &[f64; 8]) -> Option<(f64, i32)> {
     const LIMIT_BITS: i32 = 26;
     // Each value is an odd integer times 2^e; scaling by 2^-min(e) (if
     // negative) makes all of them integers.
@@ -245,8 +275,7 @@ fn scaled_integers(g: &[f64; 8]) -> Option<[i128; 8]> {
         return None;
     }
     // 0 <= shift <= LIMIT_BITS here (max_bits starts at 0).
-    let scale = power_of_two(shift);
-    Some(g.map(|v| (v * scale) as i128))
+    Some((power_of_two(shift), max_bits + shift))
 }
 
 /// `2^e` for `e` in the normal range of f64 (from the exponent bits, no
@@ -301,6 +330,46 @@ mod tests {
         assert_eq!(strong, Some(Join { a: 0, b: 7 }));
         let weak = joins([1.0, -10.0, -10.0, -10.0, -10.0, -10.0, -10.0, 1.0]);
         assert!(weak.is_none());
+    }
+
+    #[test]
+    fn i64_and_i128_sweeps_agree_up_to_the_small_bound() {
+        // Pseudo-random cells with values up to the i64 bound (and the bound
+        // itself), both signs, many ties at zero.
+        let limit = (1i64 << SMALL_BITS) - 1;
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut found = 0;
+        for round in 0..20_000 {
+            let g: [i64; 8] = std::array::from_fn(|_| match next() % 5 {
+                0 => 0,
+                1 => limit,
+                2 => -limit,
+                _ => (next() % (2 * limit as u64 + 1)) as i64 - limit,
+            });
+            let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0) << c));
+            for joined in [0u8, 63, (round % 64) as u8] {
+                let set = contour::build(config, joined);
+                let (mut small, mut wide) = (Joins::default(), Joins::default());
+                let (mut ls, mut lw) = (set.corner_comp, set.corner_comp);
+                sweep(&g, false, &mut ls, &mut small);
+                sweep(&g.map(|v| -v), true, &mut ls, &mut small);
+                let g128 = g.map(i128::from);
+                sweep(&g128, false, &mut lw, &mut wide);
+                sweep(&g128.map(|v| -v), true, &mut lw, &mut wide);
+                assert_eq!(small.first, wide.first, "{g:?}");
+                assert_eq!(ls, lw, "{g:?}");
+                found += usize::from(small.first.is_some());
+            }
+        }
+        assert!(found > 100, "only {found} joins: the cells test too little");
+        let bits = integer_scale(&[limit as f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        assert_eq!(bits, Some((1.0, SMALL_BITS)));
     }
 
     #[test]

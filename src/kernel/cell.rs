@@ -90,18 +90,22 @@ pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
 /// `> 0`) and configuration `config`; counts the paper's Table 1 in `stats`.
 pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &mut CellMesh) {
     let set = &tables().contours[config as usize * 64 + face_decisions(g, config) as usize];
-    // Positions of the edge vertices, local coordinates (only crossing edges are read).
-    let mut points = [DVec3::ZERO; 12];
-    let total: usize = set.len.iter().map(|&l| l as usize).sum();
-    for &e in &set.edges[..total] {
-        points[e as usize] = edge_point(g, e as usize);
-    }
-
     let tunnel = if set.count >= 2 {
         interior_joins(g, set).and_then(|j| tunnel_contours(set, j.a, j.b))
     } else {
         None
     };
+    // Positions of the edge vertices, local coordinates (only crossing edges
+    // are read), needed only to place interior vertices: most ambiguous
+    // cells are plain fans and skip them.
+    let mut points = [DVec3::ZERO; 12];
+    let twelve = set.len[..set.count as usize].contains(&12);
+    if tunnel.is_some() || twelve || set.meets_face_twice != 0 {
+        let total: usize = set.len.iter().map(|&l| l as usize).sum();
+        for &e in &set.edges[..total] {
+            points[e as usize] = edge_point(g, e as usize);
+        }
+    }
 
     if let Some((c1, c2)) = tunnel {
         stats.tunnels += 1;

@@ -8,6 +8,7 @@
 
 mod array;
 pub mod dicom;
+mod dicom_lengths;
 mod lent;
 pub mod metaimage;
 pub mod nifti;

@@ -56,6 +56,9 @@ impl SampleSource for VtiVolume {
     fn advise(&self, planes: Range<usize>, access: Access) {
         self.inner.advise(planes, access)
     }
+    fn check_unchanged(&self) -> Result<()> {
+        self.inner.check_unchanged()
+    }
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }

@@ -201,6 +201,7 @@ pub fn open(path: &Path) -> Result<NiftiVolume> {
     let layout = layout(&header, header.vox_offset).map_err(fail)?;
     let inner = if is_hdr {
         let img = img_path(path);
+        super::check_input_kind(&img)?;
         let data = File::open(&img).map_err(|e| Error::io(&img, e))?;
         RawVolume::map_file(&img, &data, layout)?
     } else {

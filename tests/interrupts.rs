@@ -160,11 +160,55 @@ fn an_input_truncated_during_the_extraction_is_a_clean_error() {
         stderr.starts_with("tmc: error: input file changed under the memory map (SIGBUS)");
     assert!(caught_by_check || caught_by_sigbus, "{stderr}");
     assert!(!output.exists());
-    if caught_by_check {
-        // A clean error removes the temporary output too; after SIGBUS it
-        // may stay (it cannot be removed from a signal handler).
-        assert!(temp_files(dir.path()).is_empty());
-    }
+    // The clean error and the SIGBUS handler both remove the temporary
+    // output.
+    assert!(temp_files(dir.path()).is_empty());
+}
+
+#[test]
+fn a_metaimage_data_file_truncated_during_the_extraction_is_a_clean_error() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (dir, output) = out_dir("mesh.ply");
+    let data = dir.path().join("shrinking.raw");
+    fs::copy(volume().join("noise.raw"), &data).unwrap();
+    let header = dir.path().join("noise.mhd");
+    fs::write(
+        &header,
+        format!(
+            "ObjectType = Image\nNDims = 3\nDimSize = {N} {N} {N}\nElementType = MET_UCHAR\nElementDataFile = shrinking.raw\n"
+        ),
+    )
+    .unwrap();
+    let mut child = Command::new(tmc_path())
+        .args(["extract", s(&header), "--iso", "127.5", "--threads", "1"])
+        .args(["-o", s(&output)])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start tmc");
+    still_running_after(&mut child, 0.3);
+    fs::OpenOptions::new()
+        .write(true)
+        .open(&data)
+        .unwrap()
+        .set_len(1000)
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!("truncated MetaImage data: {stderr}");
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let caught_by_check = stderr.starts_with(&format!(
+        "tmc: error: {}: the input file changed during the extraction: it shrank from {} to 1000 bytes",
+        data.display(),
+        N * N * N
+    ));
+    let caught_by_sigbus =
+        stderr.starts_with("tmc: error: input file changed under the memory map (SIGBUS)");
+    assert!(caught_by_check || caught_by_sigbus, "{stderr}");
+    assert!(!output.exists());
+    assert!(temp_files(dir.path()).is_empty(), "{:?}", names(dir.path()));
 }
 
 #[test]
@@ -235,4 +279,81 @@ fn a_mapped_input_that_shrank_is_noticed_before_the_next_slab() {
     let result = tmc::extract_to(&source, &params, &Default::default(), &mut builder);
     let err = result.unwrap_err().to_string();
     assert!(err.starts_with(&expected), "{err}");
+}
+
+#[test]
+fn sigint_and_sigterm_stop_a_conversion_and_remove_the_output() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    // The mesh of 400^3 noise: about 70 MB of .tmesh, some seconds to
+    // convert on the test machine.
+    let dir = tempfile::tempdir().unwrap();
+    let raw = dir.path().join("noise.raw");
+    let tmesh = dir.path().join("noise.tmesh");
+    for args in [
+        &[
+            "synth",
+            "noise",
+            "--dims",
+            "400,400,400",
+            "--dtype",
+            "u8",
+            "-o",
+            s(&raw),
+            "--quiet",
+        ][..],
+        &[
+            "extract",
+            s(&raw),
+            "--dims",
+            "400,400,400",
+            "--dtype",
+            "u8",
+            "--iso",
+            "127.5",
+        ],
+    ] {
+        let out = Command::new(tmc_path())
+            .args(args)
+            .args(if args[0] == "extract" {
+                &["-o", s(&tmesh), "--quiet"][..]
+            } else {
+                &[]
+            })
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+    }
+    for (name, code, output_name) in [("INT", 130, "mesh.ply"), ("TERM", 143, "mesh.obj")] {
+        let (out_dir, output) = out_dir(output_name);
+        let mut child = Command::new(tmc_path())
+            .args(["convert", s(&tmesh), "-o", s(&output)])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start tmc convert");
+        sleep(Duration::from_millis(300));
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the conversion finished before the test could interrupt it; use a larger mesh"
+        );
+        let sent = Instant::now();
+        signal(&child, name);
+        let out = child.wait_with_output().unwrap();
+        let took = sent.elapsed().as_secs_f64();
+        println!("convert: SIG{name} -> exit after {took:.3} s ({output_name})");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "SIG{name}: {stderr}");
+        assert_eq!(
+            stderr.trim_end(),
+            format!("tmc: error: interrupted by SIG{name}; no output was written")
+        );
+        assert!(took < 2.0, "SIG{name}: took {took:.3} s to exit");
+        assert!(!output.exists());
+        assert!(
+            names(out_dir.path()).is_empty(),
+            "left {:?}",
+            names(out_dir.path())
+        );
+    }
 }

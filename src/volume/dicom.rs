@@ -762,6 +762,10 @@ impl SampleSource for DicomSeries {
         Ok(())
     }
 
+    fn data_files(&self) -> Vec<&Path> {
+        self.planes.iter().map(|p| p.path.as_path()).collect()
+    }
+
     fn sample_bytes(&self) -> usize {
         self.format.bits_allocated as usize / 8
     }

@@ -98,6 +98,13 @@ impl SampleSource for MetaImageVolume {
         }
     }
 
+    fn data_files(&self) -> Vec<&Path> {
+        match &self.data {
+            Data::Volume(v) => v.data_files(),
+            Data::Slices(slices) => slices.iter().flat_map(|s| s.data_files()).collect(),
+        }
+    }
+
     fn sample_bytes(&self) -> usize {
         match &self.data {
             Data::Volume(v) => v.sample_bytes(),

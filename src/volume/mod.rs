@@ -135,6 +135,13 @@ pub trait SampleSource: Sync {
         Ok(())
     }
 
+    /// The files the samples are read from during the extraction (mapped
+    /// data files, DICOM slices), which the output must not overwrite;
+    /// empty (the default) for sources that read nothing after opening.
+    fn data_files(&self) -> Vec<&Path> {
+        Vec::new()
+    }
+
     /// Bytes one sample takes where it is stored (the file's sample size for
     /// a file reader), for reporting the bytes read; 8 (an `f64`) unless a
     /// source says otherwise.

@@ -82,6 +82,10 @@ impl SampleSource for NiftiVolume {
         self.inner.check_unchanged()
     }
 
+    fn data_files(&self) -> Vec<&Path> {
+        self.inner.data_files()
+    }
+
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }

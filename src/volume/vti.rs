@@ -59,6 +59,9 @@ impl SampleSource for VtiVolume {
     fn check_unchanged(&self) -> Result<()> {
         self.inner.check_unchanged()
     }
+    fn data_files(&self) -> Vec<&Path> {
+        self.inner.data_files()
+    }
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }

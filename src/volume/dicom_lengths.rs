@@ -77,7 +77,7 @@ impl<R: Read + Seek> Walker<R> {
         let left = self.size.saturating_sub(self.pos);
         if u64::from(len) > left {
             return Err(format!(
-                "damaged DICOM file: element ({:04X},{:04X}) at byte {} claims {len} bytes, but only {left} are left in the file",
+                "not a readable DICOM file: element ({:04X},{:04X}) at byte {} claims {len} bytes, but only {left} are left in the file (damaged or truncated)",
                 tag.0, tag.1, self.pos
             ));
         }

@@ -263,6 +263,28 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
         ),
         #[cfg(unix)]
         (
+            "a FIFO as the data file of a detached NRRD header",
+            |d| {
+                fifo(d, "pipe.raw");
+                let header = "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: pipe.raw\n";
+                args(&file(d, "vol.nhdr", header.as_bytes()), &["--iso", "0"])
+            },
+            "pipe.raw: is a FIFO (named pipe), not a regular file",
+            1,
+        ),
+        #[cfg(unix)]
+        (
+            "a FIFO as the data file of a MetaImage header",
+            |d| {
+                fifo(d, "pipe.raw");
+                let header = "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\nElementDataFile = pipe.raw\n";
+                args(&file(d, "vol.mhd", header.as_bytes()), &["--iso", "0"])
+            },
+            "pipe.raw: is a FIFO (named pipe), not a regular file",
+            1,
+        ),
+        #[cfg(unix)]
+        (
             "a character device",
             |_| {
                 let rest = ["--dims", "4,4,4", "--dtype", "u8", "--iso", "0"];
@@ -355,6 +377,30 @@ fn the_output_may_not_be_the_input() {
     let out = tmc(&argv);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     assert!(other.is_file());
+}
+
+#[test]
+fn the_output_may_not_be_a_data_file_of_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes: Vec<u8> = (0..64u8).collect();
+    let nhdr =
+        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: vol.raw\n";
+    let mhd = "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\nElementDataFile = vol.ply\n";
+    for (header, text, data) in [("vol.nhdr", nhdr, "vol.raw"), ("vol.mhd", mhd, "vol.ply")] {
+        let header = file(dir.path(), header, text.as_bytes());
+        let data = file(dir.path(), data, &bytes);
+        let line = assert_one_line(
+            &tmc(&["extract", s(&header), "--iso", "10", "-o", s(&data)]),
+            1,
+        );
+        assert!(
+            line.contains("the output is the input file") && line.contains(s(&data)),
+            "{}: {line}",
+            header.display()
+        );
+        assert_eq!(fs::read(&data).unwrap(), bytes, "data file changed");
+        assert!(temp_files(dir.path()).is_empty());
+    }
 }
 
 /// The vertex and face counts in the header of a binary PLY.

@@ -12,3 +12,53 @@ fn tiff_tag_with_a_huge_count_is_an_error() {
     let e = open_err(&data_dir().join("fuzz/tiff_huge_tag_count.tif"));
     assert!(e.contains("tiff_huge_tag_count.tif"), "{e}");
 }
+
+/// An implicit VR slice whose `RescaleIntercept` claims 0xFFFFFFF0 bytes in
+/// an 824-byte file made the DICOM parser allocate and zero-fill 4 GiB
+/// (4.5 s, 4.2 GB peak) before its error. The element lengths are now
+/// checked against the file size first: the error names the element, comes
+/// at once and fits under a 1 GiB address-space limit (where the old
+/// allocation aborted).
+#[test]
+fn dicom_element_longer_than_the_file_fails_fast() {
+    use common::cli::{assert_one_line, s, tmc_path};
+    use std::process::Command;
+    use std::time::{Duration, Instant};
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("slice.dcm");
+    std::fs::copy(
+        data_dir().join("fuzz/dicom_huge_element_length.dcm"),
+        &input,
+    )
+    .unwrap();
+    let out_path = dir.path().join("out.ply");
+    let args = [
+        tmc_path(),
+        "extract",
+        s(&input),
+        "--iso",
+        "0",
+        "-o",
+        s(&out_path),
+    ];
+    let limited = Command::new("prlimit")
+        .arg("--as=1073741824")
+        .arg("--")
+        .args(args)
+        .output();
+    let out = match limited {
+        Ok(out) => out,
+        // Without prlimit, only the time bound below holds.
+        Err(_) => Command::new(args[0]).args(&args[1..]).output().unwrap(),
+    };
+    let start = Instant::now();
+    let _ = Command::new(args[0]).args(&args[1..]).output().unwrap();
+    let elapsed = start.elapsed();
+    let e = assert_one_line(&out, 1);
+    assert!(
+        e.contains("slice.dcm") && e.contains("(0028,1052)") && e.contains("4294967280"),
+        "{e}"
+    );
+    assert!(elapsed < Duration::from_secs(2), "took {elapsed:?}");
+    assert!(!out_path.exists());
+}

@@ -50,9 +50,26 @@ fn volume() -> &'static Path {
 /// `output` on one thread.
 fn start(input: &Path, output: &Path) -> Child {
     let dims = format!("{N},{N},{N}");
+    spawn(&[
+        "extract",
+        s(input),
+        "--dims",
+        &dims,
+        "--dtype",
+        "u8",
+        "--iso",
+        "127.5",
+        "--threads",
+        "1",
+        "-o",
+        s(output),
+    ])
+}
+
+/// Starts `tmc` with `args`, its stderr captured.
+fn spawn(args: &[&str]) -> Child {
     Command::new(tmc_path())
-        .args(["extract", s(input), "--dims", &dims, "--dtype", "u8"])
-        .args(["--iso", "127.5", "--threads", "1", "-o", s(output)])
+        .args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -66,7 +83,7 @@ fn still_running_after(child: &mut Child, seconds: f64) {
     sleep(Duration::from_secs_f64(seconds));
     assert!(
         child.try_wait().unwrap().is_none(),
-        "the extraction finished before the test could interrupt it; use a larger volume"
+        "the run finished before the test could interrupt it; use a larger input"
     );
 }
 
@@ -78,6 +95,26 @@ fn signal(child: &Child, signal: &str) {
         .status()
         .expect("run kill");
     assert!(status.success());
+}
+
+/// Sends `name` (`INT`, `TERM`) to the running `child`, then checks the
+/// clean end: exit status `code`, the one interrupted line, within 2 s, and
+/// nothing left in `dir` (which holds only `output`).
+fn interrupt_and_check(child: Child, name: &str, code: i32, dir: &Path, output: &Path) {
+    let sent = Instant::now();
+    signal(&child, name);
+    let out = child.wait_with_output().unwrap();
+    let took = sent.elapsed().as_secs_f64();
+    println!("SIG{name} -> exit after {took:.3} s ({})", output.display());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "SIG{name}: {stderr}");
+    assert_eq!(
+        stderr.trim_end(),
+        format!("tmc: error: interrupted by SIG{name}; no output was written")
+    );
+    assert!(took < 2.0, "SIG{name}: took {took:.3} s to exit");
+    assert!(!output.exists());
+    assert!(names(dir).is_empty(), "left {:?}", names(dir));
 }
 
 /// A fresh, empty output directory.
@@ -99,20 +136,7 @@ fn sigint_and_sigterm_stop_the_extraction_and_remove_the_output() {
         let (dir, output) = out_dir(output_name);
         let mut child = start(&input, &output);
         still_running_after(&mut child, 0.5);
-        let sent = Instant::now();
-        signal(&child, name);
-        let out = child.wait_with_output().unwrap();
-        let took = sent.elapsed().as_secs_f64();
-        println!("SIG{name} -> exit after {took:.3} s ({output_name})");
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(code), "SIG{name}: {stderr}");
-        assert_eq!(
-            stderr.trim_end(),
-            format!("tmc: error: interrupted by SIG{name}; no output was written")
-        );
-        assert!(took < 2.0, "SIG{name}: took {took:.3} s to exit");
-        assert!(!output.exists());
-        assert!(names(dir.path()).is_empty(), "left {:?}", names(dir.path()));
+        interrupt_and_check(child, name, code, dir.path(), &output);
     }
 }
 
@@ -138,33 +162,64 @@ fn an_input_truncated_during_the_extraction_is_a_clean_error() {
     let (dir, output) = out_dir("mesh.tmesh");
     let input = dir.path().join("shrinking.raw");
     fs::copy(volume().join("noise.raw"), &input).unwrap();
-    let mut child = start(&input, &output);
+    let child = start(&input, &output);
+    truncate_while_running(child, &input, dir.path(), &output);
+}
+
+#[test]
+fn a_metaimage_data_file_truncated_during_the_extraction_is_a_clean_error() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (dir, output) = out_dir("mesh.ply");
+    let data = dir.path().join("shrinking.raw");
+    fs::copy(volume().join("noise.raw"), &data).unwrap();
+    let header = dir.path().join("noise.mhd");
+    fs::write(
+        &header,
+        format!(
+            "ObjectType = Image\nNDims = 3\nDimSize = {N} {N} {N}\nElementType = MET_UCHAR\nElementDataFile = shrinking.raw\n"
+        ),
+    )
+    .unwrap();
+    let child = spawn(&[
+        "extract",
+        s(&header),
+        "--iso",
+        "127.5",
+        "--threads",
+        "1",
+        "-o",
+        s(&output),
+    ]);
+    truncate_while_running(child, &data, dir.path(), &output);
+}
+
+/// Truncates `data` to 1000 bytes 0.3 s into the extraction `child` (of
+/// the noise volume into `output` in `dir`), then checks the clean end:
+/// exit 1, one line (the per-slab check, or the SIGBUS handler), nothing
+/// at the output path and no temporary file (both paths remove it).
+fn truncate_while_running(mut child: Child, data: &Path, dir: &Path, output: &Path) {
     still_running_after(&mut child, 0.3);
     fs::OpenOptions::new()
         .write(true)
-        .open(&input)
+        .open(data)
         .unwrap()
         .set_len(1000)
         .unwrap();
     let out = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
-    println!("truncated input: {stderr}");
+    println!("truncated {}: {stderr}", data.display());
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     let caught_by_check = stderr.starts_with(&format!(
         "tmc: error: {}: the input file changed during the extraction: it shrank from {} to 1000 bytes",
-        input.display(),
+        data.display(),
         N * N * N
     ));
     let caught_by_sigbus =
         stderr.starts_with("tmc: error: input file changed under the memory map (SIGBUS)");
     assert!(caught_by_check || caught_by_sigbus, "{stderr}");
     assert!(!output.exists());
-    if caught_by_check {
-        // A clean error removes the temporary output too; after SIGBUS it
-        // may stay (it cannot be removed from a signal handler).
-        assert!(temp_files(dir.path()).is_empty());
-    }
+    assert!(temp_files(dir).is_empty(), "{:?}", names(dir));
 }
 
 #[test]
@@ -235,4 +290,49 @@ fn a_mapped_input_that_shrank_is_noticed_before_the_next_slab() {
     let result = tmc::extract_to(&source, &params, &Default::default(), &mut builder);
     let err = result.unwrap_err().to_string();
     assert!(err.starts_with(&expected), "{err}");
+}
+
+#[test]
+fn sigint_and_sigterm_stop_a_conversion_and_remove_the_output() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    // The mesh of 400^3 noise: about 70 MB of .tmesh, some seconds to
+    // convert on the test machine.
+    let dir = tempfile::tempdir().unwrap();
+    let raw = dir.path().join("noise.raw");
+    let tmesh = dir.path().join("noise.tmesh");
+    for args in [
+        &[
+            "synth",
+            "noise",
+            "--dims",
+            "400,400,400",
+            "--dtype",
+            "u8",
+            "-o",
+            s(&raw),
+            "--quiet",
+        ][..],
+        &[
+            "extract",
+            s(&raw),
+            "--dims",
+            "400,400,400",
+            "--dtype",
+            "u8",
+            "--iso",
+            "127.5",
+            "-o",
+            s(&tmesh),
+            "--quiet",
+        ],
+    ] {
+        let out = tmc(args);
+        assert!(out.status.success(), "{out:?}");
+    }
+    for (name, code, output_name) in [("INT", 130, "mesh.ply"), ("TERM", 143, "mesh.obj")] {
+        let (out_dir, output) = out_dir(output_name);
+        let mut child = spawn(&["convert", s(&tmesh), "-o", s(&output)]);
+        still_running_after(&mut child, 0.3);
+        interrupt_and_check(child, name, code, out_dir.path(), &output);
+    }
 }

@@ -2,6 +2,8 @@
 //! as the same mesh, the bytes do not depend on threads or slab depth, and
 //! damage is detected and located.
 
+mod common;
+
 use tmc::meshfile::{TmeshReader, TmeshWriter};
 use tmc::{
     extract, extract_to, synth, ExtractParams, MeshBuilder, MeshSink, PipelineOptions, Totals,
@@ -87,4 +89,42 @@ fn damage_is_detected_and_located() {
     // Not a mesh file at all.
     std::fs::write(&path, vec![7u8; 500]).expect("write");
     assert!(TmeshReader::open(&path).is_err());
+}
+
+/// A chunk header (checksum recomputed, so only the bounds can catch it)
+/// claiming a payload far past the chunk's room: the last chunk (bounded
+/// by the index offset) and a size whose sum with the offset overflows.
+/// `tmc check` and `tmc convert` give one line naming the chunk, no panic,
+/// no huge allocation, nothing at the output path.
+#[test]
+fn a_chunk_size_past_its_room_is_a_clean_error() {
+    use common::cli::{assert_one_line, s, tmc};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let good = std::fs::read(&path).expect("read");
+    let reader = TmeshReader::open(&path).expect("open");
+    let last = reader.entries().len() - 1;
+    let at = reader.entries()[last].offset as usize;
+    for size in [1u64 << 40, u64::MAX - 8] {
+        let mut bad = good.clone();
+        bad[at + 32..at + 40].copy_from_slice(&size.to_le_bytes());
+        let crc = crc32fast::hash(&bad[at..at + 40]);
+        bad[at + 40..at + 44].copy_from_slice(&crc.to_le_bytes());
+        std::fs::write(&path, &bad).expect("write");
+        let err = TmeshReader::open(&path)
+            .expect("index intact")
+            .chunk(last)
+            .expect_err("damage")
+            .to_string();
+        let name = format!("chunk {last} ");
+        assert!(err.contains(&name) && err.contains("runs past"), "{err}");
+        let out = tmc(&["check", s(&path)]);
+        let line = assert_one_line(&out, 1);
+        assert!(line.contains(&name) && line.contains("runs past"), "{line}");
+        let ply = dir.path().join("m.ply");
+        let line = assert_one_line(&tmc(&["convert", s(&path), "-o", s(&ply)]), 1);
+        assert!(line.contains(&name) && line.contains("runs past"), "{line}");
+        assert!(!ply.exists());
+    }
 }

@@ -3,6 +3,7 @@
 
 use clap::Args;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 use tmc::meshfile::TmeshReader;
 use tmc::Result;
 
@@ -26,11 +27,13 @@ pub(crate) struct ConvertArgs {
     pub output: PathBuf,
 }
 
-/// Runs `tmc convert`.
-pub(crate) fn run(args: &ConvertArgs) -> Result<()> {
+/// Runs `tmc convert`; setting `cancel` (SIGINT, SIGTERM) stops it before
+/// the next chunk with [`tmc::Error::Interrupted`], leaving no output.
+pub(crate) fn run(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     let mut reader = TmeshReader::open(&args.input)?;
     tmc::export::check_output_path(&args.output)?;
     let mut sink = tmc::export::create_sink(&args.output)?;
-    tmc::export::replay(&mut reader, sink.as_mut())?;
+    let never = AtomicBool::new(false);
+    tmc::export::replay_cancellable(&mut reader, sink.as_mut(), cancel.unwrap_or(&never))?;
     Ok(())
 }

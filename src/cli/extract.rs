@@ -135,6 +135,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let raw = args.raw.options();
     check_distinct(&args.input, &args.output)?;
     let source = tmc::volume::open(&args.input, raw.as_ref())?;
+    for data in source.data_files() {
+        check_distinct(data, &args.output)?;
+    }
     let grid = *source.grid();
     check_grid(&args.input, &grid)?;
     tmc::export::check_output_path(&args.output)?;

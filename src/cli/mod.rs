@@ -2,7 +2,8 @@
 //!
 //! Every failure is reported as exactly one line `tmc: error: <message>` on
 //! stderr; the exit status is 0 on success, 1 on failure, 2 on a usage error
-//! and 130 or 143 when SIGINT or SIGTERM interrupted an extraction.
+//! and 130 or 143 when SIGINT or SIGTERM interrupted an extraction or a
+//! conversion.
 
 mod check;
 mod convert;
@@ -83,7 +84,7 @@ Exit status:
        'tmc check' also exits 1 when the mesh is not a consistently oriented
        manifold (non-manifold edges or vertices, inconsistent orientation)
   2    usage error (unknown option, missing or malformed value)
-  130  interrupted by SIGINT, 143 by SIGTERM: the extraction stops at the next
+  130  interrupted by SIGINT, 143 by SIGTERM: extract and convert stop at the next
        slab or chunk and no output is left";
 
 /// Topologically correct and manifold isosurfaces (Grosso 2016 marching cubes).
@@ -126,7 +127,7 @@ pub fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     let interrupts = match cli.command {
-        Command::Extract(_) => match signals::Interrupts::install() {
+        Command::Extract(_) | Command::Convert(_) => match signals::Interrupts::install() {
             Ok(i) => Some(i),
             Err(e) => {
                 eprintln!("tmc: error: cannot install the SIGINT/SIGTERM handlers: {e}");
@@ -137,7 +138,7 @@ pub fn main() -> ExitCode {
     };
     let result = panic::catch_unwind(AssertUnwindSafe(|| match cli.command {
         Command::Extract(args) => extract::run(&args, interrupts.as_ref().map(|i| i.flag())),
-        Command::Convert(args) => convert::run(&args),
+        Command::Convert(args) => convert::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Check(args) => check::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Synth(args) => synth::run(&args),

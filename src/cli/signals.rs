@@ -60,14 +60,17 @@ impl Interrupts {
 const SIGBUS_MESSAGE: &[u8] = b"tmc: error: input file changed under the memory map (SIGBUS): \
 it was truncated or rewritten by another program during the run; no output was written\n";
 
-/// Installs a SIGBUS handler that writes one line to stderr and exits with
-/// status 1. A memory-mapped input that another program truncates raises
-/// SIGBUS on the next read of a lost page; the pipeline's check of the file
-/// size before each slab catches most such cases with a clean error, this
-/// catches the rest. The temporary output file stays behind (it cannot be
-/// removed safely from a signal handler); nothing appears at the output path.
+/// Installs a SIGBUS handler that removes the temporary output, writes one
+/// line to stderr and exits with status 1. A memory-mapped input that
+/// another program truncates raises SIGBUS on the next read of a lost page;
+/// the pipeline's check of the file size before each slab catches most such
+/// cases with a clean error, this catches the rest. The temporary output
+/// files are registered in [`tmc::export::fatal_cleanup`], whose removal is
+/// async-signal-safe; nothing appears at the output path.
 pub(crate) fn install_sigbus() -> std::io::Result<()> {
+    tmc::export::fatal_cleanup::enable();
     let action = || {
+        tmc::export::fatal_cleanup::unlink_registered();
         // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is
         // a static byte string, valid for the whole call. A short or failed
         // write changes nothing: the process exits either way.
@@ -80,7 +83,8 @@ pub(crate) fn install_sigbus() -> std::io::Result<()> {
             libc::_exit(1);
         }
     };
-    // SAFETY: the action only calls async-signal-safe functions (see above)
+    // SAFETY: the action only calls async-signal-safe functions (atomic
+    // loads and unlink(2) in `unlink_registered`, then see above)
     // and never returns, so the faulting instruction is not retried; it
     // touches no lock, allocator or Rust state.
     unsafe { signal_hook::low_level::register(SIGBUS, action) }.map(|_| ())

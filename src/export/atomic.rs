@@ -1,6 +1,7 @@
 //! Atomic file output: write a temporary file beside the target, flush and
 //! sync it, then rename it onto the target.
 
+use super::fatal_cleanup::{self, Registered};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -10,6 +11,9 @@ use std::path::Path;
 /// appears at the target only on [`AtomicFile::commit`]. Dropped without a
 /// commit, it removes the temporary file and leaves the target as it was.
 pub struct AtomicFile {
+    /// Dropped first, so the path leaves the fatal-signal table before the
+    /// file is removed or renamed.
+    _registered: Option<Registered>,
     temp: tempfile::NamedTempFile,
     path: std::path::PathBuf,
 }
@@ -31,6 +35,7 @@ impl AtomicFile {
             .tempfile_in(dir)
             .map_err(|e| Error::io(path, without_temp_path(e)))?;
         Ok(AtomicFile {
+            _registered: fatal_cleanup::register(temp.path()),
             temp,
             path: path.to_path_buf(),
         })
@@ -54,13 +59,14 @@ impl AtomicFile {
 
     /// Syncs the data to disk and renames the file onto its target.
     pub fn commit(self) -> Result<()> {
-        let path = self.path;
-        self.temp
-            .as_file()
-            .sync_all()
-            .map_err(|e| Error::io(&path, e))?;
-        self.temp
-            .persist(&path)
+        let AtomicFile {
+            _registered: registered,
+            temp,
+            path,
+        } = self;
+        drop(registered);
+        temp.as_file().sync_all().map_err(|e| Error::io(&path, e))?;
+        temp.persist(&path)
             .map_err(|e| Error::io(&path, without_temp_path(e.error)))?;
         Ok(())
     }

@@ -17,6 +17,7 @@
 //! file. STL cannot share vertices: every facet stores its own three corners.
 
 mod atomic;
+pub mod fatal_cleanup;
 mod numbering;
 mod obj;
 mod off;
@@ -29,7 +30,7 @@ pub use atomic::{write_atomically, AtomicFile};
 pub use obj::{write_obj, Obj, ObjSink};
 pub use off::{write_off, Off, OffSink};
 pub use ply::{write_ply, Ply, PlySink};
-pub use replay::replay;
+pub use replay::{replay, replay_cancellable};
 pub use spooled::{write_whole, Layout, SpooledSink};
 pub use stl::{write_stl, StlSink};
 

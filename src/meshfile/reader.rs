@@ -17,6 +17,8 @@ pub struct TmeshReader {
     path: PathBuf,
     info: MeshInfo,
     entries: Vec<ChunkEntry>,
+    /// Where the index starts: the end of the last chunk's room.
+    index_offset: u64,
     vertices: u64,
     triangles: u64,
 }
@@ -92,6 +94,7 @@ impl TmeshReader {
             path: path.to_path_buf(),
             info,
             entries,
+            index_offset,
             vertices,
             triangles,
         })
@@ -141,9 +144,20 @@ impl TmeshReader {
             return Err(bad("chunk header disagrees with the index"));
         }
         let size = le_u64(&h[32..]);
-        let limit = self.entries.get(i + 1).map_or(u64::MAX, |n| n.offset);
-        if e.offset + (CHUNK_HEADER_BYTES as u64) + size > limit {
-            return Err(bad("payload overlaps the next chunk"));
+        // A chunk ends before the next one starts, the last one before the
+        // index (offsets are below the index offset, so the sum only
+        // overflows for a damaged size).
+        let limit = self
+            .entries
+            .get(i + 1)
+            .map_or(self.index_offset, |n| n.offset);
+        let end = (CHUNK_HEADER_BYTES as u64)
+            .checked_add(e.offset)
+            .and_then(|start| start.checked_add(size));
+        if !matches!(end, Some(end) if end <= limit) {
+            return Err(bad(&format!(
+                "payload of {size} bytes runs past the chunk's room (byte {limit})"
+            )));
         }
         let size = usize::try_from(size).map_err(|_| bad("payload size is too large"))?;
         let mut payload = crate::error::try_vec::<u8>("a .tmesh chunk", size)?;
@@ -154,7 +168,16 @@ impl TmeshReader {
         }
         let (nv, nt) = (e.vertex_count as usize, e.triangle_count as usize);
         let expect = nv * 12 + nt * 12;
-        let raw = zstd::bulk::decompress(&payload, expect).map_err(|err| bad(&err.to_string()))?;
+        // The frame must say it holds exactly that many bytes before room
+        // for them is reserved (the counts come from the file).
+        match zstd::zstd_safe::get_frame_content_size(&payload) {
+            Ok(Some(n)) if n == expect as u64 => {}
+            _ => return Err(bad("payload frame size disagrees with the counts")),
+        }
+        let mut raw = crate::error::try_vec::<u8>("a .tmesh chunk's payload", expect)?;
+        zstd::bulk::Decompressor::new()
+            .and_then(|mut d| d.decompress_to_buffer(&payload, &mut raw))
+            .map_err(|err| bad(&err.to_string()))?;
         if raw.len() != expect {
             return Err(bad("payload has the wrong size"));
         }

@@ -41,7 +41,7 @@
 //!   open. Samples must be greyscale (1 sample per pixel) of 8, 16 or 32
 //!   bits, unsigned or signed.
 
-use super::{Grid, SampleSource};
+use super::{dicom_lengths, Grid, SampleSource};
 use crate::{Error, Result};
 use dicom_dictionary_std::tags;
 use dicom_encoding::TransferSyntaxIndex;
@@ -327,6 +327,7 @@ fn vec3(v: Option<Vec<f64>>) -> Option<[f64; 3]> {
 impl Header {
     /// Reads the header of `path`; `None` for a DICOMDIR.
     fn read(path: &Path) -> Result<Option<Header>> {
+        dicom_lengths::check(path).map_err(|e| format_err(path, e))?;
         let obj = OpenFileOptions::new()
             .read_until(tags::PIXEL_DATA)
             .open_file(path)
@@ -701,6 +702,8 @@ fn describe(p: &Plane) -> String {
 impl DicomSeries {
     /// Decodes plane `z` into stored (unscaled) sample bytes, native order.
     fn decode(&self, plane: &Plane) -> Result<Vec<u8>> {
+        // Checked again: the file may have changed since the header.
+        dicom_lengths::check(&plane.path).map_err(|e| format_err(&plane.path, e))?;
         let obj = OpenFileOptions::new()
             .open_file(&plane.path)
             .map_err(|e| format_err(&plane.path, format!("not a readable DICOM file: {e}")))?;
@@ -757,6 +760,10 @@ impl SampleSource for DicomSeries {
             *o = stored(raw) * slope + intercept;
         }
         Ok(())
+    }
+
+    fn data_files(&self) -> Vec<&Path> {
+        self.planes.iter().map(|p| p.path.as_path()).collect()
     }
 
     fn sample_bytes(&self) -> usize {

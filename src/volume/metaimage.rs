@@ -91,6 +91,20 @@ impl SampleSource for MetaImageVolume {
         }
     }
 
+    fn check_unchanged(&self) -> Result<()> {
+        match &self.data {
+            Data::Volume(v) => v.check_unchanged(),
+            Data::Slices(slices) => slices.iter().try_for_each(|s| s.check_unchanged()),
+        }
+    }
+
+    fn data_files(&self) -> Vec<&Path> {
+        match &self.data {
+            Data::Volume(v) => v.data_files(),
+            Data::Slices(slices) => slices.iter().flat_map(|s| s.data_files()).collect(),
+        }
+    }
+
     fn sample_bytes(&self) -> usize {
         match &self.data {
             Data::Volume(v) => v.sample_bytes(),
@@ -213,6 +227,7 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
             let mut slices = Vec::with_capacity(names.len());
             for name in names {
                 let slice_path = dir.join(name);
+                super::check_input_kind(&slice_path)?;
                 let file = File::open(&slice_path).map_err(|e| Error::io(&slice_path, e))?;
                 let offset = data_offset(&slice_path, &file, header.header_size, plane_len)?;
                 let slice_layout = Layout {
@@ -235,6 +250,8 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
         }
         _ => {
             let data_path: PathBuf = dir.join(data_file.trim());
+            // A FIFO data file would block the open below.
+            super::check_input_kind(&data_path)?;
             let file = File::open(&data_path).map_err(|e| Error::io(&data_path, e))?;
             if header.compressed {
                 let samples = inflate(&data_path, file, data_len)?;

@@ -8,6 +8,7 @@
 
 mod array;
 pub mod dicom;
+mod dicom_lengths;
 mod lent;
 pub mod metaimage;
 pub mod nifti;
@@ -132,6 +133,13 @@ pub trait SampleSource: Sync {
     /// it before each slab; it must be cheap (one `fstat`). `Ok` by default.
     fn check_unchanged(&self) -> Result<()> {
         Ok(())
+    }
+
+    /// The files the samples are read from during the extraction (mapped
+    /// data files, DICOM slices), which the output must not overwrite;
+    /// empty (the default) for sources that read nothing after opening.
+    fn data_files(&self) -> Vec<&Path> {
+        Vec::new()
     }
 
     /// Bytes one sample takes where it is stored (the file's sample size for

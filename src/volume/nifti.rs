@@ -82,6 +82,10 @@ impl SampleSource for NiftiVolume {
         self.inner.check_unchanged()
     }
 
+    fn data_files(&self) -> Vec<&Path> {
+        self.inner.data_files()
+    }
+
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }
@@ -201,6 +205,7 @@ pub fn open(path: &Path) -> Result<NiftiVolume> {
     let layout = layout(&header, header.vox_offset).map_err(fail)?;
     let inner = if is_hdr {
         let img = img_path(path);
+        super::check_input_kind(&img)?;
         let data = File::open(&img).map_err(|e| Error::io(&img, e))?;
         RawVolume::map_file(&img, &data, layout)?
     } else {

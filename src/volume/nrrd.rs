@@ -89,6 +89,10 @@ impl SampleSource for NrrdVolume {
         self.data.check_unchanged()
     }
 
+    fn data_files(&self) -> Vec<&Path> {
+        self.data.data_files()
+    }
+
     fn sample_bytes(&self) -> usize {
         self.scalar.size()
     }

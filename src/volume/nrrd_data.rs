@@ -37,6 +37,8 @@ pub(crate) fn open_data(
     format: &DataFormat,
 ) -> Result<RawVolume> {
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
+    // A FIFO data file would block the open below.
+    super::check_input_kind(path)?;
     let file = File::open(path).map_err(|e| {
         if path == header {
             Error::io(path, e)

@@ -218,6 +218,10 @@ impl SampleSource for RawVolume {
             .advise(start..self.offset + planes.end * plane, access);
     }
 
+    fn data_files(&self) -> Vec<&Path> {
+        self.mapped.iter().map(|(_, path)| path.as_path()).collect()
+    }
+
     fn check_unchanged(&self) -> Result<()> {
         let (Some((file, path)), Storage::Mapped(map)) = (&self.mapped, &self.storage) else {
             return Ok(());

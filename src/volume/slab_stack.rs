@@ -9,6 +9,7 @@
 use super::{Access, Grid, LentPlane, RawVolume, SampleSource};
 use crate::{Error, Result};
 use std::ops::Range;
+use std::path::Path;
 
 /// Consecutive slabs of `depth` planes, one [`RawVolume`] each.
 #[derive(Debug)]
@@ -70,6 +71,10 @@ impl SampleSource for SlabStack {
 
     fn check_unchanged(&self) -> Result<()> {
         self.slabs.iter().try_for_each(|s| s.check_unchanged())
+    }
+
+    fn data_files(&self) -> Vec<&Path> {
+        self.slabs.iter().flat_map(|s| s.data_files()).collect()
     }
 
     fn sample_bytes(&self) -> usize {

@@ -56,6 +56,12 @@ impl SampleSource for VtiVolume {
     fn advise(&self, planes: Range<usize>, access: Access) {
         self.inner.advise(planes, access)
     }
+    fn check_unchanged(&self) -> Result<()> {
+        self.inner.check_unchanged()
+    }
+    fn data_files(&self) -> Vec<&Path> {
+        self.inner.data_files()
+    }
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }

@@ -1,0 +1,103 @@
+//! The temporary output files a fatal-signal handler removes before the
+//! process exits (the CLI's SIGBUS handler: a memory-mapped input that
+//! shrank under the map).
+//!
+//! A signal handler may not allocate, lock or run destructors, so the
+//! paths are kept as C strings behind atomic pointers in a fixed table: the
+//! handler only loads the pointers and calls `unlink(2)`, which is
+//! async-signal-safe. A registered string is never freed (another thread's
+//! handler could be reading it), so each registration leaks its path,
+//! which is why registering is off until [`enable`] is called (the CLI
+//! does, once per run; a library user who installs no handler leaks
+//! nothing).
+
+use std::ffi::{c_char, CString};
+use std::path::Path;
+use std::ptr::null_mut;
+use std::sync::atomic::{AtomicBool, AtomicPtr, Ordering};
+
+/// Temporary files that can be registered at once (an extraction has one
+/// output; more are simply not removed by the handler).
+const SLOTS: usize = 8;
+
+static ENABLED: AtomicBool = AtomicBool::new(false);
+static PATHS: [AtomicPtr<c_char>; SLOTS] = [const { AtomicPtr::new(null_mut()) }; SLOTS];
+
+/// Makes [`crate::export::AtomicFile`] register its temporary file for
+/// [`unlink_registered`] from now on.
+pub fn enable() {
+    ENABLED.store(true, Ordering::SeqCst);
+}
+
+/// A registration of one temporary path: its slot in the table, emptied
+/// when this is dropped (the file is committed or removed); the string is
+/// leaked on purpose (see the module documentation).
+#[derive(Debug)]
+pub(crate) struct Registered(usize);
+
+impl Drop for Registered {
+    fn drop(&mut self) {
+        PATHS[self.0].store(null_mut(), Ordering::SeqCst);
+    }
+}
+
+/// Registers `path` to be removed by [`unlink_registered`]; `None` when
+/// registering is not enabled, the table is full or the path holds a NUL.
+pub(crate) fn register(path: &Path) -> Option<Registered> {
+    if !ENABLED.load(Ordering::SeqCst) {
+        return None;
+    }
+    use std::os::unix::ffi::OsStrExt;
+    let raw = CString::new(path.as_os_str().as_bytes()).ok()?.into_raw();
+    for (i, slot) in PATHS.iter().enumerate() {
+        if slot
+            .compare_exchange(null_mut(), raw, Ordering::SeqCst, Ordering::SeqCst)
+            .is_ok()
+        {
+            return Some(Registered(i));
+        }
+    }
+    // SAFETY: `raw` came from `CString::into_raw` above and was published
+    // nowhere (every slot was taken), so this is its only owner.
+    drop(unsafe { CString::from_raw(raw) });
+    None
+}
+
+/// Removes every registered path. Async-signal-safe: atomic loads and
+/// `unlink(2)` only, no allocation or lock; meant for a signal handler
+/// that exits right after.
+pub fn unlink_registered() {
+    for slot in &PATHS {
+        let path = slot.load(Ordering::SeqCst);
+        if !path.is_null() {
+            // SAFETY: a non-null slot holds a NUL-terminated string from
+            // `CString::into_raw` that is never freed, so the pointer stays
+            // valid; unlink(2) is async-signal-safe. A failure (the file was
+            // already renamed or removed) changes nothing.
+            unsafe {
+                libc::unlink(path);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_registered_file_is_unlinked_and_an_unregistered_one_is_not() {
+        enable();
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a.tmp"), dir.path().join("b.tmp"));
+        std::fs::write(&a, b"a").unwrap();
+        std::fs::write(&b, b"b").unwrap();
+        let ra = register(&a).expect("a slot");
+        let rb = register(&b).expect("a slot");
+        drop(rb);
+        unlink_registered();
+        assert!(!a.exists());
+        assert!(b.exists());
+        drop(ra);
+    }
+}

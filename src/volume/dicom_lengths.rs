@@ -1,0 +1,349 @@
+//! A check of a DICOM file's element lengths against its size, made before
+//! the file is parsed.
+//!
+//! The DICOM parser allocates (and zero-fills) a value of the length an
+//! element claims before it reads it, so a damaged file of a few hundred
+//! bytes claiming a 4 GiB value costs gigabytes and seconds before the
+//! error. This walk reads only element headers (seeking over the values)
+//! and refuses a value that runs past the end of the file. It descends
+//! into sequences and items, so nested elements are checked too, and skips
+//! the fragments of encapsulated pixel data.
+//!
+//! What it does not check is left to the parser: a file without the `DICM`
+//! magic, a deflated data set (its lengths bound the inflated stream, not
+//! the file) and a header cut short by the end of the file.
+
+use dicom_core::dictionary::{DataDictionary, VirtualVr};
+use dicom_core::{Tag, VR};
+use dicom_dictionary_std::StandardDataDictionary;
+use std::fs::File;
+use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::path::Path;
+
+/// An undefined length: a sequence, an item or encapsulated pixel data
+/// ends at a delimitation item instead.
+const UNDEFINED: u32 = 0xFFFF_FFFF;
+const ITEM: Tag = Tag(0xFFFE, 0xE000);
+const SEQUENCE_DELIMITER: Tag = Tag(0xFFFE, 0xE0DD);
+const PIXEL_DATA: Tag = Tag(0x7FE0, 0x0010);
+/// The transfer syntaxes whose data set is not explicit VR little endian.
+const IMPLICIT_VR_LE: &str = "1.2.840.10008.1.2";
+const EXPLICIT_VR_BE: &str = "1.2.840.10008.1.2.2";
+const DEFLATED: &[&str] = &["1.2.840.10008.1.2.1.99", "1.2.840.10008.1.2.8.1"];
+
+/// How the data set after the meta group is encoded.
+#[derive(Clone, Copy)]
+struct Encoding {
+    explicit_vr: bool,
+    big_endian: bool,
+}
+
+/// A reader of element headers that knows its position and the file size.
+struct Walker<R> {
+    input: R,
+    pos: u64,
+    size: u64,
+}
+
+impl<R: Read + Seek> Walker<R> {
+    /// Reads `N` bytes; `None` at the end of the file.
+    fn bytes<const N: usize>(&mut self) -> Option<[u8; N]> {
+        let mut b = [0u8; N];
+        self.input.read_exact(&mut b).ok()?;
+        self.pos += N as u64;
+        Some(b)
+    }
+
+    fn u16(&mut self, big: bool) -> Option<u16> {
+        let b = self.bytes::<2>()?;
+        Some(if big {
+            u16::from_be_bytes(b)
+        } else {
+            u16::from_le_bytes(b)
+        })
+    }
+
+    fn u32(&mut self, big: bool) -> Option<u32> {
+        let b = self.bytes::<4>()?;
+        Some(if big {
+            u32::from_be_bytes(b)
+        } else {
+            u32::from_le_bytes(b)
+        })
+    }
+
+    /// Checks that a value of `len` bytes starting here fits in the file.
+    fn fits(&self, tag: Tag, len: u32) -> Result<(), String> {
+        let left = self.size.saturating_sub(self.pos);
+        if u64::from(len) > left {
+            return Err(format!(
+                "not a readable DICOM file: element ({:04X},{:04X}) at byte {} claims {len} bytes, but only {left} are left in the file (damaged or truncated)",
+                tag.0, tag.1, self.pos
+            ));
+        }
+        Ok(())
+    }
+
+    /// Seeks over a value of `len` bytes (already checked to fit).
+    fn skip(&mut self, len: u32) -> Option<()> {
+        self.input.seek_relative(i64::from(len)).ok()?;
+        self.pos += u64::from(len);
+        Some(())
+    }
+
+    /// One element header: tag, VR (explicit only) and length.
+    fn header(&mut self, enc: Encoding) -> Option<(Tag, Option<VR>, u32)> {
+        let big = enc.big_endian;
+        let tag = Tag(self.u16(big)?, self.u16(big)?);
+        // Items and delimiters have no VR in any encoding.
+        if tag.0 == 0xFFFE || !enc.explicit_vr {
+            return Some((tag, None, self.u32(big)?));
+        }
+        let code = self.bytes::<2>()?;
+        let vr = VR::from_binary(code);
+        let long = matches!(
+            vr,
+            Some(
+                VR::OB
+                    | VR::OD
+                    | VR::OF
+                    | VR::OL
+                    | VR::OV
+                    | VR::OW
+                    | VR::SQ
+                    | VR::SV
+                    | VR::UC
+                    | VR::UN
+                    | VR::UR
+                    | VR::UT
+                    | VR::UV
+            )
+        );
+        let len = if long {
+            self.bytes::<2>()?;
+            self.u32(big)?
+        } else {
+            u32::from(self.u16(big)?)
+        };
+        Some((tag, vr, len))
+    }
+}
+
+/// Is the value of `tag` (with explicit VR `vr`, if any) a sequence, whose
+/// items hold elements to check rather than bytes to skip?
+fn is_sequence(tag: Tag, vr: Option<VR>) -> bool {
+    match vr {
+        Some(vr) => vr == VR::SQ,
+        None => StandardDataDictionary
+            .by_tag(tag)
+            .is_some_and(|e| e.vr == VirtualVr::Exact(VR::SQ)),
+    }
+}
+
+/// Checks every element length of the DICOM file at `path` against the
+/// file size. `Err` holds a message (without the path) for a value that
+/// runs past the end; a file this walk cannot follow is left to the parser.
+pub fn check(path: &Path) -> Result<(), String> {
+    let Ok(file) = File::open(path) else {
+        return Ok(());
+    };
+    let Ok(size) = file.metadata().map(|m| m.len()) else {
+        return Ok(());
+    };
+    check_reader(BufReader::with_capacity(4096, file), size)
+}
+
+/// [`check`] on any seekable input of `size` bytes.
+fn check_reader<R: Read + Seek>(input: R, size: u64) -> Result<(), String> {
+    let mut w = Walker {
+        input,
+        pos: 0,
+        size,
+    };
+    // The preamble and magic; a file without them is left to the parser.
+    match w.bytes::<132>() {
+        Some(head) if &head[128..] == b"DICM" => {}
+        _ => return Ok(()),
+    }
+    let Some(encoding) = meta_group(&mut w)? else {
+        return Ok(());
+    };
+    data_set(&mut w, encoding)
+}
+
+/// Walks the meta group (explicit VR little endian) and returns the
+/// encoding of the data set, `None` when it cannot be checked.
+fn meta_group<R: Read + Seek>(w: &mut Walker<R>) -> Result<Option<Encoding>, String> {
+    let meta = Encoding {
+        explicit_vr: true,
+        big_endian: false,
+    };
+    let mut syntax = None;
+    loop {
+        let start = w.pos;
+        let Some((tag, _, len)) = w.header(meta) else {
+            return Ok(None);
+        };
+        if tag.0 != 0x0002 {
+            // The first data set element: go back to its start.
+            if w.input.seek(SeekFrom::Start(start)).is_err() {
+                return Ok(None);
+            }
+            w.pos = start;
+            break;
+        }
+        w.fits(tag, len)?;
+        if tag == Tag(0x0002, 0x0010) {
+            let mut uid = vec![0u8; len as usize];
+            if w.input.read_exact(&mut uid).is_err() {
+                return Ok(None);
+            }
+            w.pos += u64::from(len);
+            let uid = String::from_utf8_lossy(&uid);
+            syntax = Some(uid.trim_end_matches(['\0', ' ']).to_string());
+        } else if w.skip(len).is_none() {
+            return Ok(None);
+        }
+    }
+    let Some(syntax) = syntax else {
+        return Ok(None);
+    };
+    if DEFLATED.contains(&syntax.as_str()) {
+        return Ok(None);
+    }
+    Ok(Some(Encoding {
+        explicit_vr: syntax != IMPLICIT_VR_LE,
+        big_endian: syntax == EXPLICIT_VR_BE,
+    }))
+}
+
+/// Walks the data set to the end of the file. Values of sequences and of
+/// their items are walked into (their lengths only checked); fragments of
+/// encapsulated pixel data are skipped.
+fn data_set<R: Read + Seek>(w: &mut Walker<R>, enc: Encoding) -> Result<(), String> {
+    let mut in_fragments = false;
+    while let Some((tag, vr, len)) = w.header(enc) {
+        if tag == SEQUENCE_DELIMITER {
+            in_fragments = false;
+        }
+        if tag.0 == 0xFFFE && tag != ITEM {
+            continue; // delimiters have no value
+        }
+        if len == UNDEFINED {
+            if tag == PIXEL_DATA {
+                // Encapsulated pixel data: fragment items to skip.
+                in_fragments = true;
+            } else if tag != ITEM && !is_sequence(tag, vr) {
+                // UN of undefined length (a sequence in implicit VR inside
+                // an explicit VR data set): left to the parser.
+                return Ok(());
+            }
+            continue; // walk into the sequence or item
+        }
+        w.fits(tag, len)?;
+        let walk_into = !in_fragments && (tag == ITEM || is_sequence(tag, vr));
+        if !walk_into && w.skip(len).is_none() {
+            return Ok(());
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Cursor;
+
+    /// A file: preamble, magic, a transfer syntax element, then `body`.
+    fn file(syntax: &str, body: &[u8]) -> Vec<u8> {
+        let mut f = vec![0u8; 128];
+        f.extend_from_slice(b"DICM");
+        let mut uid = syntax.as_bytes().to_vec();
+        if uid.len() % 2 == 1 {
+            uid.push(0);
+        }
+        f.extend_from_slice(&[0x02, 0x00, 0x10, 0x00, b'U', b'I']);
+        f.extend_from_slice(&(uid.len() as u16).to_le_bytes());
+        f.extend_from_slice(&uid);
+        f.extend_from_slice(body);
+        f
+    }
+
+    fn run(f: &[u8]) -> Result<(), String> {
+        check_reader(Cursor::new(f), f.len() as u64)
+    }
+
+    /// An implicit VR element: tag and a 4-byte length.
+    fn implicit(g: u16, e: u16, len: u32, value: &[u8]) -> Vec<u8> {
+        let mut v = Vec::new();
+        v.extend_from_slice(&g.to_le_bytes());
+        v.extend_from_slice(&e.to_le_bytes());
+        v.extend_from_slice(&len.to_le_bytes());
+        v.extend_from_slice(value);
+        v
+    }
+
+    #[test]
+    fn a_short_value_that_fits_passes() {
+        let body = implicit(0x0010, 0x0010, 4, b"DOE ");
+        assert_eq!(run(&file(IMPLICIT_VR_LE, &body)), Ok(()));
+    }
+
+    #[test]
+    fn a_value_past_the_end_is_refused() {
+        let body = implicit(0x0028, 0x1052, 0xFFFF_FFF0, b"1.0 ");
+        let e = run(&file(IMPLICIT_VR_LE, &body)).unwrap_err();
+        assert!(e.contains("(0028,1052)") && e.contains("4294967280"), "{e}");
+    }
+
+    #[test]
+    fn an_element_nested_in_a_sequence_is_checked() {
+        // (0008,1140) Referenced Image Sequence, undefined length, one item
+        // of undefined length holding a damaged element.
+        let mut body = implicit(0x0008, 0x1140, UNDEFINED, &[]);
+        body.extend(implicit(0xFFFE, 0xE000, UNDEFINED, &[]));
+        body.extend(implicit(0x0008, 0x1150, 0x7000_0000, b"1.2"));
+        let e = run(&file(IMPLICIT_VR_LE, &body)).unwrap_err();
+        assert!(e.contains("(0008,1150)"), "{e}");
+        // A defined-length sequence is walked into as well.
+        let mut body = implicit(0x0008, 0x1140, 16, &[]);
+        body.extend(implicit(0xFFFE, 0xE000, 8, &[]));
+        body.extend(implicit(0x0008, 0x1150, 0x7000_0000, &[]));
+        let e = run(&file(IMPLICIT_VR_LE, &body)).unwrap_err();
+        assert!(e.contains("(0008,1150)"), "{e}");
+    }
+
+    #[test]
+    fn encapsulated_fragments_are_skipped() {
+        // Explicit VR: pixel data OB of undefined length, an empty offset
+        // table, one fragment whose bytes look like a huge element header.
+        let mut body = vec![0xE0, 0x7F, 0x10, 0x00, b'O', b'B', 0, 0];
+        body.extend_from_slice(&UNDEFINED.to_le_bytes());
+        body.extend(implicit(0xFFFE, 0xE000, 0, &[]));
+        body.extend(implicit(
+            0xFFFE,
+            0xE000,
+            8,
+            &[0x10, 0x00, 0x10, 0x00, 0xF0, 0xFF, 0xFF, 0xFF],
+        ));
+        body.extend(implicit(0xFFFE, 0xE0DD, 0, &[]));
+        assert_eq!(run(&file("1.2.840.10008.1.2.4.50", &body)), Ok(()));
+    }
+
+    #[test]
+    fn big_endian_lengths_are_read_big_endian() {
+        // (0010,0010) PN, 4 bytes, big endian: a little-endian reading
+        // would claim 1024 bytes.
+        let body = [
+            0x00, 0x10, 0x00, 0x10, b'P', b'N', 0x00, 0x04, b'D', b'O', b'E', b' ',
+        ];
+        assert_eq!(run(&file(EXPLICIT_VR_BE, &body)), Ok(()));
+    }
+
+    #[test]
+    fn files_it_cannot_follow_are_left_to_the_parser() {
+        assert_eq!(run(b"not dicom"), Ok(()));
+        let body = implicit(0x0028, 0x1052, 0xFFFF_FFF0, &[]);
+        assert_eq!(run(&file(DEFLATED[0], &body)), Ok(()));
+    }
+}

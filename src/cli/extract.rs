@@ -28,7 +28,7 @@ pub(crate) struct ExtractArgs {
     /// (--iso 550,1600), are extracted in one pass over the data, one output
     /// each: {iso} in -o is replaced by the isovalue, or '_iso<VALUE>' is
     /// inserted before the extension.
-    #[arg(long, value_name = "VALUE", allow_negative_numbers = true, value_parser = values::finite,
+    #[arg(long, value_name = "VALUE", allow_hyphen_values = true, value_parser = values::finite,
           value_delimiter = ',', required_unless_present = "manifest")]
     pub iso: Vec<f64>,
 

@@ -64,7 +64,7 @@ pub(crate) struct ExtractArgs {
     pub stats: bool,
 
     /// Print one JSON object on stdout: the run's parameters, the grid and all
-    /// statistics.
+    /// statistics. In a batch: one JSON line per input (see --report).
     #[arg(long)]
     pub json: bool,
 

@@ -23,8 +23,10 @@ use std::time::Instant;
 /// The entries may differ in isovalue, method and inside side, but must
 /// agree on `close` and `threads` (they share the padded source and the
 /// workers). Slabs are scheduled as in [`crate::extract_to`]; a slab in
-/// flight holds the meshes of all isovalues. Any error fails the whole
-/// extraction; sinks not finished by then are dropped unfinished.
+/// flight holds the meshes of all isovalues. Every sink has had all its
+/// chunks before the first is finished (so a sink can still refuse to
+/// finish, and then none is). Any error fails the whole extraction; sinks
+/// not finished by then are dropped unfinished.
 pub fn extract_many_to(
     source: &dyn SampleSource,
     params: &[ExtractParams],

@@ -300,3 +300,32 @@ fn the_single_input_form_keeps_its_json_object() {
     assert!(lines[0].get("status").is_none());
     assert!(lines[0]["triangles"].as_u64().unwrap() > 0);
 }
+
+#[test]
+fn require_surface_with_one_empty_isovalue_writes_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = noise(dir.path(), "a.nrrd", "10,10,10");
+    let out = tmc(&[
+        "extract",
+        s(&a),
+        "--iso",
+        "0,5",
+        "-o",
+        s(&dir.path().join("m_{iso}.tmesh")),
+        "--require-surface",
+    ]);
+    let line = assert_one_line(&out, 1);
+    assert!(line.contains("no surface at isovalue 5"), "{line}");
+    assert_eq!(names(dir.path()), ["a.nrrd"]);
+    let out = tmc(&[
+        "extract",
+        s(&a),
+        "--iso",
+        "0,0.1",
+        "-o",
+        s(&dir.path().join("m_{iso}.tmesh")),
+        "--require-surface",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(names(dir.path()), ["a.nrrd", "m_0.1.tmesh", "m_0.tmesh"]);
+}

@@ -4,16 +4,16 @@
 
 use super::extract::{check_distinct, check_grid, effective_threads, ExtractArgs};
 use super::manifest::{self, Item};
-use super::require_surface::RequireSurface;
 use super::{memory, progress, report};
 use clap::Args;
 use serde::Serialize;
+use std::cell::Cell;
 use std::fs::File;
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-use tmc::{Error, MeshSink, PipelineOptions, Result, Stats};
+use tmc::{Chunk, Error, MeshInfo, MeshSink, PipelineOptions, Result, Stats, Totals};
 
 /// The batch options of `tmc extract`.
 #[derive(Debug, Args)]
@@ -209,12 +209,20 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
         .iter()
         .map(|o| tmc::export::create_sink(o))
         .collect::<Result<Vec<_>>>()?;
-    let mut guards: Vec<RequireSurface> = files
+    let triangles = vec![Cell::new(0); item.isos.len()];
+    let messages: Vec<String> = item
+        .isos
+        .iter()
+        .map(|&iso| format!("{}; nothing written (--require-surface)", no_surface(iso)))
+        .collect();
+    let mut guards: Vec<RequireAll> = files
         .iter_mut()
-        .zip(&item.isos)
-        .map(|(sink, &iso)| RequireSurface {
+        .enumerate()
+        .map(|(index, sink)| RequireAll {
             inner: sink.as_mut(),
-            message: format!("{}; nothing written (--require-surface)", no_surface(iso)),
+            index,
+            triangles: &triangles,
+            messages: &messages,
         })
         .collect();
     let mut sinks: Vec<&mut dyn MeshSink> = if args.require_surface {
@@ -256,4 +264,50 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
         }
     }
     Ok(stats)
+}
+
+/// `--require-surface` over several isovalues: no output is finished unless
+/// every isovalue has a surface. [`tmc::extract_many_to`] hands every sink
+/// all its chunks before it finishes the first, so the counts are complete
+/// when `finish` looks at them.
+struct RequireAll<'a> {
+    /// The sink that writes this isovalue's output.
+    inner: &'a mut dyn MeshSink,
+    /// Which isovalue this is.
+    index: usize,
+    /// Triangles seen so far, per isovalue.
+    triangles: &'a [Cell<u64>],
+    /// The error message per isovalue, for an empty mesh.
+    messages: &'a [String],
+}
+
+impl RequireAll<'_> {
+    /// Adds the triangles of `chunk` to this isovalue's count.
+    fn count(&self, chunk: &Chunk) {
+        let seen = &self.triangles[self.index];
+        seen.set(seen.get() + chunk.triangles.len() as u64);
+    }
+}
+
+impl MeshSink for RequireAll<'_> {
+    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        self.inner.begin(info)
+    }
+
+    fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
+        self.count(chunk);
+        self.inner.chunk(base, chunk)
+    }
+
+    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
+        self.count(&chunk);
+        self.inner.take_chunk(base, chunk)
+    }
+
+    fn finish(&mut self, totals: &Totals) -> Result<()> {
+        match self.triangles.iter().position(|t| t.get() == 0) {
+            Some(empty) => Err(Error::Invalid(self.messages[empty].clone())),
+            None => self.inner.finish(totals),
+        }
+    }
 }

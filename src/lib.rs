@@ -32,6 +32,7 @@ pub mod histogram;
 pub mod kernel;
 pub mod mesh;
 pub mod meshfile;
+pub mod multi;
 pub mod pipeline;
 pub mod seam;
 pub mod sink;
@@ -42,6 +43,7 @@ pub mod volume;
 
 pub use error::{Error, Result};
 pub use mesh::Mesh;
+pub use multi::extract_many_to;
 pub use pipeline::{extract, extract_to, ExtractParams, Inside, Method, PipelineOptions, Progress};
 pub use sink::{Chunk, MeshBuilder, MeshInfo, MeshSink, Totals};
 pub use stats::Stats;

@@ -1,13 +1,8 @@
 //! The extraction entry point: parameters, slabs in parallel, seams stitched.
 
-use crate::seam::Seam;
-use crate::sink::{MeshBuilder, MeshInfo, MeshSink};
-use crate::slab::process_slab;
-use crate::volume::Padded;
+use crate::sink::{MeshBuilder, MeshSink};
 use crate::{Error, Mesh, Result, SampleSource, Stats};
-use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
 
 /// Which algorithm triangulates the cells.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -82,7 +77,7 @@ pub struct PipelineOptions<'a> {
 impl PipelineOptions<'_> {
     /// Fails with [`Error::Interrupted`] once the cancel flag is set (one
     /// relaxed load).
-    fn check_cancel(&self) -> Result<()> {
+    pub(crate) fn check_cancel(&self) -> Result<()> {
         match self.cancel {
             Some(flag) if flag.load(Ordering::Relaxed) => Err(Error::Interrupted),
             _ => Ok(()),
@@ -109,7 +104,7 @@ pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mes
 }
 
 /// The number of worker threads `params` asks for (0: one per core).
-fn worker_threads(params: &ExtractParams) -> usize {
+pub(crate) fn worker_threads(params: &ExtractParams) -> usize {
     if params.threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
@@ -124,7 +119,7 @@ fn worker_threads(params: &ExtractParams) -> usize {
 /// are about four slabs per thread (at least 8 layers each), because slabs
 /// are the unit of parallel work and a few big ones leave threads idle at
 /// the end.
-fn default_depth(plane_len: usize, layers: usize, threads: usize) -> usize {
+pub(crate) fn default_depth(plane_len: usize, layers: usize, threads: usize) -> usize {
     let by_size = ((64 << 20) / plane_len.max(1)).clamp(16, 64);
     if threads <= 1 {
         return by_size;
@@ -133,7 +128,7 @@ fn default_depth(plane_len: usize, layers: usize, threads: usize) -> usize {
 }
 
 /// A rayon pool of `threads` threads.
-fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
+pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -153,113 +148,7 @@ pub fn extract_to(
     options: &PipelineOptions,
     sink: &mut dyn MeshSink,
 ) -> Result<Stats> {
-    let start = Instant::now();
-    if !params.iso.is_finite() {
-        return Err(Error::Invalid(format!(
-            "the isovalue must be a finite number, not {}",
-            params.iso
-        )));
-    }
-    let info = MeshInfo {
-        grid: *source.grid(),
-        iso: params.iso,
-        method: params.method,
-        inside: params.inside,
-        close: params.close,
-    };
-    let padded;
-    let source: &dyn SampleSource = if params.close {
-        padded = Padded::new(source);
-        &padded
-    } else {
-        source
-    };
-    let dims = source.grid().dims;
-    if dims.iter().any(|&d| d < 2) {
-        return Err(Error::Invalid(format!(
-            "the grid {}x{}x{} needs at least 2 samples along every axis",
-            dims[0], dims[1], dims[2]
-        )));
-    }
-    let layers = dims[2] - 1;
-    let threads = worker_threads(params);
-    let depth = if options.slab_depth > 0 {
-        options.slab_depth.min(64)
-    } else {
-        default_depth(source.grid().plane_len(), layers, threads)
-    };
-    let plan = crate::budget::plan(
-        source.grid().plane_len(),
-        threads,
-        depth,
-        options.max_memory,
-    )?;
-    let depth = plan.depth;
-    options.check_cancel()?;
-    let slabs: Vec<Range<usize>> = (0..layers)
-        .step_by(depth)
-        .map(|z| z..(z + depth).min(layers))
-        .collect();
-    sink.begin(&info)?;
-    let mut seam = Seam::new(sink).with_cancel(options.cancel);
-    let report = |seam: &Seam| {
-        if let Some(progress) = options.progress {
-            let done = slabs[..seam.written()].iter().map(|r| r.len()).sum();
-            progress(&Progress {
-                layers_done: done,
-                layers_total: layers,
-            });
-        }
-    };
-    let run = |i: usize| {
-        options.check_cancel()?;
-        source.check_unchanged()?;
-        process_slab(source, params, slabs[i].clone())
-    };
-    if threads == 1 {
-        for i in 0..slabs.len() {
-            let (chunks, stats) = run(i)?;
-            seam.accept(i, chunks, stats)?;
-            report(&seam);
-        }
-    } else {
-        let pool = thread_pool(threads)?;
-        // At most `window` slabs computed but not yet written.
-        let window = plan.window;
-        let (tx, rx) = crossbeam::channel::unbounded();
-        pool.in_place_scope(|scope| -> Result<()> {
-            let run = &run;
-            let launch = |i: usize| {
-                let tx = tx.clone();
-                scope.spawn(move |_| {
-                    // The receiver outlives the scope; a send cannot fail.
-                    let _ = tx.send((i, run(i)));
-                });
-            };
-            let mut launched = 0;
-            while launched < slabs.len().min(window) {
-                launch(launched);
-                launched += 1;
-            }
-            while seam.written() < slabs.len() {
-                let (i, result) = rx.recv().expect("a worker holds a sender");
-                let (chunks, stats) = result?;
-                for _ in 0..seam.accept(i, chunks, stats)? {
-                    if launched < slabs.len() {
-                        launch(launched);
-                        launched += 1;
-                    }
-                }
-                report(&seam);
-            }
-            Ok(())
-        })?;
-    }
-    options.check_cancel()?;
-    let (mut stats, totals) = seam.finish()?;
-    stats.vertices = totals.vertices;
-    stats.triangles = totals.triangles;
-    stats.slabs = slabs.len() as u64;
-    stats.seconds = start.elapsed().as_secs_f64();
-    Ok(stats)
+    let mut stats =
+        crate::multi::extract_many_to(source, std::slice::from_ref(params), options, &mut [sink])?;
+    Ok(stats.remove(0))
 }

@@ -1,5 +1,6 @@
 //! `tmc extract`: volume in, isosurface mesh out.
 
+use super::batch::BatchArgs;
 use super::raw_input::RawArgs;
 use super::require_surface::RequireSurface;
 use super::{memory, progress, report, values, CONVENTIONS};
@@ -18,20 +19,31 @@ use tmc::{Error, ExtractParams, Grid, Inside, Method, PipelineOptions, Result};
 #[command(after_help = CONVENTIONS)]
 pub(crate) struct ExtractArgs {
     /// Input volume: .npy, .nrrd, or headerless samples with --dims and --dtype.
-    #[arg(value_name = "INPUT")]
-    pub input: PathBuf,
+    /// Several inputs are a batch (see --keep-going): -o must contain {stem}.
+    #[arg(value_name = "INPUT", required_unless_present = "manifest")]
+    pub input: Vec<PathBuf>,
 
     /// Isovalue, a finite number. A sample is inside iff its value > ISO
-    /// (equal is outside, NaN is outside).
-    #[arg(long, value_name = "VALUE", allow_negative_numbers = true, value_parser = values::finite)]
-    pub iso: f64,
+    /// (equal is outside, NaN is outside). Several, comma-separated
+    /// (--iso 550,1600), are extracted in one pass over the data, one output
+    /// each: {iso} in -o is replaced by the isovalue, or '_iso<VALUE>' is
+    /// inserted before the extension.
+    #[arg(long, value_name = "VALUE", allow_hyphen_values = true, value_parser = values::finite,
+          value_delimiter = ',', required_unless_present = "manifest")]
+    pub iso: Vec<f64>,
 
     /// Output mesh; the format comes from the extension: .ply, .obj, .off,
     /// .stl or .tmesh (chunked and compressed, any size; see 'tmc convert').
     /// Streamed as it is extracted; written atomically: nothing is left there
-    /// if the run fails.
-    #[arg(short, long, value_name = "OUTPUT")]
-    pub output: PathBuf,
+    /// if the run fails. {stem} is replaced by the input's name without its
+    /// extension(s), {iso} by the isovalue.
+    #[arg(
+        short,
+        long,
+        value_name = "OUTPUT",
+        required_unless_present = "manifest"
+    )]
+    pub output: Option<PathBuf>,
 
     /// Cell algorithm.
     #[arg(long, value_enum, default_value_t = MethodArg::Tmc)]
@@ -52,7 +64,7 @@ pub(crate) struct ExtractArgs {
     pub stats: bool,
 
     /// Print one JSON object on stdout: the run's parameters, the grid and all
-    /// statistics.
+    /// statistics. In a batch: one JSON line per input (see --report).
     #[arg(long)]
     pub json: bool,
 
@@ -86,6 +98,10 @@ pub(crate) struct ExtractArgs {
     #[arg(short, long, conflicts_with = "stats")]
     pub quiet: bool,
 
+    /// Batch: --manifest, --report, --keep-going.
+    #[command(flatten)]
+    pub batch: BatchArgs,
+
     /// Headerless input: --dims, --dtype, --endian, ...
     #[command(flatten)]
     pub raw: RawArgs,
@@ -111,10 +127,10 @@ pub(crate) enum InsideArg {
 }
 
 impl ExtractArgs {
-    /// The extraction parameters.
-    fn params(&self) -> ExtractParams {
+    /// The extraction parameters at isovalue `iso`.
+    pub(super) fn params(&self, iso: f64) -> ExtractParams {
         ExtractParams {
-            iso: self.iso,
+            iso,
             method: match self.method {
                 MethodArg::Tmc => Method::Tmc,
                 MethodArg::Mc => Method::Mc,
@@ -131,18 +147,22 @@ impl ExtractArgs {
 
 /// Runs `tmc extract`; setting `cancel` stops it with [`Error::Interrupted`].
 pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    let (input, iso, output) = match (&args.input[..], &args.iso[..], &args.output) {
+        ([input], [iso], Some(output)) if !args.batch.given() => (input, *iso, output),
+        _ => return super::batch::run(args, cancel),
+    };
     let started = Instant::now();
     let raw = args.raw.options();
-    check_distinct(&args.input, &args.output)?;
-    let source = tmc::volume::open(&args.input, raw.as_ref())?;
+    check_distinct(input, output)?;
+    let source = tmc::volume::open(input, raw.as_ref())?;
     for data in source.data_files() {
-        check_distinct(data, &args.output)?;
+        check_distinct(data, output)?;
     }
     let grid = *source.grid();
-    check_grid(&args.input, &grid)?;
-    tmc::export::check_output_path(&args.output)?;
+    check_grid(input, &grid)?;
+    tmc::export::check_output_path(output)?;
 
-    let params = args.params();
+    let params = args.params(iso);
     // Progress bar and peak-memory sampling, after every slab.
     let peak_anon = memory::PeakAnon::default();
     let bar = progress::Bar::new(
@@ -160,11 +180,11 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         cancel,
         max_memory: args.max_memory,
     };
-    let mut sink = tmc::export::create_sink(&args.output)?;
+    let mut sink = tmc::export::create_sink(output)?;
     let no_surface = format!(
         "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
-        args.iso,
-        args.input.display()
+        iso,
+        input.display()
     );
     let stats = if args.require_surface {
         let mut sink = RequireSurface {
@@ -179,22 +199,22 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     if stats.triangles == 0 && !args.quiet {
         eprintln!(
             "tmc: note: {no_surface}; wrote an empty mesh to {}",
-            args.output.display()
+            output.display()
         );
     }
     peak_anon.sample();
     let resources = report::Resources {
         slab_depth: args.slab_depth.map(usize::from),
         bytes_read: report::bytes_read(&stats, &grid, source.sample_bytes(), params.close),
-        bytes_written: std::fs::metadata(&args.output).ok().map(|m| m.len()),
+        bytes_written: std::fs::metadata(output).ok().map(|m| m.len()),
         peak_rss_anon_bytes: peak_anon.peak(),
         vm_hwm_bytes: memory::peak_resident(),
         wall_seconds: started.elapsed().as_secs_f64(),
     };
 
     let run = report::Run {
-        input: &args.input,
-        output: &args.output,
+        input,
+        output,
         params: &params,
         threads: effective_threads(params.threads),
         grid: &grid,
@@ -215,7 +235,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
 }
 
 /// Rejects grids with fewer than 2 samples along an axis (no cells).
-fn check_grid(input: &Path, grid: &Grid) -> Result<()> {
+pub(super) fn check_grid(input: &Path, grid: &Grid) -> Result<()> {
     for (axis, &n) in ["x", "y", "z"].iter().zip(&grid.dims) {
         if n < 2 {
             return Err(Error::Invalid(format!(
@@ -232,7 +252,7 @@ fn check_grid(input: &Path, grid: &Grid) -> Result<()> {
 
 /// Refuses to write the output over the input (also through a symbolic or
 /// hard link): the input is read while the output is written.
-fn check_distinct(input: &Path, output: &Path) -> Result<()> {
+pub(super) fn check_distinct(input: &Path, output: &Path) -> Result<()> {
     let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(output)) else {
         return Ok(());
     };
@@ -260,7 +280,7 @@ fn check_distinct(input: &Path, output: &Path) -> Result<()> {
 }
 
 /// The number of worker threads `threads` (0 = all cores) stands for.
-fn effective_threads(threads: usize) -> usize {
+pub(super) fn effective_threads(threads: usize) -> usize {
     if threads > 0 {
         threads
     } else {

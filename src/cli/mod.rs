@@ -5,10 +5,12 @@
 //! and 130 or 143 when SIGINT or SIGTERM interrupted an extraction or a
 //! conversion.
 
+mod batch;
 mod check;
 mod convert;
 mod extract;
 mod info;
+mod manifest;
 mod memory;
 mod progress;
 mod raw_input;
@@ -82,7 +84,9 @@ Exit status:
   1    failure (unreadable, malformed or changing input, unwritable output,
        disk full, --max-memory too small, ...; one line 'tmc: error: ...');
        'tmc check' also exits 1 when the mesh is not a consistently oriented
-       manifold (non-manifold edges or vertices, inconsistent orientation)
+       manifold (non-manifold edges or vertices, inconsistent orientation);
+       a batch ('tmc extract' with several inputs, isovalues or --manifest)
+       exits 1 when any item failed, after naming each on stderr
   2    usage error (unknown option, missing or malformed value)
   130  interrupted by SIGINT, 143 by SIGTERM: extract and convert stop at the next
        slab or chunk and no output is left";

@@ -1,0 +1,320 @@
+//! `tmc extract` in batch: several inputs (or a manifest) and several
+//! isovalues per input, one pass over each input, one JSON-lines report line
+//! per input.
+
+use super::extract::{check_distinct, check_grid, effective_threads, ExtractArgs};
+use super::manifest::{self, Item};
+use super::{memory, progress, report};
+use clap::Args;
+use serde::Serialize;
+use std::cell::Cell;
+use std::fs::File;
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use tmc::{Chunk, Error, MeshInfo, MeshSink, PipelineOptions, Result, Stats, Totals};
+
+/// The batch options of `tmc extract`.
+#[derive(Debug, Args)]
+pub(crate) struct BatchArgs {
+    /// Read the inputs from FILE, one per line: 'INPUT ISO[,ISO...] OUTPUT'
+    /// separated by whitespace, or by tabs when the line has one (paths with
+    /// spaces); '#' starts a comment line. OUTPUT may use {stem} and {iso}.
+    /// Relative paths are relative to the current directory.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["input", "iso", "output"])]
+    pub manifest: Option<PathBuf>,
+
+    /// Append one JSON line per input to FILE (as --json does on stdout):
+    /// input, outputs, isos, status ("ok" or "failed"), error, triangles and
+    /// vertices per output, seconds, manifest line.
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
+
+    /// In a batch, go on with the next input after a failure (without it,
+    /// the batch stops at the first failed input). Either way the exit
+    /// status is 1 when any input failed, and each is named on stderr.
+    #[arg(long)]
+    pub keep_going: bool,
+}
+
+impl BatchArgs {
+    /// Whether a batch option was given (a batch even with one input).
+    pub(crate) fn given(&self) -> bool {
+        self.manifest.is_some() || self.report.is_some()
+    }
+}
+
+/// One report line.
+#[derive(Serialize)]
+struct Line<'a> {
+    input: String,
+    outputs: Vec<String>,
+    isos: &'a [f64],
+    status: &'static str,
+    error: Option<String>,
+    triangles: Vec<u64>,
+    vertices: Vec<u64>,
+    seconds: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    line: Option<usize>,
+}
+
+/// Runs a batch; fails with the item's own error when it holds one input,
+/// else with a summary naming the failed inputs.
+pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    let items = match (&args.batch.manifest, &args.output) {
+        (Some(path), _) => manifest::read(path)?,
+        (None, Some(template)) => manifest::from_args(&args.input, &args.iso, template)?,
+        (None, None) => return Err(Error::Invalid("no output given (-o)".into())),
+    };
+    let mut report = match &args.batch.report {
+        Some(path) => Some((
+            File::options()
+                .create(true)
+                .append(true)
+                .open(path)
+                .map_err(|e| Error::io(path, e))?,
+            path,
+        )),
+        None => None,
+    };
+    let mut failed = Vec::new();
+    let mut attempted = 0;
+    let mut first_error = None;
+    for item in &items {
+        attempted += 1;
+        let started = Instant::now();
+        let result = run_item(args, item, cancel);
+        let line = report_line(item, &result, started.elapsed().as_secs_f64());
+        if let Some((file, path)) = &mut report {
+            file.write_all(line.as_bytes())
+                .and_then(|()| file.flush())
+                .map_err(|e| Error::io(path.as_path(), e))?;
+        }
+        if args.json {
+            let mut out = std::io::stdout().lock();
+            out.write_all(line.as_bytes())
+                .and_then(|()| out.flush())
+                .map_err(|e| Error::io("standard output", e))?;
+        }
+        match result {
+            Ok(_) => {}
+            Err(Error::Interrupted) => return Err(Error::Interrupted),
+            Err(e) => {
+                if items.len() > 1 {
+                    // Most messages name the input already.
+                    let input = item.input.display().to_string();
+                    let message = e.to_string();
+                    let message = if message.contains(&input) {
+                        message
+                    } else {
+                        format!("{input}: {message}")
+                    };
+                    eprintln!("tmc: error: {}", super::one_line(&message));
+                }
+                failed.push(item.input.display().to_string());
+                first_error.get_or_insert(e);
+                if !args.batch.keep_going {
+                    break;
+                }
+            }
+        }
+    }
+    match first_error {
+        None => Ok(()),
+        Some(e) if items.len() == 1 => Err(e),
+        Some(_) => {
+            let skipped = items.len() - attempted;
+            Err(Error::Invalid(format!(
+                "{} of {} inputs failed: {}{}",
+                failed.len(),
+                items.len(),
+                failed.join(", "),
+                if skipped > 0 {
+                    format!("; stopped there, {skipped} not run (--keep-going runs them)")
+                } else {
+                    String::new()
+                }
+            )))
+        }
+    }
+}
+
+/// The report line of `item` (with its newline).
+fn report_line(item: &Item, result: &Result<Vec<Stats>>, seconds: f64) -> String {
+    let (status, error, stats) = match result {
+        Ok(stats) => ("ok", None, &stats[..]),
+        Err(e) => ("failed", Some(super::one_line(&e.to_string())), &[][..]),
+    };
+    let line = Line {
+        input: item.input.display().to_string(),
+        outputs: item
+            .outputs
+            .iter()
+            .map(|o| o.display().to_string())
+            .collect(),
+        isos: &item.isos,
+        status,
+        error,
+        triangles: stats.iter().map(|s| s.triangles).collect(),
+        vertices: stats.iter().map(|s| s.vertices).collect(),
+        seconds,
+        line: item.line,
+    };
+    let mut text = serde_json::to_string(&line).expect("a report line serialises");
+    text.push('\n');
+    text
+}
+
+/// Extracts every isovalue of `item` in one pass; returns the statistics
+/// of each output.
+fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Result<Vec<Stats>> {
+    let started = Instant::now();
+    let raw = args.raw.options();
+    for output in &item.outputs {
+        check_distinct(&item.input, output)?;
+    }
+    let source = tmc::volume::open(&item.input, raw.as_ref())?;
+    for (data, output) in source
+        .data_files()
+        .iter()
+        .flat_map(|d| item.outputs.iter().map(move |o| (d, o)))
+    {
+        check_distinct(data, output)?;
+    }
+    let grid = *source.grid();
+    check_grid(&item.input, &grid)?;
+    for output in &item.outputs {
+        tmc::export::check_output_path(output)?;
+    }
+    let params: Vec<_> = item.isos.iter().map(|&iso| args.params(iso)).collect();
+    let peak_anon = memory::PeakAnon::default();
+    let bar = progress::Bar::new(
+        grid.dims.iter().map(|&n| n as u64).product(),
+        "voxels",
+        args.quiet,
+    );
+    let on_progress = |p: &tmc::Progress| {
+        bar.set_fraction(p.layers_done as f64 / p.layers_total.max(1) as f64);
+        peak_anon.sample();
+    };
+    let options = PipelineOptions {
+        slab_depth: args.slab_depth.map_or(0, usize::from),
+        progress: Some(&on_progress),
+        cancel,
+        max_memory: args.max_memory,
+    };
+    let no_surface = |iso: f64| {
+        format!(
+            "no surface at isovalue {iso}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
+            item.input.display()
+        )
+    };
+    let mut files = item
+        .outputs
+        .iter()
+        .map(|o| tmc::export::create_sink(o))
+        .collect::<Result<Vec<_>>>()?;
+    let triangles = vec![Cell::new(0); item.isos.len()];
+    let messages: Vec<String> = item
+        .isos
+        .iter()
+        .map(|&iso| format!("{}; nothing written (--require-surface)", no_surface(iso)))
+        .collect();
+    let mut guards: Vec<RequireAll> = files
+        .iter_mut()
+        .enumerate()
+        .map(|(index, sink)| RequireAll {
+            inner: sink.as_mut(),
+            index,
+            triangles: &triangles,
+            messages: &messages,
+        })
+        .collect();
+    let mut sinks: Vec<&mut dyn MeshSink> = if args.require_surface {
+        guards.iter_mut().map(|g| g as &mut dyn MeshSink).collect()
+    } else {
+        guards.iter_mut().map(|g| &mut *g.inner).collect()
+    };
+    let stats = tmc::extract_many_to(source.as_ref(), &params, &options, &mut sinks)?;
+    drop(bar);
+    peak_anon.sample();
+    for ((s, output), p) in stats.iter().zip(&item.outputs).zip(&params) {
+        if s.triangles == 0 && !args.quiet {
+            eprintln!(
+                "tmc: note: {}; wrote an empty mesh to {}",
+                no_surface(p.iso),
+                output.display()
+            );
+        }
+        if args.stats {
+            let resources = report::Resources {
+                slab_depth: args.slab_depth.map(usize::from),
+                bytes_read: report::bytes_read(s, &grid, source.sample_bytes(), p.close),
+                bytes_written: std::fs::metadata(output).ok().map(|m| m.len()),
+                peak_rss_anon_bytes: peak_anon.peak(),
+                vm_hwm_bytes: memory::peak_resident(),
+                wall_seconds: started.elapsed().as_secs_f64(),
+            };
+            let run = report::Run {
+                input: &item.input,
+                output,
+                params: p,
+                threads: effective_threads(p.threads),
+                grid: &grid,
+                stats: s,
+                resources: &resources,
+            };
+            let mut err = std::io::stderr().lock();
+            report::write_table(&mut err, &run).map_err(|e| Error::io("standard error", e))?;
+        }
+    }
+    Ok(stats)
+}
+
+/// `--require-surface` over several isovalues: no output is finished unless
+/// every isovalue has a surface. [`tmc::extract_many_to`] hands every sink
+/// all its chunks before it finishes the first, so the counts are complete
+/// when `finish` looks at them.
+struct RequireAll<'a> {
+    /// The sink that writes this isovalue's output.
+    inner: &'a mut dyn MeshSink,
+    /// Which isovalue this is.
+    index: usize,
+    /// Triangles seen so far, per isovalue.
+    triangles: &'a [Cell<u64>],
+    /// The error message per isovalue, for an empty mesh.
+    messages: &'a [String],
+}
+
+impl RequireAll<'_> {
+    /// Adds the triangles of `chunk` to this isovalue's count.
+    fn count(&self, chunk: &Chunk) {
+        let seen = &self.triangles[self.index];
+        seen.set(seen.get() + chunk.triangles.len() as u64);
+    }
+}
+
+impl MeshSink for RequireAll<'_> {
+    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        self.inner.begin(info)
+    }
+
+    fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
+        self.count(chunk);
+        self.inner.chunk(base, chunk)
+    }
+
+    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
+        self.count(&chunk);
+        self.inner.take_chunk(base, chunk)
+    }
+
+    fn finish(&mut self, totals: &Totals) -> Result<()> {
+        match self.triangles.iter().position(|t| t.get() == 0) {
+            Some(empty) => Err(Error::Invalid(self.messages[empty].clone())),
+            None => self.inner.finish(totals),
+        }
+    }
+}

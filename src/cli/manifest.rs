@@ -1,0 +1,197 @@
+//! The items of a batch: from a manifest file or from the command line, with
+//! the output naming rule ({stem}, {iso}).
+
+use super::values;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+use tmc::{Error, Result};
+
+/// One input of a batch with its isovalues and one output per isovalue.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Item {
+    /// The input volume.
+    pub input: PathBuf,
+    /// The isovalues, extracted in one pass.
+    pub isos: Vec<f64>,
+    /// The output of each isovalue.
+    pub outputs: Vec<PathBuf>,
+    /// The manifest line the item comes from (1-based), if any.
+    pub line: Option<usize>,
+}
+
+/// The items of `inputs` extracted at `isos` into outputs named by
+/// `template`; several inputs need `{stem}` so that outputs differ.
+pub(crate) fn from_args(inputs: &[PathBuf], isos: &[f64], template: &Path) -> Result<Vec<Item>> {
+    if inputs.len() > 1 && !template.to_string_lossy().contains("{stem}") {
+        return Err(Error::Invalid(format!(
+            "{}: with several inputs the output must contain {{stem}} (e.g. -o 'out/{{stem}}.ply')",
+            template.display()
+        )));
+    }
+    let items = inputs
+        .iter()
+        .map(|input| Item {
+            input: input.clone(),
+            isos: isos.to_vec(),
+            outputs: outputs(template, input, isos),
+            line: None,
+        })
+        .collect();
+    check_unique(items)
+}
+
+/// Parses a manifest: one item per line, `INPUT ISO[,ISO...] OUTPUT`,
+/// separated by tabs if the line has a tab (paths with spaces), else by
+/// whitespace; blank lines and lines starting with `#` are skipped.
+pub(crate) fn parse(text: &str, name: &Path) -> Result<Vec<Item>> {
+    let mut items = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let trimmed = line.trim();
+        if trimmed.is_empty() || trimmed.starts_with('#') {
+            continue;
+        }
+        let at =
+            |message: String| Error::Invalid(format!("{}:{}: {message}", name.display(), n + 1));
+        let fields: Vec<&str> = if trimmed.contains('\t') {
+            trimmed.split('\t').map(str::trim).collect()
+        } else {
+            trimmed.split_whitespace().collect()
+        };
+        let [input, isos, output] = fields[..] else {
+            return Err(at(format!(
+                "expected 3 fields 'INPUT ISO[,ISO...] OUTPUT', found {}",
+                fields.len()
+            )));
+        };
+        let isos = isos
+            .split(',')
+            .map(values::finite)
+            .collect::<std::result::Result<Vec<f64>, String>>()
+            .map_err(|e| at(format!("bad isovalue: {e}")))?;
+        let input = PathBuf::from(input);
+        items.push(Item {
+            outputs: outputs(Path::new(output), &input, &isos),
+            input,
+            isos,
+            line: Some(n + 1),
+        });
+    }
+    if items.is_empty() {
+        return Err(Error::Invalid(format!(
+            "{}: the manifest lists no input",
+            name.display()
+        )));
+    }
+    check_unique(items)
+}
+
+/// Reads and parses the manifest at `path`.
+pub(crate) fn read(path: &Path) -> Result<Vec<Item>> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    parse(&text, path)
+}
+
+/// Fails when two items would write the same output.
+fn check_unique(items: Vec<Item>) -> Result<Vec<Item>> {
+    let mut seen = HashSet::new();
+    for item in &items {
+        for output in &item.outputs {
+            if !seen.insert(output.clone()) {
+                return Err(Error::Invalid(format!(
+                    "{}: two outputs of the batch have this name; use {{stem}} and {{iso}} in the output name",
+                    output.display()
+                )));
+            }
+        }
+    }
+    Ok(items)
+}
+
+/// The outputs of `input` at `isos`: `template` with `{stem}` and `{iso}`
+/// replaced; with several isovalues and no `{iso}`, `_iso{iso}` goes before
+/// the extension.
+pub(crate) fn outputs(template: &Path, input: &Path, isos: &[f64]) -> Vec<PathBuf> {
+    let mut text = template.to_string_lossy().into_owned();
+    if !text.contains('{') {
+        if isos.len() == 1 {
+            return vec![template.to_path_buf()];
+        }
+    } else {
+        text = text.replace("{stem}", &stem(input));
+    }
+    if isos.len() > 1 && !text.contains("{iso}") {
+        let name_start = text.rfind('/').map_or(0, |i| i + 1);
+        let dot = text[name_start..]
+            .rfind('.')
+            .map_or(text.len(), |i| name_start + i);
+        text.insert_str(dot, "_iso{iso}");
+    }
+    isos.iter()
+        .map(|iso| PathBuf::from(text.replace("{iso}", &iso.to_string())))
+        .collect()
+}
+
+/// The input's name without its extension, and without a compression
+/// extension before it (`head.nii.gz` -> `head`).
+fn stem(input: &Path) -> String {
+    let name = input
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let strip = |s: &str| s.rfind('.').filter(|&i| i > 0).map(|i| s[..i].to_string());
+    let lower = name.to_ascii_lowercase();
+    let once = strip(&name).unwrap_or_else(|| name.clone());
+    if [".gz", ".bz2", ".zst"].iter().any(|e| lower.ends_with(e)) {
+        strip(&once).unwrap_or(once)
+    } else {
+        once
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outputs_are_templated_or_suffixed() {
+        let input = Path::new("data/head.nii.gz");
+        assert_eq!(
+            outputs(Path::new("o/{stem}_{iso}.ply"), input, &[550.0, -0.5]),
+            [PathBuf::from("o/head_550.ply"), "o/head_-0.5.ply".into()]
+        );
+        assert_eq!(
+            outputs(Path::new("o.d/mesh.tmesh"), input, &[1.0, 2.0]),
+            [
+                PathBuf::from("o.d/mesh_iso1.tmesh"),
+                "o.d/mesh_iso2.tmesh".into()
+            ]
+        );
+        assert_eq!(
+            outputs(Path::new("m.ply"), input, &[1.0]),
+            [PathBuf::from("m.ply")]
+        );
+    }
+
+    #[test]
+    fn manifest_lines_parse_and_errors_name_the_line() {
+        let text = "# comment\n\na.npy 1,2 out/{stem}.ply\nb c.npy\t3\tb c.ply\n";
+        let items = parse(text, Path::new("m.txt")).unwrap();
+        assert_eq!(items.len(), 2);
+        assert_eq!(items[0].isos, [1.0, 2.0]);
+        assert_eq!(items[0].outputs[1], PathBuf::from("out/a_iso2.ply"));
+        assert_eq!(items[1].input, PathBuf::from("b c.npy"));
+        assert_eq!(items[1].line, Some(4));
+        let err = parse("a.npy 1 x.ply\nb.npy 1\n", Path::new("m.txt")).unwrap_err();
+        assert!(
+            err.to_string().starts_with("m.txt:2: expected 3 fields"),
+            "{err}"
+        );
+        let err = parse("a.npy 1,x a.ply\n", Path::new("m.txt")).unwrap_err();
+        assert!(
+            err.to_string().starts_with("m.txt:1: bad isovalue"),
+            "{err}"
+        );
+        let err = parse("a.npy 1 x.ply\nb.npy 2 x.ply\n", Path::new("m")).unwrap_err();
+        assert!(err.to_string().contains("two outputs"), "{err}");
+    }
+}

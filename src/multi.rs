@@ -1,0 +1,241 @@
+//! Several isosurfaces of one volume in one pass over its samples.
+//!
+//! Reading a large volume is the expensive part of an extraction, so each
+//! slab is triangulated for every isovalue in turn while its planes are
+//! resident: the first isovalue pages them in, the others find them in
+//! memory, and they are released (see [`Access::Done`]) only after the last.
+//! Each isovalue has its own seam and sink, so every output is exactly what
+//! a separate run at that isovalue writes.
+
+use crate::pipeline::{
+    default_depth, thread_pool, worker_threads, ExtractParams, PipelineOptions, Progress,
+};
+use crate::seam::Seam;
+use crate::sink::{Chunk, MeshInfo, MeshSink};
+use crate::slab::process_slab;
+use crate::volume::{Access, LentPlane, Padded, ScalarType};
+use crate::{Error, Grid, Result, SampleSource, Stats};
+use std::ops::Range;
+use std::time::Instant;
+
+/// Extracts one isosurface per entry of `params` from `source` in one pass,
+/// streaming the mesh of `params[i]` to `sinks[i]`; returns the statistics
+/// of each.
+///
+/// The entries may differ in isovalue, method and inside side, but must
+/// agree on `close` and `threads` (they share the padded source and the
+/// workers). Slabs are scheduled as in [`crate::extract_to`]; a slab in
+/// flight holds the meshes of all isovalues. Every sink has had all its
+/// chunks before the first is finished (so a sink can still refuse to
+/// finish, and then none is). Any error fails the whole extraction; sinks
+/// not finished by then are dropped unfinished.
+pub fn extract_many_to(
+    source: &dyn SampleSource,
+    params: &[ExtractParams],
+    options: &PipelineOptions,
+    sinks: &mut [&mut dyn MeshSink],
+) -> Result<Vec<Stats>> {
+    let start = Instant::now();
+    let Some(first) = params.first() else {
+        return Err(Error::Invalid("no isovalue to extract".into()));
+    };
+    if sinks.len() != params.len() {
+        return Err(Error::Invalid(format!(
+            "{} isovalues but {} outputs",
+            params.len(),
+            sinks.len()
+        )));
+    }
+    if params
+        .iter()
+        .any(|p| p.close != first.close || p.threads != first.threads)
+    {
+        return Err(Error::Invalid(
+            "the isovalues of one pass must share 'close' and 'threads'".into(),
+        ));
+    }
+    if let Some(p) = params.iter().find(|p| !p.iso.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "the isovalue must be a finite number, not {}",
+            p.iso
+        )));
+    }
+    let info = |p: &ExtractParams| MeshInfo {
+        grid: *source.grid(),
+        iso: p.iso,
+        method: p.method,
+        inside: p.inside,
+        close: p.close,
+    };
+    let padded;
+    let source: &dyn SampleSource = if first.close {
+        padded = Padded::new(source);
+        &padded
+    } else {
+        source
+    };
+    let dims = source.grid().dims;
+    if dims.iter().any(|&d| d < 2) {
+        return Err(Error::Invalid(format!(
+            "the grid {}x{}x{} needs at least 2 samples along every axis",
+            dims[0], dims[1], dims[2]
+        )));
+    }
+    let layers = dims[2] - 1;
+    let threads = worker_threads(first);
+    let depth = if options.slab_depth > 0 {
+        options.slab_depth.min(64)
+    } else {
+        default_depth(source.grid().plane_len(), layers, threads)
+    };
+    let plan = crate::budget::plan(
+        source.grid().plane_len(),
+        threads,
+        depth,
+        options.max_memory,
+    )?;
+    let depth = plan.depth;
+    options.check_cancel()?;
+    let slabs: Vec<Range<usize>> = (0..layers)
+        .step_by(depth)
+        .map(|z| z..(z + depth).min(layers))
+        .collect();
+    for (p, sink) in params.iter().zip(sinks.iter_mut()) {
+        sink.begin(&info(p))?;
+    }
+    let mut seams: Vec<Seam> = sinks
+        .iter_mut()
+        .map(|sink| Seam::new(&mut **sink).with_cancel(options.cancel))
+        .collect();
+    let report = |seams: &[Seam]| {
+        if let Some(progress) = options.progress {
+            let done = slabs[..seams[0].written()].iter().map(|r| r.len()).sum();
+            progress(&Progress {
+                layers_done: done,
+                layers_total: layers,
+            });
+        }
+    };
+    let run = |i: usize| {
+        options.check_cancel()?;
+        source.check_unchanged()?;
+        slab_for_each(source, params, slabs[i].clone())
+    };
+    // Hands slab `i` to every seam; returns how many slabs got written
+    // (the same for all seams, as they all see the same slabs).
+    let accept = |seams: &mut [Seam], i: usize, results: Vec<(Vec<Chunk>, Stats)>| {
+        let mut written = 0;
+        for (seam, (chunks, stats)) in seams.iter_mut().zip(results) {
+            written = seam.accept(i, chunks, stats)?;
+        }
+        Ok::<usize, Error>(written)
+    };
+    if threads == 1 {
+        for i in 0..slabs.len() {
+            accept(&mut seams, i, run(i)?)?;
+            report(&seams);
+        }
+    } else {
+        let pool = thread_pool(threads)?;
+        // At most `window` slabs computed but not yet written.
+        let window = plan.window;
+        let (tx, rx) = crossbeam::channel::unbounded();
+        pool.in_place_scope(|scope| -> Result<()> {
+            let run = &run;
+            let launch = |i: usize| {
+                let tx = tx.clone();
+                scope.spawn(move |_| {
+                    // The receiver outlives the scope; a send cannot fail.
+                    let _ = tx.send((i, run(i)));
+                });
+            };
+            let mut launched = 0;
+            while launched < slabs.len().min(window) {
+                launch(launched);
+                launched += 1;
+            }
+            while seams[0].written() < slabs.len() {
+                let (i, result) = rx.recv().expect("a worker holds a sender");
+                for _ in 0..accept(&mut seams, i, result?)? {
+                    if launched < slabs.len() {
+                        launch(launched);
+                        launched += 1;
+                    }
+                }
+                report(&seams);
+            }
+            Ok(())
+        })?;
+    }
+    options.check_cancel()?;
+    let mut all = Vec::with_capacity(seams.len());
+    for seam in seams {
+        let (mut stats, totals) = seam.finish()?;
+        stats.vertices = totals.vertices;
+        stats.triangles = totals.triangles;
+        stats.slabs = slabs.len() as u64;
+        stats.seconds = start.elapsed().as_secs_f64();
+        all.push(stats);
+    }
+    Ok(all)
+}
+
+/// Triangulates cell layers `layers` for every entry of `params`, the
+/// planes staying resident from the first isovalue to the last.
+fn slab_for_each(
+    source: &dyn SampleSource,
+    params: &[ExtractParams],
+    layers: Range<usize>,
+) -> Result<Vec<(Vec<Chunk>, Stats)>> {
+    if let [single] = params {
+        // One isovalue: exactly the single-surface path.
+        return Ok(vec![process_slab(source, single, layers)?]);
+    }
+    let (last, others) = params.split_last().expect("several isovalues");
+    let keep = KeepResident { inner: source };
+    let mut results = Vec::with_capacity(params.len());
+    for p in others {
+        results.push(process_slab(&keep, p, layers.clone())?);
+    }
+    results.push(process_slab(source, last, layers)?);
+    Ok(results)
+}
+
+/// A source that ignores "release these pages" advice, so that the planes
+/// of a slab stay resident while the slab is triangulated again for the
+/// next isovalue; everything else goes to the wrapped source.
+struct KeepResident<'a> {
+    inner: &'a dyn SampleSource,
+}
+
+impl SampleSource for KeepResident<'_> {
+    fn grid(&self) -> &Grid {
+        self.inner.grid()
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        self.inner.read_plane(z, out)
+    }
+
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        self.inner.lend_plane(z)
+    }
+
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        if access != Access::Done {
+            self.inner.advise(planes, access);
+        }
+    }
+
+    fn check_unchanged(&self) -> Result<()> {
+        self.inner.check_unchanged()
+    }
+
+    fn sample_bytes(&self) -> usize {
+        self.inner.sample_bytes()
+    }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        self.inner.stored_type()
+    }
+}

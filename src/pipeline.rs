@@ -5,7 +5,6 @@ use crate::sink::{MeshBuilder, MeshInfo, MeshSink};
 use crate::slab::process_slab;
 use crate::volume::Padded;
 use crate::{Error, Mesh, Result, SampleSource, Stats};
-use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -138,6 +137,19 @@ pub fn extract_to(
     options: &PipelineOptions,
     sink: &mut dyn MeshSink,
 ) -> Result<Stats> {
+    extract_part_to(source, params, options, None, sink)
+}
+
+/// [`extract_to`] restricted to part `i` of `n` (1-based): only the chunks of
+/// that part's cell layers (see [`crate::part::layer_range`]) reach `sink`,
+/// numbered from 0, exactly as a whole run writes them.
+pub fn extract_part_to(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    options: &PipelineOptions,
+    part: Option<(usize, usize)>,
+    sink: &mut dyn MeshSink,
+) -> Result<Stats> {
     let start = Instant::now();
     if !params.iso.is_finite() {
         return Err(Error::Invalid(format!(
@@ -184,10 +196,11 @@ pub fn extract_to(
     )?;
     let depth = plan.depth;
     options.check_cancel()?;
-    let slabs: Vec<Range<usize>> = (0..layers)
-        .step_by(depth)
-        .map(|z| z..(z + depth).min(layers))
-        .collect();
+    let range = match part {
+        Some((i, n)) => crate::part::layer_range(layers, i, n)?,
+        None => 0..layers,
+    };
+    let slabs = crate::part::slabs(range, layers, depth);
     sink.begin(&info)?;
     let mut seam = Seam::new(sink).with_cancel(options.cancel);
     let report = |seam: &Seam| {
@@ -195,7 +208,7 @@ pub fn extract_to(
             let done = slabs[..seam.written()].iter().map(|r| r.len()).sum();
             progress(&Progress {
                 layers_done: done,
-                layers_total: layers,
+                layers_total: slabs.iter().map(|r| r.len()).sum(),
             });
         }
     };

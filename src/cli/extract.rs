@@ -85,6 +85,11 @@ pub(crate) struct ExtractArgs {
     #[arg(short, long, conflicts_with = "stats")]
     pub quiet: bool,
 
+    /// Extract only part I of N (e.g. 3/7): the I-th of N z-ranges of cell
+    /// layers, written as a part file for 'tmc merge' (see README, HPC).
+    #[arg(long, value_name = "I/N", value_parser = tmc::part::PartSpec::parse)]
+    pub part: Option<tmc::part::PartSpec>,
+
     /// Headerless input: --dims, --dtype, --endian, ...
     #[command(flatten)]
     pub raw: RawArgs,
@@ -156,7 +161,16 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         cancel,
         max_memory: args.max_memory,
     };
-    let mut sink = tmc::export::create_sink(&args.output)?;
+    let mut sink: Box<dyn tmc::MeshSink> = match args.part {
+        Some(spec) => Box::new(tmc::part::PartWriter::create(
+            &args.output,
+            spec,
+            &args.input,
+            tmc::part::identify(&args.input)?,
+        )?),
+        None => tmc::export::create_sink(&args.output)?,
+    };
+    let part = args.part.map(|p| (p.index, p.count));
     let no_surface = format!(
         "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
         args.iso,
@@ -167,12 +181,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             inner: sink.as_mut(),
             message: format!("{no_surface}; nothing written (--require-surface)"),
         };
-        tmc::extract_to(source.as_ref(), &params, &options, &mut sink)?
+        tmc::extract_part_to(source.as_ref(), &params, &options, part, &mut sink)?
     } else {
-        tmc::extract_to(source.as_ref(), &params, &options, sink.as_mut())?
+        tmc::extract_part_to(source.as_ref(), &params, &options, part, sink.as_mut())?
     };
     drop(bar);
-    if stats.triangles == 0 && !args.quiet {
+    if stats.triangles == 0 && !args.quiet && args.part.is_none() {
         eprintln!(
             "tmc: note: {no_surface}; wrote an empty mesh to {}",
             args.output.display()

@@ -8,6 +8,7 @@ mod check;
 mod convert;
 mod extract;
 mod info;
+mod merge;
 mod memory;
 mod progress;
 mod raw_input;
@@ -109,6 +110,7 @@ struct Cli {
 enum Command {
     Extract(extract::ExtractArgs),
     Convert(convert::ConvertArgs),
+    Merge(merge::MergeArgs),
     Check(check::CheckArgs),
     Info(info::InfoArgs),
     Synth(synth::SynthArgs),
@@ -138,6 +140,7 @@ pub fn main() -> ExitCode {
     let result = panic::catch_unwind(AssertUnwindSafe(|| match cli.command {
         Command::Extract(args) => extract::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Convert(args) => convert::run(&args),
+        Command::Merge(args) => merge::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Synth(args) => synth::run(&args),

@@ -31,8 +31,8 @@ pub mod export;
 pub mod histogram;
 pub mod kernel;
 pub mod mesh;
-pub mod part;
 pub mod meshfile;
+pub mod part;
 pub mod pipeline;
 pub mod seam;
 pub mod sink;
@@ -43,7 +43,9 @@ pub mod volume;
 
 pub use error::{Error, Result};
 pub use mesh::Mesh;
-pub use pipeline::{extract, extract_part_to, extract_to, ExtractParams, Inside, Method, PipelineOptions, Progress};
+pub use pipeline::{
+    extract, extract_part_to, extract_to, ExtractParams, Inside, Method, PipelineOptions, Progress,
+};
 pub use sink::{Chunk, MeshBuilder, MeshInfo, MeshSink, Totals};
 pub use stats::Stats;
 pub use volume::{ArrayVolume, Grid, SampleSource};

@@ -10,7 +10,17 @@ use std::path::{Path, PathBuf};
 fn synth(dir: &Path, kind: &str, dims: &str, dtype: &str, name: &str) -> PathBuf {
     let path = dir.join(name);
     let out = tmc(&[
-        "synth", kind, "--dims", dims, "--dtype", dtype, "--seed", "7", "-o", s(&path), "-q",
+        "synth",
+        kind,
+        "--dims",
+        dims,
+        "--dtype",
+        dtype,
+        "--seed",
+        "7",
+        "-o",
+        s(&path),
+        "-q",
     ]);
     assert!(out.status.success(), "{out:?}");
     path
@@ -65,7 +75,10 @@ fn assert_equivalent(input: &Path, opts: &[&str]) {
             let merged = dir.path().join(format!("merged{n}.{ext}"));
             merge(&ps, &merged);
             let got = std::fs::read(&merged).unwrap();
-            assert!(got == expect, "{opts:?} N={n} .{ext}: merged differs from a single run");
+            assert!(
+                got == expect,
+                "{opts:?} N={n} .{ext}: merged differs from a single run"
+            );
         }
     }
 }
@@ -76,7 +89,10 @@ fn merged_noise_equals_a_single_run() {
     let u8_noise = synth(dir.path(), "noise", "13,11,17", "u8", "n.npy");
     assert_equivalent(&u8_noise, &["--iso", "128"]);
     assert_equivalent(&u8_noise, &["--iso", "100", "--close", "--inside", "low"]);
-    assert_equivalent(&u8_noise, &["--iso", "128", "--method", "mc", "--slab-depth", "2"]);
+    assert_equivalent(
+        &u8_noise,
+        &["--iso", "128", "--method", "mc", "--slab-depth", "2"],
+    );
 }
 
 #[test]
@@ -164,7 +180,11 @@ fn merge_refuses_inconsistent_parts() {
 #[test]
 fn the_shell_script_splits_and_merges() {
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/parts-local.sh");
-    if std::process::Command::new("xargs").arg("--version").output().is_err() {
+    if std::process::Command::new("xargs")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
         println!("skipped: xargs is absent");
         return;
     }
@@ -180,5 +200,8 @@ fn the_shell_script_splits_and_merges() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{out:?}");
-    assert_eq!(std::fs::read(&merged).unwrap(), std::fs::read(&whole).unwrap());
+    assert_eq!(
+        std::fs::read(&merged).unwrap(),
+        std::fs::read(&whole).unwrap()
+    );
 }

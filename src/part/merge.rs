@@ -36,10 +36,11 @@ pub fn merge(parts: &[PathBuf], output: &Path) -> Result<Totals> {
     let count = parts.len();
     let mut parts = parts;
     for k in 0..count {
-        // The first chunk of the next part, which the last chunk may point into.
-        let next_first = parts
-            .get(k + 1)
-            .and_then(|p| p.reader.entries().first().copied());
+        // The next chunk after this part (parts may be empty), which the
+        // last chunk may point into.
+        let next_first = parts[k + 1..]
+            .iter()
+            .find_map(|p| p.reader.entries().first().copied());
         let part = &mut parts[k];
         let entries = part.reader.entries().to_vec();
         for (j, e) in entries.iter().enumerate() {
@@ -88,10 +89,7 @@ fn order(mut parts: Vec<Part>) -> Result<Vec<Part>> {
             return differ(&format!("part counts ({} vs {})", a.count, b.count));
         }
         if a.input != b.input || a.total_layers != b.total_layers {
-            return differ(&format!(
-                "inputs ({} vs {})",
-                a.input_name, b.input_name
-            ));
+            return differ(&format!("inputs ({} vs {})", a.input_name, b.input_name));
         }
         let (x, y) = (first.reader.info(), p.reader.info());
         if x.grid != y.grid {

@@ -92,9 +92,6 @@ mod tests {
         }
         assert!(layer_range(5, 0, 3).is_err());
         assert!(PartSpec::parse("4/3").is_err());
-        assert_eq!(
-            PartSpec::parse("2/3"),
-            Ok(PartSpec { index: 2, count: 3 })
-        );
+        assert_eq!(PartSpec::parse("2/3"), Ok(PartSpec { index: 2, count: 3 }));
     }
 }

@@ -104,8 +104,11 @@ impl PartRecord {
             .map_err(|_| not_part())?;
         file.read_exact(&mut trailer).map_err(io)?;
         let index = u64::from_le_bytes(trailer[..8].try_into().expect("8 bytes"));
-        let footer_at = index.checked_sub(FOOTER_BYTES as u64).ok_or_else(not_part)?;
-        file.seek(SeekFrom::Start(footer_at)).map_err(io)?;
+        let footer_at = index
+            .checked_sub(FOOTER_BYTES as u64)
+            .ok_or_else(not_part)?;
+        file.seek(SeekFrom::Start(footer_at))
+            .map_err(|_| not_part())?;
         let mut footer = [0u8; FOOTER_BYTES];
         file.read_exact(&mut footer).map_err(|_| not_part())?;
         if &footer[12..] != TAG {
@@ -116,7 +119,7 @@ impl PartRecord {
         if len > 1 << 20 {
             return Err(not_part());
         }
-        file.seek(SeekFrom::Start(start)).map_err(io)?;
+        file.seek(SeekFrom::Start(start)).map_err(|_| not_part())?;
         let mut json = vec![0u8; len as usize];
         file.read_exact(&mut json).map_err(io)?;
         if crc32fast::hash(&json).to_le_bytes() != footer[8..12] {

@@ -33,6 +33,7 @@ pub mod kernel;
 pub mod mesh;
 pub mod meshfile;
 pub mod multi;
+pub mod part;
 pub mod pipeline;
 pub mod seam;
 pub mod sink;
@@ -44,7 +45,9 @@ pub mod volume;
 pub use error::{Error, Result};
 pub use mesh::Mesh;
 pub use multi::extract_many_to;
-pub use pipeline::{extract, extract_to, ExtractParams, Inside, Method, PipelineOptions, Progress};
+pub use pipeline::{
+    extract, extract_part_to, extract_to, ExtractParams, Inside, Method, PipelineOptions, Progress,
+};
 pub use sink::{Chunk, MeshBuilder, MeshInfo, MeshSink, Totals};
 pub use stats::Stats;
 pub use volume::{ArrayVolume, Grid, SampleSource};

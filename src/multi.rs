@@ -35,6 +35,20 @@ pub fn extract_many_to(
     options: &PipelineOptions,
     sinks: &mut [&mut dyn MeshSink],
 ) -> Result<Vec<Stats>> {
+    extract_many_part_to(source, params, options, None, sinks)
+}
+
+/// [`extract_many_to`] restricted to part `i` of `n` (1-based, see
+/// [`crate::part::layer_range`]) when `part` is given: only the chunks of
+/// that part's cell layers reach the sinks, numbered from 0, exactly as a
+/// whole run writes them.
+pub(crate) fn extract_many_part_to(
+    source: &dyn SampleSource,
+    params: &[ExtractParams],
+    options: &PipelineOptions,
+    part: Option<(usize, usize)>,
+    sinks: &mut [&mut dyn MeshSink],
+) -> Result<Vec<Stats>> {
     let start = Instant::now();
     let Some(first) = params.first() else {
         return Err(Error::Invalid("no isovalue to extract".into()));
@@ -96,10 +110,11 @@ pub fn extract_many_to(
     )?;
     let depth = plan.depth;
     options.check_cancel()?;
-    let slabs: Vec<Range<usize>> = (0..layers)
-        .step_by(depth)
-        .map(|z| z..(z + depth).min(layers))
-        .collect();
+    let range = match part {
+        Some((i, n)) => crate::part::layer_range(layers, i, n)?,
+        None => 0..layers,
+    };
+    let slabs = crate::part::slabs(range, layers, depth);
     for (p, sink) in params.iter().zip(sinks.iter_mut()) {
         sink.begin(&info(p))?;
     }
@@ -112,7 +127,7 @@ pub fn extract_many_to(
             let done = slabs[..seams[0].written()].iter().map(|r| r.len()).sum();
             progress(&Progress {
                 layers_done: done,
-                layers_total: layers,
+                layers_total: slabs.iter().map(|r| r.len()).sum(),
             });
         }
     };

@@ -148,7 +148,20 @@ pub fn extract_to(
     options: &PipelineOptions,
     sink: &mut dyn MeshSink,
 ) -> Result<Stats> {
-    let mut stats =
-        crate::multi::extract_many_to(source, std::slice::from_ref(params), options, &mut [sink])?;
+    extract_part_to(source, params, options, None, sink)
+}
+
+/// [`extract_to`] restricted to part `i` of `n` (1-based): only the chunks of
+/// that part's cell layers (see [`crate::part::layer_range`]) reach `sink`,
+/// numbered from 0, exactly as a whole run writes them.
+pub fn extract_part_to(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    options: &PipelineOptions,
+    part: Option<(usize, usize)>,
+    sink: &mut dyn MeshSink,
+) -> Result<Stats> {
+    let params = std::slice::from_ref(params);
+    let mut stats = crate::multi::extract_many_part_to(source, params, options, part, &mut [sink])?;
     Ok(stats.remove(0))
 }

@@ -63,6 +63,12 @@ struct Line<'a> {
 /// Runs a batch; fails with the item's own error when it holds one input,
 /// else with a summary naming the failed inputs.
 pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    if let Some(part) = args.part {
+        return Err(Error::Invalid(format!(
+            "--part {}/{} extracts one input at one isovalue; run one 'tmc extract' per input and isovalue",
+            part.index, part.count
+        )));
+    }
     let items = match (&args.batch.manifest, &args.output) {
         (Some(path), _) => manifest::read(path)?,
         (None, Some(template)) => manifest::from_args(&args.input, &args.iso, template)?,

@@ -102,6 +102,12 @@ pub(crate) struct ExtractArgs {
     #[command(flatten)]
     pub batch: BatchArgs,
 
+    /// Extract only part I of N (e.g. 3/7): the I-th of N z-ranges of cell
+    /// layers, written as a part file for 'tmc merge' (see README, HPC).
+    /// One input and one isovalue only.
+    #[arg(long, value_name = "I/N", value_parser = tmc::part::PartSpec::parse)]
+    pub part: Option<tmc::part::PartSpec>,
+
     /// Headerless input: --dims, --dtype, --endian, ...
     #[command(flatten)]
     pub raw: RawArgs,
@@ -180,7 +186,16 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         cancel,
         max_memory: args.max_memory,
     };
-    let mut sink = tmc::export::create_sink(output)?;
+    let mut sink: Box<dyn tmc::MeshSink> = match args.part {
+        Some(spec) => Box::new(tmc::part::PartWriter::create(
+            output,
+            spec,
+            input,
+            tmc::part::identify(input)?,
+        )?),
+        None => tmc::export::create_sink(output)?,
+    };
+    let part = args.part.map(|p| (p.index, p.count));
     let no_surface = format!(
         "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
         iso,
@@ -191,12 +206,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             inner: sink.as_mut(),
             message: format!("{no_surface}; nothing written (--require-surface)"),
         };
-        tmc::extract_to(source.as_ref(), &params, &options, &mut sink)?
+        tmc::extract_part_to(source.as_ref(), &params, &options, part, &mut sink)?
     } else {
-        tmc::extract_to(source.as_ref(), &params, &options, sink.as_mut())?
+        tmc::extract_part_to(source.as_ref(), &params, &options, part, sink.as_mut())?
     };
     drop(bar);
-    if stats.triangles == 0 && !args.quiet {
+    if stats.triangles == 0 && !args.quiet && args.part.is_none() {
         eprintln!(
             "tmc: note: {no_surface}; wrote an empty mesh to {}",
             output.display()

@@ -12,6 +12,7 @@ mod extract;
 mod info;
 mod manifest;
 mod memory;
+mod merge;
 mod progress;
 mod raw_input;
 mod report;
@@ -114,6 +115,7 @@ struct Cli {
 enum Command {
     Extract(extract::ExtractArgs),
     Convert(convert::ConvertArgs),
+    Merge(merge::MergeArgs),
     Check(check::CheckArgs),
     Info(info::InfoArgs),
     Synth(synth::SynthArgs),
@@ -143,6 +145,7 @@ pub fn main() -> ExitCode {
     let result = panic::catch_unwind(AssertUnwindSafe(|| match cli.command {
         Command::Extract(args) => extract::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Convert(args) => convert::run(&args, interrupts.as_ref().map(|i| i.flag())),
+        Command::Merge(args) => merge::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Synth(args) => synth::run(&args),

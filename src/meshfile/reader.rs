@@ -122,6 +122,13 @@ impl TmeshReader {
 
     /// Reads chunk `i`, checking both checksums and every index.
     pub fn chunk(&mut self, i: usize) -> Result<Chunk> {
+        let next = self.entries.get(i + 1).map_or(0, |n| n.vertex_count);
+        self.chunk_then(i, next)
+    }
+
+    /// Reads chunk `i`, whose triangles may point into the first `next`
+    /// vertices after it (those of another file for a part's last chunk).
+    pub fn chunk_then(&mut self, i: usize, next: u32) -> Result<Chunk> {
         let e = self.entries[i];
         let name = format!(
             "{}: chunk {i} (plane {}, byte {})",
@@ -186,8 +193,7 @@ impl TmeshReader {
             .chunks_exact(12)
             .map(|v| [f(v), f(&v[4..]), f(&v[8..])])
             .collect();
-        let next = self.entries.get(i + 1).map_or(0, |n| n.vertex_count) as u64;
-        let bound = e.vertex_count as u64 + next;
+        let bound = e.vertex_count as u64 + next as u64;
         let mut triangles = crate::error::try_vec("a .tmesh chunk's triangles", nt)?;
         for t in raw[nv * 12..].chunks_exact(12) {
             let tri = [le_u32(t), le_u32(&t[4..]), le_u32(&t[8..])];

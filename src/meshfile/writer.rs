@@ -33,6 +33,12 @@ impl TmeshWriter {
         self.bytes
     }
 
+    /// Appends `data` after the chunks written so far; readers skip it (the
+    /// index locates the chunks). Part files keep their record there.
+    pub fn append_section(&mut self, data: &[u8]) -> Result<()> {
+        self.write(data)
+    }
+
     fn write(&mut self, data: &[u8]) -> Result<()> {
         let file = self.file.as_mut().expect("writer already finished");
         if let Err(e) = file.file().write_all(data) {

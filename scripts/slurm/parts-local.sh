@@ -1,0 +1,18 @@
+#!/bin/sh
+# Split/merge on one node: N parts run concurrently with xargs -P, then
+# merged. The same steps as tmc-parts.sbatch + tmc-merge.sbatch, without Slurm.
+#
+#   scripts/slurm/parts-local.sh INPUT N OUTPUT [extract options: --iso V ...]
+#
+# Part files go to a temporary directory next to OUTPUT; TMC names the tmc
+# binary (default: tmc on PATH); JOBS caps the concurrent parts (default N).
+set -eu
+[ $# -ge 3 ] || { echo "usage: $0 INPUT N OUTPUT [extract options]" >&2; exit 2; }
+input=$1 n=$2 output=$3
+shift 3
+tmc=${TMC:-tmc}
+parts=$(mktemp -d "$(dirname "$output")/.tmc-parts.XXXXXX")
+trap 'rm -rf "$parts"' EXIT
+seq 1 "$n" | xargs -P "${JOBS:-$n}" -I{} \
+    "$tmc" extract "$input" -q --threads 1 --part "{}/$n" -o "$parts/part-{}.tmesh" "$@"
+"$tmc" merge "$parts"/part-*.tmesh -o "$output"

@@ -1,0 +1,28 @@
+//! `tmc merge`: part files of `tmc extract --part I/N` in, one mesh out.
+
+use clap::Args;
+use std::path::PathBuf;
+use tmc::Result;
+
+/// Stitch the part files of 'tmc extract --part I/N' (given in any order)
+/// into one mesh, byte-identical to a single run with the same options.
+///
+/// Streams one chunk at a time. Refuses (exit 1) parts of different runs
+/// (input, isovalue, options, tmc version or part count differ), missing
+/// parts and parts given twice.
+#[derive(Debug, Args)]
+pub(crate) struct MergeArgs {
+    /// The part files, all N of them, in any order.
+    #[arg(value_name = "PART", required = true)]
+    pub parts: Vec<PathBuf>,
+
+    /// Output mesh; the format comes from the extension, as for 'tmc
+    /// extract'. Written atomically.
+    #[arg(short, long, value_name = "OUTPUT")]
+    pub output: PathBuf,
+}
+
+/// Runs `tmc merge`.
+pub(crate) fn run(args: &MergeArgs) -> Result<()> {
+    tmc::part::merge(&args.parts, &args.output).map(|_| ())
+}

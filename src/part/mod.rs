@@ -1,0 +1,97 @@
+//! Split and merge: `tmc extract --part I/N` writes the chunks of one z-range
+//! of cell layers to a part file; [`merge`] stitches the parts into the mesh
+//! a single run writes, byte for byte.
+//!
+//! The seam between two parts needs no vertex matching: a chunk's vertices
+//! are numbered the same way whichever slab computes them, and a triangle of
+//! the last layer of a part points into the first vertices of the next
+//! plane's chunk, which the next part owns. So a part is a `.tmesh` file
+//! whose vertex bases start at 0 and whose last chunk may point into the
+//! next part; the merge renumbers by adding the vertex counts of the parts
+//! before. A [`PartRecord`] (JSON) between the last chunk and the index
+//! records what the merge checks: tmc version, part I of N and its layers,
+//! and the input's identity (size and a checksum of its first bytes, which
+//! survive copying the input to another node).
+
+mod merge;
+mod record;
+mod writer;
+
+pub use merge::merge;
+pub use record::{identify, InputId, PartRecord};
+pub use writer::PartWriter;
+
+use crate::{Error, Result};
+use std::ops::Range;
+
+/// Part `index` of `count` (1-based), as in `--part 3/7`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PartSpec {
+    /// Which part, 1 to `count`.
+    pub index: usize,
+    /// How many parts.
+    pub count: usize,
+}
+
+impl PartSpec {
+    /// Parses `I/N` with 1 <= I <= N.
+    pub fn parse(text: &str) -> std::result::Result<PartSpec, String> {
+        let bad = || format!("'{text}' is not a part I/N with 1 <= I <= N (e.g. 3/7)");
+        let (i, n) = text.split_once('/').ok_or_else(bad)?;
+        let index: usize = i.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(PartSpec { index, count })
+    }
+}
+
+/// The cell layers of part `index` of `count` among `layers`, balanced by
+/// layer count. Parts beyond the number of layers are empty (and valid).
+pub fn layer_range(layers: usize, index: usize, count: usize) -> Result<Range<usize>> {
+    if index == 0 || index > count {
+        return Err(Error::Invalid(format!(
+            "part {index}/{count} does not exist; parts are numbered 1 to {count}"
+        )));
+    }
+    let at = |k: usize| (k as u128 * layers as u128 / count as u128) as usize;
+    Ok(at(index - 1)..at(index))
+}
+
+/// The slabs of `depth` layers covering `range` of `layers`; the part that
+/// ends at the last layer also gets the top plane's chunk, even when empty.
+pub fn slabs(range: Range<usize>, layers: usize, depth: usize) -> Vec<Range<usize>> {
+    let mut slabs: Vec<Range<usize>> = range
+        .clone()
+        .step_by(depth.max(1))
+        .map(|z| z..(z + depth).min(range.end))
+        .collect();
+    if slabs.is_empty() && range.end == layers {
+        slabs.push(layers..layers);
+    }
+    slabs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_tile_the_layers() {
+        for layers in [1, 2, 5, 63, 64] {
+            for n in [1, 2, 3, 7, 100] {
+                let mut end = 0;
+                for i in 1..=n {
+                    let r = layer_range(layers, i, n).unwrap();
+                    assert_eq!(r.start, end);
+                    end = r.end;
+                }
+                assert_eq!(end, layers);
+            }
+        }
+        assert!(layer_range(5, 0, 3).is_err());
+        assert!(PartSpec::parse("4/3").is_err());
+        assert_eq!(PartSpec::parse("2/3"), Ok(PartSpec { index: 2, count: 3 }));
+    }
+}

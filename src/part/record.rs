@@ -1,0 +1,133 @@
+//! What a part file records about its run, and the input's identity.
+
+use crate::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::io::Read;
+use std::path::Path;
+
+/// Bytes at the start of the input that the identity checksums.
+const HEAD_BYTES: u64 = 1 << 20;
+
+/// Identifies an input across copies: its size and a checksum of its first
+/// MiB (for a directory, of its file names and sizes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InputId {
+    /// Bytes in the input (summed over a directory's files).
+    pub size: u64,
+    /// CRC-32 of the first MiB (or of a directory's listing).
+    pub crc: u32,
+}
+
+/// The part's own facts, beside the `.tmesh` header's grid and options.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PartRecord {
+    /// The tmc version that wrote the part.
+    pub tmc_version: String,
+    /// Which part, 1 to `count`.
+    pub index: usize,
+    /// How many parts.
+    pub count: usize,
+    /// The part's cell layers (of the padded grid with `--close`).
+    pub layers: [usize; 2],
+    /// Cell layers of the whole run.
+    pub total_layers: usize,
+    /// The input's identity.
+    pub input: InputId,
+    /// The input's path as given (for messages only).
+    pub input_name: String,
+}
+
+/// The identity of the input at `path`.
+pub fn identify(path: &Path) -> Result<InputId> {
+    let io = |e| Error::io(path, e);
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if meta.is_dir() {
+        let mut names = Vec::new();
+        for entry in std::fs::read_dir(path).map_err(io)? {
+            let entry = entry.map_err(io)?;
+            let len = entry.metadata().map_err(io)?.len();
+            names.push((entry.file_name().to_string_lossy().into_owned(), len));
+        }
+        names.sort();
+        let mut hasher = crc32fast::Hasher::new();
+        for (name, len) in &names {
+            hasher.update(name.as_bytes());
+            hasher.update(&len.to_le_bytes());
+        }
+        let size = names.iter().map(|n| n.1).sum();
+        return Ok(InputId {
+            size,
+            crc: hasher.finalize(),
+        });
+    }
+    let mut head = Vec::new();
+    std::fs::File::open(path)
+        .map_err(io)?
+        .take(HEAD_BYTES)
+        .read_to_end(&mut head)
+        .map_err(io)?;
+    Ok(InputId {
+        size: meta.len(),
+        crc: crc32fast::hash(&head),
+    })
+}
+
+/// The section's footer: JSON length u64, CRC-32 of the JSON, tag.
+pub(crate) const FOOTER_BYTES: usize = 16;
+const TAG: &[u8; 4] = b"TPRT";
+
+impl PartRecord {
+    /// The section written between the last chunk and the index.
+    pub(crate) fn encode(&self) -> Vec<u8> {
+        let mut out = serde_json::to_vec(self).expect("a record serializes");
+        let len = out.len() as u64;
+        let crc = crc32fast::hash(&out);
+        out.extend_from_slice(&len.to_le_bytes());
+        out.extend_from_slice(&crc.to_le_bytes());
+        out.extend_from_slice(TAG);
+        out
+    }
+
+    /// Reads the record of the part file at `path`.
+    pub(crate) fn read(path: &Path) -> Result<PartRecord> {
+        use std::io::{Seek, SeekFrom};
+        let io = |e| Error::io(path, e);
+        let not_part = || {
+            Error::Format(format!(
+                "{}: not a part file (write parts with 'tmc extract --part I/N')",
+                path.display()
+            ))
+        };
+        let mut file = std::fs::File::open(path).map_err(io)?;
+        let mut trailer = [0u8; crate::meshfile::TRAILER_BYTES];
+        file.seek(SeekFrom::End(-(trailer.len() as i64)))
+            .map_err(|_| not_part())?;
+        file.read_exact(&mut trailer).map_err(io)?;
+        let index = u64::from_le_bytes(trailer[..8].try_into().expect("8 bytes"));
+        let footer_at = index
+            .checked_sub(FOOTER_BYTES as u64)
+            .ok_or_else(not_part)?;
+        file.seek(SeekFrom::Start(footer_at))
+            .map_err(|_| not_part())?;
+        let mut footer = [0u8; FOOTER_BYTES];
+        file.read_exact(&mut footer).map_err(|_| not_part())?;
+        if &footer[12..] != TAG {
+            return Err(not_part());
+        }
+        let len = u64::from_le_bytes(footer[..8].try_into().expect("8 bytes"));
+        let start = footer_at.checked_sub(len).ok_or_else(not_part)?;
+        if len > 1 << 20 {
+            return Err(not_part());
+        }
+        file.seek(SeekFrom::Start(start)).map_err(|_| not_part())?;
+        let mut json = vec![0u8; len as usize];
+        file.read_exact(&mut json).map_err(io)?;
+        if crc32fast::hash(&json).to_le_bytes() != footer[8..12] {
+            return Err(Error::Format(format!(
+                "{}: the part record is damaged",
+                path.display()
+            )));
+        }
+        serde_json::from_slice(&json).map_err(|_| not_part())
+    }
+}

@@ -1,0 +1,207 @@
+//! `tmc extract --part I/N` + `tmc merge`: the merged mesh is byte-identical
+//! to a single run, for any N and any order; inconsistent parts are refused.
+
+mod common;
+
+use common::cli::{assert_one_line, s, tmc};
+use std::path::{Path, PathBuf};
+
+/// Writes a synthetic volume with `tmc synth` and returns its path.
+fn synth(dir: &Path, kind: &str, dims: &str, dtype: &str, name: &str) -> PathBuf {
+    let path = dir.join(name);
+    let out = tmc(&[
+        "synth",
+        kind,
+        "--dims",
+        dims,
+        "--dtype",
+        dtype,
+        "--seed",
+        "7",
+        "-o",
+        s(&path),
+        "-q",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    path
+}
+
+/// Runs `tmc extract input -o output` with `opts` (and `--part` if given).
+fn extract(input: &Path, output: &Path, opts: &[&str], part: Option<String>) {
+    let mut args = vec!["extract", s(input), "-o", s(output), "-q"];
+    args.extend_from_slice(opts);
+    let part = part.unwrap_or_default();
+    if !part.is_empty() {
+        args.extend_from_slice(&["--part", &part]);
+    }
+    let out = tmc(&args);
+    assert!(out.status.success(), "{args:?}: {out:?}");
+}
+
+/// Writes the `n` parts of `input` into `dir`; returns their paths.
+fn parts(input: &Path, dir: &Path, opts: &[&str], n: usize) -> Vec<PathBuf> {
+    (1..=n)
+        .map(|i| {
+            let p = dir.join(format!("part-{i}-of-{n}.tmesh"));
+            extract(input, &p, opts, Some(format!("{i}/{n}")));
+            p
+        })
+        .collect()
+}
+
+/// Merges `parts` into `out` and asserts success.
+fn merge(parts: &[PathBuf], out: &Path) {
+    let mut args = vec!["merge"];
+    args.extend(parts.iter().map(|p| s(p)));
+    args.extend_from_slice(&["-o", s(out)]);
+    let o = tmc(&args);
+    assert!(o.status.success(), "{o:?}");
+}
+
+/// Asserts that split/merge equals a single run in `.tmesh` and `.ply`, for
+/// N = 1, 2, 3, 7, with the parts merged reversed and rotated.
+fn assert_equivalent(input: &Path, opts: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["tmesh", "ply"] {
+        let whole = dir.path().join(format!("whole.{ext}"));
+        extract(input, &whole, opts, None);
+        let expect = std::fs::read(&whole).unwrap();
+        for n in [1, 2, 3, 7] {
+            let sub = dir.path().join(format!("n{n}"));
+            std::fs::create_dir_all(&sub).unwrap();
+            let mut ps = parts(input, &sub, opts, n);
+            ps.reverse();
+            ps.rotate_left(n / 2);
+            let merged = dir.path().join(format!("merged{n}.{ext}"));
+            merge(&ps, &merged);
+            let got = std::fs::read(&merged).unwrap();
+            assert!(
+                got == expect,
+                "{opts:?} N={n} .{ext}: merged differs from a single run"
+            );
+        }
+    }
+}
+
+#[test]
+fn merged_noise_equals_a_single_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let u8_noise = synth(dir.path(), "noise", "13,11,17", "u8", "n.npy");
+    assert_equivalent(&u8_noise, &["--iso", "128"]);
+    assert_equivalent(&u8_noise, &["--iso", "100", "--close", "--inside", "low"]);
+    assert_equivalent(
+        &u8_noise,
+        &["--iso", "128", "--method", "mc", "--slab-depth", "2"],
+    );
+}
+
+#[test]
+fn more_parts_than_layers_merge_too() {
+    let dir = tempfile::tempdir().unwrap();
+    // 3 cell layers, 7 parts: some parts are empty.
+    let thin = synth(dir.path(), "noise", "9,8,4", "u8", "t.npy");
+    assert_equivalent(&thin, &["--iso", "128"]);
+}
+
+#[test]
+fn merged_real_volume_equals_a_single_run() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/fuel.nrrd");
+    if !path.exists() {
+        println!("skipped: {} is absent", path.display());
+        return;
+    }
+    assert_equivalent(&path, &["--iso", "30"]);
+}
+
+/// Merges `parts` expecting one error line containing `needle`, and no output.
+fn refused(parts: &[&PathBuf], needle: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.tmesh");
+    let mut args = vec!["merge"];
+    args.extend(parts.iter().map(|p| s(p)));
+    args.extend_from_slice(&["-o", s(&out)]);
+    let line = assert_one_line(&tmc(&args), 1);
+    assert!(line.contains(needle), "{line:?} lacks {needle:?}");
+    assert!(!out.exists());
+    assert!(common::cli::temp_files(dir.path()).is_empty());
+}
+
+#[test]
+fn merge_refuses_inconsistent_parts() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = synth(dir.path(), "noise", "9,9,12", "u8", "a.npy");
+    let b = synth(dir.path(), "sphere", "9,9,12", "u8", "b.npy");
+    let d = |name: &str| {
+        let p = dir.path().join(name);
+        std::fs::create_dir_all(&p).unwrap();
+        p
+    };
+    let p3 = parts(&a, &d("a3"), &["--iso", "128"], 3);
+    let other_iso = parts(&a, &d("iso"), &["--iso", "129"], 3);
+    let other_input = parts(&b, &d("b3"), &["--iso", "128"], 3);
+    let p2 = parts(&a, &d("a2"), &["--iso", "128"], 2);
+    let close = parts(&a, &d("cl"), &["--iso", "128", "--close"], 3);
+    refused(&[&p3[0], &other_iso[1], &p3[2]], "isovalues");
+    refused(&[&p3[0], &other_input[1], &p3[2]], "inputs");
+    refused(&[&p3[0], &p2[1], &p3[2]], "part counts");
+    refused(&[&p3[0], &close[1], &p3[2]], "differ");
+    refused(&[&p3[0], &p3[2]], "part 2/3 is missing");
+    refused(&[&p3[0], &p3[1]], "part 3/3 is missing");
+    refused(&[&p3[0], &p3[1], &p3[1], &p3[2]], "part 2/3 is given twice");
+    refused(&[&a], "not a part file");
+    // A part from another tmc version: patch the recorded version.
+    let bytes = std::fs::read(&p3[1]).unwrap();
+    let text = format!("\"tmc_version\":\"{}\"", env!("CARGO_PKG_VERSION"));
+    let at = bytes
+        .windows(text.len())
+        .position(|w| w == text.as_bytes())
+        .expect("the record names the version");
+    let mut patched = bytes.clone();
+    let v = at + text.len() - 2;
+    patched[v] = if patched[v] == b'9' { b'8' } else { b'9' };
+    let old = dir.path().join("old.tmesh");
+    std::fs::write(&old, &patched).unwrap();
+    refused(&[&p3[0], &old, &p3[2]], "damaged");
+    // The same with the record's checksum fixed: a version mismatch.
+    let n = patched.len();
+    let index = u64::from_le_bytes(patched[n - 32..n - 24].try_into().unwrap()) as usize;
+    let len = u64::from_le_bytes(patched[index - 16..index - 8].try_into().unwrap()) as usize;
+    let crc = crc32fast::hash(&patched[index - 16 - len..index - 16]);
+    patched[index - 8..index - 4].copy_from_slice(&crc.to_le_bytes());
+    std::fs::write(&old, &patched).unwrap();
+    refused(&[&p3[0], &old, &p3[2]], "tmc versions");
+    let x = dir.path().join("x.tmesh");
+    let bad = tmc(&["extract", s(&a), "--iso", "1", "-o", s(&x), "--part", "4/3"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("4/3"));
+    assert!(!x.exists());
+}
+
+#[test]
+fn the_shell_script_splits_and_merges() {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/parts-local.sh");
+    if std::process::Command::new("xargs")
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        println!("skipped: xargs is absent");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = synth(dir.path(), "noise", "12,10,15", "u8", "v.npy");
+    let whole = dir.path().join("whole.tmesh");
+    extract(&input, &whole, &["--iso", "128"], None);
+    let merged = dir.path().join("merged.tmesh");
+    let out = std::process::Command::new("sh")
+        .arg(&script)
+        .args([s(&input), "3", s(&merged), "--iso", "128"])
+        .env("TMC", common::cli::tmc_path())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(
+        std::fs::read(&merged).unwrap(),
+        std::fs::read(&whole).unwrap()
+    );
+}

@@ -62,6 +62,26 @@ pub fn try_vec<T>(what: &str, count: usize) -> Result<Vec<T>> {
     Ok(v)
 }
 
+/// Makes room in `v` for `n` more items (growing as `push` would), or
+/// fails with [`Error::OutOfMemory`] naming `what`: pushes of at most `n`
+/// items after it cannot reallocate, so they cannot abort. One comparison
+/// when there is room.
+#[inline(always)]
+pub(crate) fn make_room<T>(v: &mut Vec<T>, n: usize, what: &str) -> Result<()> {
+    if v.capacity() - v.len() < n {
+        grow(v, n, what)
+    } else {
+        Ok(())
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn grow<T>(v: &mut Vec<T>, n: usize, what: &str) -> Result<()> {
+    v.try_reserve(n)
+        .map_err(|_| Error::alloc::<T>(what, v.len().saturating_add(n)))
+}
+
 /// `count` zeros of `T`, or [`Error::OutOfMemory`] naming `what`.
 ///
 /// Allocated zeroed (`calloc`): a large block comes straight from the
@@ -77,6 +97,15 @@ pub fn try_zeroed_vec<T: Clone + Default>(what: &str, count: usize) -> Result<Ve
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn make_room_reserves_or_fails_cleanly() {
+        let mut v: Vec<u64> = Vec::new();
+        make_room(&mut v, 10, "the test").unwrap();
+        assert!(v.capacity() >= 10);
+        let err = make_room(&mut v, usize::MAX / 2, "the test").unwrap_err();
+        assert!(matches!(err, Error::OutOfMemory(_)), "{err:?}");
+    }
 
     #[test]
     fn an_impossible_allocation_is_an_error_not_an_abort() {

@@ -15,6 +15,7 @@
 use crate::kernel::cell::INTERIOR;
 mod bits;
 
+use crate::error::make_room;
 use crate::kernel::tables::{tables, Tables};
 use crate::kernel::{triangulate_ambiguous, CellMesh};
 use crate::pipeline::{ExtractParams, Inside, Method};
@@ -28,6 +29,9 @@ use std::time::Instant;
 
 /// No vertex on this edge.
 const NONE: u32 = u32::MAX;
+/// What the slab loop's growing vectors hold, for out-of-memory errors.
+const VERTICES: &str = "the vertices of a slab";
+const TRIANGLES: &str = "the triangles of a slab";
 /// Set in a triangle's vertex reference when it points into block `z + 1`.
 const NEXT_BLOCK: u32 = 1 << 31;
 
@@ -69,11 +73,11 @@ impl Block {
     /// An empty block with a quarter more room than the finished block
     /// `(vertices, triangles)` of the layer below needed, so that a layer
     /// like it does not grow its vectors step by step.
-    fn sized_like((vertices, triangles): (usize, usize)) -> Block {
-        Block {
-            vertices: Vec::with_capacity(vertices + vertices / 4),
-            triangles: Vec::with_capacity(triangles + triangles / 4),
-        }
+    fn sized_like((vertices, triangles): (usize, usize)) -> Result<Block> {
+        let mut block = Block::default();
+        make_room(&mut block.vertices, vertices + vertices / 4, VERTICES)?;
+        make_room(&mut block.triangles, triangles + triangles / 4, TRIANGLES)?;
+        Ok(block)
     }
 }
 
@@ -207,6 +211,7 @@ impl<'s> Plane<'s> {
         for y in 0..ny {
             let row = self.inside.row(y);
             let slots = &mut self.xe[y * (nx - 1)..(y + 1) * (nx - 1)];
+            make_room(owned, nx, VERTICES)?;
             for k in 0..words {
                 let crossed = (row[k] ^ next(row, k)) & below(nx - 1, k);
                 each_bit(crossed, k, |x| {
@@ -221,6 +226,7 @@ impl<'s> Plane<'s> {
         for y in 0..ny - 1 {
             let (lower, upper) = (self.inside.row(y), self.inside.row(y + 1));
             let slots = &mut self.ye[y * nx..(y + 1) * nx];
+            make_room(owned, nx, VERTICES)?;
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     slots[x] = count;
@@ -308,12 +314,13 @@ pub fn process_slab(
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     for z in layers.clone() {
-        let mut next = Block::sized_like(finished);
+        let mut next = Block::sized_like(finished)?;
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
         let words = bottom.inside.words() - 1;
         for y in 0..ny {
             let (lower, upper) = (bottom.inside.row(y), top.inside.row(y));
+            make_room(&mut block.vertices, nx, VERTICES)?;
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     let i = y * nx + x;
@@ -383,6 +390,13 @@ fn layer_cells(
     let (bottom, top) = (layer.bottom, layer.top);
     let words = bottom.inside.words() - 1;
     for y in 0..ny - 1 {
+        // Room for the MC triangles of every cell of the row, so that they
+        // are pushed without a check (an ambiguous cell keeps this room).
+        make_room(
+            &mut block.triangles,
+            layer.tables.mc_most * (nx - 1),
+            TRIANGLES,
+        )?;
         let rows = [
             bottom.inside.row(y),
             bottom.inside.row(y + 1),
@@ -461,6 +475,7 @@ fn cell_at(
         stats.ambiguous_cells += 1;
     }
     if !ambiguous || params.method == Method::Mc {
+        // No reallocation: the row made room for `mc_most` per cell.
         let range = t.mc_start[config as usize] as usize..t.mc_start[config as usize + 1] as usize;
         for tri in &t.mc_tris[range] {
             block.triangles.push(tri.map(edge_ref));
@@ -473,6 +488,13 @@ fn cell_at(
     cell.clear();
     triangulate_ambiguous(&g, config, stats, cell);
     let first_interior = local_index(block)?;
+    make_room(&mut block.vertices, cell.interior.len(), VERTICES)?;
+    let row_room = t.mc_most * (nx - 1);
+    make_room(
+        &mut block.triangles,
+        cell.triangles.len() + row_room,
+        TRIANGLES,
+    )?;
     for p in &cell.interior {
         let index = DVec3::new(x as f64, y as f64, bottom.z as f64) + *p;
         block.vertices.push(place.at(index.to_array()));

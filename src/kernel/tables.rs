@@ -29,6 +29,8 @@ pub struct Tables {
     pub mc_tris: Vec<[u8; 3]>,
     /// Offsets into `mc_tris`.
     pub mc_start: [u16; 257],
+    /// The most MC triangles of any configuration (room a row reserves).
+    pub mc_most: usize,
 }
 
 /// The tables, built on first use.
@@ -75,6 +77,11 @@ fn build() -> Tables {
         contours,
         mc_tris,
         mc_start,
+        mc_most: mc_start
+            .windows(2)
+            .map(|w| usize::from(w[1] - w[0]))
+            .max()
+            .unwrap_or(0),
     }
 }
 

@@ -3,28 +3,10 @@
 
 mod common;
 
-use common::cli::{assert_one_line, names, s, tmc};
+use common::cli::{assert_one_line, names, s, synth, tmc};
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
-
-/// A noise volume (many components, ambiguous cells) at `dir/name`.
-fn noise(dir: &Path, name: &str, dims: &str) -> PathBuf {
-    let path = dir.join(name);
-    let out = tmc(&[
-        "synth",
-        "noise",
-        "--dims",
-        dims,
-        "--dtype",
-        "f32",
-        "-o",
-        s(&path),
-        "-q",
-    ]);
-    assert!(out.status.success(), "{out:?}");
-    path
-}
 
 /// The JSON lines of `text`, each parsed.
 fn json_lines(text: &[u8]) -> Vec<serde_json::Value> {
@@ -41,7 +23,7 @@ fn stderr(out: &Output) -> String {
 #[test]
 fn several_isovalues_in_one_pass_equal_separate_runs() {
     let dir = tempfile::tempdir().unwrap();
-    let input = noise(dir.path(), "v.nrrd", "23,19,29");
+    let input = synth(dir.path(), "noise", "23,19,29", "f32", "v.nrrd");
     let isos = ["-0.2", "0", "0.35"];
     for ext in ["tmesh", "ply"] {
         for method in ["tmc", "mc"] {
@@ -97,7 +79,7 @@ fn several_isovalues_in_one_pass_equal_separate_runs() {
 #[test]
 fn several_isovalues_without_iso_in_the_name_get_a_suffix() {
     let dir = tempfile::tempdir().unwrap();
-    let input = noise(dir.path(), "v.nrrd", "12,12,12");
+    let input = synth(dir.path(), "noise", "12,12,12", "f32", "v.nrrd");
     let out = tmc(&[
         "extract",
         s(&input),
@@ -116,14 +98,14 @@ fn several_isovalues_without_iso_in_the_name_get_a_suffix() {
 #[test]
 fn a_broken_input_in_the_middle_fails_alone_with_keep_going() {
     let dir = tempfile::tempdir().unwrap();
-    let good1 = noise(dir.path(), "good1.nrrd", "12,11,10");
+    let good1 = synth(dir.path(), "noise", "12,11,10", "f32", "good1.nrrd");
     let bad = dir.path().join("bad.nrrd");
     fs::write(
         &bad,
         "NRRD0004\ntype: float\ndimension: 3\nsizes: 9 9 9\nencoding: raw\n\n12",
     )
     .unwrap();
-    let good2 = noise(dir.path(), "good2.nrrd", "10,11,12");
+    let good2 = synth(dir.path(), "noise", "10,11,12", "f32", "good2.nrrd");
     let report = dir.path().join("report.jsonl");
     let out_dir = dir.path().join("out");
     fs::create_dir(&out_dir).unwrap();
@@ -178,9 +160,9 @@ fn a_broken_input_in_the_middle_fails_alone_with_keep_going() {
 #[test]
 fn without_keep_going_the_batch_stops_at_the_first_failure() {
     let dir = tempfile::tempdir().unwrap();
-    let good1 = noise(dir.path(), "good1.nrrd", "10,10,10");
+    let good1 = synth(dir.path(), "noise", "10,10,10", "f32", "good1.nrrd");
     let missing = dir.path().join("missing.nrrd");
-    let good2 = noise(dir.path(), "good2.nrrd", "10,10,10");
+    let good2 = synth(dir.path(), "noise", "10,10,10", "f32", "good2.nrrd");
     let out = tmc(&[
         "extract",
         s(&good1),
@@ -205,7 +187,7 @@ fn without_keep_going_the_batch_stops_at_the_first_failure() {
 #[test]
 fn a_manifest_runs_its_lines() {
     let dir = tempfile::tempdir().unwrap();
-    let a = noise(dir.path(), "a.nrrd", "11,12,13");
+    let a = synth(dir.path(), "noise", "11,12,13", "f32", "a.nrrd");
     let manifest = dir.path().join("m.txt");
     let out_a = dir.path().join("a out {iso}.off");
     let plain = dir.path().join("plain.ply");
@@ -240,7 +222,7 @@ fn a_manifest_runs_its_lines() {
 #[test]
 fn manifest_errors_name_the_line_and_run_nothing() {
     let dir = tempfile::tempdir().unwrap();
-    let a = noise(dir.path(), "a.nrrd", "8,8,8");
+    let a = synth(dir.path(), "noise", "8,8,8", "f32", "a.nrrd");
     let manifest = dir.path().join("m.txt");
     for (text, expect) in [
         (
@@ -265,7 +247,7 @@ fn manifest_errors_name_the_line_and_run_nothing() {
 #[test]
 fn several_inputs_need_stem_in_the_output() {
     let dir = tempfile::tempdir().unwrap();
-    let a = noise(dir.path(), "a.nrrd", "8,8,8");
+    let a = synth(dir.path(), "noise", "8,8,8", "f32", "a.nrrd");
     let out = tmc(&[
         "extract",
         s(&a),
@@ -283,7 +265,7 @@ fn several_inputs_need_stem_in_the_output() {
 #[test]
 fn the_single_input_form_keeps_its_json_object() {
     let dir = tempfile::tempdir().unwrap();
-    let a = noise(dir.path(), "a.nrrd", "8,8,8");
+    let a = synth(dir.path(), "noise", "8,8,8", "f32", "a.nrrd");
     let out = tmc(&[
         "extract",
         s(&a),
@@ -304,7 +286,7 @@ fn the_single_input_form_keeps_its_json_object() {
 #[test]
 fn require_surface_with_one_empty_isovalue_writes_no_output() {
     let dir = tempfile::tempdir().unwrap();
-    let a = noise(dir.path(), "a.nrrd", "10,10,10");
+    let a = synth(dir.path(), "noise", "10,10,10", "f32", "a.nrrd");
     let out = tmc(&[
         "extract",
         s(&a),

@@ -4,9 +4,9 @@
 
 mod common;
 
-use common::cli::{assert_one_line, names, s, tmc};
+use common::cli::{assert_one_line, names, s, synth, tmc};
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 /// A small tmpfs mounted on a directory, unmounted when dropped (also
@@ -46,24 +46,6 @@ impl Drop for SmallDisk {
     }
 }
 
-/// Writes a synthetic volume with `tmc synth` and returns its path.
-fn synth(dir: &Path, kind: &str, dims: &str, name: &str) -> PathBuf {
-    let path = dir.join(name);
-    let out = tmc(&[
-        "synth",
-        kind,
-        "--dims",
-        dims,
-        "--dtype",
-        "f32",
-        "-o",
-        s(&path),
-        "--quiet",
-    ]);
-    assert!(out.status.success(), "{out:?}");
-    path
-}
-
 #[test]
 fn a_full_disk_is_one_clean_error_with_nothing_left() {
     let Some(disk) = SmallDisk::mount("1m") else {
@@ -72,7 +54,7 @@ fn a_full_disk_is_one_clean_error_with_nothing_left() {
     };
     let work = tempfile::tempdir().unwrap();
     // Dense noise: a mesh of several MiB in every format, .tmesh included.
-    let input = synth(work.path(), "noise", "96,96,96", "noise.npy");
+    let input = synth(work.path(), "noise", "96,96,96", "f32", "noise.npy");
     for name in ["mesh.ply", "mesh.obj", "mesh.off", "mesh.stl", "mesh.tmesh"] {
         let output = disk.path().join(name);
         let out = tmc(&["extract", s(&input), "--iso", "0", "-o", s(&output)]);
@@ -108,7 +90,7 @@ fn slabs(json: &[u8]) -> u64 {
 #[test]
 fn max_memory_thins_the_slabs_and_keeps_the_output() {
     let dir = tempfile::tempdir().unwrap();
-    let input = synth(dir.path(), "gyroid", "200,200,100", "gyroid.npy");
+    let input = synth(dir.path(), "gyroid", "200,200,100", "f32", "gyroid.npy");
     let run = |name: &str, extra: &[&str]| {
         let output = dir.path().join(name);
         let mut argv = vec!["extract", s(&input), "--iso", "0", "-o", s(&output)];

@@ -3,28 +3,8 @@
 
 mod common;
 
-use common::cli::{assert_one_line, s, tmc};
+use common::cli::{assert_one_line, s, synth, tmc};
 use std::path::{Path, PathBuf};
-
-/// Writes a synthetic volume with `tmc synth` and returns its path.
-fn synth(dir: &Path, kind: &str, dims: &str, dtype: &str, name: &str) -> PathBuf {
-    let path = dir.join(name);
-    let out = tmc(&[
-        "synth",
-        kind,
-        "--dims",
-        dims,
-        "--dtype",
-        dtype,
-        "--seed",
-        "7",
-        "-o",
-        s(&path),
-        "-q",
-    ]);
-    assert!(out.status.success(), "{out:?}");
-    path
-}
 
 /// Runs `tmc extract input -o output` with `opts` (and `--part` if given).
 fn extract(input: &Path, output: &Path, opts: &[&str], part: Option<String>) {

@@ -2,9 +2,9 @@
 //! isovalues per input, one pass over each input, one JSON-lines report line
 //! per input.
 
-use super::extract::{check_distinct, check_grid, effective_threads, ExtractArgs};
+use super::extract::{check_distinct, check_grid, effective_threads, ExtractArgs, Monitor};
 use super::manifest::{self, Item};
-use super::{memory, progress, report};
+use super::{memory, report};
 use clap::Args;
 use serde::Serialize;
 use std::cell::Cell;
@@ -13,7 +13,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-use tmc::{Chunk, Error, MeshInfo, MeshSink, PipelineOptions, Result, Stats, Totals};
+use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 
 /// The batch options of `tmc extract`.
 #[derive(Debug, Args)]
@@ -195,22 +195,9 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
         tmc::export::check_output_path(output)?;
     }
     let params: Vec<_> = item.isos.iter().map(|&iso| args.params(iso)).collect();
-    let peak_anon = memory::PeakAnon::default();
-    let bar = progress::Bar::new(
-        grid.dims.iter().map(|&n| n as u64).product(),
-        "voxels",
-        args.quiet,
-    );
-    let on_progress = |p: &tmc::Progress| {
-        bar.set_fraction(p.layers_done as f64 / p.layers_total.max(1) as f64);
-        peak_anon.sample();
-    };
-    let options = PipelineOptions {
-        slab_depth: args.slab_depth.map_or(0, usize::from),
-        progress: Some(&on_progress),
-        cancel,
-        max_memory: args.max_memory,
-    };
+    let mut monitor = Monitor::new(&grid, args.quiet);
+    let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
+    let options = args.pipeline_options(&on_progress, cancel);
     let no_surface = |iso: f64| {
         format!(
             "no surface at isovalue {iso}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
@@ -244,8 +231,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
         guards.iter_mut().map(|g| &mut *g.inner).collect()
     };
     let stats = tmc::extract_many_to(source.as_ref(), &params, &options, &mut sinks)?;
-    drop(bar);
-    peak_anon.sample();
+    let peak_anon = monitor.finish();
     for ((s, output), p) in stats.iter().zip(&item.outputs).zip(&params) {
         if s.triangles == 0 && !args.quiet {
             eprintln!(
@@ -259,7 +245,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
                 slab_depth: args.slab_depth.map(usize::from),
                 bytes_read: report::bytes_read(s, &grid, source.sample_bytes(), p.close),
                 bytes_written: std::fs::metadata(output).ok().map(|m| m.len()),
-                peak_rss_anon_bytes: peak_anon.peak(),
+                peak_rss_anon_bytes: peak_anon,
                 vm_hwm_bytes: memory::peak_resident(),
                 wall_seconds: started.elapsed().as_secs_f64(),
             };

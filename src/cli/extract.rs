@@ -169,23 +169,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     tmc::export::check_output_path(output)?;
 
     let params = args.params(iso);
-    // Progress bar and peak-memory sampling, after every slab.
-    let peak_anon = memory::PeakAnon::default();
-    let bar = progress::Bar::new(
-        grid.dims.iter().map(|&n| n as u64).product(),
-        "voxels",
-        args.quiet,
-    );
-    let on_progress = |p: &tmc::Progress| {
-        bar.set_fraction(p.layers_done as f64 / p.layers_total.max(1) as f64);
-        peak_anon.sample();
-    };
-    let options = PipelineOptions {
-        slab_depth: args.slab_depth.map_or(0, usize::from),
-        progress: Some(&on_progress),
-        cancel,
-        max_memory: args.max_memory,
-    };
+    let mut monitor = Monitor::new(&grid, args.quiet);
+    let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
+    let options = args.pipeline_options(&on_progress, cancel);
     let mut sink: Box<dyn tmc::MeshSink> = match args.part {
         Some(spec) => Box::new(tmc::part::PartWriter::create(
             output,
@@ -210,19 +196,18 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     } else {
         tmc::extract_part_to(source.as_ref(), &params, &options, part, sink.as_mut())?
     };
-    drop(bar);
+    let peak_anon = monitor.finish();
     if stats.triangles == 0 && !args.quiet && args.part.is_none() {
         eprintln!(
             "tmc: note: {no_surface}; wrote an empty mesh to {}",
             output.display()
         );
     }
-    peak_anon.sample();
     let resources = report::Resources {
         slab_depth: args.slab_depth.map(usize::from),
         bytes_read: report::bytes_read(&stats, &grid, source.sample_bytes(), params.close),
         bytes_written: std::fs::metadata(output).ok().map(|m| m.len()),
-        peak_rss_anon_bytes: peak_anon.peak(),
+        peak_rss_anon_bytes: peak_anon,
         vm_hwm_bytes: memory::peak_resident(),
         wall_seconds: started.elapsed().as_secs_f64(),
     };
@@ -247,6 +232,57 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             .map_err(|e| Error::io("standard output", e))?;
     }
     Ok(())
+}
+
+impl ExtractArgs {
+    /// How the pipeline runs for these arguments.
+    pub(super) fn pipeline_options<'a>(
+        &self,
+        progress: &'a (dyn Fn(&tmc::Progress) + Sync),
+        cancel: Option<&'a AtomicBool>,
+    ) -> PipelineOptions<'a> {
+        PipelineOptions {
+            slab_depth: self.slab_depth.map_or(0, usize::from),
+            progress: Some(progress),
+            cancel,
+            max_memory: self.max_memory,
+        }
+    }
+}
+
+/// The progress bar and the peak-memory sampling of one extraction, both
+/// updated after every slab.
+pub(super) struct Monitor {
+    bar: Option<progress::Bar>,
+    peak_anon: memory::PeakAnon,
+}
+
+impl Monitor {
+    /// A bar over the grid's voxels (none when `quiet` or stderr is not a
+    /// terminal, as [`progress::Bar`] decides).
+    pub(super) fn new(grid: &Grid, quiet: bool) -> Self {
+        let voxels = grid.dims.iter().map(|&n| n as u64).product();
+        Monitor {
+            bar: Some(progress::Bar::new(voxels, "voxels", quiet)),
+            peak_anon: memory::PeakAnon::default(),
+        }
+    }
+
+    /// After each slab.
+    pub(super) fn slab_done(&self, p: &tmc::Progress) {
+        if let Some(bar) = &self.bar {
+            bar.set_fraction(p.layers_done as f64 / p.layers_total.max(1) as f64);
+        }
+        self.peak_anon.sample();
+    }
+
+    /// Clears the bar; returns the peak anonymous memory sampled (one last
+    /// sample included).
+    pub(super) fn finish(&mut self) -> Option<u64> {
+        self.bar = None;
+        self.peak_anon.sample();
+        self.peak_anon.peak()
+    }
 }
 
 /// Rejects grids with fewer than 2 samples along an axis (no cells).

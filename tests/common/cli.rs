@@ -5,6 +5,25 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+/// Writes a volume with `tmc synth KIND --dims DIMS --dtype DTYPE` (seed 0)
+/// at `dir/name` and returns its path.
+pub fn synth(dir: &Path, kind: &str, dims: &str, dtype: &str, name: &str) -> PathBuf {
+    let path = dir.join(name);
+    let out = tmc(&[
+        "synth",
+        kind,
+        "--dims",
+        dims,
+        "--dtype",
+        dtype,
+        "-o",
+        s(&path),
+        "-q",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    path
+}
+
 /// Runs the built `tmc` with `args`.
 pub fn tmc(args: &[&str]) -> Output {
     Command::new(tmc_path())

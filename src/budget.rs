@@ -37,11 +37,14 @@ pub struct Plan {
 }
 
 /// Estimated peak bytes of `threads` workers on planes of `plane_len`
-/// samples with slabs of `depth` layers, `window` of them in flight.
+/// samples with slabs of `depth` layers, `window` of them in flight (plus
+/// one slab's worth of written block vectors kept for reuse, see
+/// [`crate::slab::Spares`]).
 pub fn estimate(plane_len: usize, threads: usize, depth: usize, window: usize) -> u128 {
     let plane = plane_len as u128;
     let work = threads as u128 * plane * u128::from(WORK_BYTES_PER_SAMPLE);
-    let output = window as u128 * depth as u128 * plane * u128::from(OUTPUT_BYTES_PER_CELL);
+    let slabs = window as u128 + 1;
+    let output = slabs * depth as u128 * plane * u128::from(OUTPUT_BYTES_PER_CELL);
     u128::from(FIXED_BYTES) + work + output
 }
 

@@ -12,7 +12,7 @@ use crate::pipeline::{
 };
 use crate::seam::Seam;
 use crate::sink::{Chunk, MeshInfo, MeshSink};
-use crate::slab::process_slab;
+use crate::slab::{process_slab, Spares};
 use crate::volume::{Access, LentPlane, Padded, ScalarType};
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use std::ops::Range;
@@ -118,9 +118,16 @@ pub(crate) fn extract_many_part_to(
     for (p, sink) in params.iter().zip(sinks.iter_mut()) {
         sink.begin(&info(p))?;
     }
+    // Scratch for every slab in flight; block vectors for one slab per
+    // isovalue (see `Spares`; the budget counts them).
+    let spares = Spares::new(plan.window, (depth + 1) * params.len());
     let mut seams: Vec<Seam> = sinks
         .iter_mut()
-        .map(|sink| Seam::new(&mut **sink).with_cancel(options.cancel))
+        .map(|sink| {
+            Seam::new(&mut **sink)
+                .with_cancel(options.cancel)
+                .with_spares(&spares)
+        })
         .collect();
     let report = |seams: &[Seam]| {
         if let Some(progress) = options.progress {
@@ -134,7 +141,7 @@ pub(crate) fn extract_many_part_to(
     let run = |i: usize| {
         options.check_cancel()?;
         source.check_unchanged()?;
-        slab_for_each(source, params, slabs[i].clone())
+        slab_for_each(source, params, slabs[i].clone(), &spares)
     };
     // Hands slab `i` to every seam; returns how many slabs got written
     // (the same for all seams, as they all see the same slabs).
@@ -201,18 +208,19 @@ fn slab_for_each(
     source: &dyn SampleSource,
     params: &[ExtractParams],
     layers: Range<usize>,
+    spares: &Spares,
 ) -> Result<Vec<(Vec<Chunk>, Stats)>> {
     if let [single] = params {
         // One isovalue: exactly the single-surface path.
-        return Ok(vec![process_slab(source, single, layers)?]);
+        return Ok(vec![process_slab(source, single, layers, spares)?]);
     }
     let (last, others) = params.split_last().expect("several isovalues");
     let keep = KeepResident { inner: source };
     let mut results = Vec::with_capacity(params.len());
     for p in others {
-        results.push(process_slab(&keep, p, layers.clone())?);
+        results.push(process_slab(&keep, p, layers.clone(), spares)?);
     }
-    results.push(process_slab(source, last, layers)?);
+    results.push(process_slab(source, last, layers, spares)?);
     Ok(results)
 }
 

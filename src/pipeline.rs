@@ -98,9 +98,7 @@ pub struct Progress {
 pub fn extract(source: &dyn SampleSource, params: &ExtractParams) -> Result<(Mesh, Stats)> {
     let mut builder = MeshBuilder::default();
     let stats = extract_to(source, params, &PipelineOptions::default(), &mut builder)?;
-    // The chunks are joined on as many threads as the extraction used.
-    let pool = thread_pool(worker_threads(params))?;
-    Ok((pool.install(|| builder.try_into_mesh())?, stats))
+    Ok((builder.into_mesh(), stats))
 }
 
 /// The number of worker threads `params` asks for (0: one per core).

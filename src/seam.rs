@@ -8,6 +8,7 @@
 //! inside one process (part files of `tmc merge` carry their seam keys).
 
 use crate::sink::{Chunk, MeshSink, Totals};
+use crate::slab::Spares;
 use crate::{Error, Result, Stats};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -21,6 +22,7 @@ pub struct Seam<'a> {
     totals: Totals,
     stats: Stats,
     cancel: Option<&'a AtomicBool>,
+    spares: Option<&'a Spares>,
 }
 
 impl<'a> Seam<'a> {
@@ -33,6 +35,7 @@ impl<'a> Seam<'a> {
             totals: Totals::default(),
             stats: Stats::default(),
             cancel: None,
+            spares: None,
         }
     }
 
@@ -40,6 +43,13 @@ impl<'a> Seam<'a> {
     /// next chunk once `flag` is set.
     pub fn with_cancel(mut self, flag: Option<&'a AtomicBool>) -> Self {
         self.cancel = flag;
+        self
+    }
+
+    /// Hands the vectors of every written chunk to `spares`, for the slabs
+    /// still to come.
+    pub fn with_spares(mut self, spares: &'a Spares) -> Self {
+        self.spares = Some(spares);
         self
     }
 
@@ -55,7 +65,10 @@ impl<'a> Seam<'a> {
                     return Err(Error::Interrupted);
                 }
                 let (vertices, triangles) = (chunk.vertices.len(), chunk.triangles.len());
-                self.sink.take_chunk(self.totals.vertices, chunk)?;
+                self.sink.chunk(self.totals.vertices, &chunk)?;
+                if let Some(spares) = self.spares {
+                    spares.give_chunk(chunk);
+                }
                 self.totals.vertices += vertices as u64;
                 self.totals.triangles += triangles as u64;
                 self.totals.chunks += 1;

@@ -5,6 +5,7 @@
 //! first vertex. A sink may build a [`Mesh`] in memory ([`MeshBuilder`]),
 //! write a `.tmesh` file, or stream a PLY/OBJ/OFF/STL file.
 
+use crate::error::make_room;
 use crate::pipeline::{Inside, Method};
 use crate::{Error, Grid, Mesh, Result};
 
@@ -55,64 +56,39 @@ pub struct Totals {
 pub trait MeshSink {
     /// Called once before the first chunk.
     fn begin(&mut self, info: &MeshInfo) -> Result<()>;
-    /// One chunk; `base` is the global index of its first vertex.
+    /// One chunk; `base` is the global index of its first vertex. The
+    /// chunk is lent: the pipeline reuses its vectors for later slabs.
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()>;
-    /// The same, handing the chunk over: a sink that keeps chunks (the
-    /// in-memory [`MeshBuilder`]) takes them without copying. By default
-    /// the same as [`MeshSink::chunk`].
-    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
-        self.chunk(base, &chunk)
-    }
     /// Called once after the last chunk; a file sink commits its output here.
     fn finish(&mut self, totals: &Totals) -> Result<()>;
 }
 
 /// Builds an in-memory [`Mesh`] (32-bit indices).
 ///
-/// Chunks are kept as they come and joined once at the end, into vectors of
-/// exactly the final size, several chunks at a time on rayon's current pool:
-/// a mesh grown chunk by chunk would be copied again at every doubling and
-/// fault in its pages on the thread that feeds the workers.
+/// Each chunk is copied into the mesh as it comes, so that the chunk's
+/// vectors go back to the slabs still to be computed: memory that is
+/// already paged in is written again instead of new pages being faulted
+/// in (joining kept chunks at the end wrote the whole mesh to fresh pages
+/// twice). The mesh's vectors grow by doubling; for large ones the
+/// allocator remaps pages rather than copying them.
 #[derive(Debug, Default)]
 pub struct MeshBuilder {
-    chunks: Vec<(u64, Chunk)>,
-    vertices: u64,
-    triangles: usize,
+    mesh: Mesh,
 }
 
 impl MeshBuilder {
-    /// The mesh built so far. Panics if memory for it cannot be had; see
-    /// [`MeshBuilder::try_into_mesh`].
-    pub fn into_mesh(self) -> Mesh {
-        self.try_into_mesh().unwrap_or_else(|e| panic!("{e}"))
+    /// A builder with room for a mesh of known size (a replayed `.tmesh`),
+    /// or [`Error::OutOfMemory`].
+    pub fn with_room(vertices: usize, triangles: usize) -> Result<Self> {
+        let mut mesh = Mesh::default();
+        make_room(&mut mesh.vertices, vertices, "the mesh's vertices")?;
+        make_room(&mut mesh.triangles, triangles, "the mesh's triangles")?;
+        Ok(MeshBuilder { mesh })
     }
 
-    /// The mesh built so far, or [`Error::OutOfMemory`] if its vertex and
-    /// triangle arrays cannot be allocated.
-    pub fn try_into_mesh(self) -> Result<Mesh> {
-        use rayon::prelude::*;
-        let nv = self.vertices as usize;
-        let mut vertices = crate::error::try_zeroed_vec("the mesh's vertices", nv)?;
-        let mut triangles = crate::error::try_zeroed_vec("the mesh's triangles", self.triangles)?;
-        let mut jobs = Vec::with_capacity(self.chunks.len());
-        let (mut v_rest, mut t_rest) = (&mut vertices[..], &mut triangles[..]);
-        for (base, chunk) in &self.chunks {
-            let (v, vr) = std::mem::take(&mut v_rest).split_at_mut(chunk.vertices.len());
-            let (t, tr) = std::mem::take(&mut t_rest).split_at_mut(chunk.triangles.len());
-            (v_rest, t_rest) = (vr, tr);
-            jobs.push((*base as u32, chunk, v, t));
-        }
-        jobs.into_par_iter().for_each(|(base, chunk, v, t)| {
-            v.copy_from_slice(&chunk.vertices);
-            // May point into the next chunk, whose own check bounds it.
-            for (out, tri) in t.iter_mut().zip(&chunk.triangles) {
-                *out = tri.map(|i| base + i);
-            }
-        });
-        Ok(Mesh {
-            vertices,
-            triangles,
-        })
+    /// The mesh built so far.
+    pub fn into_mesh(self) -> Mesh {
+        self.mesh
     }
 }
 
@@ -122,10 +98,6 @@ impl MeshSink for MeshBuilder {
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
-        self.take_chunk(base, chunk.clone())
-    }
-
-    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
         let end = base + chunk.vertices.len() as u64;
         if end > u32::MAX as u64 {
             return Err(Error::Invalid(format!(
@@ -133,9 +105,13 @@ impl MeshSink for MeshBuilder {
                 u32::MAX
             )));
         }
-        self.vertices = end;
-        self.triangles += chunk.triangles.len();
-        self.chunks.push((base, chunk));
+        let (vertices, triangles) = (&mut self.mesh.vertices, &mut self.mesh.triangles);
+        make_room(vertices, chunk.vertices.len(), "the mesh's vertices")?;
+        make_room(triangles, chunk.triangles.len(), "the mesh's triangles")?;
+        vertices.extend_from_slice(&chunk.vertices);
+        // May point into the next chunk, whose own check bounds it.
+        let base = base as u32;
+        triangles.extend(chunk.triangles.iter().map(|t| t.map(|i| base + i)));
         Ok(())
     }
 

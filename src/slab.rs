@@ -14,6 +14,9 @@
 
 use crate::kernel::cell::INTERIOR;
 mod bits;
+mod spares;
+
+pub use spares::Spares;
 
 use crate::error::make_room;
 use crate::kernel::tables::{tables, Tables};
@@ -24,6 +27,7 @@ use crate::volume::{Access, LentPlane, IDENTITY};
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use bits::{below, each_bit, next, SignBits};
 use glam::DVec3;
+use spares::{PlaneBuffers, Scratch};
 use std::ops::Range;
 use std::time::Instant;
 
@@ -72,9 +76,14 @@ impl Block {
 
     /// An empty block with a quarter more room than the finished block
     /// `(vertices, triangles)` of the layer below needed, so that a layer
-    /// like it does not grow its vectors step by step.
-    fn sized_like((vertices, triangles): (usize, usize)) -> Result<Block> {
-        let mut block = Block::default();
+    /// like it does not grow its vectors step by step; its vectors are spares
+    /// when there are some.
+    fn sized_like((vertices, triangles): (usize, usize), spares: &Spares) -> Result<Block> {
+        let (v, t) = spares.take_block();
+        let mut block = Block {
+            vertices: v,
+            triangles: t,
+        };
         make_room(&mut block.vertices, vertices + vertices / 4, VERTICES)?;
         make_room(&mut block.triangles, triangles + triangles / 4, TRIANGLES)?;
         Ok(block)
@@ -135,20 +144,60 @@ impl Level {
     }
 }
 
-impl<'s> Plane<'s> {
+impl PlaneBuffers {
+    /// New buffers for planes of `grid`.
     fn new(grid: &Grid) -> Self {
         let [nx, ny, _] = grid.dims;
+        PlaneBuffers {
+            read: Vec::new(),
+            inside: SignBits::new(nx, ny),
+            xe: vec![NONE; (nx - 1) * ny],
+            ye: vec![NONE; nx * (ny - 1)],
+        }
+    }
+}
+
+impl Scratch {
+    /// New buffers for a slab of `grid`.
+    fn new(grid: &Grid) -> Self {
+        Scratch {
+            planes: [PlaneBuffers::new(grid), PlaneBuffers::new(grid)],
+            ze: vec![NONE; grid.plane_len()],
+        }
+    }
+}
+
+impl<'s> Plane<'s> {
+    /// A plane working in `buffers` (sized for the grid; stale entries are
+    /// never read).
+    fn new(buffers: PlaneBuffers) -> Self {
+        let PlaneBuffers {
+            read,
+            inside,
+            xe,
+            ye,
+        } = buffers;
         Plane {
             z: 0,
             lent: None,
-            read: Vec::new(),
+            read,
             level: Level {
                 iso: 0.0,
                 sign: 1.0,
             },
-            inside: SignBits::new(nx, ny),
-            xe: vec![NONE; (nx - 1) * ny],
-            ye: vec![NONE; nx * (ny - 1)],
+            inside,
+            xe,
+            ye,
+        }
+    }
+
+    /// The plane's buffers, for the next slab.
+    fn into_buffers(self) -> PlaneBuffers {
+        PlaneBuffers {
+            read: self.read,
+            inside: self.inside,
+            xe: self.xe,
+            ye: self.ye,
         }
     }
 
@@ -282,11 +331,14 @@ impl Placement {
 
 /// Processes cell layers `layers` and returns one chunk per layer (plus the
 /// chunk of the last plane when the range ends at the top of the grid) and
-/// the counts.
+/// the counts. Buffers come from `spares` when it has some, and the slab's
+/// work buffers go back there (the chunks' vectors are handed back by
+/// whoever writes them).
 pub fn process_slab(
     source: &dyn SampleSource,
     params: &ExtractParams,
     layers: Range<usize>,
+    spares: &Spares,
 ) -> Result<(Vec<Chunk>, Stats)> {
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
@@ -295,10 +347,17 @@ pub fn process_slab(
     let place = Placement::new(&grid);
     let mut stats = Stats::default();
     let mut chunks = Vec::with_capacity(layers.len() + 1);
-    let mut block = Block::default();
+    let mut block = Block::sized_like((0, 0), spares)?;
     source.advise(layers.start..layers.end + 1, Access::Soon);
-    let mut bottom = Plane::new(&grid);
-    let mut top = Plane::new(&grid);
+    let Scratch {
+        planes: [lower, upper],
+        mut ze,
+    } = spares
+        .take_scratch()
+        .filter(|s| s.ze.len() == grid.plane_len())
+        .unwrap_or_else(|| Scratch::new(&grid));
+    let mut bottom = Plane::new(lower);
+    let mut top = Plane::new(upper);
     // The slab's first plane may belong to the slab below; its vertices are
     // numbered the same way here and there, and kept by the block of that plane.
     bottom.load(
@@ -310,11 +369,10 @@ pub fn process_slab(
     )?;
     let mut cell = CellMesh::new();
     let tables = tables();
-    let mut ze = vec![NONE; nx * ny];
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     for z in layers.clone() {
-        let mut next = Block::sized_like(finished)?;
+        let mut next = Block::sized_like(finished, spares)?;
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
         let words = bottom.inside.words() - 1;
@@ -348,7 +406,13 @@ pub fn process_slab(
     }
     if layers.end == nz - 1 {
         chunks.push(block.into_chunk(nz - 1, mirrored));
+    } else {
+        spares.give_chunk(block.into_chunk(layers.end, mirrored));
     }
+    spares.give_scratch(Scratch {
+        planes: [bottom.into_buffers(), top.into_buffers()],
+        ze,
+    });
     // Release this slab's planes (its last plane is released by the slab
     // above, whose first plane it is). Should the slab below still be reading
     // the first one, its pages come back from the page cache.

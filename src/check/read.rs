@@ -70,9 +70,9 @@ fn read_tmesh(path: &Path) -> Result<Mesh> {
             u32::MAX
         )));
     }
-    let mut builder = MeshBuilder::default();
+    let mut builder = MeshBuilder::with_room(vertices as usize, triangles as usize)?;
     replay(&mut reader, &mut builder)?;
-    builder.try_into_mesh()
+    Ok(builder.into_mesh())
 }
 
 fn stl_error(path: &Path) -> Error {

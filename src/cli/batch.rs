@@ -298,11 +298,6 @@ impl MeshSink for RequireAll<'_> {
         self.inner.chunk(base, chunk)
     }
 
-    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
-        self.count(&chunk);
-        self.inner.take_chunk(base, chunk)
-    }
-
     fn finish(&mut self, totals: &Totals) -> Result<()> {
         match self.triangles.iter().position(|t| t.get() == 0) {
             Some(empty) => Err(Error::Invalid(self.messages[empty].clone())),

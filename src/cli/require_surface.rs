@@ -22,10 +22,6 @@ impl MeshSink for RequireSurface<'_> {
         self.inner.chunk(base, chunk)
     }
 
-    fn take_chunk(&mut self, base: u64, chunk: Chunk) -> Result<()> {
-        self.inner.take_chunk(base, chunk)
-    }
-
     fn finish(&mut self, totals: &Totals) -> Result<()> {
         if totals.triangles == 0 {
             return Err(Error::Invalid(self.message.clone()));

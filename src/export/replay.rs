@@ -31,7 +31,7 @@ pub fn replay_cancellable(
         }
         let base = reader.entries()[i].vertex_base;
         let chunk = reader.chunk(i)?;
-        sink.take_chunk(base, chunk)?;
+        sink.chunk(base, &chunk)?;
     }
     if cancel.load(Ordering::Relaxed) {
         return Err(Error::Interrupted);

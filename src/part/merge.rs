@@ -51,7 +51,7 @@ pub fn merge(parts: &[PathBuf], output: &Path) -> Result<Totals> {
                     .map_or(0, |n| n.vertex_count),
             };
             let chunk = part.reader.chunk_then(j, next)?;
-            sink.take_chunk(totals.vertices + e.vertex_base, chunk)?;
+            sink.chunk(totals.vertices + e.vertex_base, &chunk)?;
             totals.chunks += 1;
         }
         totals.vertices += part.reader.vertices();

@@ -75,19 +75,33 @@ impl Block {
     }
 
     /// An empty block with a quarter more room than the finished block
-    /// `(vertices, triangles)` of the layer below needed, so that a layer
-    /// like it does not grow its vectors step by step; its vectors are spares
-    /// when there are some.
-    fn sized_like((vertices, triangles): (usize, usize), spares: &Spares) -> Result<Block> {
+    /// `(vertices, triangles)` of the layer below needed, plus the room the
+    /// loops ask for per row (`row`), so that a layer like it does not grow
+    /// its vectors; its vectors are spares when there are some.
+    fn sized_like(
+        (vertices, triangles): (usize, usize),
+        row: (usize, usize),
+        spares: &Spares,
+    ) -> Result<Block> {
         let (v, t) = spares.take_block();
-        let mut block = Block {
-            vertices: v,
-            triangles: t,
-        };
-        make_room(&mut block.vertices, vertices + vertices / 4, VERTICES)?;
-        make_room(&mut block.triangles, triangles + triangles / 4, TRIANGLES)?;
-        Ok(block)
+        Ok(Block {
+            vertices: empty_with_room(v, vertices + vertices / 4 + row.0, VERTICES)?,
+            triangles: empty_with_room(t, triangles + triangles / 4 + row.1, TRIANGLES)?,
+        })
     }
+}
+
+/// The empty vector `spare` if it has room for `n`, else a new one with that
+/// room (growing `spare` would copy its whole stale capacity).
+fn empty_with_room<T>(spare: Vec<T>, n: usize, what: &str) -> Result<Vec<T>> {
+    debug_assert!(spare.is_empty());
+    if spare.capacity() >= n {
+        return Ok(spare);
+    }
+    drop(spare);
+    let mut fresh = Vec::new();
+    make_room(&mut fresh, n, what)?;
+    Ok(fresh)
 }
 
 /// One plane of values relative to the isovalue, with its edge vertices;
@@ -347,7 +361,11 @@ pub fn process_slab(
     let place = Placement::new(&grid);
     let mut stats = Stats::default();
     let mut chunks = Vec::with_capacity(layers.len() + 1);
-    let mut block = Block::sized_like((0, 0), spares)?;
+    let tables = tables();
+    // What the loops make room for per row: a vertex per sample, the most
+    // MC triangles per cell.
+    let row = (nx, tables.mc_most * (nx - 1));
+    let mut block = Block::sized_like((0, 0), row, spares)?;
     source.advise(layers.start..layers.end + 1, Access::Soon);
     let Scratch {
         planes: [lower, upper],
@@ -368,11 +386,10 @@ pub fn process_slab(
         &mut stats,
     )?;
     let mut cell = CellMesh::new();
-    let tables = tables();
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     for z in layers.clone() {
-        let mut next = Block::sized_like(finished, spares)?;
+        let mut next = Block::sized_like(finished, row, spares)?;
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
         let words = bottom.inside.words() - 1;

@@ -11,6 +11,7 @@
 mod common;
 
 use common::cli::{assert_one_line, names, npy_header, s, sphere_npy, temp_files, tmc, tmc_within};
+use common::formats::data_dir;
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -386,9 +387,21 @@ fn the_output_may_not_be_a_data_file_of_the_input() {
     let nhdr =
         "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: raw\ndata file: vol.raw\n";
     let mhd = "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_UCHAR\nElementDataFile = vol.ply\n";
-    for (header, text, data) in [("vol.nhdr", nhdr, "vol.raw"), ("vol.mhd", mhd, "vol.ply")] {
+    // Decoded, not mapped, data files count too: gzip and ASCII.
+    let gz = fs::read(data_dir().join("nrrd_detached_gz_u16.raw.gz")).unwrap();
+    let gz_nhdr =
+        "NRRD0004\ntype: uint16\ndimension: 3\nsizes: 9 7 6\nendian: little\nencoding: gzip\ndata file: gz.stl\n";
+    let text: String = (0..64).map(|i| format!("{i}\n")).collect();
+    let ascii_nhdr =
+        "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4 4 4\nencoding: ascii\ndata file: text.obj\n";
+    for (header, text, data, bytes) in [
+        ("vol.nhdr", nhdr, "vol.raw", &bytes),
+        ("vol.mhd", mhd, "vol.ply", &bytes),
+        ("gz.nhdr", gz_nhdr, "gz.stl", &gz),
+        ("text.nhdr", ascii_nhdr, "text.obj", &text.into_bytes()),
+    ] {
         let header = file(dir.path(), header, text.as_bytes());
-        let data = file(dir.path(), data, &bytes);
+        let data = file(dir.path(), data, bytes);
         let line = assert_one_line(
             &tmc(&["extract", s(&header), "--iso", "10", "-o", s(&data)]),
             1,
@@ -398,9 +411,23 @@ fn the_output_may_not_be_a_data_file_of_the_input() {
             "{}: {line}",
             header.display()
         );
-        assert_eq!(fs::read(&data).unwrap(), bytes, "data file changed");
+        assert_eq!(&fs::read(&data).unwrap(), bytes, "data file changed");
         assert!(temp_files(dir.path()).is_empty());
     }
+}
+
+#[test]
+fn every_page_file_of_a_tiff_stack_is_a_data_file() {
+    let dir = data_dir().join("vt_tiff_dir");
+    let stack = tmc::volume::open(&dir, None).unwrap();
+    let mut pages: Vec<_> = fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    pages.sort();
+    let mut listed: Vec<_> = stack.data_files().iter().map(|p| p.to_path_buf()).collect();
+    listed.sort();
+    assert_eq!(listed, pages);
 }
 
 /// The vertex and face counts in the header of a binary PLY.

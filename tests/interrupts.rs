@@ -293,7 +293,7 @@ fn a_mapped_input_that_shrank_is_noticed_before_the_next_slab() {
 }
 
 #[test]
-fn sigint_and_sigterm_stop_a_conversion_and_remove_the_output() {
+fn sigint_and_sigterm_stop_a_conversion_or_a_merge_and_remove_the_output() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     // The mesh of 400^3 noise: about 70 MB of .tmesh, some seconds to
     // convert on the test machine.
@@ -332,6 +332,33 @@ fn sigint_and_sigterm_stop_a_conversion_and_remove_the_output() {
     for (name, code, output_name) in [("INT", 130, "mesh.ply"), ("TERM", 143, "mesh.obj")] {
         let (out_dir, output) = out_dir(output_name);
         let mut child = spawn(&["convert", s(&tmesh), "-o", s(&output)]);
+        still_running_after(&mut child, 0.3);
+        interrupt_and_check(child, name, code, out_dir.path(), &output);
+    }
+    // The same mesh as two part files, merged.
+    let parts: Vec<_> = (1..=2)
+        .map(|i| {
+            let part = dir.path().join(format!("part{i}.tmesh"));
+            let spec = format!("{i}/2");
+            let volume = ["--dims", "400,400,400", "--dtype", "u8", "--iso", "127.5"];
+            let mut args = vec![
+                "extract",
+                s(&raw),
+                "--part",
+                &spec,
+                "-o",
+                s(&part),
+                "--quiet",
+            ];
+            args.extend_from_slice(&volume);
+            let out = tmc(&args);
+            assert!(out.status.success(), "{out:?}");
+            part
+        })
+        .collect();
+    for (name, code, output_name) in [("INT", 130, "merged.ply"), ("TERM", 143, "merged.obj")] {
+        let (out_dir, output) = out_dir(output_name);
+        let mut child = spawn(&["merge", s(&parts[0]), s(&parts[1]), "-o", s(&output)]);
         still_running_after(&mut child, 0.3);
         interrupt_and_check(child, name, code, out_dir.path(), &output);
     }

@@ -2,6 +2,7 @@
 
 use clap::Args;
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 use tmc::Result;
 
 /// Stitch the part files of 'tmc extract --part I/N' (given in any order)
@@ -22,7 +23,9 @@ pub(crate) struct MergeArgs {
     pub output: PathBuf,
 }
 
-/// Runs `tmc merge`.
-pub(crate) fn run(args: &MergeArgs) -> Result<()> {
-    tmc::part::merge(&args.parts, &args.output).map(|_| ())
+/// Runs `tmc merge`; setting `cancel` (SIGINT, SIGTERM) stops it before
+/// the next chunk with [`tmc::Error::Interrupted`], leaving no output.
+pub(crate) fn run(args: &MergeArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    let never = AtomicBool::new(false);
+    tmc::part::merge(&args.parts, &args.output, cancel.unwrap_or(&never)).map(|_| ())
 }

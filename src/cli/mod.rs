@@ -133,19 +133,21 @@ pub fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     let interrupts = match cli.command {
-        Command::Extract(_) | Command::Convert(_) => match signals::Interrupts::install() {
-            Ok(i) => Some(i),
-            Err(e) => {
-                eprintln!("tmc: error: cannot install the SIGINT/SIGTERM handlers: {e}");
-                return ExitCode::FAILURE;
+        Command::Extract(_) | Command::Convert(_) | Command::Merge(_) => {
+            match signals::Interrupts::install() {
+                Ok(i) => Some(i),
+                Err(e) => {
+                    eprintln!("tmc: error: cannot install the SIGINT/SIGTERM handlers: {e}");
+                    return ExitCode::FAILURE;
+                }
             }
-        },
+        }
         _ => None,
     };
     let result = panic::catch_unwind(AssertUnwindSafe(|| match cli.command {
         Command::Extract(args) => extract::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Convert(args) => convert::run(&args, interrupts.as_ref().map(|i| i.flag())),
-        Command::Merge(args) => merge::run(&args),
+        Command::Merge(args) => merge::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Check(args) => check::run(&args),
         Command::Info(args) => info::run(&args),
         Command::Synth(args) => synth::run(&args),

@@ -6,6 +6,7 @@ use crate::meshfile::TmeshReader;
 use crate::sink::Totals;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// An open part file.
 struct Part {
@@ -17,7 +18,17 @@ struct Part {
 /// Stitches the part files `parts` (any order) into the mesh at `output`,
 /// whose format comes from its extension; the result is byte-identical to a
 /// single run. Refuses parts of different runs, missing or repeated parts.
-pub fn merge(parts: &[PathBuf], output: &Path) -> Result<Totals> {
+///
+/// Setting `cancel` (from a signal handler, say) stops the merge before the
+/// next chunk with [`Error::Interrupted`]; the output is then not written.
+pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<Totals> {
+    let interrupted = || {
+        if cancel.load(Ordering::Relaxed) {
+            Err(Error::Interrupted)
+        } else {
+            Ok(())
+        }
+    };
     crate::export::check_output_path(output)?;
     let mut opened = Vec::with_capacity(parts.len());
     for path in parts {
@@ -50,6 +61,7 @@ pub fn merge(parts: &[PathBuf], output: &Path) -> Result<Totals> {
                     .filter(|n| n.plane == e.plane + 1)
                     .map_or(0, |n| n.vertex_count),
             };
+            interrupted()?;
             let chunk = part.reader.chunk_then(j, next)?;
             sink.chunk(totals.vertices + e.vertex_base, &chunk)?;
             totals.chunks += 1;
@@ -57,6 +69,7 @@ pub fn merge(parts: &[PathBuf], output: &Path) -> Result<Totals> {
         totals.vertices += part.reader.vertices();
         totals.triangles += part.reader.triangles();
     }
+    interrupted()?;
     sink.finish(&totals)?;
     Ok(totals)
 }

@@ -86,8 +86,11 @@ pub struct RawVolume {
     order: Order,
     offset: usize,
     storage: Storage,
-    /// The mapped file and its name, to notice when it shrinks under the map.
-    mapped: Option<(File, PathBuf)>,
+    /// The mapped file (the spilled samples, for compressed data), to notice
+    /// when it shrinks under the map.
+    mapped: Option<File>,
+    /// The file the samples come from (mapped, decompressed or parsed).
+    data_file: PathBuf,
 }
 
 impl RawVolume {
@@ -136,7 +139,7 @@ impl RawVolume {
         check_length(path, map.len() as u64, &layout)?;
         let watch = file.try_clone().map_err(|e| Error::io(path, e))?;
         let mut volume = RawVolume::with_storage(path, layout, Storage::Mapped(map))?;
-        volume.mapped = Some((watch, path.to_path_buf()));
+        volume.mapped = Some(watch);
         Ok(volume)
     }
 
@@ -163,6 +166,7 @@ impl RawVolume {
             offset,
             storage,
             mapped: None,
+            data_file: path.to_path_buf(),
         })
     }
 
@@ -219,13 +223,14 @@ impl SampleSource for RawVolume {
     }
 
     fn data_files(&self) -> Vec<&Path> {
-        self.mapped.iter().map(|(_, path)| path.as_path()).collect()
+        vec![self.data_file.as_path()]
     }
 
     fn check_unchanged(&self) -> Result<()> {
-        let (Some((file, path)), Storage::Mapped(map)) = (&self.mapped, &self.storage) else {
+        let (Some(file), Storage::Mapped(map)) = (&self.mapped, &self.storage) else {
             return Ok(());
         };
+        let path = &self.data_file;
         let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
         if len < map.len() as u64 {
             return Err(Error::Format(format!(

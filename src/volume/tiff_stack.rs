@@ -311,6 +311,17 @@ impl SampleSource for TiffStack {
         Ok(())
     }
 
+    fn data_files(&self) -> Vec<&Path> {
+        let mut files: Vec<&Path> = Vec::new();
+        for (path, _) in &self.pages {
+            // Pages of one file are consecutive.
+            if files.last() != Some(&path.as_path()) {
+                files.push(path);
+            }
+        }
+        files
+    }
+
     fn sample_bytes(&self) -> usize {
         self.scalar.size()
     }

@@ -9,15 +9,17 @@
 //! into sequences and items, so nested elements are checked too, and skips
 //! the fragments of encapsulated pixel data.
 //!
-//! What it does not check is left to the parser: a file without the `DICM`
-//! magic, a deflated data set (its lengths bound the inflated stream, not
-//! the file) and a header cut short by the end of the file.
+//! A deflated data set is inflated twice, without being kept: once to learn
+//! its size, once to walk it against that size. What it does not check is
+//! left to the parser: a file without the `DICM` magic, a data set it cannot
+//! inflate and a header cut short by the end of the file.
 
 use dicom_core::dictionary::{DataDictionary, VirtualVr};
 use dicom_core::{Tag, VR};
 use dicom_dictionary_std::StandardDataDictionary;
+use flate2::read::DeflateDecoder;
 use std::fs::File;
-use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::io::{self, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 /// An undefined length: a sequence, an item or encapsulated pixel data
@@ -29,7 +31,19 @@ const PIXEL_DATA: Tag = Tag(0x7FE0, 0x0010);
 /// The transfer syntaxes whose data set is not explicit VR little endian.
 const IMPLICIT_VR_LE: &str = "1.2.840.10008.1.2";
 const EXPLICIT_VR_BE: &str = "1.2.840.10008.1.2.2";
-const DEFLATED: &[&str] = &["1.2.840.10008.1.2.1.99", "1.2.840.10008.1.2.8.1"];
+/// Deflated explicit VR little endian: the data set is a raw deflate stream.
+const DEFLATED: &str = "1.2.840.10008.1.2.1.99";
+/// Deflated frames in an explicit VR little endian data set; not walked.
+const DEFLATED_FRAMES: &str = "1.2.840.10008.1.2.8.1";
+
+/// How the data set after the meta group is stored.
+#[derive(Clone, Copy)]
+enum Stored {
+    /// As it is, in this encoding.
+    Plain(Encoding),
+    /// Deflated, explicit VR little endian once inflated.
+    Deflated,
+}
 
 /// How the data set after the meta group is encoded.
 #[derive(Clone, Copy)]
@@ -43,6 +57,8 @@ struct Walker<R> {
     input: R,
     pos: u64,
     size: u64,
+    /// What `size` is the size of, for messages.
+    what: &'static str,
 }
 
 impl<R: Read + Seek> Walker<R> {
@@ -77,8 +93,8 @@ impl<R: Read + Seek> Walker<R> {
         let left = self.size.saturating_sub(self.pos);
         if u64::from(len) > left {
             return Err(format!(
-                "not a readable DICOM file: element ({:04X},{:04X}) at byte {} claims {len} bytes, but only {left} are left in the file (damaged or truncated)",
-                tag.0, tag.1, self.pos
+                "not a readable DICOM file: element ({:04X},{:04X}) at byte {} claims {len} bytes, but only {left} are left in {} (damaged or truncated)",
+                tag.0, tag.1, self.pos, self.what
             ));
         }
         Ok(())
@@ -159,21 +175,77 @@ fn check_reader<R: Read + Seek>(input: R, size: u64) -> Result<(), String> {
         input,
         pos: 0,
         size,
+        what: "the file",
     };
     // The preamble and magic; a file without them is left to the parser.
     match w.bytes::<132>() {
         Some(head) if &head[128..] == b"DICM" => {}
         _ => return Ok(()),
     }
-    let Some(encoding) = meta_group(&mut w)? else {
+    match meta_group(&mut w)? {
+        None => Ok(()),
+        Some(Stored::Plain(encoding)) => data_set(&mut w, encoding),
+        Some(Stored::Deflated) => deflated_data_set(w),
+    }
+}
+
+/// Walks a deflated data set, which starts at the walker's position.
+fn deflated_data_set<R: Read + Seek>(mut w: Walker<R>) -> Result<(), String> {
+    let start = w.pos;
+    // A stream that does not inflate is the parser's to report.
+    let size =
+        inflate_from(&mut w.input, start).and_then(|mut d| io::copy(&mut d, &mut io::sink()));
+    let (Ok(size), Ok(decoder)) = (size, inflate_from(&mut w.input, start)) else {
         return Ok(());
     };
-    data_set(&mut w, encoding)
+    let mut inflated = Walker {
+        input: Forward(decoder),
+        pos: 0,
+        size,
+        what: "the inflated data set",
+    };
+    let explicit_le = Encoding {
+        explicit_vr: true,
+        big_endian: false,
+    };
+    data_set(&mut inflated, explicit_le)
+}
+
+/// A raw deflate decoder of `input` from byte `start` on.
+fn inflate_from<R: Read + Seek>(input: &mut R, start: u64) -> io::Result<DeflateDecoder<&mut R>> {
+    input.seek(SeekFrom::Start(start))?;
+    Ok(DeflateDecoder::new(input))
+}
+
+/// A stream that can only skip forward, which is all the walk asks of
+/// [`Seek`].
+struct Forward<R>(R);
+
+impl<R: Read> Read for Forward<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        self.0.read(buf)
+    }
+}
+
+impl<R: Read> Seek for Forward<R> {
+    fn seek(&mut self, to: SeekFrom) -> io::Result<u64> {
+        match to {
+            SeekFrom::Current(n) if n >= 0 => {
+                let n = n as u64;
+                let skipped = io::copy(&mut (&mut self.0).take(n), &mut io::sink())?;
+                if skipped < n {
+                    return Err(io::ErrorKind::UnexpectedEof.into());
+                }
+                Ok(skipped)
+            }
+            _ => Err(io::ErrorKind::Unsupported.into()),
+        }
+    }
 }
 
 /// Walks the meta group (explicit VR little endian) and returns the
 /// encoding of the data set, `None` when it cannot be checked.
-fn meta_group<R: Read + Seek>(w: &mut Walker<R>) -> Result<Option<Encoding>, String> {
+fn meta_group<R: Read + Seek>(w: &mut Walker<R>) -> Result<Option<Stored>, String> {
     let meta = Encoding {
         explicit_vr: true,
         big_endian: false,
@@ -208,13 +280,14 @@ fn meta_group<R: Read + Seek>(w: &mut Walker<R>) -> Result<Option<Encoding>, Str
     let Some(syntax) = syntax else {
         return Ok(None);
     };
-    if DEFLATED.contains(&syntax.as_str()) {
-        return Ok(None);
+    match syntax.as_str() {
+        DEFLATED => Ok(Some(Stored::Deflated)),
+        DEFLATED_FRAMES => Ok(None),
+        _ => Ok(Some(Stored::Plain(Encoding {
+            explicit_vr: syntax != IMPLICIT_VR_LE,
+            big_endian: syntax == EXPLICIT_VR_BE,
+        }))),
     }
-    Ok(Some(Encoding {
-        explicit_vr: syntax != IMPLICIT_VR_LE,
-        big_endian: syntax == EXPLICIT_VR_BE,
-    }))
 }
 
 /// Walks the data set to the end of the file. Values of sequences and of
@@ -344,6 +417,33 @@ mod tests {
     fn files_it_cannot_follow_are_left_to_the_parser() {
         assert_eq!(run(b"not dicom"), Ok(()));
         let body = implicit(0x0028, 0x1052, 0xFFFF_FFF0, &[]);
-        assert_eq!(run(&file(DEFLATED[0], &body)), Ok(()));
+        assert_eq!(run(&file(DEFLATED_FRAMES, &body)), Ok(()));
+        // Not a deflate stream.
+        assert_eq!(run(&file(DEFLATED, &[0xFF; 16])), Ok(()));
+    }
+
+    /// `bytes` as a raw deflate stream.
+    fn deflate(bytes: &[u8]) -> Vec<u8> {
+        use std::io::Write;
+        let mut e = flate2::write::DeflateEncoder::new(Vec::new(), flate2::Compression::default());
+        e.write_all(bytes).unwrap();
+        e.finish().unwrap()
+    }
+
+    #[test]
+    fn a_deflated_data_set_is_checked_once_inflated() {
+        // Explicit VR little endian: (0010,0010) PN "DOE ", then a UT value
+        // claiming more bytes than the inflated stream holds.
+        let mut body = vec![0x10, 0x00, 0x10, 0x00, b'P', b'N', 4, 0];
+        body.extend_from_slice(b"DOE ");
+        assert_eq!(run(&file(DEFLATED, &deflate(&body))), Ok(()));
+        body.extend_from_slice(&[0x08, 0x00, 0x19, 0x01, b'U', b'T', 0, 0]);
+        body.extend_from_slice(&0x4000_0000u32.to_le_bytes());
+        body.extend_from_slice(&[b'x'; 32]);
+        let e = run(&file(DEFLATED, &deflate(&body))).unwrap_err();
+        assert!(
+            e.contains("(0008,0119)") && e.contains("inflated data set"),
+            "{e}"
+        );
     }
 }

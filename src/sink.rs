@@ -69,11 +69,13 @@ pub trait MeshSink {
 /// vectors go back to the slabs still to be computed: memory that is
 /// already paged in is written again instead of new pages being faulted
 /// in (joining kept chunks at the end wrote the whole mesh to fresh pages
-/// twice). The mesh's vectors grow by doubling; for large ones the
-/// allocator remaps pages rather than copying them.
+/// twice). When the mesh's vectors are full they grow to what the planes
+/// so far predict for the whole grid, so that they are rarely copied.
 #[derive(Debug, Default)]
 pub struct MeshBuilder {
     mesh: Mesh,
+    /// Grid planes, from [`MeshSink::begin`] (0: not known).
+    planes: u64,
 }
 
 impl MeshBuilder {
@@ -83,7 +85,7 @@ impl MeshBuilder {
         let mut mesh = Mesh::default();
         make_room(&mut mesh.vertices, vertices, "the mesh's vertices")?;
         make_room(&mut mesh.triangles, triangles, "the mesh's triangles")?;
-        Ok(MeshBuilder { mesh })
+        Ok(MeshBuilder { mesh, planes: 0 })
     }
 
     /// The mesh built so far.
@@ -92,8 +94,34 @@ impl MeshBuilder {
     }
 }
 
+/// Makes room in `v` for `n` more items, growing it, when it is full, to
+/// the extrapolation of its length after plane `plane` of `planes` (a
+/// quarter more), or to what the allocator's doubling gives if that is
+/// more or cannot be had.
+fn make_room_for_all<T>(
+    v: &mut Vec<T>,
+    n: usize,
+    plane: u64,
+    planes: u64,
+    what: &str,
+) -> Result<()> {
+    if v.capacity() - v.len() >= n {
+        return Ok(());
+    }
+    let needed = (v.len() + n) as u64;
+    let done = plane.saturating_add(1).min(planes).max(1);
+    let predicted = needed.saturating_mul(planes.max(done)) / done;
+    let wanted = predicted.saturating_add(predicted / 4) as usize;
+    if wanted > v.capacity() * 2 && v.try_reserve_exact(wanted - v.len()).is_ok() {
+        return Ok(());
+    }
+    make_room(v, n, what)
+}
+
 impl MeshSink for MeshBuilder {
-    fn begin(&mut self, _info: &MeshInfo) -> Result<()> {
+    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        // Padded by one plane on each side with `--close`.
+        self.planes = info.grid.dims[2] as u64 + if info.close { 2 } else { 0 };
         Ok(())
     }
 
@@ -106,8 +134,11 @@ impl MeshSink for MeshBuilder {
             )));
         }
         let (vertices, triangles) = (&mut self.mesh.vertices, &mut self.mesh.triangles);
-        make_room(vertices, chunk.vertices.len(), "the mesh's vertices")?;
-        make_room(triangles, chunk.triangles.len(), "the mesh's triangles")?;
+        let (plane, planes) = (chunk.plane, self.planes);
+        let what = "the mesh's vertices";
+        make_room_for_all(vertices, chunk.vertices.len(), plane, planes, what)?;
+        let what = "the mesh's triangles";
+        make_room_for_all(triangles, chunk.triangles.len(), plane, planes, what)?;
         vertices.extend_from_slice(&chunk.vertices);
         // May point into the next chunk, whose own check bounds it.
         let base = base as u32;

@@ -21,16 +21,29 @@ fn tiff_tag_with_a_huge_count_is_an_error() {
 /// allocation aborted).
 #[test]
 fn dicom_element_longer_than_the_file_fails_fast() {
+    dicom_fails_fast("dicom_huge_element_length.dcm", "(0028,1052)", "4294967280");
+}
+
+/// A 539-byte slice whose meta group (by its group length) holds a foreign
+/// tag and then (0002,0013) with an unknown VR, which the parser reads like
+/// UN, with a 4-byte length of 0xFF595000: 3.5 s and 4.2 GB before the
+/// parser's error. The length check now walks the meta group as the parser
+/// does.
+#[test]
+fn dicom_meta_element_with_an_unknown_vr_fails_fast() {
+    dicom_fails_fast("dicom_meta_unknown_vr.dcm", "(0002,0013)", "4284043264");
+}
+
+/// `tmc extract` of `tests/data/fuzz/NAME` fails at once, under a 1 GiB
+/// address-space limit, with one line naming element `tag` and its claimed
+/// length `claimed`, and writes nothing.
+fn dicom_fails_fast(name: &str, tag: &str, claimed: &str) {
     use common::cli::{assert_one_line, s, tmc_path};
     use std::process::Command;
     use std::time::{Duration, Instant};
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("slice.dcm");
-    std::fs::copy(
-        data_dir().join("fuzz/dicom_huge_element_length.dcm"),
-        &input,
-    )
-    .unwrap();
+    std::fs::copy(data_dir().join("fuzz").join(name), &input).unwrap();
     let out_path = dir.path().join("out.ply");
     let args = [
         tmc_path(),
@@ -56,7 +69,7 @@ fn dicom_element_longer_than_the_file_fails_fast() {
     let elapsed = start.elapsed();
     let e = assert_one_line(&out, 1);
     assert!(
-        e.contains("slice.dcm") && e.contains("(0028,1052)") && e.contains("4294967280"),
+        e.contains("slice.dcm") && e.contains(tag) && e.contains(claimed),
         "{e}"
     );
     assert!(elapsed < Duration::from_secs(2), "took {elapsed:?}");

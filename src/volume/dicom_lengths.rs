@@ -115,32 +115,41 @@ impl<R: Read + Seek> Walker<R> {
         if tag.0 == 0xFFFE || !enc.explicit_vr {
             return Some((tag, None, self.u32(big)?));
         }
+        // As the parser reads it: an unknown VR is UN, and only the VRs
+        // below have a 2-byte length; all others a reserved field and 4 bytes.
         let code = self.bytes::<2>()?;
-        let vr = VR::from_binary(code);
-        let long = matches!(
+        let vr = VR::from_binary(code).unwrap_or(VR::UN);
+        let short = matches!(
             vr,
-            Some(
-                VR::OB
-                    | VR::OD
-                    | VR::OF
-                    | VR::OL
-                    | VR::OV
-                    | VR::OW
-                    | VR::SQ
-                    | VR::SV
-                    | VR::UC
-                    | VR::UN
-                    | VR::UR
-                    | VR::UT
-                    | VR::UV
-            )
+            VR::AE
+                | VR::AS
+                | VR::AT
+                | VR::CS
+                | VR::DA
+                | VR::DS
+                | VR::DT
+                | VR::FL
+                | VR::FD
+                | VR::IS
+                | VR::LO
+                | VR::LT
+                | VR::PN
+                | VR::SH
+                | VR::SL
+                | VR::SS
+                | VR::ST
+                | VR::TM
+                | VR::UI
+                | VR::UL
+                | VR::US
         );
-        let len = if long {
+        let len = if short {
+            u32::from(self.u16(big)?)
+        } else {
             self.bytes::<2>()?;
             self.u32(big)?
-        } else {
-            u32::from(self.u16(big)?)
         };
+        let vr = Some(vr);
         Some((tag, vr, len))
     }
 }
@@ -243,26 +252,31 @@ impl<R: Read> Seek for Forward<R> {
     }
 }
 
-/// Walks the meta group (explicit VR little endian) and returns the
-/// encoding of the data set, `None` when it cannot be checked.
+/// Walks the meta group (explicit VR little endian) and returns how the
+/// data set is stored, `None` when it cannot be checked. Like the parser, it
+/// reads the group length (0002,0000) first and then elements, whatever
+/// their tags, until that many bytes are read.
 fn meta_group<R: Read + Seek>(w: &mut Walker<R>) -> Result<Option<Stored>, String> {
     let meta = Encoding {
         explicit_vr: true,
         big_endian: false,
     };
+    // The parser refuses any other first element before reading a value.
+    match w.header(meta) {
+        Some((Tag(0x0002, 0x0000), _, 4)) => {}
+        _ => return Ok(None),
+    }
+    let Some(group_length) = w.u32(false) else {
+        return Ok(None);
+    };
+    let end = w.pos + u64::from(group_length);
     let mut syntax = None;
-    loop {
-        let start = w.pos;
+    while w.pos < end {
         let Some((tag, _, len)) = w.header(meta) else {
             return Ok(None);
         };
-        if tag.0 != 0x0002 {
-            // The first data set element: go back to its start.
-            if w.input.seek(SeekFrom::Start(start)).is_err() {
-                return Ok(None);
-            }
-            w.pos = start;
-            break;
+        if len == UNDEFINED {
+            return Ok(None); // refused by the parser
         }
         w.fits(tag, len)?;
         if tag == Tag(0x0002, 0x0010) {
@@ -335,6 +349,9 @@ mod tests {
         if uid.len() % 2 == 1 {
             uid.push(0);
         }
+        // Group length: the transfer syntax element that follows.
+        f.extend_from_slice(&[0x02, 0x00, 0x00, 0x00, b'U', b'L', 4, 0]);
+        f.extend_from_slice(&(8 + uid.len() as u32).to_le_bytes());
         f.extend_from_slice(&[0x02, 0x00, 0x10, 0x00, b'U', b'I']);
         f.extend_from_slice(&(uid.len() as u16).to_le_bytes());
         f.extend_from_slice(&uid);
@@ -401,6 +418,23 @@ mod tests {
         ));
         body.extend(implicit(0xFFFE, 0xE0DD, 0, &[]));
         assert_eq!(run(&file("1.2.840.10008.1.2.4.50", &body)), Ok(()));
+    }
+
+    #[test]
+    fn the_meta_group_is_walked_as_far_as_its_length_says() {
+        // The group length covers a foreign tag and then an element with an
+        // unknown VR, read (like UN) with a 4-byte length of about 4 GB.
+        let mut f = vec![0u8; 128];
+        f.extend_from_slice(b"DICM");
+        f.extend_from_slice(&[0x02, 0x00, 0x00, 0x00, b'U', b'L', 4, 0]);
+        f.extend_from_slice(&28u32.to_le_bytes());
+        f.extend_from_slice(&[0x02, 0x9A, 0x03, 0x00, b'U', b'I', 4, 0]);
+        f.extend_from_slice(b"1.2\0");
+        f.extend_from_slice(&[0x02, 0x00, 0x13, 0x00, b'S', b'b', 0, 0]);
+        f.extend_from_slice(&0xFF59_5000u32.to_le_bytes());
+        f.extend_from_slice(&[0; 16]);
+        let e = run(&f).unwrap_err();
+        assert!(e.contains("(0002,0013)") && e.contains("4284043264"), "{e}");
     }
 
     #[test]

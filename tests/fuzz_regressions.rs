@@ -75,3 +75,24 @@ fn dicom_fails_fast(name: &str, tag: &str, claimed: &str) {
     assert!(elapsed < Duration::from_secs(2), "took {elapsed:?}");
     assert!(!out_path.exists());
 }
+
+/// A slice of a fuzzed 3-slice series with RLE pixel data made the RLE
+/// decoder of dicom-transfer-syntax-registry 0.9.1 index past its buffer and
+/// panic. A panic in a pixel-data decoder is now the error of that file.
+#[test]
+fn a_panicking_pixel_decoder_is_an_error() {
+    let path = data_dir().join("fuzz/dicom_rle_panic/s0.dcm");
+    let volume = tmc::volume::open(&path, None).unwrap();
+    let plane = volume.grid().plane_len();
+    let mut out = vec![0.0; plane];
+    let errors: Vec<String> = (0..volume.grid().dims[2])
+        .filter_map(|z| volume.read_plane(z, &mut out).err())
+        .map(|e| e.to_string())
+        .collect();
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains("s2.dcm") && e.contains("the decoder failed")),
+        "{errors:?}"
+    );
+}

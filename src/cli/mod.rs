@@ -213,6 +213,10 @@ fn usage_error(e: &clap::Error) -> ExitCode {
 fn install_panic_hook() {
     static REPORTED: AtomicBool = AtomicBool::new(false);
     panic::set_hook(Box::new(|info| {
+        // A reader catches this one and reports it as an error line.
+        if tmc::volume::in_guarded_call() {
+            return;
+        }
         if REPORTED.swap(true, Ordering::SeqCst) {
             return;
         }

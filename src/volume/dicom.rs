@@ -707,9 +707,11 @@ impl DicomSeries {
         let obj = OpenFileOptions::new()
             .open_file(&plane.path)
             .map_err(|e| format_err(&plane.path, format!("not a readable DICOM file: {e}")))?;
-        let decoded = obj
-            .decode_pixel_data_frame(plane.frame)
-            .map_err(|e| format_err(&plane.path, format!("cannot decode the pixel data: {e}")))?;
+        let cannot =
+            |e: String| format_err(&plane.path, format!("cannot decode the pixel data: {e}"));
+        let decoded = super::guarded::guarded(|| obj.decode_pixel_data_frame(plane.frame))
+            .map_err(|panic| cannot(format!("the decoder failed ({panic})")))?
+            .map_err(|e| cannot(e.to_string()))?;
         Ok(decoded.data().to_vec())
     }
 }

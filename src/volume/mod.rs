@@ -9,6 +9,7 @@
 mod array;
 pub mod dicom;
 mod dicom_lengths;
+mod guarded;
 mod lent;
 pub mod metaimage;
 pub mod nifti;
@@ -29,6 +30,7 @@ pub mod vtk_legacy;
 pub mod write;
 
 pub use array::{ArrayVolume, Sample, Threshold};
+pub use guarded::in_guarded_call;
 pub use lent::LentPlane;
 pub use padded::Padded;
 pub use raw::RawVolume;

@@ -82,18 +82,6 @@ fn grow<T>(v: &mut Vec<T>, n: usize, what: &str) -> Result<()> {
         .map_err(|_| Error::alloc::<T>(what, v.len().saturating_add(n)))
 }
 
-/// `count` zeros of `T`, or [`Error::OutOfMemory`] naming `what`.
-///
-/// Allocated zeroed (`calloc`): a large block comes straight from the
-/// kernel, already zero, so nothing is written here and each page is first
-/// touched (and faulted in) by whichever thread fills it, not serially by a
-/// `memset` on this one. The fallible reservation first is a probe: the
-/// zeroed allocation itself has no fallible form on stable Rust.
-pub fn try_zeroed_vec<T: Clone + Default>(what: &str, count: usize) -> Result<Vec<T>> {
-    drop(try_vec::<T>(what, count)?);
-    Ok(vec![T::default(); count])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -29,7 +29,7 @@ pub(crate) fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     })
 }
 
-/// Whether this thread is inside [`guarded`] (a panic here is caught and
+/// Whether this thread is inside a guarded decoder call (a panic here is caught and
 /// reported as an error by the reader).
 pub fn in_guarded_call() -> bool {
     GUARDED.with(|g| g.get())

@@ -15,7 +15,7 @@
 //! still point outward.
 //!
 //! Uncompressed data is memory-mapped; a `.nii.gz` file is decompressed
-//! once into a temporary file that is then mapped (see [`super::spill`]).
+//! once into a temporary file that is then mapped (see the `spill` module).
 
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::spill::spill;

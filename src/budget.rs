@@ -11,9 +11,10 @@
 use crate::{Error, Result};
 
 /// Bytes each worker holds per sample of a z-plane, whatever the depth: two
-/// planes of `f64` samples with their edge-vertex caches and inside bits, and
-/// the z-edge cache.
-pub const WORK_BYTES_PER_SAMPLE: u64 = 48;
+/// planes of `f64` samples (for sources that cannot lend theirs) and their
+/// inside bits, rounded up (edge numbers are kept per row, see
+/// `slab::edges`).
+pub const WORK_BYTES_PER_SAMPLE: u64 = 17;
 
 /// Bytes the mesh of one cell is assumed to take while its slab waits to be
 /// written (vertices of 12 bytes, triangles of 12 bytes; dense value noise

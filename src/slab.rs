@@ -14,6 +14,7 @@
 
 use crate::kernel::cell::INTERIOR;
 mod bits;
+mod edges;
 mod spares;
 
 pub use spares::Spares;
@@ -25,14 +26,13 @@ use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
 use crate::volume::{Access, LentPlane, IDENTITY};
 use crate::{Error, Grid, Result, SampleSource, Stats};
-use bits::{below, each_bit, next, SignBits};
+use bits::{below, each_bit, next, uniform_alike, RowKind, SignBits};
+use edges::{CellEdges, EdgeRows, LayerNumbers};
 use glam::DVec3;
 use spares::{PlaneBuffers, Scratch};
 use std::ops::Range;
 use std::time::Instant;
 
-/// No vertex on this edge.
-const NONE: u32 = u32::MAX;
 /// What the slab loop's growing vectors hold, for out-of-memory errors.
 const VERTICES: &str = "the vertices of a slab";
 const TRIANGLES: &str = "the triangles of a slab";
@@ -104,12 +104,12 @@ fn empty_with_room<T>(spare: Vec<T>, n: usize, what: &str) -> Result<Vec<T>> {
     Ok(fresh)
 }
 
-/// One plane of values relative to the isovalue, with its edge vertices;
-/// two of them are reused, plane after plane, by a slab.
+/// One plane of values relative to the isovalue, with the numbers of its
+/// edge vertices; two of them are reused, plane after plane, by a slab.
 ///
-/// Edge caches are written for crossed edges only: an entry of an edge
-/// without a sign change is stale, and never read, because the tables and
-/// the ambiguous-cell kernel only refer to edges whose ends differ in sign.
+/// The vertices of a plane's crossed edges are numbered in raster order,
+/// x-edges first; only the number of each row's first vertex is kept (see
+/// [`edges`]).
 struct Plane<'s> {
     z: usize,
     /// The samples as the source lends them, if it does; else `read`.
@@ -119,10 +119,11 @@ struct Plane<'s> {
     level: Level,
     /// `rel(sample) > 0` per sample.
     inside: SignBits,
-    /// Local vertex index per crossed x-edge (`(nx - 1) * ny` entries).
-    xe: Vec<u32>,
-    /// Local vertex index per crossed y-edge (`nx * (ny - 1)` entries).
-    ye: Vec<u32>,
+    /// Local index of the first x-edge vertex of each row.
+    x_first: Vec<u32>,
+    /// Local index of the first vertex on the y-edges between rows `y` and
+    /// `y + 1`.
+    y_first: Vec<u32>,
 }
 
 /// Which side of the isovalue is inside, and the value the kernel sees.
@@ -165,8 +166,8 @@ impl PlaneBuffers {
         PlaneBuffers {
             read: Vec::new(),
             inside: SignBits::new(nx, ny),
-            xe: vec![NONE; (nx - 1) * ny],
-            ye: vec![NONE; nx * (ny - 1)],
+            x_first: vec![0; ny],
+            y_first: vec![0; ny],
         }
     }
 }
@@ -176,7 +177,8 @@ impl Scratch {
     fn new(grid: &Grid) -> Self {
         Scratch {
             planes: [PlaneBuffers::new(grid), PlaneBuffers::new(grid)],
-            ze: vec![NONE; grid.plane_len()],
+            z_first: vec![0; grid.dims[1]],
+            rows: EdgeRows::new(grid.dims[0]),
         }
     }
 }
@@ -188,8 +190,8 @@ impl<'s> Plane<'s> {
         let PlaneBuffers {
             read,
             inside,
-            xe,
-            ye,
+            x_first,
+            y_first,
         } = buffers;
         Plane {
             z: 0,
@@ -200,8 +202,8 @@ impl<'s> Plane<'s> {
                 sign: 1.0,
             },
             inside,
-            xe,
-            ye,
+            x_first,
+            y_first,
         }
     }
 
@@ -210,8 +212,8 @@ impl<'s> Plane<'s> {
         PlaneBuffers {
             read: self.read,
             inside: self.inside,
-            xe: self.xe,
-            ye: self.ye,
+            x_first: self.x_first,
+            y_first: self.y_first,
         }
     }
 
@@ -272,13 +274,15 @@ impl<'s> Plane<'s> {
         let words = self.inside.words() - 1;
         let mut count = 0u32;
         for y in 0..ny {
+            self.x_first[y] = count;
+            if self.inside.kind(y) != RowKind::Mixed {
+                continue;
+            }
             let row = self.inside.row(y);
-            let slots = &mut self.xe[y * (nx - 1)..(y + 1) * (nx - 1)];
             make_room(owned, nx, VERTICES)?;
             for k in 0..words {
                 let crossed = (row[k] ^ next(row, k)) & below(nx - 1, k);
                 each_bit(crossed, k, |x| {
-                    slots[x] = count;
                     count += 1;
                     let (a, b) = (rel(y * nx + x), rel(y * nx + x + 1));
                     owned.push(place.at([x as f64 + a / (a - b), y as f64, z as f64]));
@@ -287,12 +291,14 @@ impl<'s> Plane<'s> {
             }
         }
         for y in 0..ny - 1 {
+            self.y_first[y] = count;
+            if uniform_alike([self.inside.kind(y), self.inside.kind(y + 1)]) {
+                continue;
+            }
             let (lower, upper) = (self.inside.row(y), self.inside.row(y + 1));
-            let slots = &mut self.ye[y * nx..(y + 1) * nx];
             make_room(owned, nx, VERTICES)?;
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
-                    slots[x] = count;
                     count += 1;
                     let (a, b) = (rel(y * nx + x), rel((y + 1) * nx + x));
                     owned.push(place.at([x as f64, y as f64 + a / (a - b), z as f64]));
@@ -300,7 +306,7 @@ impl<'s> Plane<'s> {
                 })?;
             }
         }
-        Ok(())
+        check_local_indices(owned.len())
     }
 }
 
@@ -369,10 +375,11 @@ pub fn process_slab(
     source.advise(layers.start..layers.end + 1, Access::Soon);
     let Scratch {
         planes: [lower, upper],
-        mut ze,
+        mut z_first,
+        mut rows,
     } = spares
         .take_scratch()
-        .filter(|s| s.ze.len() == grid.plane_len())
+        .filter(|s| s.z_first.len() == ny)
         .unwrap_or_else(|| Scratch::new(&grid));
     let mut bottom = Plane::new(lower);
     let mut top = Plane::new(upper);
@@ -393,30 +400,45 @@ pub fn process_slab(
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
         let words = bottom.inside.words() - 1;
-        for y in 0..ny {
+        for (y, first) in z_first.iter_mut().enumerate() {
+            *first = block.vertices.len() as u32;
+            if uniform_alike([bottom.inside.kind(y), top.inside.kind(y)]) {
+                continue;
+            }
             let (lower, upper) = (bottom.inside.row(y), top.inside.row(y));
             make_room(&mut block.vertices, nx, VERTICES)?;
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     let i = y * nx + x;
                     let (a, b) = (bottom.rel(i), top.rel(i));
-                    ze[i] = local_index(&block)?;
                     block
                         .vertices
                         .push(place.at([x as f64, y as f64, z as f64 + a / (a - b)]));
-                    Ok(())
+                    Ok::<(), Error>(())
                 })?;
             }
         }
+        check_local_indices(block.vertices.len())?;
         let layer = Layer {
             place: &place,
             params,
             tables,
             bottom: &bottom,
             top: &top,
-            ze: &ze,
+            numbers: LayerNumbers {
+                nx,
+                top_tag: NEXT_BLOCK,
+                bottom: &bottom.inside,
+                top: &top.inside,
+                bottom_x: &bottom.x_first,
+                bottom_y: &bottom.y_first,
+                top_x: &top.x_first,
+                top_y: &top.y_first,
+                z: &z_first,
+            },
         };
-        layer_cells(&layer, &mut block, &mut cell, &mut stats)?;
+        rows.new_layer();
+        layer_cells(&layer, &mut rows, &mut block, &mut cell, &mut stats)?;
         finished = (block.vertices.len(), block.triangles.len());
         chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
         std::mem::swap(&mut bottom, &mut top);
@@ -428,7 +450,8 @@ pub fn process_slab(
     }
     spares.give_scratch(Scratch {
         planes: [bottom.into_buffers(), top.into_buffers()],
-        ze,
+        z_first,
+        rows,
     });
     // Release this slab's planes (its last plane is released by the slab
     // above, whose first plane it is). Should the slab below still be reading
@@ -439,13 +462,20 @@ pub fn process_slab(
 }
 
 fn local_index(block: &Block) -> Result<u32> {
-    let n = block.vertices.len() as u64;
-    if n >= NEXT_BLOCK as u64 {
+    let n = block.vertices.len();
+    check_local_indices(n)?;
+    Ok(n as u32)
+}
+
+/// Fails when `n` vertices of one block would need local indices that
+/// clash with the [`NEXT_BLOCK`] tag.
+fn check_local_indices(n: usize) -> Result<()> {
+    if n as u64 >= NEXT_BLOCK as u64 {
         return Err(Error::Invalid(
             "more than 2^31 vertices in one grid plane".into(),
         ));
     }
-    Ok(n as u32)
+    Ok(())
 }
 
 /// What the cells of one layer are triangulated from.
@@ -455,14 +485,15 @@ struct Layer<'a> {
     tables: &'a Tables,
     bottom: &'a Plane<'a>,
     top: &'a Plane<'a>,
-    /// Local vertex index per crossed z-edge between the planes.
-    ze: &'a [u32],
+    /// Where the numbers of the layer's edge vertices come from.
+    numbers: LayerNumbers<'a>,
 }
 
 /// Triangulates the cells between planes `bottom` and `top`, visiting only
 /// the cells whose corners are not all on one side.
 fn layer_cells(
     layer: &Layer,
+    rows: &mut EdgeRows,
     block: &mut Block,
     cell: &mut CellMesh,
     stats: &mut Stats,
@@ -471,6 +502,15 @@ fn layer_cells(
     let (bottom, top) = (layer.bottom, layer.top);
     let words = bottom.inside.words() - 1;
     for y in 0..ny - 1 {
+        let kinds = [
+            bottom.inside.kind(y),
+            bottom.inside.kind(y + 1),
+            top.inside.kind(y),
+            top.inside.kind(y + 1),
+        ];
+        if uniform_alike(kinds) {
+            continue;
+        }
         // Room for the MC triangles of every cell of the row, so that they
         // are pushed without a check (an ambiguous cell keeps this room).
         make_room(
@@ -478,6 +518,7 @@ fn layer_cells(
             layer.tables.mc_most * (nx - 1),
             TRIANGLES,
         )?;
+        let edges = rows.cell_row(y, &layer.numbers);
         let rows = [
             bottom.inside.row(y),
             bottom.inside.row(y + 1),
@@ -504,7 +545,7 @@ fn layer_cells(
                     .iter()
                     .enumerate()
                     .fold(0u8, |m, (c, w)| m | (((w >> j) & 1) as u8) << c);
-                cell_at(layer, block, cell, stats, x, y, config)
+                cell_at(layer, edges.cell(x), block, cell, stats, [x, y], config)
             })?;
         }
     }
@@ -516,11 +557,11 @@ fn layer_cells(
 #[inline]
 fn cell_at(
     layer: &Layer,
+    edges: CellEdges,
     block: &mut Block,
     cell: &mut CellMesh,
     stats: &mut Stats,
-    x: usize,
-    y: usize,
+    [x, y]: [usize; 2],
     config: u8,
 ) -> Result<()> {
     let Layer {
@@ -529,28 +570,11 @@ fn cell_at(
         tables: t,
         bottom,
         top,
-        ze,
+        ..
     } = *layer;
     let nx = place.grid.dims[0];
     let i = y * nx + x;
-    let xi = y * (nx - 1) + x;
-    // Edge numbering of `kernel::cube`; upper-plane edges belong to the
-    // next block.
-    let edge_refs = [
-        bottom.xe[xi],
-        bottom.xe[xi + nx - 1],
-        top.xe[xi] | NEXT_BLOCK,
-        top.xe[xi + nx - 1] | NEXT_BLOCK,
-        bottom.ye[i],
-        bottom.ye[i + 1],
-        top.ye[i] | NEXT_BLOCK,
-        top.ye[i + 1] | NEXT_BLOCK,
-        ze[i],
-        ze[i + 1],
-        ze[i + nx],
-        ze[i + nx + 1],
-    ];
-    let edge_ref = |e: u8| edge_refs[e as usize];
+    let edge_ref = |e: u8| edges.get(e);
     let ambiguous = t.is_ambiguous[config as usize];
     if ambiguous {
         stats.ambiguous_cells += 1;

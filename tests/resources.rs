@@ -102,7 +102,7 @@ fn max_memory_thins_the_slabs_and_keeps_the_output() {
     };
     let (free, free_slabs) = run("free.ply", &[]);
     // 24 MiB: 16 MiB of buffers, two workers on 200x200 planes, and slabs
-    // of about 9 layers instead of 13 (99 layers, about four slabs per
+    // of about 10 layers instead of 13 (99 layers, about four slabs per
     // worker by default).
     let (bounded, bounded_slabs) = run("bounded.ply", &["--max-memory", "24M"]);
     assert_eq!(free_slabs, 8);

@@ -10,11 +10,29 @@ use crate::volume::{Sample, Threshold};
 
 /// One bit per sample (`1` = inside), row by row; each row is padded with
 /// one all-zero word, so the "next sample" of a row's last word is defined.
+/// Each row also has a [`RowKind`], so that loops over rows or pairs of rows
+/// can pass over uniform ones without looking at their words.
 #[derive(Debug)]
 pub(super) struct SignBits {
     /// Words per row, padding included.
     words: usize,
     bits: Vec<u64>,
+    kinds: Vec<RowKind>,
+}
+
+/// Whether a row's samples are all outside, all inside, or some of each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum RowKind {
+    Outside,
+    Inside,
+    Mixed,
+}
+
+/// True when the rows of `kinds` are all outside or all inside: no edge
+/// between their samples and no cell between them is crossed.
+#[inline]
+pub(super) fn uniform_alike<const N: usize>(kinds: [RowKind; N]) -> bool {
+    kinds[0] != RowKind::Mixed && kinds.iter().all(|&k| k == kinds[0])
 }
 
 impl SignBits {
@@ -24,7 +42,14 @@ impl SignBits {
         SignBits {
             words,
             bits: vec![0; words * ny],
+            kinds: vec![RowKind::Outside; ny],
         }
+    }
+
+    /// The kind of row `y`.
+    #[inline]
+    pub(super) fn kind(&self, y: usize) -> RowKind {
+        self.kinds[y]
     }
 
     /// Words per row, padding included (the last word of a row is zero).
@@ -60,7 +85,24 @@ impl SignBits {
                 Threshold::Above(t) => pack_bits(values, bits, |v| v > t),
                 Threshold::Below(t) => pack_bits(values, bits, |v| v < t),
             }
+            self.kinds[y] = row_kind(self.row(y), nx);
         }
+    }
+}
+
+/// The kind of a row of `nx` samples.
+fn row_kind(row: &[u64], nx: usize) -> RowKind {
+    let last = nx.div_ceil(64) - 1;
+    let any = row[..=last].iter().fold(0, |m, w| m | w);
+    let all = row[..last]
+        .iter()
+        .fold(row[last] | !below(nx, last), |m, w| m & w);
+    if any == 0 {
+        RowKind::Outside
+    } else if all == u64::MAX {
+        RowKind::Inside
+    } else {
+        RowKind::Mixed
     }
 }
 
@@ -159,6 +201,13 @@ mod tests {
                     for y in 0..ny {
                         let row = bits.row(y);
                         assert_eq!(row, via_f64.row(y));
+                        let inside = (0..nx).filter(|&x| row[x / 64] >> (x % 64) & 1 == 1);
+                        let expect_kind = match inside.count() {
+                            0 => RowKind::Outside,
+                            n if n == nx => RowKind::Inside,
+                            _ => RowKind::Mixed,
+                        };
+                        assert_eq!(bits.kind(y), expect_kind, "nx {nx} iso {iso} y {y}");
                         for x in 0..64 * bits.words() {
                             let bit = row[x / 64] >> (x % 64) & 1 == 1;
                             let expect = x < nx && {

@@ -10,6 +10,7 @@
 //! extraction, and about a fifth of its time on this machine.
 
 use super::bits::SignBits;
+use super::edges::EdgeRows;
 use crate::sink::Chunk;
 use crossbeam::queue::ArrayQueue;
 
@@ -19,16 +20,17 @@ use crossbeam::queue::ArrayQueue;
 pub(super) struct PlaneBuffers {
     pub(super) read: Vec<f64>,
     pub(super) inside: SignBits,
-    pub(super) xe: Vec<u32>,
-    pub(super) ye: Vec<u32>,
+    pub(super) x_first: Vec<u32>,
+    pub(super) y_first: Vec<u32>,
 }
 
-/// What one slab works in besides its blocks: two planes and the z-edge
-/// cache.
+/// What one slab works in besides its blocks: two planes, the first z-edge
+/// vertex of each row and the row arrays of edge numbers.
 #[derive(Debug)]
 pub(super) struct Scratch {
     pub(super) planes: [PlaneBuffers; 2],
-    pub(super) ze: Vec<u32>,
+    pub(super) z_first: Vec<u32>,
+    pub(super) rows: EdgeRows,
 }
 
 /// The spare buffers of one extraction, shared by its workers and the

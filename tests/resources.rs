@@ -101,11 +101,10 @@ fn max_memory_thins_the_slabs_and_keeps_the_output() {
         (fs::read(&output).unwrap(), slabs(&out.stdout))
     };
     let (free, free_slabs) = run("free.ply", &[]);
-    // 24 MiB: 16 MiB of buffers, two workers on 200x200 planes, and slabs
-    // of about 10 layers instead of 13 (99 layers, about four slabs per
-    // worker by default).
-    let (bounded, bounded_slabs) = run("bounded.ply", &["--max-memory", "24M"]);
-    assert_eq!(free_slabs, 8);
+    // 20 MiB: 16 MiB of buffers, two workers on 200x200 planes, and slabs
+    // of 4 layers instead of 8 (99 layers, the thinnest default slabs).
+    let (bounded, bounded_slabs) = run("bounded.ply", &["--max-memory", "20M"]);
+    assert_eq!(free_slabs, 13);
     assert!(bounded_slabs > free_slabs, "{bounded_slabs} slabs");
     assert!(free == bounded, "--max-memory changed the output");
     let (roomy, roomy_slabs) = run("roomy.ply", &["--max-memory", "4G"]);

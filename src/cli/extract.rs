@@ -74,7 +74,7 @@ pub(crate) struct ExtractArgs {
 
     /// Cell layers per slab (1 to 64; a slab is the unit of parallel work);
     /// by default about 64 M samples per slab, 16 to 64 layers, and with
-    /// several threads about four slabs per thread (at least 8 layers
+    /// several threads about sixteen slabs per thread (at least 8 layers
     /// each). Memory grows with it; the output does not depend on it.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=64))]
     pub slab_depth: Option<u16>,

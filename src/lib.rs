@@ -8,7 +8,7 @@
 //! three quadratic equations of the paper.
 //!
 //! The pipeline, one module per stage:
-//! `volume` (sample sources) -> `slab` (layers of cells, edge caches) ->
+//! `volume` (sample sources) -> `slab` (layers of cells, per-row edge numbers) ->
 //! `kernel` (one cell) -> `seam` (global vertex numbering across slabs) ->
 //! `mesh` -> `export` (PLY, OBJ, OFF, STL); `check` validates meshes.
 //!

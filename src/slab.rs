@@ -1,4 +1,4 @@
-//! The slab loop: cell layers along z, with per-plane edge-vertex caches.
+//! The slab loop: cell layers along z, edge vertices numbered per row.
 //!
 //! Vertices are owned by grid planes. Block `z` holds, in this order: the
 //! vertices on x-edges of plane `z` (raster order), those on its y-edges, the
@@ -10,7 +10,8 @@
 //! `z + 1` (its plane vertices, numbered the same way by both slabs that
 //! see that plane), so each block leaves the slab as a [`Chunk`] with
 //! indices relative to its first vertex, and the seam step only adds
-//! offsets. Inside a slab no hashing is needed: edge caches are plain arrays.
+//! offsets. Inside a slab no hashing is needed: an edge vertex's number
+//! follows from the sign bits of its row (module `slab::edges`).
 
 use crate::kernel::cell::INTERIOR;
 mod bits;

@@ -3,7 +3,7 @@
 //! A large fresh allocation comes from the kernel as untouched pages, and
 //! the first write to each page costs a page fault. Slabs of one extraction
 //! need buffers of about the same sizes, slab after slab: the plane buffers
-//! (samples, inside bits, edge caches) and the vectors of each block. Taking
+//! (samples, inside bits, edge numbers) and the vectors of each block. Taking
 //! them from the slab before instead of from the allocator saves a fault
 //! per 4 KiB of mesh and of plane: on dense value noise (258^3, 29M
 //! triangles) that was more than half of all page faults of an in-memory

@@ -30,9 +30,9 @@ pub struct ContourSet {
     pub outside_comp: [u8; 4],
     /// Surface component label of each corner (the smallest corner in it).
     pub corner_comp: [u8; 8],
-    /// Whether the interior could join two surface components at all (see
-    /// [`super::tunnel::may_join`]); when not, the tunnel test is skipped.
-    pub may_tunnel: bool,
+    /// Which sweeps of the tunnel test could join two surface components
+    /// (see [`super::tunnel::may_join`]); 0: the test is skipped.
+    pub tunnel_pairs: u8,
 }
 
 impl ContourSet {
@@ -87,7 +87,7 @@ pub fn build(config: u8, joined: u8) -> ContourSet {
     let comp = surface_components(config, joined);
     let mut set = ContourSet {
         corner_comp: comp,
-        may_tunnel: super::tunnel::may_join(config, &comp),
+        tunnel_pairs: super::tunnel::may_join(config, &comp),
         ..ContourSet::default()
     };
     let mut used = [false; 12];

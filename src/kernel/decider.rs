@@ -10,11 +10,25 @@
 
 /// Sign of `p * q - r * s`, exact for finite inputs (no overflow assumed).
 ///
-/// Kahan's fused-multiply-add evaluation: the rounding error of `r * s` is
-/// recovered exactly, so the result is zero iff the exact value is zero and
-/// otherwise has the exact value's sign. Symmetric in `p <-> q` and `r <-> s`,
-/// so both cells sharing a face get the same answer.
+/// First the plain difference of the rounded products: rounding is
+/// monotonic, so `p q > r s` gives `fl(p q) >= fl(r s)`, and the difference
+/// of two different floats is never rounded to zero; a nonzero difference
+/// therefore has the exact sign. Only when the rounded products are equal
+/// does it take Kahan's fused-multiply-add evaluation: the rounding error of
+/// `r * s` is recovered exactly, so the result is zero iff the exact value is
+/// zero and otherwise has the exact value's sign. (Without a hardware FMA in
+/// the target's baseline `mul_add` is a library call, kept for these
+/// near-ties.) Symmetric in `p <-> q` and `r <-> s`, so both cells sharing a
+/// face get the same answer.
 pub fn det2_sign(p: f64, q: f64, r: f64, s: f64) -> std::cmp::Ordering {
+    let d = p * q - r * s;
+    if d != 0.0 {
+        return if d > 0.0 {
+            std::cmp::Ordering::Greater
+        } else {
+            std::cmp::Ordering::Less
+        };
+    }
     let w = r * s;
     let e = (-r).mul_add(s, w); // w - r*s, exact
     let f = p.mul_add(q, -w); // p*q - w, rounded once
@@ -44,6 +58,33 @@ mod tests {
         // (2^40 + 1)^2 - (2^40)(2^40 + 2) = 1, invisible to plain f64.
         assert_eq!(det2_sign(big + 1.0, big + 1.0, big, big + 2.0), Greater);
         assert_eq!(det2_sign(big, big + 2.0, big + 1.0, big + 1.0), Less);
+    }
+
+    #[test]
+    fn the_plain_difference_shortcut_agrees_with_exact_arithmetic() {
+        // Near-ties (rounded products equal or one ulp apart) and random
+        // values, scaled to large and small magnitudes, against the sign
+        // computed exactly in i128.
+        let mut next = crate::kernel::xorshift(0x2545_f491_4f6c_dd1du64);
+        for round in 0..200_000u32 {
+            let exponent = [0, 40, -40, 400, -400][round as usize % 5];
+            let scale = 2f64.powi(exponent);
+            // 40-bit integers: exact as f64, their products rounded.
+            let int = |r: u64| (r % (1 << 40)) as i64 - (1 << 39);
+            let small = |r: u64| (r % 8193) as i64 - 4096;
+            let [ip, iq, ir, is] = if round % 2 == 0 {
+                // Near-ties: (a + x)(a + y) - a (a + x + y + d) = x y - a d,
+                // tiny next to the products when d = 0.
+                let (a, x, y) = (int(next()) / 2, small(next()), small(next()));
+                let d = [0, 0, 0, 1, -1][(next() % 5) as usize];
+                [a + x, a + y, a, a + x + y + d]
+            } else {
+                [int(next()), int(next()), int(next()), int(next())]
+            };
+            let exact = (i128::from(ip) * i128::from(iq)).cmp(&(i128::from(ir) * i128::from(is)));
+            let [p, q, r, s] = [ip, iq, ir, is].map(|v| v as f64 * scale);
+            assert_eq!(det2_sign(p, q, r, s), exact, "{p} {q} {r} {s}");
+        }
     }
 
     #[test]

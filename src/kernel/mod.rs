@@ -27,3 +27,14 @@ pub mod triangulate;
 pub mod tunnel;
 
 pub use cell::{triangulate_ambiguous, CellMesh, VertexRef};
+
+/// A xorshift generator for the kernel's randomised tests (`seed` nonzero).
+#[cfg(test)]
+pub(crate) fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    }
+}

@@ -37,27 +37,43 @@ pub struct Join {
 /// fixed order (inside components first); a join is a tunnel. A trilinear
 /// cell holds at most one tunnel.
 pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Option<Join> {
-    if !set.may_tunnel {
+    let pairs = set.tunnel_pairs;
+    if pairs == 0 {
         return None;
     }
-    let mut joins = Joins::default();
-    let mut labels = set.corner_comp;
+    let labels = &set.corner_comp;
+    let (inside, outside) = (pairs & 0b11, pairs >> 2);
+    if let Some(ints) = small_integers(g) {
+        // Every 8- and 16-bit volume at an integer isovalue: no scaling.
+        return sweep(&ints, false, inside, labels)
+            .or_else(|| sweep(&ints.map(|v| -v), true, outside, labels));
+    }
     if let Some((scale, bits)) = integer_scale(g) {
         if bits <= SMALL_BITS {
             let ints = g.map(|v| (v * scale) as i64);
-            sweep(&ints, false, &mut labels, &mut joins);
-            sweep(&ints.map(|v| -v), true, &mut labels, &mut joins);
+            sweep(&ints, false, inside, labels)
+                .or_else(|| sweep(&ints.map(|v| -v), true, outside, labels))
         } else {
             let ints = g.map(|v| (v * scale) as i128);
-            sweep(&ints, false, &mut labels, &mut joins);
-            sweep(&ints.map(|v| -v), true, &mut labels, &mut joins);
+            sweep(&ints, false, inside, labels)
+                .or_else(|| sweep(&ints.map(|v| -v), true, outside, labels))
         }
     } else {
         let s = normalized(g);
-        sweep(&s, false, &mut labels, &mut joins);
-        sweep(&s.map(|v| -v), true, &mut labels, &mut joins);
+        sweep(&s, false, inside, labels).or_else(|| sweep(&s.map(|v| -v), true, outside, labels))
     }
-    joins.first
+}
+
+/// The eight values as `i64`s if they are all integers of magnitude below
+/// `2^SMALL_BITS` (what [`integer_scale`] finds with scale 1, without its
+/// bit by bit look at each value).
+fn small_integers(g: &[f64; 8]) -> Option<[i64; 8]> {
+    let ints = g.map(|v| v as i64);
+    let small = g
+        .iter()
+        .zip(&ints)
+        .all(|(&v, &i)| i as f64 == v && i.abs() < 1 << SMALL_BITS);
+    small.then_some(ints)
 }
 
 /// The diagonal pairs of `w`-edges a sweep looks at, `(k, kk, j, jj)`: edges
@@ -65,38 +81,30 @@ pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Option<Join> {
 /// saddle determinant `a_k a_kk - a_j a_jj` is positive.
 const DIAGONALS: [(usize, usize, usize, usize); 2] = [(0, 3, 1, 2), (1, 2, 0, 3)];
 
-/// Can a sweep find any join for configuration `config` (bit `c` set: corner
-/// `c` inside) with corner labels `labels`? Only if, for some sign and some
-/// diagonal pair of `w`-edges, each edge has a corner of that sign and those
-/// corners carry different labels: otherwise every pair is passed over
-/// before any arithmetic, and no label ever changes. Depends on the
-/// configuration and face decisions only, so the tables hold it.
+/// Which sweeps can find a join for configuration `config` (bit `c` set:
+/// corner `c` inside) with corner labels `labels`: bit `2 s + d` for the
+/// diagonal pair `DIAGONALS[d]` on the inside (`s = 0`) or the outside
+/// (`s = 1`). A pair can join only if each of its edges has a corner of that
+/// sign and those corners carry different labels: otherwise the sweep passes
+/// it over before any arithmetic. Depends on the configuration and face
+/// decisions only, so the tables hold it.
 ///
 /// Exact because the sweep sees the same signs as `config`: scaling to
 /// integers or normalising never turns a nonzero value into zero.
-pub fn may_join(config: u8, labels: &[u8; 8]) -> bool {
+pub fn may_join(config: u8, labels: &[u8; 8]) -> u8 {
     let inside = |c: usize| config >> c & 1 == 1;
-    [true, false].into_iter().any(|sign| {
+    let mut pairs = 0;
+    for (s, sign) in [true, false].into_iter().enumerate() {
         let corner = |k: usize| [k, k + 4].into_iter().find(|&c| inside(c) == sign);
-        DIAGONALS
-            .iter()
-            .any(|&(k, kk, _, _)| match (corner(k), corner(kk)) {
-                (Some(a), Some(b)) => labels[a] != labels[b],
-                _ => false,
-            })
-    })
-}
-
-/// Joins found by a sweep (only the first one is triangulated).
-#[derive(Default)]
-struct Joins {
-    first: Option<Join>,
-}
-
-impl Joins {
-    fn push(&mut self, j: Join) {
-        self.first.get_or_insert(j);
+        for (d, &(k, kk, _, _)) in DIAGONALS.iter().enumerate() {
+            if let (Some(a), Some(b)) = (corner(k), corner(kk)) {
+                if labels[a] != labels[b] {
+                    pairs |= 1 << (2 * s + d);
+                }
+            }
+        }
     }
+    pairs
 }
 
 /// Arithmetic the sweep needs; exact for `i128`, rounded for `f64`.
@@ -149,11 +157,17 @@ impl<T: Num> Frac<T> {
 }
 
 /// Sweeps one sign: `h > 0` inside (`closed = false`), or `h >= 0` for the
-/// outside region given as `h = -g` (`closed = true`). Unites the labels of
-/// diagonal edges joined in the interior and records each new join.
-fn sweep<T: Num>(h: &[T; 8], closed: bool, labels: &mut [u8; 8], joins: &mut Joins) {
+/// outside region given as `h = -g` (`closed = true`), over the diagonal
+/// pairs of `DIAGONALS` whose bit is set in `pairs`; returns the first join
+/// of two differently labelled diagonal edges in the interior. (Later joins
+/// would only unite labels for pairs looked at after it, and only the first
+/// join is triangulated.)
+fn sweep<T: Num>(h: &[T; 8], closed: bool, pairs: u8, labels: &[u8; 8]) -> Option<Join> {
     let is_in = |v: T| if closed { v >= T::ZERO } else { v > T::ZERO };
-    for (k, kk, j, jj) in DIAGONALS {
+    for (d, (k, kk, j, jj)) in DIAGONALS.into_iter().enumerate() {
+        if pairs >> d & 1 == 0 {
+            continue;
+        }
         let (Some(ik), Some(ikk)) = (
             range(h[k], h[k + 4], closed),
             range(h[kk], h[kk + 4], closed),
@@ -169,18 +183,13 @@ fn sweep<T: Num>(h: &[T; 8], closed: bool, labels: &mut [u8; 8], joins: &mut Joi
         let lo = if ik.0.less(ikk.0) { ikk.0 } else { ik.0 };
         let hi = if ik.1.less(ikk.1) { ik.1 } else { ikk.1 };
         if joined_on(h, (k, kk, j, jj), lo, hi, closed) {
-            joins.push(Join {
+            return Some(Join {
                 a: la.min(lb),
                 b: la.max(lb),
             });
-            let (from, to) = (la.max(lb), la.min(lb));
-            for l in labels.iter_mut() {
-                if *l == from {
-                    *l = to;
-                }
-            }
         }
     }
+    None
 }
 
 /// The range of `t` where the edge from `bottom` to `top` is in the region.
@@ -383,13 +392,7 @@ mod tests {
         // Pseudo-random cells with values up to the i64 bound (and the bound
         // itself), both signs, many ties at zero.
         let limit = (1i64 << SMALL_BITS) - 1;
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::kernel::xorshift(0x9e37_79b9_7f4a_7c15u64);
         let mut found = 0;
         for round in 0..20_000 {
             let g: [i64; 8] = std::array::from_fn(|_| match next() % 5 {
@@ -401,21 +404,43 @@ mod tests {
             let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0) << c));
             for joined in [0u8, 63, (round % 64) as u8] {
                 let set = contour::build(config, joined);
-                let (mut small, mut wide) = (Joins::default(), Joins::default());
-                let (mut ls, mut lw) = (set.corner_comp, set.corner_comp);
-                sweep(&g, false, &mut ls, &mut small);
-                sweep(&g.map(|v| -v), true, &mut ls, &mut small);
-                let g128 = g.map(i128::from);
-                sweep(&g128, false, &mut lw, &mut wide);
-                sweep(&g128.map(|v| -v), true, &mut lw, &mut wide);
-                assert_eq!(small.first, wide.first, "{g:?}");
-                assert_eq!(ls, lw, "{g:?}");
-                found += usize::from(small.first.is_some());
+                let labels = &set.corner_comp;
+                for (closed, h) in [(false, g), (true, g.map(|v| -v))] {
+                    let small = sweep(&h, closed, 0b11, labels);
+                    let wide = sweep(&h.map(i128::from), closed, 0b11, labels);
+                    assert_eq!(small, wide, "{g:?}");
+                    found += usize::from(small.is_some());
+                }
             }
         }
         assert!(found > 100, "only {found} joins: the cells test too little");
         let bits = integer_scale(&[limit as f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
         assert_eq!(bits, Some((1.0, SMALL_BITS)));
+    }
+
+    #[test]
+    fn small_integers_are_integer_scale_at_scale_one() {
+        let limit = 1i64 << SMALL_BITS;
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            -3.0,
+            0.5,
+            (limit - 1) as f64,
+            -(limit - 1) as f64,
+        ];
+        let more = [limit as f64, 1e-300, f64::NAN, f64::INFINITY, 2.5, 1e20];
+        for (i, &v) in values.iter().chain(&more).enumerate() {
+            let g = [v, 2.0, -1.0, 0.0, 7.0, -7.0, values[i % values.len()], 1.0];
+            let expected = match integer_scale(&g) {
+                Some((scale, bits)) if scale == 1.0 && bits <= SMALL_BITS => {
+                    Some(g.map(|v| v as i64))
+                }
+                _ => None,
+            };
+            assert_eq!(small_integers(&g), expected, "{g:?}");
+        }
     }
 
     #[test]
@@ -455,13 +480,7 @@ mod tests {
         // Random cells, integer and fractional, with magnitudes far apart
         // (down to values that underflow when normalised): the shortcut
         // gives what the full sweeps give.
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = crate::kernel::xorshift(0x9E37_79B9_7F4A_7C15u64);
         let tables = crate::kernel::tables::tables();
         let (mut skipped, mut found) = (0, 0);
         for _ in 0..200_000 {
@@ -482,12 +501,12 @@ mod tests {
             let joined = crate::kernel::cell::face_decisions(&g, config);
             let set = tables.contours[config as usize * 64 + joined as usize];
             let forced = ContourSet {
-                may_tunnel: true,
+                tunnel_pairs: 0b1111,
                 ..set
             };
             let full = interior_joins(&g, &forced);
             assert_eq!(interior_joins(&g, &set), full, "{g:?}");
-            skipped += usize::from(!set.may_tunnel);
+            skipped += usize::from(set.tunnel_pairs == 0);
             found += usize::from(full.is_some());
         }
         assert!(

@@ -97,7 +97,7 @@ pub(super) struct CellRowEdges<'a> {
 }
 
 impl EdgeRows {
-    /// Row arrays for rows of `nx` samples.
+    /// Records for rows of `nx` samples.
     pub(super) fn new(nx: usize) -> Self {
         EdgeRows {
             records: vec![[0; 8]; nx],

@@ -27,7 +27,7 @@ use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
 use crate::volume::{Access, LentPlane, IDENTITY};
 use crate::{Error, Grid, Result, SampleSource, Stats};
-use bits::{below, each_bit, next, uniform_alike, RowKind, SignBits};
+use bits::{below, each_bit, next, uniform_alike, x_crossings, RowKind, SignBits};
 use edges::{CellEdges, EdgeRows, LayerNumbers};
 use glam::DVec3;
 use spares::{PlaneBuffers, Scratch};
@@ -273,18 +273,17 @@ impl<'s> Plane<'s> {
         let (lent, read) = (self.lent, &self.read);
         let rel = |i: usize| rel_at(lent, read, level, i);
         let words = self.inside.words() - 1;
-        let mut count = 0u32;
+        // The plane's vertices open their block: local numbers start at 0.
+        debug_assert!(owned.is_empty());
         for y in 0..ny {
-            self.x_first[y] = count;
+            self.x_first[y] = owned.len() as u32;
             if self.inside.kind(y) != RowKind::Mixed {
                 continue;
             }
             let row = self.inside.row(y);
             make_room(owned, nx, VERTICES)?;
             for k in 0..words {
-                let crossed = (row[k] ^ next(row, k)) & below(nx - 1, k);
-                each_bit(crossed, k, |x| {
-                    count += 1;
+                each_bit(x_crossings(row, k, nx), k, |x| {
                     let (a, b) = (rel(y * nx + x), rel(y * nx + x + 1));
                     owned.push(place.at([x as f64 + a / (a - b), y as f64, z as f64]));
                     Ok::<(), Error>(())
@@ -292,7 +291,7 @@ impl<'s> Plane<'s> {
             }
         }
         for y in 0..ny - 1 {
-            self.y_first[y] = count;
+            self.y_first[y] = owned.len() as u32;
             if uniform_alike([self.inside.kind(y), self.inside.kind(y + 1)]) {
                 continue;
             }
@@ -300,7 +299,6 @@ impl<'s> Plane<'s> {
             make_room(owned, nx, VERTICES)?;
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
-                    count += 1;
                     let (a, b) = (rel(y * nx + x), rel((y + 1) * nx + x));
                     owned.push(place.at([x as f64, y as f64 + a / (a - b), z as f64]));
                     Ok::<(), Error>(())

@@ -42,26 +42,24 @@ pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Option<Join> {
         return None;
     }
     let labels = &set.corner_comp;
-    let (inside, outside) = (pairs & 0b11, pairs >> 2);
     if let Some(ints) = small_integers(g) {
         // Every 8- and 16-bit volume at an integer isovalue: no scaling.
-        return sweep(&ints, false, inside, labels)
-            .or_else(|| sweep(&ints.map(|v| -v), true, outside, labels));
+        return sweep_both(&ints, pairs, labels);
     }
-    if let Some((scale, bits)) = integer_scale(g) {
-        if bits <= SMALL_BITS {
-            let ints = g.map(|v| (v * scale) as i64);
-            sweep(&ints, false, inside, labels)
-                .or_else(|| sweep(&ints.map(|v| -v), true, outside, labels))
-        } else {
-            let ints = g.map(|v| (v * scale) as i128);
-            sweep(&ints, false, inside, labels)
-                .or_else(|| sweep(&ints.map(|v| -v), true, outside, labels))
+    match integer_scale(g) {
+        Some((scale, bits)) if bits <= SMALL_BITS => {
+            sweep_both(&g.map(|v| (v * scale) as i64), pairs, labels)
         }
-    } else {
-        let s = normalized(g);
-        sweep(&s, false, inside, labels).or_else(|| sweep(&s.map(|v| -v), true, outside, labels))
+        Some((scale, _)) => sweep_both(&g.map(|v| (v * scale) as i128), pairs, labels),
+        None => sweep_both(&normalized(g), pairs, labels),
     }
+}
+
+/// The inside sweep of `h` over the pairs of `pairs & 0b11`, then, if it
+/// found no join, the outside sweep over those of `pairs >> 2`.
+fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
+    sweep(h, false, pairs & 0b11, labels)
+        .or_else(|| sweep(&h.map(|v| -v), true, pairs >> 2, labels))
 }
 
 /// The eight values as `i64`s if they are all integers of magnitude below

@@ -155,6 +155,15 @@ pub(super) fn next(row: &[u64], k: usize) -> u64 {
     (row[k] >> 1) | (row[k + 1] << 63)
 }
 
+/// Word `k` of the crossed x-edges of `row` (a row of `nx` samples): bit
+/// `j` is set when samples `64 k + j` and `64 k + j + 1` differ in sign. The
+/// one definition both the numbering of a plane's vertices and the cells'
+/// look-up of those numbers count with.
+#[inline]
+pub(super) fn x_crossings(row: &[u64], k: usize, nx: usize) -> u64 {
+    (row[k] ^ next(row, k)) & below(nx - 1, k)
+}
+
 /// Bits of the positions `x < len` within word `k`.
 #[inline]
 pub(super) fn below(len: usize, k: usize) -> u64 {

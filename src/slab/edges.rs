@@ -16,7 +16,7 @@
 //! left the cache by the time the cells read them: on a sparse 512^3 surface
 //! that waiting took about a tenth of the extraction.
 
-use super::bits::{below, each_bit, next, SignBits};
+use super::bits::{each_bit, x_crossings, SignBits};
 use std::convert::Infallible;
 
 /// No row held.
@@ -146,7 +146,7 @@ impl EdgeRows {
         ] {
             let row = bits.row(r);
             number_row(out, field + parity, words, first, |k| {
-                (row[k] ^ next(row, k)) & below(nx - 1, k)
+                x_crossings(row, k, nx)
             });
         }
         let (lower, upper) = (numbers.bottom.row(r), numbers.top.row(r));

@@ -3,7 +3,7 @@
 use super::contour::ContourSet;
 use super::cube::{EDGE_CORNERS, FACE_CORNERS};
 use super::decider::inside_joined;
-use super::quadratic::{inner_hexagon, saddle_points};
+use super::quadratic::{inner_hexagon, saddle_points, Saddles};
 use super::tables::tables;
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
 use super::tunnel::interior_joins;
@@ -71,11 +71,35 @@ pub fn edge_point(g: &[f64; 8], e: usize) -> DVec3 {
 
 /// Face decisions of a cell: bit `f` set iff the inside corners of
 /// ambiguous face `f` are joined across it (asymptotic decider).
+///
+/// All six faces at once without a branch: with `d = g0 g2 - g1 g3` over the
+/// face's corners, the inside corners are joined iff `d > 0` when corner 0
+/// of the face is inside and iff `d < 0` otherwise (the same difference of
+/// the same rounded products, negated; see [`det2_sign`](super::decider::det2_sign) for why its sign
+/// is exact when nonzero). Only faces where the rounded products tie go to
+/// the exact decider.
 pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
     let ambiguous = tables().ambiguous_faces[config as usize];
+    let (mut positive, mut negative, mut first_inside) = (0u8, 0u8, 0u8);
+    for (f, q) in FACE_CORNERS.iter().enumerate() {
+        let d = g[q[0]] * g[q[2]] - g[q[1]] * g[q[3]];
+        positive |= u8::from(d > 0.0) << f;
+        negative |= u8::from(d < 0.0) << f;
+        first_inside |= (config >> q[0] & 1) << f;
+    }
+    let joined = (positive & first_inside) | (negative & !first_inside);
+    let ties = ambiguous & !(positive | negative);
+    if ties == 0 {
+        return joined & ambiguous;
+    }
+    (joined & ambiguous & !ties) | exact_decisions(g, ties)
+}
+
+/// The asymptotic decider, exact, on each face of `faces`.
+fn exact_decisions(g: &[f64; 8], faces: u8) -> u8 {
     let mut joined = 0u8;
     for (f, q) in FACE_CORNERS.iter().enumerate() {
-        if ambiguous >> f & 1 == 0 {
+        if faces >> f & 1 == 0 {
             continue;
         }
         let (i0, o0) = if g[q[0]] > 0.0 { (0, 1) } else { (1, 0) };
@@ -89,18 +113,30 @@ pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
 /// Triangulates an ambiguous cell (Definition 1) with values `g` (inside iff
 /// `> 0`) and configuration `config`; counts the paper's Table 1 in `stats`.
 pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &mut CellMesh) {
-    let set = &tables().contours[config as usize * 64 + face_decisions(g, config) as usize];
+    let t = tables();
+    let index = config as usize * 64 + face_decisions(g, config) as usize;
+    let set = &t.contours[index];
     let tunnel = if set.count >= 2 {
         interior_joins(g, set).and_then(|j| tunnel_contours(set, j.a, j.b))
     } else {
         None
     };
+    // Flat contours and no tunnel (most ambiguous cells): the table's fans.
+    let fans = t.plain_fans(index);
+    if tunnel.is_none() && !fans.is_empty() {
+        for &n in &set.len[..set.count as usize] {
+            if let Some(count) = stats.contours.get_mut(usize::from(n) - 3) {
+                *count += 1;
+            }
+        }
+        out.triangles.extend_from_slice(fans);
+        return;
+    }
     // Positions of the edge vertices, local coordinates (only crossing edges
-    // are read), needed only to place interior vertices: most ambiguous
-    // cells are plain fans and skip them.
+    // are read), needed only to fit strips to the inner hexagon.
     let mut points = [DVec3::ZERO; 12];
     let twelve = set.len[..set.count as usize].contains(&12);
-    if tunnel.is_some() || twelve || set.meets_face_twice != 0 {
+    if tunnel.is_some() || twelve {
         let total: usize = set.len.iter().map(|&l| l as usize).sum();
         for &e in &set.edges[..total] {
             points[e as usize] = edge_point(g, e as usize);
@@ -126,13 +162,13 @@ pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &
                 stats.ambiguous_contours[n - 6] += 1;
             }
             let saddles = saddles.get_or_insert_with(|| saddle_points(g));
-            let centre = out.push_interior(interior_vertex(saddles.as_slice(), contour, &points));
+            let centre = out.push_interior(interior_vertex(saddles, g, contour));
             fan_around(contour, centre, out);
         } else {
             if (3..=6).contains(&n) {
                 stats.contours[n - 3] += 1;
             }
-            fan(contour, out);
+            fan(contour, &mut out.triangles);
         }
     }
 }
@@ -226,14 +262,24 @@ fn inner_triangle(hex: &[DVec3; 6], out: &mut CellMesh) -> [VertexRef; 3] {
 
 /// The interior vertex of an ambiguous contour: the crossing of the single
 /// lines (a saddle point), or the midpoint of the two saddle points nearest
-/// to the contour when there are more; the contour's centroid if rounding
-/// left no saddle point in the cell.
-fn interior_vertex(saddles: &[DVec3], contour: &[u8], points: &[DVec3; 12]) -> DVec3 {
-    let centroid =
-        contour.iter().map(|&e| points[e as usize]).sum::<DVec3>() / contour.len() as f64;
+/// to the contour's centroid when there are more; the centroid if rounding
+/// left no saddle point in the cell. With one or two saddle points the
+/// centroid decides nothing and is not computed.
+fn interior_vertex(saddles: &Saddles, g: &[f64; 8], contour: &[u8]) -> DVec3 {
+    let mut found = saddles.iter();
+    match (found.next(), found.next(), found.next()) {
+        (Some(a), None, _) => return a,
+        (Some(a), Some(b), None) => return (a + b) * 0.5,
+        _ => {}
+    }
+    let centroid = contour
+        .iter()
+        .map(|&e| edge_point(g, e as usize))
+        .sum::<DVec3>()
+        / contour.len() as f64;
     let distance = |p: &DVec3| p.distance_squared(centroid);
     let mut nearest: Option<(DVec3, Option<DVec3>)> = None;
-    for &s in saddles {
+    for s in saddles.iter() {
         nearest = Some(match nearest {
             None => (s, None),
             Some((a, _)) if distance(&s) < distance(&a) => (s, Some(a)),
@@ -246,5 +292,41 @@ fn interior_vertex(saddles: &[DVec3], contour: &[u8], points: &[DVec3; 12]) -> D
         None => centroid,
         Some((a, None)) => a,
         Some((a, Some(b))) => (a + b) * 0.5,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_faces_at_once_agree_with_the_decider_face_by_face() {
+        // Small integers (many exact ties: saddle value equal to the
+        // isovalue) and random reals, in every configuration they give.
+        let mut next = crate::kernel::xorshift(0x5851_f42d_4c95_7f2du64);
+        let mut ties = 0;
+        for round in 0..200_000u32 {
+            let g: [f64; 8] = std::array::from_fn(|_| {
+                let r = next();
+                if round % 2 == 0 {
+                    (r % 7) as f64 - 3.0
+                } else {
+                    (r >> 11) as f64 / (1u64 << 52) as f64 - 0.5
+                }
+            });
+            let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+            let ambiguous = tables().ambiguous_faces[config as usize];
+            let tied = FACE_CORNERS
+                .iter()
+                .enumerate()
+                .any(|(f, q)| ambiguous >> f & 1 == 1 && g[q[0]] * g[q[2]] == g[q[1]] * g[q[3]]);
+            ties += usize::from(tied);
+            assert_eq!(
+                face_decisions(&g, config),
+                exact_decisions(&g, ambiguous),
+                "{g:?}"
+            );
+        }
+        assert!(ties > 1000, "only {ties} cells with a tie");
     }
 }

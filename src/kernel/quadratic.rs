@@ -83,28 +83,29 @@ fn cut_coefficients(s: &Cut) -> (f64, f64, f64) {
 /// Real roots of `a s^2 + b s + c`, ascending, by the numerically stable
 /// formula; `a == 0` is solved as a linear equation and a double root is
 /// returned once.
+///
+/// Every candidate is computed before one is chosen, so that the choice can
+/// compile to selects rather than branches: the signs of these coefficients
+/// follow the data and would mispredict.
 pub fn roots(a: f64, b: f64, c: f64) -> Roots {
-    let none = Roots::default();
     let scale = a.abs().max(b.abs()).max(c.abs());
-    if scale == 0.0 || !scale.is_finite() {
-        return none;
-    }
-    if a.abs() <= 1e-14 * scale {
-        return if b != 0.0 { Roots::one(-c / b) } else { none };
-    }
     let disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
-        return none;
-    }
-    if disc == 0.0 {
-        return Roots::one(-b / (2.0 * a));
-    }
+    let linear = -c / b;
+    let double = -b / (2.0 * a);
     let q = -0.5 * (b + b.signum() * disc.sqrt());
     let (r1, r2) = (q / a, c / q);
-    Roots {
-        values: [r1.min(r2), r1.max(r2)],
-        len: 2,
-    }
+    let (len, values) = if scale == 0.0 || !scale.is_finite() {
+        (0, [0.0; 2])
+    } else if a.abs() <= 1e-14 * scale {
+        (usize::from(b != 0.0), [linear; 2])
+    } else if disc < 0.0 {
+        (0, [0.0; 2])
+    } else if disc == 0.0 {
+        (1, [double; 2])
+    } else {
+        (2, [r1.min(r2), r1.max(r2)])
+    };
+    Roots { values, len }
 }
 
 /// Zero, one or two roots, ascending.
@@ -115,13 +116,6 @@ pub struct Roots {
 }
 
 impl Roots {
-    fn one(r: f64) -> Self {
-        Roots {
-            values: [r, r],
-            len: 1,
-        }
-    }
-
     /// The roots.
     pub fn as_slice(&self) -> &[f64] {
         &self.values[..self.len]
@@ -145,48 +139,58 @@ pub fn cut_saddle(g: &[f64; 8], axis: usize, s: f64) -> Option<DVec3> {
 
 /// [`cut_saddle`] of the cut `c` perpendicular to `axis`.
 fn saddle_of_cut(c: &Cut, axis: usize, s: f64) -> Option<DVec3> {
+    let (p, ok) = cut_crossing(c, axis, s);
+    ok.then_some(p)
+}
+
+/// The crossing of the lines of the cut `c` at `x_axis = s`, and whether
+/// there is one (computed either way, for the branch-free caller).
+#[inline]
+fn cut_crossing(c: &Cut, axis: usize, s: f64) -> (DVec3, bool) {
     let v = |j: usize, k: usize| c[j][k].0 + c[j][k].1 * s;
     let (s00, s10, s01, s11) = (v(0, 0), v(1, 0), v(0, 1), v(1, 1));
     let eta = s00 - s10 - s01 + s11;
-    if eta == 0.0 || !eta.is_finite() {
-        return None;
-    }
     let mut p = [0.0; 3];
     p[axis] = s;
     p[(axis + 1) % 3] = (s00 - s01) / eta;
     p[(axis + 2) % 3] = (s00 - s10) / eta;
-    Some(DVec3::from_array(p))
+    (DVec3::from_array(p), eta != 0.0 && eta.is_finite())
 }
 
-/// Up to six saddle points of the level set in a cell.
+/// Up to six saddle points of the level set in a cell: the candidates of
+/// every root slot, with a mask of those that are saddle points in the cell.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Saddles {
     points: [DVec3; 6],
-    len: usize,
+    found: u8,
 }
 
 impl Saddles {
-    /// The points found.
-    pub fn as_slice(&self) -> &[DVec3] {
-        &self.points[..self.len]
+    /// The points found, in the order of axis and ascending root.
+    pub fn iter(&self) -> impl Iterator<Item = DVec3> + '_ {
+        (0..6)
+            .filter(|&i| self.found >> i & 1 == 1)
+            .map(|i| self.points[i])
     }
 }
 
 /// Saddle points of the level set inside the closed cell: for each axis, the
-/// crossings of the lines found by that axis' quadratic.
+/// crossings of the lines found by that axis' quadratic. Both root slots of
+/// every axis are worked out and kept or dropped without a branch (see
+/// [`roots`]).
 pub fn saddle_points(g: &[f64; 8]) -> Saddles {
     const TOL: f64 = 1e-9;
     let mut out = Saddles::default();
     for axis in 0..3 {
         let cut = cut(g, axis);
         let (a, b, c) = cut_coefficients(&cut);
-        for s in roots(a, b, c) {
-            if let Some(p) = saddle_of_cut(&cut, axis, s) {
-                if p.cmpge(DVec3::splat(-TOL)).all() && p.cmple(DVec3::splat(1.0 + TOL)).all() {
-                    out.points[out.len] = p.clamp(DVec3::ZERO, DVec3::ONE);
-                    out.len += 1;
-                }
-            }
+        let r = roots(a, b, c);
+        for (slot, &s) in r.values.iter().enumerate() {
+            let (p, ok) = cut_crossing(&cut, axis, s);
+            let inside = p.cmpge(DVec3::splat(-TOL)) & p.cmple(DVec3::splat(1.0 + TOL));
+            let i = 2 * axis + slot;
+            out.points[i] = p.clamp(DVec3::ZERO, DVec3::ONE);
+            out.found |= u8::from(slot < r.len && ok && inside.all()) << i;
         }
     }
     out

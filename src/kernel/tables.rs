@@ -9,12 +9,16 @@
 //! * `ambiguous_faces[config]`: bit `f` set when face `f` has alternating signs.
 //! * `contours[config * 64 + joined]`: the contours for each combination of
 //!   face decisions.
+//! * `plain_fans`: for each contour set whose contours are all flat (none
+//!   meets a face twice, none has 12 vertices), the fans over its contours,
+//!   so that a cell without a tunnel copies them as MC copies its triangles.
 //! * `mc[config]`: standard MC triangles (edge triples) with the face rule
 //!   "inside corners of an ambiguous face are separated". For unambiguous
 //!   configurations this is the MC table both methods use.
 
 use super::contour::{self, face_is_ambiguous, ContourSet};
 use super::cube::{edge_faces, EDGE_CORNERS};
+use super::triangulate::fan;
 use std::sync::OnceLock;
 
 /// All tables of the kernel.
@@ -25,12 +29,27 @@ pub struct Tables {
     pub ambiguous_faces: [u8; 256],
     /// Contours per configuration and face decisions (index `config * 64 + joined`).
     pub contours: Vec<ContourSet>,
+    /// Fans over the contours of `contours[i]` if they are all flat:
+    /// `plain_tris[plain_start[i]..plain_start[i + 1]]`, empty otherwise.
+    pub plain_tris: Vec<[u8; 3]>,
+    /// Offsets into `plain_tris`, one more than `contours`.
+    pub plain_start: Vec<u32>,
     /// Standard MC triangles per configuration: `mc_tris[mc_start[c]..mc_start[c + 1]]`.
     pub mc_tris: Vec<[u8; 3]>,
     /// Offsets into `mc_tris`.
     pub mc_start: [u16; 257],
     /// The most MC triangles of any configuration (room a row reserves).
     pub mc_most: usize,
+}
+
+impl Tables {
+    /// The fans of `contours[index]` if all its contours are flat, else
+    /// nothing (see `plain_tris`).
+    #[inline]
+    pub fn plain_fans(&self, index: usize) -> &[[u8; 3]] {
+        let range = self.plain_start[index] as usize..self.plain_start[index + 1] as usize;
+        &self.plain_tris[range]
+    }
 }
 
 /// The tables, built on first use.
@@ -71,10 +90,24 @@ fn build() -> Tables {
         }
     }
     mc_start[256] = mc_tris.len() as u16;
+    let mut plain_tris = Vec::new();
+    let mut plain_start = Vec::with_capacity(contours.len() + 1);
+    for (i, set) in contours.iter().enumerate() {
+        plain_start.push(plain_tris.len() as u32);
+        let lens = &set.len[..set.count as usize];
+        if is_ambiguous[i / 64] && set.meets_face_twice == 0 && !lens.contains(&12) {
+            for c in 0..set.count as usize {
+                fan(set.contour(c), &mut plain_tris);
+            }
+        }
+    }
+    plain_start.push(plain_tris.len() as u32);
     Tables {
         is_ambiguous,
         ambiguous_faces,
         contours,
+        plain_tris,
+        plain_start,
         mc_tris,
         mc_start,
         mc_most: mc_start
@@ -185,6 +218,29 @@ mod tests {
         for c in 0..256 {
             if !t.is_ambiguous[c] {
                 assert_eq!(t.ambiguous_faces[c], 0, "config {c}");
+            }
+        }
+    }
+
+    #[test]
+    fn plain_fans_cover_exactly_the_flat_contour_sets() {
+        let t = tables();
+        for config in 0..256 {
+            for joined in 0..64 {
+                let i = config * 64 + joined;
+                let set = t.contours[i];
+                let lens = &set.len[..set.count as usize];
+                let flat = set.meets_face_twice == 0 && !lens.contains(&12);
+                let fans = t.plain_fans(i);
+                if !(t.is_ambiguous[config] && flat) {
+                    assert!(fans.is_empty(), "{config} {joined}");
+                    continue;
+                }
+                // n - 2 triangles per contour, each of three of its edges.
+                let expect: usize = lens.iter().map(|&n| n as usize - 2).sum();
+                assert_eq!(fans.len(), expect, "{config} {joined}");
+                let edges = &set.edges[..lens.iter().map(|&n| n as usize).sum()];
+                assert!(fans.iter().flatten().all(|e| edges.contains(e)));
             }
         }
     }

@@ -13,13 +13,13 @@
 //!   collapsed), the two strips winding round it in opposite directions;
 //! * the 12-vertex contour: one such strip, closed by the inner triangle.
 
-use super::cell::CellMesh;
+use super::cell::{CellMesh, VertexRef};
 use glam::DVec3;
 
 /// A fan over `contour` (edge indices), from its first vertex.
-pub fn fan(contour: &[u8], out: &mut CellMesh) {
+pub fn fan(contour: &[u8], out: &mut Vec<[VertexRef; 3]>) {
     for i in 1..contour.len() - 1 {
-        out.push_triangle([contour[0], contour[i], contour[i + 1]]);
+        out.push([contour[0], contour[i], contour[i + 1]]);
     }
 }
 

@@ -187,10 +187,14 @@ pub fn saddle_points(g: &[f64; 8]) -> Saddles {
         let r = roots(a, b, c);
         for (slot, &s) in r.values.iter().enumerate() {
             let (p, ok) = cut_crossing(&cut, axis, s);
-            let inside = p.cmpge(DVec3::splat(-TOL)) & p.cmple(DVec3::splat(1.0 + TOL));
+            let p = p.to_array();
+            let inside = p.iter().fold(ok & (slot < r.len), |m, &x| {
+                m & (x >= -TOL) & (x <= 1.0 + TOL)
+            });
             let i = 2 * axis + slot;
-            out.points[i] = p.clamp(DVec3::ZERO, DVec3::ONE);
-            out.found |= u8::from(slot < r.len && ok && inside.all()) << i;
+            // Kept points are within TOL of the cell: clamp them into it.
+            out.points[i] = DVec3::from_array(p.map(|x| x.clamp(0.0, 1.0)));
+            out.found |= u8::from(inside) << i;
         }
     }
     out

@@ -58,8 +58,17 @@ pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Option<Join> {
 /// The inside sweep of `h` over the pairs of `pairs & 0b11`, then, if it
 /// found no join, the outside sweep over those of `pairs >> 2`.
 fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
-    sweep(h, false, pairs & 0b11, labels)
-        .or_else(|| sweep(&h.map(|v| -v), true, pairs >> 2, labels))
+    let inside = pairs & 0b11;
+    let outside = pairs >> 2;
+    let join = if inside != 0 {
+        sweep(h, false, inside, labels)
+    } else {
+        None
+    };
+    if join.is_some() || outside == 0 {
+        return join;
+    }
+    sweep(&h.map(|v| -v), true, outside, labels)
 }
 
 /// The eight values as `i64`s if they are all integers of magnitude below
@@ -67,10 +76,10 @@ fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
 /// bit by bit look at each value).
 fn small_integers(g: &[f64; 8]) -> Option<[i64; 8]> {
     let ints = g.map(|v| v as i64);
-    let small = g
-        .iter()
-        .zip(&ints)
-        .all(|(&v, &i)| i as f64 == v && i.abs() < 1 << SMALL_BITS);
+    // No short cut: eight predictable tests rather than eight branches.
+    let small = g.iter().zip(&ints).fold(true, |small, (&v, &i)| {
+        small & (i as f64 == v) & (i.abs() < 1 << SMALL_BITS)
+    });
     small.then_some(ints)
 }
 

@@ -189,7 +189,7 @@ pub fn saddle_points(g: &[f64; 8]) -> Saddles {
             let (p, ok) = cut_crossing(&cut, axis, s);
             let p = p.to_array();
             let inside = p.iter().fold(ok & (slot < r.len), |m, &x| {
-                m & (x >= -TOL) & (x <= 1.0 + TOL)
+                m & (-TOL..=1.0 + TOL).contains(&x)
             });
             let i = 2 * axis + slot;
             // Kept points are within TOL of the cell: clamp them into it.

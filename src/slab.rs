@@ -22,7 +22,7 @@ pub use spares::Spares;
 
 use crate::error::make_room;
 use crate::kernel::tables::{tables, Tables};
-use crate::kernel::{triangulate_ambiguous, CellMesh};
+use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles};
 use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
 use crate::volume::{Access, LentPlane, IDENTITY};
@@ -225,7 +225,7 @@ impl<'s> Plane<'s> {
     }
 
     /// The kernel's values of samples `at`.
-    #[inline]
+    #[inline(always)]
     fn rels<const N: usize>(&self, at: [usize; N]) -> [f64; N] {
         let values = match &self.lent {
             Some(samples) => samples.get_many(at),
@@ -574,6 +574,8 @@ fn cell_at(
     let nx = place.grid.dims[0];
     let i = y * nx + x;
     let edge_ref = |e: u8| edges.get(e);
+    // Room a row keeps for MC triangles, which a cell must not eat into.
+    let row_room = t.mc_most * (nx - 1);
     let ambiguous = t.is_ambiguous[config as usize];
     if ambiguous {
         stats.ambiguous_cells += 1;
@@ -590,10 +592,16 @@ fn cell_at(
     let (low, high) = (bottom.rels(corners), top.rels(corners));
     let g: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
     cell.clear();
-    triangulate_ambiguous(&g, config, stats, cell);
+    if let Triangles::Table(fans) = triangulate_ambiguous(&g, config, stats, cell) {
+        // Edge vertices only, as MC: room for `fans.len()` beyond the row's.
+        make_room(&mut block.triangles, fans.len() + row_room, TRIANGLES)?;
+        for tri in fans {
+            block.triangles.push(tri.map(edge_ref));
+        }
+        return Ok(());
+    }
     let first_interior = local_index(block)?;
     make_room(&mut block.vertices, cell.interior.len(), VERTICES)?;
-    let row_room = t.mc_most * (nx - 1);
     make_room(
         &mut block.triangles,
         cell.triangles.len() + row_room,

@@ -110,9 +110,27 @@ fn exact_decisions(g: &[f64; 8], faces: u8) -> u8 {
     joined
 }
 
+/// Where [`triangulate_ambiguous`] left a cell's triangles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Triangles {
+    /// Fans over the cell's edge vertices, straight from the tables (flat
+    /// contours and no tunnel: most ambiguous cells); the cell mesh is left
+    /// as it was, so the caller copies them as it copies MC triangles.
+    Table(&'static [[VertexRef; 3]]),
+    /// Appended to the cell mesh, with the interior vertices they use.
+    Mesh,
+}
+
 /// Triangulates an ambiguous cell (Definition 1) with values `g` (inside iff
 /// `> 0`) and configuration `config`; counts the paper's Table 1 in `stats`.
-pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &mut CellMesh) {
+/// The triangles are either the tables' or appended to `out` (see
+/// [`Triangles`]).
+pub fn triangulate_ambiguous(
+    g: &[f64; 8],
+    config: u8,
+    stats: &mut Stats,
+    out: &mut CellMesh,
+) -> Triangles {
     let t = tables();
     let index = config as usize * 64 + face_decisions(g, config) as usize;
     let set = &t.contours[index];
@@ -129,8 +147,7 @@ pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &
                 *count += 1;
             }
         }
-        out.triangles.extend_from_slice(fans);
-        return;
+        return Triangles::Table(fans);
     }
     // Positions of the edge vertices, local coordinates (only crossing edges
     // are read), needed only to fit strips to the inner hexagon.
@@ -171,6 +188,7 @@ pub fn triangulate_ambiguous(g: &[f64; 8], config: u8, stats: &mut Stats, out: &
             fan(contour, &mut out.triangles);
         }
     }
+    Triangles::Mesh
 }
 
 /// The two contours bounding the tunnel that joins surface components `a`

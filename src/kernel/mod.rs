@@ -26,7 +26,7 @@ pub mod tables;
 pub mod triangulate;
 pub mod tunnel;
 
-pub use cell::{triangulate_ambiguous, CellMesh, VertexRef};
+pub use cell::{triangulate_ambiguous, CellMesh, Triangles, VertexRef};
 
 /// A xorshift generator for the kernel's randomised tests (`seed` nonzero).
 #[cfg(test)]

@@ -40,10 +40,12 @@ pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
     let n = cost.len();
     let step = |k: usize| ((k as i32 + dir).rem_euclid(3)) as usize;
     let mut best = (f64::INFINITY, [0u8; 12]);
+    // dp[i][k][s]: best cost of vertices 0..=i with vertex i at k after s
+    // steps; `from` the k it came from. Only the contour's rows are reset.
+    let mut dp = [[[f64::INFINITY; 4]; 3]; 12];
+    let mut from = [[[0u8; 4]; 3]; 12];
     for k0 in 0..3 {
-        // dp[i][k][s]: best cost of vertices 0..=i with vertex i at k after s steps.
-        let mut dp = [[[f64::INFINITY; 4]; 3]; 12];
-        let mut from = [[[0u8; 4]; 3]; 12];
+        dp[..n].fill([[f64::INFINITY; 4]; 3]);
         dp[0][k0][0] = cost[0][k0];
         for i in 1..n {
             for k in 0..3 {

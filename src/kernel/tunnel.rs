@@ -75,12 +75,15 @@ fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
 /// `2^SMALL_BITS` (what [`integer_scale`] finds with scale 1, without its
 /// bit by bit look at each value).
 fn small_integers(g: &[f64; 8]) -> Option<[i64; 8]> {
-    let ints = g.map(|v| v as i64);
-    // No short cut: eight predictable tests rather than eight branches.
-    let small = g.iter().zip(&ints).fold(true, |small, (&v, &i)| {
-        small & (i as f64 == v) & (i.abs() < 1 << SMALL_BITS)
+    // Adding and taking away 1.5 * 2^52 rounds a value below 2^51 in
+    // magnitude to an integer (the sum's last bit is worth 1), so it is
+    // unchanged iff it is one. No short cut: eight tests side by side.
+    const ROUND: f64 = 1.5 * (1u64 << 52) as f64;
+    const LIMIT: f64 = (1u64 << SMALL_BITS) as f64;
+    let small = g.iter().fold(true, |small, &v| {
+        small & (v.abs() < LIMIT) & ((v + ROUND) - ROUND == v)
     });
-    small.then_some(ints)
+    small.then(|| g.map(|v| v as i64))
 }
 
 /// The diagonal pairs of `w`-edges a sweep looks at, `(k, kk, j, jj)`: edges

@@ -95,7 +95,10 @@ pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
     (joined & ambiguous & !ties) | exact_decisions(g, ties)
 }
 
-/// The asymptotic decider, exact, on each face of `faces`.
+/// The asymptotic decider, exact, on each face of `faces` (rare: only
+/// rounded ties come here).
+#[cold]
+#[inline(never)]
 fn exact_decisions(g: &[f64; 8], faces: u8) -> u8 {
     let mut joined = 0u8;
     for (f, q) in FACE_CORNERS.iter().enumerate() {

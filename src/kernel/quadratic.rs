@@ -61,7 +61,12 @@ const fn cut_corners() -> [[[[usize; 2]; 2]; 2]; 3] {
 /// The cut perpendicular to `axis` (a table lookup, so that the per-axis
 /// loops of the callers compile to straight-line code).
 fn cut(g: &[f64; 8], axis: usize) -> Cut {
-    CUT_CORNERS[axis].map(|row| row.map(|[lo, hi]| (g[lo], g[hi] - g[lo])))
+    let corners = &CUT_CORNERS[axis];
+    let slot = |j: usize, k: usize| {
+        let [lo, hi] = corners[j][k];
+        (g[lo], g[hi] - g[lo])
+    };
+    [[slot(0, 0), slot(0, 1)], [slot(1, 0), slot(1, 1)]]
 }
 
 /// Coefficients `(a, b, c)` of `D_axis(s) = a s^2 + b s + c`.
@@ -179,25 +184,34 @@ impl Saddles {
 /// every axis are worked out and kept or dropped without a branch (see
 /// [`roots`]).
 pub fn saddle_points(g: &[f64; 8]) -> Saddles {
-    const TOL: f64 = 1e-9;
     let mut out = Saddles::default();
-    for axis in 0..3 {
-        let cut = cut(g, axis);
-        let (a, b, c) = cut_coefficients(&cut);
-        let r = roots(a, b, c);
-        for (slot, &s) in r.values.iter().enumerate() {
-            let (p, ok) = cut_crossing(&cut, axis, s);
-            let p = p.to_array();
-            let inside = p.iter().fold(ok & (slot < r.len), |m, &x| {
-                m & (-TOL..=1.0 + TOL).contains(&x)
-            });
-            let i = 2 * axis + slot;
-            // Kept points are within TOL of the cell: clamp them into it.
-            out.points[i] = DVec3::from_array(p.map(|x| x.clamp(0.0, 1.0)));
-            out.found |= u8::from(inside) << i;
-        }
-    }
+    // One call per axis, each inlined with its axis a constant: the corner
+    // and coordinate indices are then fixed at compile time.
+    axis_saddles(g, 0, &mut out);
+    axis_saddles(g, 1, &mut out);
+    axis_saddles(g, 2, &mut out);
     out
+}
+
+/// The saddle points that the quadratic of `axis` finds, into slots
+/// `2 axis` and `2 axis + 1` of `out`.
+#[inline(always)]
+fn axis_saddles(g: &[f64; 8], axis: usize, out: &mut Saddles) {
+    const TOL: f64 = 1e-9;
+    let cut = cut(g, axis);
+    let (a, b, c) = cut_coefficients(&cut);
+    let r = roots(a, b, c);
+    for (slot, &s) in r.values.iter().enumerate() {
+        let (p, ok) = cut_crossing(&cut, axis, s);
+        let p = p.to_array();
+        let inside = p.iter().fold(ok & (slot < r.len), |m, &x| {
+            m & (-TOL..=1.0 + TOL).contains(&x)
+        });
+        let i = 2 * axis + slot;
+        // Kept points are within TOL of the cell: clamp them into it.
+        out.points[i] = DVec3::from_array(p.map(|x| x.clamp(0.0, 1.0)));
+        out.found |= u8::from(inside) << i;
+    }
 }
 
 /// Two roots of the quadratic of `axis` in [0, 1], ascending. Used only when

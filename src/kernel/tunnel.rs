@@ -50,7 +50,8 @@ pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Option<Join> {
         Some((scale, bits)) if bits <= SMALL_BITS => {
             sweep_both(&g.map(|v| (v * scale) as i64), pairs, labels)
         }
-        Some((scale, _)) => sweep_both(&g.map(|v| (v * scale) as i128), pairs, labels),
+        // At most 26 bits: through i64, which converts without a library call.
+        Some((scale, _)) => sweep_both(&g.map(|v| i128::from((v * scale) as i64)), pairs, labels),
         None => sweep_both(&normalized(g), pairs, labels),
     }
 }
@@ -172,6 +173,7 @@ impl<T: Num> Frac<T> {
 /// of two differently labelled diagonal edges in the interior. (Later joins
 /// would only unite labels for pairs looked at after it, and only the first
 /// join is triangulated.)
+#[inline(always)]
 fn sweep<T: Num>(h: &[T; 8], closed: bool, pairs: u8, labels: &[u8; 8]) -> Option<Join> {
     let is_in = |v: T| if closed { v >= T::ZERO } else { v > T::ZERO };
     for (d, (k, kk, j, jj)) in DIAGONALS.into_iter().enumerate() {
@@ -203,6 +205,7 @@ fn sweep<T: Num>(h: &[T; 8], closed: bool, pairs: u8, labels: &[u8; 8]) -> Optio
 }
 
 /// The range of `t` where the edge from `bottom` to `top` is in the region.
+#[inline(always)]
 fn range<T: Num>(bottom: T, top: T, closed: bool) -> Option<(Frac<T>, Frac<T>)> {
     let is_in = |v: T| if closed { v >= T::ZERO } else { v > T::ZERO };
     let zero = Frac {
@@ -235,6 +238,7 @@ fn range<T: Num>(bottom: T, top: T, closed: bool) -> Option<(Frac<T>, Frac<T>)> 
 
 /// Is `D(t) = a_k a_kk - a_j a_jj` positive (or, closed, non-negative) somewhere
 /// on the range from `lo` to `hi` (open, or closed)?
+#[inline(always)]
 fn joined_on<T: Num>(
     h: &[T; 8],
     (k, kk, j, jj): (usize, usize, usize, usize),

@@ -135,7 +135,7 @@ pub fn triangulate_ambiguous(
     out: &mut CellMesh,
 ) -> Triangles {
     let t = tables();
-    let index = config as usize * 64 + face_decisions(g, config) as usize;
+    let index = t.set_index(config, face_decisions(g, config));
     let set = &t.contours[index];
     let tunnel = if set.count >= 2 {
         interior_joins(g, set).and_then(|j| tunnel_contours(set, j.a, j.b))

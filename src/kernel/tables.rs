@@ -7,8 +7,9 @@
 //! * `is_ambiguous[config]`: the paper's Definition 1 (corners of one sign
 //!   not all joined along cell edges).
 //! * `ambiguous_faces[config]`: bit `f` set when face `f` has alternating signs.
-//! * `contours[config * 64 + joined]`: the contours for each combination of
-//!   face decisions.
+//! * `contours`: the contours of each configuration for each combination of
+//!   decisions on its ambiguous faces, packed (about 700 sets, so that the
+//!   ones the data uses stay in cache); [`Tables::set_index`] finds them.
 //! * `plain_fans`: for each contour set whose contours are all flat (none
 //!   meets a face twice, none has 12 vertices), the fans over its contours,
 //!   so that a cell without a tunnel copies them as MC copies its triangles.
@@ -27,8 +28,13 @@ pub struct Tables {
     pub is_ambiguous: [bool; 256],
     /// Faces with alternating signs, per configuration.
     pub ambiguous_faces: [u8; 256],
-    /// Contours per configuration and face decisions (index `config * 64 + joined`).
+    /// Contour sets, packed: at [`Tables::set_index`].
     pub contours: Vec<ContourSet>,
+    /// Where the sets of each configuration start in `contours`.
+    pub set_start: [u16; 256],
+    /// `packed[mask][joined]`: the bits of `joined` on the faces of `mask`,
+    /// moved down to the lowest bits in face order.
+    pub packed: [[u8; 64]; 64],
     /// Fans over the contours of `contours[i]` if they are all flat:
     /// `plain_tris[plain_start[i]..plain_start[i + 1]]`, empty otherwise.
     pub plain_tris: Vec<[u8; 3]>,
@@ -43,6 +49,21 @@ pub struct Tables {
 }
 
 impl Tables {
+    /// Index into `contours` of the set of `config` under face decisions
+    /// `joined` (bit `f`: inside corners of face `f` joined; bits of faces
+    /// that are not ambiguous are ignored).
+    #[inline]
+    pub fn set_index(&self, config: u8, joined: u8) -> usize {
+        let mask = self.ambiguous_faces[config as usize];
+        let rank = self.packed[mask as usize][(joined & mask) as usize];
+        usize::from(self.set_start[config as usize]) + usize::from(rank)
+    }
+
+    /// The contour set of `config` under face decisions `joined`.
+    pub fn contour_set(&self, config: u8, joined: u8) -> &ContourSet {
+        &self.contours[self.set_index(config, joined)]
+    }
+
     /// The fans of `contours[index]` if all its contours are flat, else
     /// nothing (see `plain_tris`).
     #[inline]
@@ -61,9 +82,16 @@ pub fn tables() -> &'static Tables {
 fn build() -> Tables {
     let mut is_ambiguous = [false; 256];
     let mut ambiguous_faces = [0u8; 256];
-    let mut contours = Vec::with_capacity(256 * 64);
+    let mut contours = Vec::new();
+    let mut set_start = [0u16; 256];
     let mut mc_tris = Vec::new();
     let mut mc_start = [0u16; 257];
+    let mut packed = [[0u8; 64]; 64];
+    for (mask, row) in packed.iter_mut().enumerate() {
+        for (joined, rank) in row.iter_mut().enumerate() {
+            *rank = pack_bits(joined as u8, mask as u8);
+        }
+    }
     for config in 0..256usize {
         let c = config as u8;
         is_ambiguous[config] = !signs_edge_connected(c);
@@ -72,19 +100,19 @@ fn build() -> Tables {
                 ambiguous_faces[config] |= 1 << f;
             }
         }
-        // Decisions on faces that are not ambiguous are ignored: build each
-        // distinct set once (most configurations have no ambiguous face).
+        // One set per combination of decisions on the ambiguous faces, in
+        // the order of their packed bits.
         let mask = ambiguous_faces[config];
+        set_start[config] = contours.len() as u16;
         for joined in 0..64u8 {
-            let set = if joined & !mask == 0 {
-                contour::build(c, joined)
-            } else {
-                contours[config * 64 + (joined & mask) as usize]
-            };
-            contours.push(set);
+            if joined & !mask == 0 {
+                let rank = usize::from(packed[mask as usize][joined as usize]);
+                debug_assert_eq!(contours.len(), set_start[config] as usize + rank);
+                contours.push(contour::build(c, joined));
+            }
         }
         mc_start[config] = mc_tris.len() as u16;
-        let set = contours[config * 64];
+        let set = contours[set_start[config] as usize];
         for i in 0..set.count as usize {
             triangulate_polygon(set.contour(i), &mut mc_tris);
         }
@@ -92,12 +120,17 @@ fn build() -> Tables {
     mc_start[256] = mc_tris.len() as u16;
     let mut plain_tris = Vec::new();
     let mut plain_start = Vec::with_capacity(contours.len() + 1);
-    for (i, set) in contours.iter().enumerate() {
-        plain_start.push(plain_tris.len() as u32);
-        let lens = &set.len[..set.count as usize];
-        if is_ambiguous[i / 64] && set.meets_face_twice == 0 && !lens.contains(&12) {
-            for c in 0..set.count as usize {
-                fan(set.contour(c), &mut plain_tris);
+    for config in 0..256 {
+        let end = set_start
+            .get(config + 1)
+            .map_or(contours.len(), |&e| e as usize);
+        for set in &contours[set_start[config] as usize..end] {
+            plain_start.push(plain_tris.len() as u32);
+            let lens = &set.len[..set.count as usize];
+            if is_ambiguous[config] && set.meets_face_twice == 0 && !lens.contains(&12) {
+                for c in 0..set.count as usize {
+                    fan(set.contour(c), &mut plain_tris);
+                }
             }
         }
     }
@@ -106,6 +139,8 @@ fn build() -> Tables {
         is_ambiguous,
         ambiguous_faces,
         contours,
+        set_start,
+        packed,
         plain_tris,
         plain_start,
         mc_tris,
@@ -116,6 +151,20 @@ fn build() -> Tables {
             .max()
             .unwrap_or(0),
     }
+}
+
+/// The bits of `bits` at the set bits of `mask`, moved down to bits
+/// `0, 1, ...` in order (a parallel bit extract).
+fn pack_bits(bits: u8, mask: u8) -> u8 {
+    let mut out = 0;
+    let mut rank = 0;
+    for f in 0..8 {
+        if mask >> f & 1 == 1 {
+            out |= (bits >> f & 1) << rank;
+            rank += 1;
+        }
+    }
+    out
 }
 
 /// Definition 1: every two corners of the same sign are joined by a path
@@ -201,7 +250,7 @@ mod tests {
         let t = tables();
         for config in 0..=255u8 {
             for joined in 0..64u8 {
-                let set = t.contours[config as usize * 64 + joined as usize];
+                let set = *t.contour_set(config, joined);
                 assert_eq!(set, contour::build(config, joined), "{config} {joined}");
             }
         }
@@ -227,7 +276,7 @@ mod tests {
         let t = tables();
         for config in 0..256 {
             for joined in 0..64 {
-                let i = config * 64 + joined;
+                let i = t.set_index(config as u8, joined);
                 let set = t.contours[i];
                 let lens = &set.len[..set.count as usize];
                 let flat = set.meets_face_twice == 0 && !lens.contains(&12);
@@ -255,7 +304,7 @@ mod tests {
         assert_eq!(count(3), 2);
         // Each contour of n vertices gives n - 2 triangles.
         for c in 0..256 {
-            let set = t.contours[c * 64];
+            let set = *t.contour_set(c as u8, 0);
             let expect: usize = (0..set.count as usize)
                 .map(|i| set.len[i] as usize - 2)
                 .sum();

@@ -513,7 +513,7 @@ mod tests {
                 continue;
             }
             let joined = crate::kernel::cell::face_decisions(&g, config);
-            let set = tables.contours[config as usize * 64 + joined as usize];
+            let set = *tables.contour_set(config, joined);
             let forced = ContourSet {
                 tunnel_pairs: 0b1111,
                 ..set

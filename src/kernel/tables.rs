@@ -8,7 +8,7 @@
 //!   not all joined along cell edges).
 //! * `ambiguous_faces[config]`: bit `f` set when face `f` has alternating signs.
 //! * `contours`: the contours of each configuration for each combination of
-//!   decisions on its ambiguous faces, packed (about 700 sets, so that the
+//!   decisions on its ambiguous faces, packed (656 sets of 35 bytes, so that the
 //!   ones the data uses stay in cache); [`Tables::set_index`] finds them.
 //! * `plain_fans`: for each contour set whose contours are all flat (none
 //!   meets a face twice, none has 12 vertices), the fans over its contours,

@@ -6,6 +6,18 @@ use std::hint::black_box;
 use tmc::kernel::{triangulate_ambiguous, CellMesh, Triangles};
 use tmc::{extract, synth, ExtractParams, Method, Stats};
 
+/// Triangulates `cells` one by one, as the slab loop does.
+fn triangulate_all(cells: &[([f64; 8], u8)], out: &mut CellMesh, stats: &mut Stats) {
+    for (g, config) in cells {
+        out.clear();
+        let count = match triangulate_ambiguous(g, *config, stats, out) {
+            Triangles::Table(fans) => fans.len(),
+            Triangles::Mesh => out.triangles.len(),
+        };
+        black_box(count);
+    }
+}
+
 /// Ambiguous cells of uniform noise, triangulated one by one.
 fn ambiguous_cells(c: &mut Criterion) {
     let tables = tmc::kernel::tables::tables();
@@ -27,16 +39,47 @@ fn ambiguous_cells(c: &mut Criterion) {
     let mut out = CellMesh::new();
     let mut stats = Stats::default();
     c.bench_function("10k ambiguous cells", |b| {
-        b.iter(|| {
-            for (g, config) in &cells {
-                out.clear();
-                let count = match triangulate_ambiguous(g, *config, &mut stats, &mut out) {
-                    Triangles::Table(fans) => fans.len(),
-                    Triangles::Mesh => out.triangles.len(),
-                };
-                black_box(count);
+        b.iter(|| triangulate_all(&cells, &mut out, &mut stats))
+    });
+}
+
+/// The ambiguous cells of a real CT (cthead at 1600, from `../shared/data`
+/// when present): integer values, the kernel's common case.
+fn ct_ambiguous_cells(c: &mut Criterion) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/cthead.nrrd");
+    let volume = match tmc::volume::open(&path, None) {
+        Ok(v) => v,
+        Err(e) => {
+            eprintln!("skipping the CT kernel benchmark: {e}");
+            return;
+        }
+    };
+    let tables = tmc::kernel::tables::tables();
+    let iso = 1600.0;
+    let [nx, ny, nz] = volume.grid().dims;
+    let (mut low, mut high) = (vec![0.0; nx * ny], vec![0.0; nx * ny]);
+    let mut cells = Vec::new();
+    volume.read_plane(0, &mut low).expect("plane");
+    for z in 1..nz {
+        volume.read_plane(z, &mut high).expect("plane");
+        for i in (0..nx * (ny - 1)).filter(|i| i % nx != nx - 1) {
+            let at = [i, i + 1, i + nx, i + nx + 1];
+            let g: [f64; 8] = std::array::from_fn(|c| {
+                let plane = if c < 4 { &low } else { &high };
+                plane[at[c % 4]] - iso
+            });
+            let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+            if tables.is_ambiguous[config as usize] {
+                cells.push((g, config));
             }
-        })
+        }
+        std::mem::swap(&mut low, &mut high);
+    }
+    let mut out = CellMesh::new();
+    let mut stats = Stats::default();
+    let name = format!("{} ambiguous cells of cthead @ 1600", cells.len());
+    c.bench_function(&name, |b| {
+        b.iter(|| triangulate_all(&cells, &mut out, &mut stats))
     });
 }
 
@@ -61,6 +104,6 @@ fn slab_loop(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10);
-    targets = ambiguous_cells, slab_loop
+    targets = ambiguous_cells, ct_ambiguous_cells, slab_loop
 }
 criterion_main!(benches);

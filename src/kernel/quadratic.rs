@@ -89,9 +89,9 @@ fn cut_coefficients(s: &Cut) -> (f64, f64, f64) {
 /// formula; `a == 0` is solved as a linear equation and a double root is
 /// returned once.
 ///
-/// Every candidate is computed before one is chosen, so that the choice can
-/// compile to selects rather than branches: the signs of these coefficients
-/// follow the data and would mispredict.
+/// Every candidate is computed first and one is then chosen, so that the
+/// divisions and the square root start before the data-dependent tests
+/// that pick the result are resolved.
 pub fn roots(a: f64, b: f64, c: f64) -> Roots {
     let scale = a.abs().max(b.abs()).max(c.abs());
     let disc = b * b - 4.0 * a * c;

@@ -574,8 +574,6 @@ fn cell_at(
     let nx = place.grid.dims[0];
     let i = y * nx + x;
     let edge_ref = |e: u8| edges.get(e);
-    // Room a row keeps for MC triangles, which a cell must not eat into.
-    let row_room = t.mc_most * (nx - 1);
     let ambiguous = t.is_ambiguous[config as usize];
     if ambiguous {
         stats.ambiguous_cells += 1;
@@ -592,6 +590,8 @@ fn cell_at(
     let (low, high) = (bottom.rels(corners), top.rels(corners));
     let g: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
     cell.clear();
+    // Room a row keeps for MC triangles, which a cell must not eat into.
+    let row_room = t.mc_most * (nx - 1);
     if let Triangles::Table(fans) = triangulate_ambiguous(&g, config, stats, cell) {
         // Edge vertices only, as MC: room for `fans.len()` beyond the row's.
         make_room(&mut block.triangles, fans.len() + row_room, TRIANGLES)?;

@@ -146,9 +146,7 @@ pub fn triangulate_ambiguous(
     let fans = t.plain_fans(index);
     if tunnel.is_none() && !fans.is_empty() {
         for &n in &set.len[..set.count as usize] {
-            if let Some(count) = stats.contours.get_mut(usize::from(n) - 3) {
-                *count += 1;
-            }
+            count_flat(stats, usize::from(n));
         }
         return Triangles::Table(fans);
     }
@@ -185,13 +183,18 @@ pub fn triangulate_ambiguous(
             let centre = out.push_interior(interior_vertex(saddles, g, contour));
             fan_around(contour, centre, out);
         } else {
-            if (3..=6).contains(&n) {
-                stats.contours[n - 3] += 1;
-            }
+            count_flat(stats, n);
             fan(contour, &mut out.triangles);
         }
     }
     Triangles::Mesh
+}
+
+/// Counts a flat contour of `n` vertices in the paper's Table 1.
+fn count_flat(stats: &mut Stats, n: usize) {
+    if (3..=6).contains(&n) {
+        stats.contours[n - 3] += 1;
+    }
 }
 
 /// The two contours bounding the tunnel that joins surface components `a`

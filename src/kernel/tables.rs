@@ -86,6 +86,8 @@ fn build() -> Tables {
     let mut set_start = [0u16; 256];
     let mut mc_tris = Vec::new();
     let mut mc_start = [0u16; 257];
+    let mut plain_tris = Vec::new();
+    let mut plain_start = Vec::new();
     let mut packed = [[0u8; 64]; 64];
     for (mask, row) in packed.iter_mut().enumerate() {
         for (joined, rank) in row.iter_mut().enumerate() {
@@ -108,7 +110,15 @@ fn build() -> Tables {
             if joined & !mask == 0 {
                 let rank = usize::from(packed[mask as usize][joined as usize]);
                 debug_assert_eq!(contours.len(), set_start[config] as usize + rank);
-                contours.push(contour::build(c, joined));
+                let set = contour::build(c, joined);
+                plain_start.push(plain_tris.len() as u32);
+                let lens = &set.len[..set.count as usize];
+                if is_ambiguous[config] && set.meets_face_twice == 0 && !lens.contains(&12) {
+                    for i in 0..set.count as usize {
+                        fan(set.contour(i), &mut plain_tris);
+                    }
+                }
+                contours.push(set);
             }
         }
         mc_start[config] = mc_tris.len() as u16;
@@ -118,22 +128,6 @@ fn build() -> Tables {
         }
     }
     mc_start[256] = mc_tris.len() as u16;
-    let mut plain_tris = Vec::new();
-    let mut plain_start = Vec::with_capacity(contours.len() + 1);
-    for config in 0..256 {
-        let end = set_start
-            .get(config + 1)
-            .map_or(contours.len(), |&e| e as usize);
-        for set in &contours[set_start[config] as usize..end] {
-            plain_start.push(plain_tris.len() as u32);
-            let lens = &set.len[..set.count as usize];
-            if is_ambiguous[config] && set.meets_face_twice == 0 && !lens.contains(&12) {
-                for c in 0..set.count as usize {
-                    fan(set.contour(c), &mut plain_tris);
-                }
-            }
-        }
-    }
     plain_start.push(plain_tris.len() as u32);
     Tables {
         is_ambiguous,

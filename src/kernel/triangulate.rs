@@ -38,7 +38,8 @@ pub fn fan_around(contour: &[u8], centre: u8, out: &mut CellMesh) {
 /// nearest-vertex assignment does not guarantee.
 pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
     let n = cost.len();
-    let step = |k: usize| ((k as i32 + dir).rem_euclid(3)) as usize;
+    // The k' from which one step in direction `dir` reaches k.
+    let back = |k: usize| ((k as i32 - dir).rem_euclid(3)) as usize;
     let mut best = (f64::INFINITY, [0u8; 12]);
     // dp[i][k][s]: best cost of vertices 0..=i with vertex i at k after s
     // steps; `from` the k it came from. Each entry takes the better of two
@@ -52,7 +53,7 @@ pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
         dp[0][k0][0] = cost[0][k0];
         for i in 1..n {
             for k in 0..3 {
-                let p = (0..3).find(|&p| step(p) == k).unwrap_or(0);
+                let p = back(k);
                 for s in 0..4 {
                     let stay = dp[i - 1][k][s] + cost[i][k];
                     let moved = if s > 0 {
@@ -67,8 +68,7 @@ pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
             }
         }
         // Closing edge back to vertex 0: a stay after three steps, or the third step.
-        let mut ends = [(k0, 3usize), (usize::MAX, 2)];
-        ends[1].0 = (0..3).find(|&k| step(k) == k0).unwrap_or(0);
+        let ends = [(k0, 3usize), (back(k0), 2)];
         for (k, s) in ends {
             let c = dp[n - 1][k][s];
             if c < best.0 {

@@ -586,6 +586,7 @@ fn cell_at(
         }
         return Ok(());
     }
+    t.touch_sets(config);
     let corners = [i, i + 1, i + nx, i + nx + 1];
     let (low, high) = (bottom.rels(corners), top.rels(corners));
     let g: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });

@@ -6,7 +6,7 @@ use super::decider::inside_joined;
 use super::quadratic::{inner_hexagon, saddle_points, Saddles};
 use super::tables::tables;
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
-use super::tunnel::interior_joins;
+use super::tunnel::labelled_joins;
 use crate::Stats;
 use glam::DVec3;
 
@@ -67,6 +67,11 @@ pub fn edge_point(g: &[f64; 8], e: usize) -> DVec3 {
     let pa = DVec3::new((a & 1) as f64, (a >> 1 & 1) as f64, (a >> 2 & 1) as f64);
     let pb = DVec3::new((b & 1) as f64, (b >> 1 & 1) as f64, (b >> 2 & 1) as f64);
     pa + (pb - pa) * t
+}
+
+/// Positions of the vertices of `contour`, in its order (see [`edge_point`]).
+fn edge_points<'a>(g: &'a [f64; 8], contour: &'a [u8]) -> impl Iterator<Item = DVec3> + 'a {
+    contour.iter().map(|&e| edge_point(g, e as usize))
 }
 
 /// Face decisions of a cell: bit `f` set iff the inside corners of
@@ -136,34 +141,21 @@ pub fn triangulate_ambiguous(
 ) -> Triangles {
     let t = tables();
     let index = t.set_index(config, face_decisions(g, config));
+    let head = t.heads[index];
+    let tunnel = labelled_joins(g, head.tunnel_pairs, &head.labels)
+        .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b));
+    // Flat contours and no tunnel (most ambiguous cells): the table's fans,
+    // found without reading the set itself.
+    if tunnel.is_none() && head.fan_len != 0 {
+        for (i, count) in stats.contours.iter_mut().enumerate() {
+            *count += u64::from(head.flat_counts >> (4 * i) & 0xf);
+        }
+        return Triangles::Table(t.fans(head));
+    }
     let set = &t.contours[index];
-    let tunnel = if set.count >= 2 {
-        interior_joins(g, set).and_then(|j| tunnel_contours(set, j.a, j.b))
-    } else {
-        None
-    };
-    // Flat contours and no tunnel (most ambiguous cells): the table's fans.
-    let fans = t.plain_fans(index);
-    if tunnel.is_none() && !fans.is_empty() {
-        for &n in &set.len[..set.count as usize] {
-            count_flat(stats, usize::from(n));
-        }
-        return Triangles::Table(fans);
-    }
-    // Positions of the edge vertices, local coordinates (only crossing edges
-    // are read), needed only to fit strips to the inner hexagon.
-    let mut points = [DVec3::ZERO; 12];
-    let twelve = set.len[..set.count as usize].contains(&12);
-    if tunnel.is_some() || twelve {
-        let total: usize = set.len.iter().map(|&l| l as usize).sum();
-        for &e in &set.edges[..total] {
-            points[e as usize] = edge_point(g, e as usize);
-        }
-    }
-
     if let Some((c1, c2)) = tunnel {
         stats.tunnels += 1;
-        triangulate_tunnel(g, set.contour(c1), set.contour(c2), &points, out);
+        triangulate_tunnel(g, set.contour(c1), set.contour(c2), out);
     }
     let mut saddles = None;
     for i in 0..set.count as usize {
@@ -174,7 +166,7 @@ pub fn triangulate_ambiguous(
         let n = contour.len();
         if n == 12 {
             stats.contours_12 += 1;
-            triangulate_twelve(g, contour, &points, out);
+            triangulate_twelve(g, contour, out);
         } else if set.meets_face_twice >> i & 1 == 1 {
             if (6..=9).contains(&n) {
                 stats.ambiguous_contours[n - 6] += 1;
@@ -225,19 +217,15 @@ fn tunnel_contours(set: &ContourSet, a: u8, b: u8) -> Option<(usize, usize)> {
 /// A tunnel: both contours strip-joined to the inner triangle, winding round
 /// it in opposite directions (so the two strips meet with opposite edge
 /// orientations), each contour assigned to alternate hexagon vertices.
-fn triangulate_tunnel(
-    g: &[f64; 8],
-    c1: &[u8],
-    c2: &[u8],
-    points: &[DVec3; 12],
-    out: &mut CellMesh,
-) {
+fn triangulate_tunnel(g: &[f64; 8], c1: &[u8], c2: &[u8], out: &mut CellMesh) {
     let hex = inner_hexagon(g);
     let alternate = |parity: usize| [0, 1, 2].map(|k| hex[2 * k + parity]);
     let mut best = (f64::INFINITY, [0u8; 12], [0u8; 12]);
     for parity in 0..2 {
-        let cost1 = costs(c1, points, |p, k| p.distance_squared(alternate(parity)[k]));
-        let cost2 = costs(c2, points, |p, k| {
+        let cost1 = costs(edge_points(g, c1), |p, k| {
+            p.distance_squared(alternate(parity)[k])
+        });
+        let cost2 = costs(edge_points(g, c2), |p, k| {
             p.distance_squared(alternate(1 - parity)[k])
         });
         for dir in [1, -1] {
@@ -254,9 +242,9 @@ fn triangulate_tunnel(
 }
 
 /// The 12-vertex contour: a strip to the inner triangle, closed by it.
-fn triangulate_twelve(g: &[f64; 8], contour: &[u8], points: &[DVec3; 12], out: &mut CellMesh) {
+fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
     let hex = inner_hexagon(g);
-    let cost = costs(contour, points, |p, k| {
+    let cost = costs(edge_points(g, contour), |p, k| {
         p.distance_squared(hex[2 * k])
             .min(p.distance_squared(hex[2 * k + 1]))
     });
@@ -296,11 +284,7 @@ fn interior_vertex(saddles: &Saddles, g: &[f64; 8], contour: &[u8]) -> DVec3 {
         (Some(a), Some(b), None) => return (a + b) * 0.5,
         _ => {}
     }
-    let centroid = contour
-        .iter()
-        .map(|&e| edge_point(g, e as usize))
-        .sum::<DVec3>()
-        / contour.len() as f64;
+    let centroid = edge_points(g, contour).sum::<DVec3>() / contour.len() as f64;
     let distance = |p: &DVec3| p.distance_squared(centroid);
     let mut nearest: Option<(DVec3, Option<DVec3>)> = None;
     for s in saddles.iter() {

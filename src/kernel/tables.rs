@@ -10,9 +10,11 @@
 //! * `contours`: the contours of each configuration for each combination of
 //!   decisions on its ambiguous faces, packed (656 sets of 35 bytes, so that the
 //!   ones the data uses stay in cache); [`Tables::set_index`] finds them.
-//! * `plain_fans`: for each contour set whose contours are all flat (none
-//!   meets a face twice, none has 12 vertices), the fans over its contours,
-//!   so that a cell without a tunnel copies them as MC copies its triangles.
+//! * `heads`: for each contour set, the few bytes most ambiguous cells need
+//!   of it (see [`SetHead`]): whether a tunnel is possible and, when its
+//!   contours are all flat (none meets a face twice, none has 12 vertices),
+//!   the fans over them, so that a cell without a tunnel copies them as MC
+//!   copies its triangles.
 //! * `mc[config]`: standard MC triangles (edge triples) with the face rule
 //!   "inside corners of an ambiguous face are separated". For unambiguous
 //!   configurations this is the MC table both methods use.
@@ -20,7 +22,27 @@
 use super::contour::{self, face_is_ambiguous, ContourSet};
 use super::cube::{edge_faces, EDGE_CORNERS};
 use super::triangulate::fan;
+use std::hint::black_box;
 use std::sync::OnceLock;
+
+/// What the common path of an ambiguous cell reads of its contour set, in
+/// 14 bytes instead of the set's 35, so that the heads a layer meets stay
+/// in the nearest cache while the grid planes stream through it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct SetHead {
+    /// [`ContourSet::tunnel_pairs`], 0 when the set has fewer than two
+    /// contours: 0 means no tunnel is possible.
+    pub tunnel_pairs: u8,
+    /// Triangles of the set's plain fans, 0 if some contour is not flat.
+    pub fan_len: u8,
+    /// Where the plain fans start in `plain_tris`.
+    pub fan_start: u16,
+    /// Flat contours of 3, 4, 5 and 6 vertices (the paper's Table 1), four
+    /// bits each from the lowest; only set with the plain fans.
+    pub flat_counts: u16,
+    /// [`ContourSet::corner_comp`], the labels the tunnel test joins.
+    pub labels: [u8; 8],
+}
 
 /// All tables of the kernel.
 pub struct Tables {
@@ -35,11 +57,11 @@ pub struct Tables {
     /// `packed[mask][joined]`: the bits of `joined` on the faces of `mask`,
     /// moved down to the lowest bits in face order.
     pub packed: [[u8; 64]; 64],
-    /// Fans over the contours of `contours[i]` if they are all flat:
-    /// `plain_tris[plain_start[i]..plain_start[i + 1]]`, empty otherwise.
+    /// The head of each set of `contours`, at the same index.
+    pub heads: Vec<SetHead>,
+    /// The plain fans of all flat sets, one after the other (see
+    /// [`SetHead::fan_start`]).
     pub plain_tris: Vec<[u8; 3]>,
-    /// Offsets into `plain_tris`, one more than `contours`.
-    pub plain_start: Vec<u32>,
     /// Standard MC triangles per configuration: `mc_tris[mc_start[c]..mc_start[c + 1]]`.
     pub mc_tris: Vec<[u8; 3]>,
     /// Offsets into `mc_tris`.
@@ -68,8 +90,30 @@ impl Tables {
     /// nothing (see `plain_tris`).
     #[inline]
     pub fn plain_fans(&self, index: usize) -> &[[u8; 3]] {
-        let range = self.plain_start[index] as usize..self.plain_start[index + 1] as usize;
-        &self.plain_tris[range]
+        self.fans(self.heads[index])
+    }
+
+    /// The plain fans of the set with head `head` (empty if it has none).
+    #[inline]
+    pub fn fans(&self, head: SetHead) -> &[[u8; 3]] {
+        let start = usize::from(head.fan_start);
+        &self.plain_tris[start..start + usize::from(head.fan_len)]
+    }
+
+    /// Starts the loads an ambiguous cell of `config` will make after its
+    /// face decisions (the row of `packed`; the head, fans and set of the
+    /// configuration's first set, near which its other sets lie), so that
+    /// they overlap with reading its values and deciding its faces. The grid
+    /// planes streaming through the cache evict the tables between layers;
+    /// without this the cell waits on a chain of dependent misses.
+    #[inline]
+    pub fn touch_sets(&self, config: u8) {
+        let mask = self.ambiguous_faces[config as usize];
+        let first = usize::from(self.set_start[config as usize]);
+        let head = self.heads[first];
+        black_box(self.packed[mask as usize][0]);
+        black_box(self.plain_tris.get(usize::from(head.fan_start)));
+        black_box(self.contours[first].count);
     }
 }
 
@@ -87,7 +131,7 @@ fn build() -> Tables {
     let mut mc_tris = Vec::new();
     let mut mc_start = [0u16; 257];
     let mut plain_tris = Vec::new();
-    let mut plain_start = Vec::new();
+    let mut heads = Vec::new();
     let mut packed = [[0u8; 64]; 64];
     for (mask, row) in packed.iter_mut().enumerate() {
         for (joined, rank) in row.iter_mut().enumerate() {
@@ -111,13 +155,7 @@ fn build() -> Tables {
                 let rank = usize::from(packed[mask as usize][joined as usize]);
                 debug_assert_eq!(contours.len(), set_start[config] as usize + rank);
                 let set = contour::build(c, joined);
-                plain_start.push(plain_tris.len() as u32);
-                let lens = &set.len[..set.count as usize];
-                if is_ambiguous[config] && set.meets_face_twice == 0 && !lens.contains(&12) {
-                    for i in 0..set.count as usize {
-                        fan(set.contour(i), &mut plain_tris);
-                    }
-                }
+                heads.push(set_head(&set, is_ambiguous[config], &mut plain_tris));
                 contours.push(set);
             }
         }
@@ -128,15 +166,14 @@ fn build() -> Tables {
         }
     }
     mc_start[256] = mc_tris.len() as u16;
-    plain_start.push(plain_tris.len() as u32);
     Tables {
         is_ambiguous,
         ambiguous_faces,
         contours,
         set_start,
         packed,
+        heads,
         plain_tris,
-        plain_start,
         mc_tris,
         mc_start,
         mc_most: mc_start
@@ -145,6 +182,29 @@ fn build() -> Tables {
             .max()
             .unwrap_or(0),
     }
+}
+
+/// The head of `set`; its plain fans, if it has them (flat contours of an
+/// ambiguous configuration), are appended to `plain_tris`.
+fn set_head(set: &ContourSet, ambiguous: bool, plain_tris: &mut Vec<[u8; 3]>) -> SetHead {
+    let lens = &set.len[..set.count as usize];
+    let mut head = SetHead {
+        tunnel_pairs: if set.count >= 2 { set.tunnel_pairs } else { 0 },
+        fan_start: u16::try_from(plain_tris.len()).expect("plain fans fit u16 offsets"),
+        labels: set.corner_comp,
+        ..SetHead::default()
+    };
+    if ambiguous && set.meets_face_twice == 0 && !lens.contains(&12) {
+        for i in 0..set.count as usize {
+            fan(set.contour(i), plain_tris);
+        }
+        head.fan_len = u8::try_from(plain_tris.len() - usize::from(head.fan_start))
+            .expect("at most 8 triangles");
+        for &n in lens.iter().filter(|&&n| (3..=6).contains(&n)) {
+            head.flat_counts += 1 << (4 * (n - 3));
+        }
+    }
+    head
 }
 
 /// The bits of `bits` at the set bits of `mask`, moved down to bits

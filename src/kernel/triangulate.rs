@@ -105,16 +105,16 @@ pub fn strip(contour: &[u8], asg: &[u8], inner: [u8; 3], out: &mut CellMesh) {
     }
 }
 
-/// Cost of assigning each contour vertex to each of the three inner
-/// vertices, `cost(point, k)`; entries past the contour's length are unused.
+/// Cost of assigning each contour vertex, at `points` in contour order, to
+/// each of the three inner vertices, `cost(point, k)`; entries past the
+/// contour's length are unused.
 pub fn costs(
-    contour: &[u8],
-    points: &[DVec3; 12],
+    points: impl Iterator<Item = DVec3>,
     cost: impl Fn(DVec3, usize) -> f64,
 ) -> [[f64; 3]; 12] {
     let mut out = [[0.0; 3]; 12];
-    for (row, &e) in out.iter_mut().zip(contour) {
-        *row = [0, 1, 2].map(|k| cost(points[e as usize], k));
+    for (row, p) in out.iter_mut().zip(points) {
+        *row = [0, 1, 2].map(|k| cost(p, k));
     }
     out
 }

@@ -38,50 +38,49 @@ pub fn fan_around(contour: &[u8], centre: u8, out: &mut CellMesh) {
 /// nearest-vertex assignment does not guarantee.
 pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
     let n = cost.len();
-    // The k' from which one step in direction `dir` reaches k.
-    let back = |k: usize| ((k as i32 - dir).rem_euclid(3)) as usize;
+    let step = dir.rem_euclid(3) as usize;
     let mut best = (f64::INFINITY, [0u8; 12]);
-    // dp[i][k][s]: best cost of vertices 0..=i with vertex i at k after s
-    // steps; `from` the k it came from. Each entry takes the better of two
-    // candidates, stay (from k) or step (from the k' with step(k') = k),
-    // by a select rather than a branch. A tie goes to the candidate with the
-    // smaller k, as if the candidates were offered in order of k.
-    let mut dp = [[[f64::INFINITY; 4]; 3]; 12];
-    let mut from = [[[0u8; 4]; 3]; 12];
+    // For a start k0 of vertex 0, the vertex after s steps sits at
+    // `k0 + s step`: so dp[i][s], the best cost of vertices 0..=i with vertex
+    // i after s steps, says where vertex i is. Each entry takes the better
+    // of two candidates, stay (s steps before) or step (s - 1), by a select
+    // rather than a branch; a tie goes to the candidate at the smaller k, as
+    // if the candidates were offered in order of k. `stepped` records which.
+    let mut dp = [[f64::INFINITY; 4]; 12];
+    let mut stepped = [[false; 4]; 12];
     for k0 in 0..3 {
-        dp[0] = [[f64::INFINITY; 4]; 3];
-        dp[0][k0][0] = cost[0][k0];
+        let labels: [usize; 6] = std::array::from_fn(|s| (k0 + s * step) % 3);
+        let at = |s: usize| labels[s];
+        dp[0] = [cost[0][k0], f64::INFINITY, f64::INFINITY, f64::INFINITY];
         for i in 1..n {
-            for k in 0..3 {
-                let p = back(k);
-                for s in 0..4 {
-                    let stay = dp[i - 1][k][s] + cost[i][k];
-                    let moved = if s > 0 {
-                        dp[i - 1][p][s - 1] + cost[i][k]
-                    } else {
-                        f64::INFINITY
-                    };
-                    let take = if p < k { moved <= stay } else { moved < stay };
-                    dp[i][k][s] = if take { moved } else { stay };
-                    from[i][k][s] = if take { p as u8 } else { k as u8 };
-                }
+            for s in 0..4 {
+                let k = at(s);
+                let stay = dp[i - 1][s] + cost[i][k];
+                let moved = if s > 0 {
+                    dp[i - 1][s - 1] + cost[i][k]
+                } else {
+                    f64::INFINITY
+                };
+                let take = if at(s + 2) < k {
+                    moved <= stay
+                } else {
+                    moved < stay
+                };
+                dp[i][s] = if take { moved } else { stay };
+                stepped[i][s] = take;
             }
         }
-        // Closing edge back to vertex 0: a stay after three steps, or the third step.
-        let ends = [(k0, 3usize), (back(k0), 2)];
-        for (k, s) in ends {
-            let c = dp[n - 1][k][s];
+        // Closing edge back to vertex 0: a stay after three steps, or the
+        // third step.
+        for s in [3, 2] {
+            let c = dp[n - 1][s];
             if c < best.0 {
                 let mut asg = [0u8; 12];
-                let (mut k, mut s) = (k, s);
+                let mut s = s;
                 for i in (0..n).rev() {
-                    asg[i] = k as u8;
-                    if i > 0 {
-                        let prev = from[i][k][s] as usize;
-                        if prev != k {
-                            s -= 1;
-                        }
-                        k = prev;
+                    asg[i] = at(s) as u8;
+                    if i > 0 && stepped[i][s] {
+                        s -= 1;
                     }
                 }
                 best = (c, asg);

@@ -83,6 +83,7 @@ fn edge_points<'a>(g: &'a [f64; 8], contour: &'a [u8]) -> impl Iterator<Item = D
 /// the same rounded products, negated; see [`det2_sign`](super::decider::det2_sign) for why its sign
 /// is exact when nonzero). Only faces where the rounded products tie go to
 /// the exact decider.
+#[inline]
 pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
     let ambiguous = tables().ambiguous_faces[config as usize];
     let (mut positive, mut negative, mut first_inside) = (0u8, 0u8, 0u8);
@@ -142,8 +143,12 @@ pub fn triangulate_ambiguous(
     let t = tables();
     let index = t.set_index(config, face_decisions(g, config));
     let head = t.heads[index];
-    let tunnel = labelled_joins(g, head.tunnel_pairs, &head.labels)
-        .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b));
+    let tunnel = if head.tunnel_pairs == 0 {
+        None
+    } else {
+        labelled_joins(g, head.tunnel_pairs, &head.labels)
+            .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b))
+    };
     // Flat contours and no tunnel (most ambiguous cells): the table's fans,
     // found without reading the set itself.
     if tunnel.is_none() && head.fan_len != 0 {

@@ -101,19 +101,23 @@ impl Tables {
     }
 
     /// Starts the loads an ambiguous cell of `config` will make after its
-    /// face decisions (the row of `packed`; the head, fans and set of the
-    /// configuration's first set, near which its other sets lie), so that
-    /// they overlap with reading its values and deciding its faces. The grid
-    /// planes streaming through the cache evict the tables between layers;
-    /// without this the cell waits on a chain of dependent misses.
+    /// face decisions (the row of `packed`; the heads, fans and sets of the
+    /// configuration's first and last sets, between which its other sets
+    /// lie), so that they overlap with reading its values and deciding its
+    /// faces. The grid planes streaming through the cache evict the tables
+    /// between layers; without this the cell waits on a chain of dependent
+    /// misses.
     #[inline]
     pub fn touch_sets(&self, config: u8) {
         let mask = self.ambiguous_faces[config as usize];
         let first = usize::from(self.set_start[config as usize]);
-        let head = self.heads[first];
+        let last = first + (1 << mask.count_ones()) - 1;
         black_box(self.packed[mask as usize][0]);
-        black_box(self.plain_tris.get(usize::from(head.fan_start)));
-        black_box(self.contours[first].count);
+        for i in [first, last] {
+            let head = self.heads[i];
+            black_box(self.plain_tris.get(usize::from(head.fan_start)));
+            black_box(self.contours[i].count);
+        }
     }
 }
 

@@ -115,7 +115,7 @@ impl Tables {
         black_box(self.packed[mask as usize][0]);
         for i in [first, last] {
             let head = self.heads[i];
-            black_box(self.plain_tris.get(usize::from(head.fan_start)));
+            black_box(self.plain_tris.get(usize::from(head.fan_start)).copied());
             black_box(self.contours[i].count);
         }
     }
@@ -203,7 +203,7 @@ fn set_head(set: &ContourSet, ambiguous: bool, plain_tris: &mut Vec<[u8; 3]>) ->
             fan(set.contour(i), plain_tris);
         }
         head.fan_len = u8::try_from(plain_tris.len() - usize::from(head.fan_start))
-            .expect("at most 8 triangles");
+            .expect("at most 12 edges, so at most 10 fan triangles");
         for &n in lens.iter().filter(|&&n| (3..=6).contains(&n)) {
             head.flat_counts += 1 << (4 * (n - 3));
         }

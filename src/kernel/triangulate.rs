@@ -67,7 +67,7 @@ pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
                     moved < stay
                 };
                 dp[i][s] = if take { moved } else { stay };
-                stepped[i][s] = take;
+                stepped[i][s] = take && s > 0;
             }
         }
         // Closing edge back to vertex 0: a stay after three steps, or the

@@ -139,12 +139,7 @@ impl IntoIterator for Roots {
 /// The saddle of the cut `x_axis = s`: the point where its two lines cross,
 /// or `None` when the cut has no saddle.
 pub fn cut_saddle(g: &[f64; 8], axis: usize, s: f64) -> Option<DVec3> {
-    saddle_of_cut(&cut(g, axis), axis, s)
-}
-
-/// [`cut_saddle`] of the cut `c` perpendicular to `axis`.
-fn saddle_of_cut(c: &Cut, axis: usize, s: f64) -> Option<DVec3> {
-    let (p, ok) = cut_crossing(c, axis, s);
+    let (p, ok) = cut_crossing(&cut(g, axis), axis, s);
     ok.then_some(p)
 }
 

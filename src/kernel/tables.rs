@@ -86,13 +86,6 @@ impl Tables {
         &self.contours[self.set_index(config, joined)]
     }
 
-    /// The fans of `contours[index]` if all its contours are flat, else
-    /// nothing (see `plain_tris`).
-    #[inline]
-    pub fn plain_fans(&self, index: usize) -> &[[u8; 3]] {
-        self.fans(self.heads[index])
-    }
-
     /// The plain fans of the set with head `head` (empty if it has none).
     #[inline]
     pub fn fans(&self, head: SetHead) -> &[[u8; 3]] {
@@ -330,18 +323,28 @@ mod tests {
     }
 
     #[test]
-    fn plain_fans_cover_exactly_the_flat_contour_sets() {
+    fn heads_agree_with_their_sets_and_fans_cover_exactly_the_flat_ones() {
         let t = tables();
         for config in 0..256 {
             for joined in 0..64 {
                 let i = t.set_index(config as u8, joined);
-                let set = t.contours[i];
+                let (set, head) = (t.contours[i], t.heads[i]);
                 let lens = &set.len[..set.count as usize];
                 let flat = set.meets_face_twice == 0 && !lens.contains(&12);
-                let fans = t.plain_fans(i);
+                let fans = t.fans(head);
+                assert_eq!(head.labels, set.corner_comp);
+                let pairs = if set.count >= 2 { set.tunnel_pairs } else { 0 };
+                assert_eq!(head.tunnel_pairs, pairs, "{config} {joined}");
                 if !(t.is_ambiguous[config] && flat) {
                     assert!(fans.is_empty(), "{config} {joined}");
+                    assert_eq!(head.flat_counts, 0, "{config} {joined}");
                     continue;
+                }
+                // Table 1's flat contours, by vertex count.
+                for n in 3..=6u8 {
+                    let count = lens.iter().filter(|&&l| l == n).count();
+                    let nibble = head.flat_counts >> (4 * (n - 3)) & 0xf;
+                    assert_eq!(usize::from(nibble), count, "{config} {joined}");
                 }
                 // n - 2 triangles per contour, each of three of its edges.
                 let expect: usize = lens.iter().map(|&n| n as usize - 2).sum();

@@ -61,6 +61,7 @@ pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
                 } else {
                     f64::INFINITY
                 };
+                // at(s + 2) is where the step comes from: s - 1 steps, mod 3.
                 let take = if at(s + 2) < k {
                     moved <= stay
                 } else {

@@ -11,7 +11,7 @@ fn triangulate_all(cells: &[([f64; 8], u8)], out: &mut CellMesh, stats: &mut Sta
     for (g, config) in cells {
         out.clear();
         let count = match triangulate_ambiguous(g, *config, stats, out) {
-            Triangles::Table(fans) => fans.len(),
+            Triangles::Table(fans) | Triangles::Centred(fans, _) => fans.len(),
             Triangles::Mesh => out.triangles.len(),
         };
         black_box(count);

@@ -593,29 +593,48 @@ fn cell_at(
     cell.clear();
     // Room a row keeps for MC triangles, which a cell must not eat into.
     let row_room = t.mc_most * (nx - 1);
-    if let Triangles::Table(fans) = triangulate_ambiguous(&g, config, stats, cell) {
-        // Edge vertices only, as MC: room for `fans.len()` beyond the row's.
-        make_room(&mut block.triangles, fans.len() + row_room, TRIANGLES)?;
-        for tri in fans {
-            block.triangles.push(tri.map(edge_ref));
+    let origin = DVec3::new(x as f64, y as f64, bottom.z as f64);
+    match triangulate_ambiguous(&g, config, stats, cell) {
+        Triangles::Table(fans) => {
+            // Edge vertices only, as MC: room for `fans.len()` beyond the row's.
+            make_room(&mut block.triangles, fans.len() + row_room, TRIANGLES)?;
+            for tri in fans {
+                block.triangles.push(tri.map(edge_ref));
+            }
+            Ok(())
         }
-        return Ok(());
+        Triangles::Centred(fans, centre) => {
+            push_cell(block, place, edges, fans, [origin + centre], row_room)
+        }
+        Triangles::Mesh => {
+            let interior = cell.interior.iter().map(|p| origin + *p);
+            push_cell(block, place, edges, &cell.triangles, interior, row_room)
+        }
     }
+}
+
+/// Appends a cell's interior vertices (grid index coordinates) and its
+/// triangles, whose refs from [`INTERIOR`] on point at those vertices, to
+/// the block, keeping `row_room` free for the row's MC triangles.
+fn push_cell(
+    block: &mut Block,
+    place: &Placement,
+    edges: CellEdges,
+    triangles: &[[u8; 3]],
+    interior: impl IntoIterator<Item = DVec3, IntoIter: ExactSizeIterator>,
+    row_room: usize,
+) -> Result<()> {
+    let interior = interior.into_iter();
     let first_interior = local_index(block)?;
-    make_room(&mut block.vertices, cell.interior.len(), VERTICES)?;
-    make_room(
-        &mut block.triangles,
-        cell.triangles.len() + row_room,
-        TRIANGLES,
-    )?;
-    for p in &cell.interior {
-        let index = DVec3::new(x as f64, y as f64, bottom.z as f64) + *p;
-        block.vertices.push(place.at(index.to_array()));
+    make_room(&mut block.vertices, interior.len(), VERTICES)?;
+    make_room(&mut block.triangles, triangles.len() + row_room, TRIANGLES)?;
+    for p in interior {
+        block.vertices.push(place.at(p.to_array()));
     }
-    for tri in &cell.triangles {
+    for tri in triangles {
         block.triangles.push(tri.map(|r| {
             if r < INTERIOR {
-                edge_ref(r)
+                edges.get(r)
             } else {
                 first_interior + (r - INTERIOR) as u32
             }

@@ -120,12 +120,17 @@ fn exact_decisions(g: &[f64; 8], faces: u8) -> u8 {
 }
 
 /// Where [`triangulate_ambiguous`] left a cell's triangles.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Triangles {
     /// Fans over the cell's edge vertices, straight from the tables (flat
     /// contours and no tunnel: most ambiguous cells); the cell mesh is left
     /// as it was, so the caller copies them as it copies MC triangles.
     Table(&'static [[VertexRef; 3]]),
+    /// Fans from the tables, one of them round the one interior vertex
+    /// [`INTERIOR`], at the given local coordinates (a contour that meets a
+    /// face twice, the others flat, no tunnel); the cell mesh is left as it
+    /// was.
+    Centred(&'static [[VertexRef; 3]], DVec3),
     /// Appended to the cell mesh, with the interior vertices they use.
     Mesh,
 }
@@ -149,13 +154,21 @@ pub fn triangulate_ambiguous(
         labelled_joins(g, head.tunnel_pairs, &head.labels)
             .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b))
     };
-    // Flat contours and no tunnel (most ambiguous cells): the table's fans,
-    // found without reading the set itself.
+    // No tunnel, and flat contours but for at most one that meets a face
+    // twice (most ambiguous cells): the table's fans, found without reading
+    // the set itself unless the interior vertex needs its contour.
     if tunnel.is_none() && head.fan_len != 0 {
         for (i, count) in stats.contours.iter_mut().enumerate() {
             *count += u64::from(head.flat_counts >> (4 * i) & 0xf);
         }
-        return Triangles::Table(t.fans(head));
+        let n = usize::from(head.centred_len);
+        if n == 0 {
+            return Triangles::Table(t.fans(head));
+        }
+        count_ambiguous(stats, n);
+        let contour = || t.contours[index].contour(usize::from(head.centred));
+        let centre = interior_vertex(&saddle_points(g), g, contour);
+        return Triangles::Centred(t.fans(head), centre.clamp(DVec3::ZERO, DVec3::ONE));
     }
     let set = &t.contours[index];
     if let Some((c1, c2)) = tunnel {
@@ -173,12 +186,10 @@ pub fn triangulate_ambiguous(
             stats.contours_12 += 1;
             triangulate_twelve(g, contour, out);
         } else if set.meets_face_twice >> i & 1 == 1 {
-            if (6..=9).contains(&n) {
-                stats.ambiguous_contours[n - 6] += 1;
-            }
+            count_ambiguous(stats, n);
             let saddles = saddles.get_or_insert_with(|| saddle_points(g));
-            let centre = out.push_interior(interior_vertex(saddles, g, contour));
-            fan_around(contour, centre, out);
+            let centre = out.push_interior(interior_vertex(saddles, g, || contour));
+            fan_around(contour, centre, &mut out.triangles);
         } else {
             count_flat(stats, n);
             fan(contour, &mut out.triangles);
@@ -191,6 +202,14 @@ pub fn triangulate_ambiguous(
 fn count_flat(stats: &mut Stats, n: usize) {
     if (3..=6).contains(&n) {
         stats.contours[n - 3] += 1;
+    }
+}
+
+/// Counts a contour of `n` vertices that meets a face twice (the paper's
+/// ambiguous contours, Table 1).
+fn count_ambiguous(stats: &mut Stats, n: usize) {
+    if (6..=9).contains(&n) {
+        stats.ambiguous_contours[n - 6] += 1;
     }
 }
 
@@ -281,14 +300,19 @@ fn inner_triangle(hex: &[DVec3; 6], out: &mut CellMesh) -> [VertexRef; 3] {
 /// lines (a saddle point), or the midpoint of the two saddle points nearest
 /// to the contour's centroid when there are more; the centroid if rounding
 /// left no saddle point in the cell. With one or two saddle points the
-/// centroid decides nothing and is not computed.
-fn interior_vertex(saddles: &Saddles, g: &[f64; 8], contour: &[u8]) -> DVec3 {
+/// centroid decides nothing, and neither it nor the contour is looked at.
+fn interior_vertex<'c>(
+    saddles: &Saddles,
+    g: &[f64; 8],
+    contour: impl FnOnce() -> &'c [u8],
+) -> DVec3 {
     let mut found = saddles.iter();
     match (found.next(), found.next(), found.next()) {
         (Some(a), None, _) => return a,
         (Some(a), Some(b), None) => return (a + b) * 0.5,
         _ => {}
     }
+    let contour = contour();
     let centroid = edge_points(g, contour).sum::<DVec3>() / contour.len() as f64;
     let distance = |p: &DVec3| p.distance_squared(centroid);
     let mut nearest: Option<(DVec3, Option<DVec3>)> = None;

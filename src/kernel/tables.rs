@@ -19,27 +19,35 @@
 //!   "inside corners of an ambiguous face are separated". For unambiguous
 //!   configurations this is the MC table both methods use.
 
+use super::cell::INTERIOR;
 use super::contour::{self, face_is_ambiguous, ContourSet};
 use super::cube::{edge_faces, EDGE_CORNERS};
-use super::triangulate::fan;
+use super::triangulate::{fan, fan_around};
 use std::hint::black_box;
 use std::sync::OnceLock;
 
 /// What the common path of an ambiguous cell reads of its contour set, in
-/// 14 bytes instead of the set's 35, so that the heads a layer meets stay
+/// 16 bytes instead of the set's 35, so that the heads a layer meets stay
 /// in the nearest cache while the grid planes stream through it.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SetHead {
     /// [`ContourSet::tunnel_pairs`], 0 when the set has fewer than two
     /// contours: 0 means no tunnel is possible.
     pub tunnel_pairs: u8,
-    /// Triangles of the set's plain fans, 0 if some contour is not flat.
+    /// Triangles of the set's table fans, 0 if it has none (a contour of 12
+    /// vertices, or more than one contour that meets a face twice).
     pub fan_len: u8,
-    /// Where the plain fans start in `plain_tris`.
+    /// Where the table fans start in `plain_tris`.
     pub fan_start: u16,
     /// Flat contours of 3, 4, 5 and 6 vertices (the paper's Table 1), four
-    /// bits each from the lowest; only set with the plain fans.
+    /// bits each from the lowest; only set with the table fans.
     pub flat_counts: u16,
+    /// With the table fans: the number of vertices of the one contour that
+    /// meets a face twice, whose fan goes round the interior vertex
+    /// [`INTERIOR`]; 0 if all contours are flat.
+    pub centred_len: u8,
+    /// Which contour of the set that is (see `centred_len`).
+    pub centred: u8,
     /// [`ContourSet::corner_comp`], the labels the tunnel test joins.
     pub labels: [u8; 8],
 }
@@ -59,7 +67,7 @@ pub struct Tables {
     pub packed: [[u8; 64]; 64],
     /// The head of each set of `contours`, at the same index.
     pub heads: Vec<SetHead>,
-    /// The plain fans of all flat sets, one after the other (see
+    /// The table fans of the sets that have them, one after the other (see
     /// [`SetHead::fan_start`]).
     pub plain_tris: Vec<[u8; 3]>,
     /// Standard MC triangles per configuration: `mc_tris[mc_start[c]..mc_start[c + 1]]`.
@@ -86,7 +94,7 @@ impl Tables {
         &self.contours[self.set_index(config, joined)]
     }
 
-    /// The plain fans of the set with head `head` (empty if it has none).
+    /// The table fans of the set with head `head` (empty if it has none).
     #[inline]
     pub fn fans(&self, head: SetHead) -> &[[u8; 3]] {
         let start = usize::from(head.fan_start);
@@ -181,25 +189,35 @@ fn build() -> Tables {
     }
 }
 
-/// The head of `set`; its plain fans, if it has them (flat contours of an
-/// ambiguous configuration), are appended to `plain_tris`.
+/// The head of `set`. Its table fans, if it has them, are appended to
+/// `plain_tris`: an ambiguous configuration's set whose contours are flat
+/// but for at most one that meets a face twice, and none of 12 vertices.
+/// They are the triangles the cell's mesh path makes when there is no
+/// tunnel, in the same order: a fan per flat contour, and a fan round
+/// interior vertex [`INTERIOR`] for the other one.
 fn set_head(set: &ContourSet, ambiguous: bool, plain_tris: &mut Vec<[u8; 3]>) -> SetHead {
     let lens = &set.len[..set.count as usize];
     let mut head = SetHead {
         tunnel_pairs: if set.count >= 2 { set.tunnel_pairs } else { 0 },
-        fan_start: u16::try_from(plain_tris.len()).expect("plain fans fit u16 offsets"),
+        fan_start: u16::try_from(plain_tris.len()).expect("table fans fit u16 offsets"),
         labels: set.corner_comp,
         ..SetHead::default()
     };
-    if ambiguous && set.meets_face_twice == 0 && !lens.contains(&12) {
-        for i in 0..set.count as usize {
-            fan(set.contour(i), plain_tris);
+    if ambiguous && set.meets_face_twice.count_ones() <= 1 && !lens.contains(&12) {
+        for (i, &n) in lens.iter().enumerate() {
+            let contour = set.contour(i);
+            if set.meets_face_twice >> i & 1 == 1 {
+                (head.centred, head.centred_len) = (i as u8, n);
+                fan_around(contour, INTERIOR, plain_tris);
+            } else {
+                fan(contour, plain_tris);
+                if (3..=6).contains(&n) {
+                    head.flat_counts += 1 << (4 * (n - 3));
+                }
+            }
         }
         head.fan_len = u8::try_from(plain_tris.len() - usize::from(head.fan_start))
-            .expect("at most 12 edges, so at most 10 fan triangles");
-        for &n in lens.iter().filter(|&&n| (3..=6).contains(&n)) {
-            head.flat_counts += 1 << (4 * (n - 3));
-        }
+            .expect("at most 12 edges, so at most 12 fan triangles");
     }
     head
 }
@@ -323,36 +341,59 @@ mod tests {
     }
 
     #[test]
-    fn heads_agree_with_their_sets_and_fans_cover_exactly_the_flat_ones() {
+    fn heads_agree_with_their_sets_and_fans_cover_the_mesh_paths_triangles() {
         let t = tables();
+        let mut centred = 0;
         for config in 0..256 {
             for joined in 0..64 {
                 let i = t.set_index(config as u8, joined);
                 let (set, head) = (t.contours[i], t.heads[i]);
                 let lens = &set.len[..set.count as usize];
-                let flat = set.meets_face_twice == 0 && !lens.contains(&12);
+                let twice = set.meets_face_twice;
+                let tabled = twice.count_ones() <= 1 && !lens.contains(&12);
                 let fans = t.fans(head);
                 assert_eq!(head.labels, set.corner_comp);
                 let pairs = if set.count >= 2 { set.tunnel_pairs } else { 0 };
                 assert_eq!(head.tunnel_pairs, pairs, "{config} {joined}");
-                if !(t.is_ambiguous[config] && flat) {
+                if !(t.is_ambiguous[config] && tabled) {
                     assert!(fans.is_empty(), "{config} {joined}");
                     assert_eq!(head.flat_counts, 0, "{config} {joined}");
+                    assert_eq!(head.centred_len, 0, "{config} {joined}");
                     continue;
                 }
                 // Table 1's flat contours, by vertex count.
+                let flat = |c: usize| twice >> c & 1 == 0;
                 for n in 3..=6u8 {
-                    let count = lens.iter().filter(|&&l| l == n).count();
+                    let count = (0..lens.len()).filter(|&c| flat(c) && lens[c] == n);
                     let nibble = head.flat_counts >> (4 * (n - 3)) & 0xf;
-                    assert_eq!(usize::from(nibble), count, "{config} {joined}");
+                    assert_eq!(usize::from(nibble), count.count(), "{config} {joined}");
                 }
-                // n - 2 triangles per contour, each of three of its edges.
-                let expect: usize = lens.iter().map(|&n| n as usize - 2).sum();
-                assert_eq!(fans.len(), expect, "{config} {joined}");
-                let edges = &set.edges[..lens.iter().map(|&n| n as usize).sum()];
-                assert!(fans.iter().flatten().all(|e| edges.contains(e)));
+                // The contour that meets a face twice, if any.
+                if twice == 0 {
+                    assert_eq!(head.centred_len, 0, "{config} {joined}");
+                } else {
+                    centred += 1;
+                    let c = usize::from(head.centred);
+                    assert_eq!(twice, 1 << c, "{config} {joined}");
+                    assert_eq!(head.centred_len, lens[c], "{config} {joined}");
+                }
+                // The mesh path's triangles for the set, in its order: n - 2
+                // per flat contour, n round the interior vertex.
+                let mut expect = Vec::new();
+                for (c, _) in lens.iter().enumerate() {
+                    if flat(c) {
+                        crate::kernel::triangulate::fan(set.contour(c), &mut expect);
+                    } else {
+                        let n = set.contour(c).len();
+                        let ring = (0..n).map(|k| [k, (k + 1) % n]);
+                        let contour = set.contour(c);
+                        expect.extend(ring.map(|[a, b]| [contour[a], contour[b], INTERIOR]));
+                    }
+                }
+                assert_eq!(fans, &expect[..], "{config} {joined}");
             }
         }
+        assert!(centred > 100, "only {centred} sets with an interior vertex");
     }
 
     #[test]

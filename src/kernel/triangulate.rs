@@ -24,10 +24,10 @@ pub fn fan(contour: &[u8], out: &mut Vec<[VertexRef; 3]>) {
 }
 
 /// A fan over `contour` around the interior vertex `centre` (a vertex ref).
-pub fn fan_around(contour: &[u8], centre: u8, out: &mut CellMesh) {
+pub fn fan_around(contour: &[u8], centre: u8, out: &mut Vec<[VertexRef; 3]>) {
     let n = contour.len();
     for i in 0..n {
-        out.push_triangle([contour[i], contour[(i + 1) % n], centre]);
+        out.push([contour[i], contour[(i + 1) % n], centre]);
     }
 }
 

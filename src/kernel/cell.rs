@@ -306,11 +306,12 @@ fn interior_vertex<'c>(
     g: &[f64; 8],
     contour: impl FnOnce() -> &'c [u8],
 ) -> DVec3 {
-    let mut found = saddles.iter();
-    match (found.next(), found.next(), found.next()) {
-        (Some(a), None, _) => return a,
-        (Some(a), Some(b), None) => return (a + b) * 0.5,
-        _ => {}
+    // One or two saddle points (most cells), without a branch on which: with
+    // one, `b` is `a` and the midpoint is `a` exactly (doubling and halving
+    // are exact). Only the rare other counts take a branch.
+    let [a, b] = saddles.first_two();
+    if saddles.count().wrapping_sub(1) < 2 {
+        return (a + b) * 0.5;
     }
     let contour = contour();
     let centroid = edge_points(g, contour).sum::<DVec3>() / contour.len() as f64;

@@ -166,6 +166,25 @@ pub struct Saddles {
 }
 
 impl Saddles {
+    /// How many points were found.
+    pub fn count(&self) -> u32 {
+        self.found.count_ones()
+    }
+
+    /// The first two points found, in the order of [`Saddles::iter`], picked
+    /// without a branch; the first twice when only one was found, and
+    /// meaningless when none was.
+    pub fn first_two(&self) -> [DVec3; 2] {
+        let first = (self.found.trailing_zeros() as usize).min(5);
+        let rest = self.found & self.found.wrapping_sub(1);
+        let second = if rest == 0 {
+            first
+        } else {
+            rest.trailing_zeros() as usize
+        };
+        [self.points[first], self.points[second.min(5)]]
+    }
+
     /// The points found, in the order of axis and ascending root.
     pub fn iter(&self) -> impl Iterator<Item = DVec3> + '_ {
         (0..6)
@@ -274,6 +293,29 @@ mod tests {
         // Catastrophic cancellation in the textbook formula.
         let r = roots(1.0, -1e8, 1.0);
         assert!((r.as_slice()[0] - 1e-8).abs() < 1e-20);
+    }
+
+    #[test]
+    fn first_two_and_count_agree_with_the_points_found() {
+        let mut next = crate::kernel::xorshift(0x0dd5_eed5_1234_5678u64);
+        let mut counts = [0usize; 7];
+        for _ in 0..20_000 {
+            let g: [f64; 8] = std::array::from_fn(|_| (next() % 9) as f64 - 4.0);
+            let saddles = saddle_points(&g);
+            let found: Vec<DVec3> = saddles.iter().collect();
+            assert_eq!(saddles.count() as usize, found.len());
+            counts[found.len()] += 1;
+            let [a, b] = saddles.first_two();
+            if let Some(&p) = found.first() {
+                assert_eq!(a, p);
+            }
+            match found.len() {
+                0 => {}
+                1 => assert_eq!(b, a),
+                _ => assert_eq!(b, found[1]),
+            }
+        }
+        assert!(counts[..4].iter().all(|&c| c > 100), "{counts:?}");
     }
 
     #[test]

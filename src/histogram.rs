@@ -138,7 +138,7 @@ pub fn otsu(counts: &[u64]) -> Option<usize> {
     let mut best: Option<(f64, usize)> = None;
     for t in 0..n - 1 {
         let score = class_term(&w, &m, 0, t + 1) + class_term(&w, &m, t + 1, n);
-        if best.map_or(true, |(b, _)| score > b) {
+        if best.is_none_or(|(b, _)| score > b) {
             best = Some((score, t));
         }
     }
@@ -160,7 +160,7 @@ pub fn otsu2(counts: &[u64]) -> Option<(usize, usize)> {
         let low = class_term(&w, &m, 0, t1 + 1);
         for t2 in t1 + 1..n - 1 {
             let score = low + class_term(&w, &m, t1 + 1, t2 + 1) + class_term(&w, &m, t2 + 1, n);
-            if best.map_or(true, |(b, _, _)| score > b) {
+            if best.is_none_or(|(b, _, _)| score > b) {
                 best = Some((score, t1, t2));
             }
         }

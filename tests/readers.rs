@@ -70,7 +70,7 @@ fn numpy_code(scalar: ScalarType) -> &'static str {
 fn npy_bytes(major: u8, dict: &str, data: &[u8]) -> Vec<u8> {
     let prefix = if major == 1 { 10 } else { 12 };
     let mut header = dict.to_string();
-    while (prefix + header.len() + 1) % 64 != 0 {
+    while !(prefix + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
     header.push('\n');
@@ -888,7 +888,7 @@ fn lent_planes_match_read_planes_and_give_the_same_mesh() {
             };
             let raw = volume::RawVolume::open(&path, &options).unwrap();
             let what = format!("{scalar:?} header {header} {endian:?}");
-            let aligned = header as usize % scalar.size() == 0;
+            let aligned = (header as usize).is_multiple_of(scalar.size());
             let can_lend = aligned && endian == Endian::native();
             let mut plane = vec![0.0; dims[0] * dims[1]];
             for z in 0..dims[2] {

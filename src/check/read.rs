@@ -700,7 +700,7 @@ fn read_obj(src: &mut Source) -> Result<Mesh> {
                         )));
                     }
                     let resolved = resolved as u32;
-                    if max_index.map_or(true, |(m, _)| resolved > m) {
+                    if max_index.is_none_or(|(m, _)| resolved > m) {
                         max_index = Some((resolved, src.line));
                     }
                     polygon.push(resolved);

@@ -22,6 +22,7 @@
 //! point otherwise.
 
 use super::contour::ContourSet;
+use std::hint::select_unpredictable;
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// Two surface components (corner labels) that the interior joins.
@@ -73,7 +74,7 @@ fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
         let bit = rest.trailing_zeros() as usize;
         rest &= rest - 1;
         let closed = bit >= 2;
-        let region = if closed { &outside } else { h };
+        let region = select_unpredictable(closed, &outside, h);
         let diagonal = DIAGONALS[bit % 2];
         if pair_joins(region, diagonal, closed) {
             // The corner of each edge in the region (the lower one if both
@@ -213,13 +214,11 @@ fn is_in<T: Num>(v: T, closed: bool) -> bool {
     (v > T::ZERO) | (closed & (v == T::ZERO))
 }
 
-/// `x` if `c`, else `y`: a select the compiler can emit without a branch.
+/// `x` if `c`, else `y`, hinted as unpredictable so that the compiler
+/// selects without a branch (a plain `if` was compiled to one).
 #[inline(always)]
 fn pick<T: Copy>(c: bool, x: Frac<T>, y: Frac<T>) -> Frac<T> {
-    Frac {
-        p: if c { x.p } else { y.p },
-        q: if c { x.q } else { y.q },
-    }
+    select_unpredictable(c, x, y)
 }
 
 /// Does the diagonal pair `(k, kk, j, jj)` join through the interior, for

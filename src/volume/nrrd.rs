@@ -259,7 +259,7 @@ fn data_files(
             "{what} names {} files, sizes need {nz} (one per z-slice)",
             names.len()
         ))),
-        3 if names.is_empty() || nz % names.len() != 0 => Err(fail(format!(
+        3 if names.is_empty() || !nz.is_multiple_of(names.len()) => Err(fail(format!(
             "{what} names {} files, which do not split the {nz} z-slices evenly",
             names.len()
         ))),

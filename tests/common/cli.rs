@@ -50,7 +50,7 @@ pub fn assert_one_line(out: &Output, code: i32) -> String {
 /// (padded so the data starts at a multiple of 64).
 pub fn npy_header(dict: &str) -> Vec<u8> {
     let mut header = dict.to_string();
-    while (10 + header.len() + 1) % 64 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
     header.push('\n');

@@ -123,8 +123,8 @@ fn exact_decisions(g: &[f64; 8], faces: u8) -> u8 {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Triangles {
     /// Fans over the cell's edge vertices, straight from the tables (flat
-    /// contours and no tunnel: most ambiguous cells); the cell mesh is left
-    /// as it was, so the caller copies them as it copies MC triangles.
+    /// contours and no tunnel); the cell mesh is left as it was, so the
+    /// caller copies them as it copies MC triangles.
     Table(&'static [[VertexRef; 3]]),
     /// Fans from the tables, one of them round the one interior vertex
     /// [`INTERIOR`], at the given local coordinates (a contour that meets a

@@ -11,10 +11,11 @@
 //!   decisions on its ambiguous faces, packed (656 sets of 35 bytes, so that the
 //!   ones the data uses stay in cache); [`Tables::set_index`] finds them.
 //! * `heads`: for each contour set, the few bytes most ambiguous cells need
-//!   of it (see [`SetHead`]): whether a tunnel is possible and, when its
-//!   contours are all flat (none meets a face twice, none has 12 vertices),
-//!   the fans over them, so that a cell without a tunnel copies them as MC
-//!   copies its triangles.
+//!   of it (see [`SetHead`]): whether a tunnel is possible and, unless a
+//!   contour has 12 vertices or two meet a face twice, the fans over its
+//!   contours (round interior vertex [`INTERIOR`] for the one that meets a
+//!   face twice), so that a cell without a tunnel copies them as MC copies
+//!   its triangles.
 //! * `mc[config]`: standard MC triangles (edge triples) with the face rule
 //!   "inside corners of an ambiguous face are separated". For unambiguous
 //!   configurations this is the MC table both methods use.
@@ -35,7 +36,8 @@ pub struct SetHead {
     /// contours: 0 means no tunnel is possible.
     pub tunnel_pairs: u8,
     /// Triangles of the set's table fans, 0 if it has none (a contour of 12
-    /// vertices, or more than one contour that meets a face twice).
+    /// vertices, two contours that meet a face twice, or an unambiguous
+    /// configuration).
     pub fan_len: u8,
     /// Where the table fans start in `plain_tris`.
     pub fan_start: u16,

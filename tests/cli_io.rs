@@ -758,3 +758,55 @@ fn extract_to_a_missing_directory_leaves_nothing() {
     }
     assert_eq!(names(dir.path()), ["noise.npy"]);
 }
+
+#[test]
+fn grids_one_sample_thin_extract_with_close_only() {
+    // A block of inside samples one sample thin along some axes: without
+    // --close there are no cells (one clear error); with it the padding
+    // gives cells, and the surface is one closed, oriented sphere.
+    let dir = tempfile::tempdir().unwrap();
+    for dims in [[1, 1, 1], [3, 1, 1], [1, 4, 2], [2, 3, 1]] {
+        let raw = dir.path().join("thin.raw");
+        fs::write(&raw, vec![10u8; dims.iter().product()]).unwrap();
+        let dims_arg = format!("{},{},{}", dims[0], dims[1], dims[2]);
+        let output = dir.path().join("thin.obj");
+        let base = [
+            "extract",
+            s(&raw),
+            "--iso",
+            "5",
+            "-o",
+            s(&output),
+            "--dims",
+            &dims_arg,
+            "--dtype",
+            "u8",
+        ];
+        let line = assert_one_line(&tmc(&base), 1);
+        assert!(
+            line.ends_with("need at least 2 on every axis (or --close)"),
+            "{line}"
+        );
+        assert!(!output.exists(), "{dims:?}");
+
+        tmc_ok(&[&base[..], &["--close"]].concat());
+        let mesh = parse_obj(&fs::read_to_string(&output).unwrap());
+        // Every directed edge once, its reverse once: closed and oriented.
+        let mut directed = std::collections::HashMap::new();
+        for t in &mesh.triangles {
+            for k in 0..3 {
+                *directed.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        for (&(a, b), &n) in &directed {
+            assert_eq!((n, directed.get(&(b, a))), (1, Some(&1)), "{dims:?}");
+        }
+        let (v, e, f) = (
+            mesh.vertices.len(),
+            directed.len() / 2,
+            mesh.triangles.len(),
+        );
+        assert_eq!(v as i64 - e as i64 + f as i64, 2, "{dims:?}: not a sphere");
+        fs::remove_file(&output).unwrap();
+    }
+}

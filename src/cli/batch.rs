@@ -190,7 +190,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
         check_distinct(data, output)?;
     }
     let grid = *source.grid();
-    check_grid(&item.input, &grid)?;
+    check_grid(&item.input, &grid, args.close)?;
     for output in &item.outputs {
         tmc::export::check_output_path(output)?;
     }

@@ -165,7 +165,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         check_distinct(data, output)?;
     }
     let grid = *source.grid();
-    check_grid(input, &grid)?;
+    check_grid(input, &grid, args.close)?;
     tmc::export::check_output_path(output)?;
 
     let params = args.params(iso);
@@ -285,12 +285,17 @@ impl Monitor {
     }
 }
 
-/// Rejects grids with fewer than 2 samples along an axis (no cells).
-pub(super) fn check_grid(input: &Path, grid: &Grid) -> Result<()> {
+/// Rejects grids with fewer than 2 samples along an axis (no cells), unless
+/// `close` pads the volume with an outside border, which gives every grid
+/// cells (a single inside sample then has a closed surface around it).
+pub(super) fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
+    if close {
+        return Ok(());
+    }
     for (axis, &n) in ["x", "y", "z"].iter().zip(&grid.dims) {
         if n < 2 {
             return Err(Error::Invalid(format!(
-                "{}: grid {}x{}x{} has {n} sample along {axis}; need at least 2 on every axis",
+                "{}: grid {}x{}x{} has {n} sample along {axis}; need at least 2 on every axis (or --close)",
                 input.display(),
                 grid.dims[0],
                 grid.dims[1],

@@ -39,7 +39,7 @@ pub struct SetHead {
     /// vertices, two contours that meet a face twice, or an unambiguous
     /// configuration).
     pub fan_len: u8,
-    /// Where the table fans start in `plain_tris`.
+    /// Where the table fans start in `table_fans`.
     pub fan_start: u16,
     /// Flat contours of 3, 4, 5 and 6 vertices (the paper's Table 1), four
     /// bits each from the lowest; only set with the table fans.
@@ -71,7 +71,7 @@ pub struct Tables {
     pub heads: Vec<SetHead>,
     /// The table fans of the sets that have them, one after the other (see
     /// [`SetHead::fan_start`]).
-    pub plain_tris: Vec<[u8; 3]>,
+    pub table_fans: Vec<[u8; 3]>,
     /// Standard MC triangles per configuration: `mc_tris[mc_start[c]..mc_start[c + 1]]`.
     pub mc_tris: Vec<[u8; 3]>,
     /// Offsets into `mc_tris`.
@@ -100,7 +100,7 @@ impl Tables {
     #[inline]
     pub fn fans(&self, head: SetHead) -> &[[u8; 3]] {
         let start = usize::from(head.fan_start);
-        &self.plain_tris[start..start + usize::from(head.fan_len)]
+        &self.table_fans[start..start + usize::from(head.fan_len)]
     }
 
     /// Starts the loads an ambiguous cell of `config` will make after its
@@ -118,7 +118,7 @@ impl Tables {
         black_box(self.packed[mask as usize][0]);
         for i in [first, last] {
             let head = self.heads[i];
-            black_box(self.plain_tris.get(usize::from(head.fan_start)).copied());
+            black_box(self.table_fans.get(usize::from(head.fan_start)).copied());
             black_box(self.contours[i].count);
         }
     }
@@ -137,7 +137,7 @@ fn build() -> Tables {
     let mut set_start = [0u16; 256];
     let mut mc_tris = Vec::new();
     let mut mc_start = [0u16; 257];
-    let mut plain_tris = Vec::new();
+    let mut table_fans = Vec::new();
     let mut heads = Vec::new();
     let mut packed = [[0u8; 64]; 64];
     for (mask, row) in packed.iter_mut().enumerate() {
@@ -162,7 +162,7 @@ fn build() -> Tables {
                 let rank = usize::from(packed[mask as usize][joined as usize]);
                 debug_assert_eq!(contours.len(), set_start[config] as usize + rank);
                 let set = contour::build(c, joined);
-                heads.push(set_head(&set, is_ambiguous[config], &mut plain_tris));
+                heads.push(set_head(&set, is_ambiguous[config], &mut table_fans));
                 contours.push(set);
             }
         }
@@ -180,7 +180,7 @@ fn build() -> Tables {
         set_start,
         packed,
         heads,
-        plain_tris,
+        table_fans,
         mc_tris,
         mc_start,
         mc_most: mc_start
@@ -192,16 +192,16 @@ fn build() -> Tables {
 }
 
 /// The head of `set`. Its table fans, if it has them, are appended to
-/// `plain_tris`: an ambiguous configuration's set whose contours are flat
+/// `table_fans`: an ambiguous configuration's set whose contours are flat
 /// but for at most one that meets a face twice, and none of 12 vertices.
 /// They are the triangles the cell's mesh path makes when there is no
 /// tunnel, in the same order: a fan per flat contour, and a fan round
 /// interior vertex [`INTERIOR`] for the other one.
-fn set_head(set: &ContourSet, ambiguous: bool, plain_tris: &mut Vec<[u8; 3]>) -> SetHead {
+fn set_head(set: &ContourSet, ambiguous: bool, table_fans: &mut Vec<[u8; 3]>) -> SetHead {
     let lens = &set.len[..set.count as usize];
     let mut head = SetHead {
         tunnel_pairs: if set.count >= 2 { set.tunnel_pairs } else { 0 },
-        fan_start: u16::try_from(plain_tris.len()).expect("table fans fit u16 offsets"),
+        fan_start: u16::try_from(table_fans.len()).expect("table fans fit u16 offsets"),
         labels: set.corner_comp,
         ..SetHead::default()
     };
@@ -210,15 +210,15 @@ fn set_head(set: &ContourSet, ambiguous: bool, plain_tris: &mut Vec<[u8; 3]>) ->
             let contour = set.contour(i);
             if set.meets_face_twice >> i & 1 == 1 {
                 (head.centred, head.centred_len) = (i as u8, n);
-                fan_around(contour, INTERIOR, plain_tris);
+                fan_around(contour, INTERIOR, table_fans);
             } else {
-                fan(contour, plain_tris);
+                fan(contour, table_fans);
                 if (3..=6).contains(&n) {
                     head.flat_counts += 1 << (4 * (n - 3));
                 }
             }
         }
-        head.fan_len = u8::try_from(plain_tris.len() - usize::from(head.fan_start))
+        head.fan_len = u8::try_from(table_fans.len() - usize::from(head.fan_start))
             .expect("at most 12 edges, so at most 12 fan triangles");
     }
     head

@@ -159,10 +159,17 @@ fn cut_crossing(c: &Cut, axis: usize, s: f64) -> (DVec3, bool) {
 
 /// Up to six saddle points of the level set in a cell: the candidates of
 /// every root slot, with a mask of those that are saddle points in the cell.
+/// A point found lies within a tolerance of the cell and is clamped into it
+/// when read, so that only the one or two points a cell uses pay for that.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Saddles {
     points: [DVec3; 6],
     found: u8,
+}
+
+/// A point found, clamped into the closed unit cell.
+fn into_cell(p: DVec3) -> DVec3 {
+    DVec3::from_array(p.to_array().map(|x| x.clamp(0.0, 1.0)))
 }
 
 impl Saddles {
@@ -182,14 +189,14 @@ impl Saddles {
         } else {
             rest.trailing_zeros() as usize
         };
-        [self.points[first], self.points[second.min(5)]]
+        [self.points[first], self.points[second.min(5)]].map(into_cell)
     }
 
     /// The points found, in the order of axis and ascending root.
     pub fn iter(&self) -> impl Iterator<Item = DVec3> + '_ {
         (0..6)
             .filter(|&i| self.found >> i & 1 == 1)
-            .map(|i| self.points[i])
+            .map(|i| into_cell(self.points[i]))
     }
 }
 
@@ -222,8 +229,7 @@ fn axis_saddles(g: &[f64; 8], axis: usize, out: &mut Saddles) {
             m & (-TOL..=1.0 + TOL).contains(&x)
         });
         let i = 2 * axis + slot;
-        // Kept points are within TOL of the cell: clamp them into it.
-        out.points[i] = DVec3::from_array(p.map(|x| x.clamp(0.0, 1.0)));
+        out.points[i] = DVec3::from_array(p);
         out.found |= u8::from(inside) << i;
     }
 }

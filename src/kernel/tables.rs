@@ -382,14 +382,14 @@ mod tests {
                 // The mesh path's triangles for the set, in its order: n - 2
                 // per flat contour, n round the interior vertex.
                 let mut expect = Vec::new();
-                for (c, _) in lens.iter().enumerate() {
+                for c in 0..lens.len() {
+                    let contour = set.contour(c);
                     if flat(c) {
-                        crate::kernel::triangulate::fan(set.contour(c), &mut expect);
+                        fan(contour, &mut expect);
                     } else {
-                        let n = set.contour(c).len();
-                        let ring = (0..n).map(|k| [k, (k + 1) % n]);
-                        let contour = set.contour(c);
-                        expect.extend(ring.map(|[a, b]| [contour[a], contour[b], INTERIOR]));
+                        let n = contour.len();
+                        let ring = (0..n).map(|k| [contour[k], contour[(k + 1) % n], INTERIOR]);
+                        expect.extend(ring);
                     }
                 }
                 assert_eq!(fans, &expect[..], "{config} {joined}");

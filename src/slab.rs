@@ -148,14 +148,16 @@ impl Level {
     }
 
     /// `value - iso` (`iso - value` for `Inside::Low`), NaN as 0 (a tie,
-    /// outside), clamped to +-1e150 so that differences of two stay finite.
+    /// outside), clamped to `±f64::MAX / 4` (infinities too) so that
+    /// differences of two stay finite; the kernel scales the values of a
+    /// cell out of its range itself.
     #[inline]
     fn rel(self, value: f64) -> f64 {
         let d = (value - self.iso) * self.sign;
         if d.is_nan() {
             0.0
         } else {
-            d.clamp(-1e150, 1e150)
+            d.clamp(-f64::MAX / 4.0, f64::MAX / 4.0)
         }
     }
 }

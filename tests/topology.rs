@@ -285,6 +285,60 @@ fn random_volumes_match_the_oracle() {
     assert_eq!(cases, 3000);
 }
 
+/// Values of any magnitude: a grid scaled by a power of two, from the edge
+/// of the subnormals up to near the largest double, gives the mesh of the
+/// grid itself, vertex for vertex and triangle for triangle (the oracle
+/// checks the unscaled grid). Face products underflow or overflow at these
+/// scales, and the quadratics' discriminants long before.
+#[test]
+fn scaling_the_values_changes_nothing() {
+    let mut rng = Pcg64::seed_from_u64(11);
+    let mut tunnels = 0;
+    for trial in 0..300 {
+        let n: [usize; 3] = std::array::from_fn(|_| rng.gen_range(2..=6));
+        let len = n.iter().product();
+        let values: Vec<f64> = (0..len).map(|_| rng.gen_range(-3..=3) as f64).collect();
+        let (_, stats) =
+            check_closed(n, &values, 0.0).unwrap_or_else(|e| panic!("trial {trial}: {e}"));
+        tunnels += stats.tunnels;
+        let (reference, _) = run(n, &values, 0.0, true, Method::Tmc);
+        for k in [-1020, -700, -300, -150, 150, 300, 700, 1020] {
+            let scaled: Vec<f64> = values.iter().map(|v| v * 2f64.powi(k)).collect();
+            let (mesh, _) = run(n, &scaled, 0.0, true, Method::Tmc);
+            assert!(
+                mesh.triangles == reference.triangles && mesh.vertices == reference.vertices,
+                "trial {trial}, values x 2^{k}: {values:?}"
+            );
+        }
+    }
+    assert!(tunnels > 20, "only {tunnels} tunnels");
+}
+
+/// Infinite samples (and the largest doubles) next to ordinary ones: the
+/// mesh stays a closed, consistently oriented manifold.
+#[test]
+fn infinite_samples_keep_the_mesh_manifold() {
+    let mut rng = Pcg64::seed_from_u64(12);
+    for trial in 0..200 {
+        let n: [usize; 3] = std::array::from_fn(|_| rng.gen_range(2..=8));
+        let len = n.iter().product();
+        let values: Vec<f64> = (0..len)
+            .map(|_| match rng.gen_range(0..10) {
+                0 => f64::INFINITY,
+                1 => f64::NEG_INFINITY,
+                2 => f64::MAX * [1.0, -1.0][rng.gen_range(0..2)],
+                _ => rng.gen_range(-1.0..1.0),
+            })
+            .collect();
+        let (mesh, _) = run(n, &values, 0.0, true, Method::Tmc);
+        let report = check_mesh(&mesh);
+        assert!(
+            report.is_closed_manifold() && report.degenerate_triangles == 0,
+            "trial {trial}: {report:?}\n  dims {n:?} values {values:?}"
+        );
+    }
+}
+
 /// Rows whose length is near a multiple of 64: the slab loop classifies 64
 /// samples to a word, so cells and edges at word ends must be seen too.
 #[test]

@@ -4,6 +4,7 @@ use super::contour::ContourSet;
 use super::cube::{EDGE_CORNERS, FACE_CORNERS};
 use super::decider::inside_joined;
 use super::quadratic::{inner_hexagon, saddle_points, Saddles};
+use super::scale::normalized;
 use super::tables::tables;
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
 use super::tunnel::labelled_joins;
@@ -111,12 +112,26 @@ fn exact_decisions(g: &[f64; 8], faces: u8) -> u8 {
         if faces >> f & 1 == 0 {
             continue;
         }
-        let (i0, o0) = if g[q[0]] > 0.0 { (0, 1) } else { (1, 0) };
-        if inside_joined(g[q[i0]], g[q[i0 + 2]], g[q[o0]], g[q[o0 + 2]]) {
+        // Scaled by a power of two that depends on the face's values only,
+        // so that no product overflows or underflows and both cells sharing
+        // the face decide alike.
+        let v = face_scaled(q.map(|c| g[c]));
+        let (i0, o0) = if v[0] > 0.0 { (0, 1) } else { (1, 0) };
+        if inside_joined(v[i0], v[i0 + 2], v[o0], v[o0 + 2]) {
             joined |= 1 << f;
         }
     }
     joined
+}
+
+/// The four values of a face scaled by the power of two that brings the
+/// largest magnitude near 1 (infinities as `±f64::MAX / 4` first): signs and
+/// the sign of `v0 v2 - v1 v3` are kept unless the values are more than
+/// about 2^500 apart.
+fn face_scaled(v: [f64; 4]) -> [f64; 4] {
+    let v = v.map(|x| x.clamp(-f64::MAX / 4.0, f64::MAX / 4.0));
+    let n = normalized(&[v[0], v[1], v[2], v[3], 0.0, 0.0, 0.0, 0.0]);
+    [n[0], n[1], n[2], n[3]]
 }
 
 /// Where [`triangulate_ambiguous`] left a cell's triangles.
@@ -139,14 +154,37 @@ pub enum Triangles {
 /// `> 0`) and configuration `config`; counts the paper's Table 1 in `stats`.
 /// The triangles are either the tables' or appended to `out` (see
 /// [`Triangles`]).
+///
+/// Values of any magnitude are taken. The face decisions are made on `g`
+/// itself, each a function of the face's four values only, so that the two
+/// cells sharing a face always agree; the rest of the kernel works on the
+/// cell's values scaled by a power of two when their largest magnitude lies
+/// outside `[2^-200, 2^200]` (see [`in_kernel_range`]).
 pub fn triangulate_ambiguous(
     g: &[f64; 8],
     config: u8,
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
+    let joined = face_decisions(g, config);
+    if !in_kernel_range(g) {
+        return triangulate_rescaled(g, config, joined, stats, out);
+    }
+    triangulate_decided(g, config, joined, stats, out)
+}
+
+/// [`triangulate_ambiguous`] of a cell in [`in_kernel_range`] whose face
+/// decisions are `joined`.
+#[inline(always)]
+fn triangulate_decided(
+    g: &[f64; 8],
+    config: u8,
+    joined: u8,
+    stats: &mut Stats,
+    out: &mut CellMesh,
+) -> Triangles {
     let t = tables();
-    let index = t.set_index(config, face_decisions(g, config));
+    let index = t.set_index(config, joined);
     let head = t.heads[index];
     let tunnel = if head.tunnel_pairs == 0 {
         None
@@ -198,6 +236,48 @@ pub fn triangulate_ambiguous(
     Triangles::Mesh
 }
 
+/// Is the largest magnitude of `g` within `[2^-200, 2^200]`? Then every
+/// product of up to four values the kernel forms (the quadratics'
+/// discriminants are the largest) is far from overflow, and from underflow
+/// where it matters. Compared on the bits: for finite doubles the order of
+/// magnitudes is the order of their bits without the sign.
+#[inline]
+fn in_kernel_range(g: &[f64; 8]) -> bool {
+    const LOW: u64 = 0x3370_0000_0000_0000; // 2^-200
+    const HIGH: u64 = 0x4c70_0000_0000_0000; // 2^200
+    let top = g
+        .iter()
+        .fold(0, |m: u64, v| m.max(v.to_bits() & !(1 << 63)));
+    (LOW..=HIGH).contains(&top)
+}
+
+/// [`triangulate_decided`] of a cell out of [`in_kernel_range`]: on its
+/// values scaled by the power of two that brings the largest near 1 (NaN as
+/// 0, infinities as `±f64::MAX / 4`), which keeps every sign.
+#[cold]
+#[inline(never)]
+fn triangulate_rescaled(
+    g: &[f64; 8],
+    config: u8,
+    joined: u8,
+    stats: &mut Stats,
+    out: &mut CellMesh,
+) -> Triangles {
+    let finite = g.map(|v| {
+        if v.is_nan() {
+            0.0
+        } else {
+            v.clamp(-f64::MAX / 4.0, f64::MAX / 4.0)
+        }
+    });
+    let scaled = normalized(&finite);
+    if !in_kernel_range(&scaled) {
+        // All zero: no corner is inside, so there is nothing to triangulate.
+        return Triangles::Table(&[]);
+    }
+    triangulate_decided(&scaled, config, joined, stats, out)
+}
+
 /// Counts a flat contour of `n` vertices in the paper's Table 1.
 fn count_flat(stats: &mut Stats, n: usize) {
     if (3..=6).contains(&n) {
@@ -244,7 +324,9 @@ fn tunnel_contours(set: &ContourSet, a: u8, b: u8) -> Option<(usize, usize)> {
 fn triangulate_tunnel(g: &[f64; 8], c1: &[u8], c2: &[u8], out: &mut CellMesh) {
     let hex = inner_hexagon(g);
     let alternate = |parity: usize| [0, 1, 2].map(|k| hex[2 * k + parity]);
-    let mut best = (f64::INFINITY, [0u8; 12], [0u8; 12]);
+    // The first candidate is taken whatever its cost, so that a cost that
+    // is not a number still leaves a valid pair of assignments.
+    let mut best: Option<(f64, [u8; 12], [u8; 12])> = None;
     for parity in 0..2 {
         let cost1 = costs(edge_points(g, c1), |p, k| {
             p.distance_squared(alternate(parity)[k])
@@ -255,14 +337,15 @@ fn triangulate_tunnel(g: &[f64; 8], c1: &[u8], c2: &[u8], out: &mut CellMesh) {
         for dir in [1, -1] {
             let (ca, a1) = ring_assignment(&cost1[..c1.len()], dir);
             let (cb, a2) = ring_assignment(&cost2[..c2.len()], -dir);
-            if ca + cb < best.0 {
-                best = (ca + cb, a1, a2);
+            if best.is_none_or(|b| ca + cb < b.0) {
+                best = Some((ca + cb, a1, a2));
             }
         }
     }
+    let (_, a1, a2) = best.expect("four candidates");
     let inner = inner_triangle(&hex, out);
-    strip(c1, &best.1[..c1.len()], inner, out);
-    strip(c2, &best.2[..c2.len()], inner, out);
+    strip(c1, &a1[..c1.len()], inner, out);
+    strip(c2, &a2[..c2.len()], inner, out);
 }
 
 /// The 12-vertex contour: a strip to the inner triangle, closed by it.

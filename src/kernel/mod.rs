@@ -8,6 +8,7 @@
 //!   from [`contour`] for all 256 sign configurations;
 //! * [`tunnel`]: does the level set join two contours through the cell (a
 //!   tunnel)? Decided exactly, ties included;
+//! * [`scale`]: a cell's values scaled by a power of two, out of overflow;
 //! * [`quadratic`]: the three quadratic equations, their roots, the saddle
 //!   points and the inner hexagon;
 //! * [`triangulate`]: the triangulation rules of Section 5;
@@ -22,6 +23,7 @@ pub mod contour;
 pub mod cube;
 pub mod decider;
 pub mod quadratic;
+pub mod scale;
 pub mod tables;
 pub mod triangulate;
 pub mod tunnel;

@@ -36,10 +36,14 @@ pub fn fan_around(contour: &[u8], centre: u8, out: &mut Vec<[VertexRef; 3]>) {
 /// mod 3), one full turn in all, at the least total cost. Walking forward
 /// round the ring keeps the fans of a strip from overlapping, which a
 /// nearest-vertex assignment does not guarantee.
+///
+/// Should no cost compare (not a number), the result is still a valid
+/// assignment: the contour split into three runs, one per inner vertex.
 pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
     let n = cost.len();
     let step = dir.rem_euclid(3) as usize;
-    let mut best = (f64::INFINITY, [0u8; 12]);
+    let runs = std::array::from_fn(|i| (3 * i / n.max(1) * step % 3) as u8);
+    let mut best = (f64::INFINITY, runs);
     // For a start k0 of vertex 0, the vertex after s steps sits at
     // `k0 + s step`: so dp[i][s], the best cost of vertices 0..=i with vertex
     // i after s steps, says where vertex i is. Each entry takes the better
@@ -135,6 +139,25 @@ mod tests {
                 turns += i32::from(d != 0);
             }
             assert_eq!(turns, 3);
+        }
+    }
+
+    /// Costs that do not compare (not a number) still give an assignment
+    /// that turns once round the ring, one step at a time.
+    #[test]
+    fn costs_that_do_not_compare_still_give_a_valid_ring() {
+        for n in 3..=12 {
+            for dir in [1, -1] {
+                let (_, asg) = ring_assignment(&vec![[f64::NAN; 3]; n], dir);
+                let step = dir.rem_euclid(3) as u8;
+                let mut turns = 0;
+                for i in 0..n {
+                    let (a, b) = (asg[i], asg[(i + 1) % n]);
+                    assert!(b == a || b == (a + step) % 3, "n {n} dir {dir}: {asg:?}");
+                    turns += usize::from(a != b);
+                }
+                assert_eq!(turns, 3, "n {n} dir {dir}: {asg:?}");
+            }
         }
     }
 

@@ -314,6 +314,56 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
             "is not a byte count",
             2,
         ),
+        (
+            "raw data longer than the dims describe",
+            |d| {
+                let rest = ["--dims", "7,5,3", "--dtype", "u8", "--iso", "0"];
+                args(&file(d, "long.raw", &[0; 140]), &rest)
+            },
+            "long.raw: file has 140 bytes, 35 more than dims 7x5x3 u8 need",
+            1,
+        ),
+        (
+            "raw options on a file that describes itself",
+            |d| {
+                let dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 2, 2), }";
+                let rest = ["--dims", "4,2,1", "--dtype", "f32", "--iso", "0"];
+                args(&npy(d, "self.npy", dict, 32), &rest)
+            },
+            "self.npy: NumPy data describe their own grid and samples",
+            1,
+        ),
+        (
+            "an absurd number of threads",
+            |d| raw4(d, &["--iso", "0", "--threads", "100000"]),
+            "100000 threads: at most 1024",
+            2,
+        ),
+        (
+            "a spacing that puts vertices beyond f32",
+            |d| raw4(d, &["--iso", "0", "--spacing", "1e308,1,1"]),
+            "lie beyond the range of 32-bit float coordinates",
+            1,
+        ),
+        (
+            "--part with an output that is not .tmesh",
+            |d| raw4(d, &["--iso", "0", "--part", "1/2"]),
+            "--part writes a part file for 'tmc merge', so the output must end in .tmesh",
+            1,
+        ),
+        (
+            "--report onto the input",
+            |d| {
+                let path = file(d, "in.raw", &[0; 64]);
+                let report = s(&path).to_string();
+                let rest = ["--dims", "4,4,4", "--dtype", "u8", "--iso", "0", "--report"];
+                let mut all = args(&path, &rest);
+                all.push(report);
+                all
+            },
+            "the report is an input of the batch",
+            1,
+        ),
     ]
 }
 
@@ -378,6 +428,40 @@ fn the_output_may_not_be_the_input() {
     let out = tmc(&argv);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     assert!(other.is_file());
+}
+
+/// `tmc merge` may not write over one of its parts, nor `tmc convert` over
+/// its input; the file is left as it was.
+#[test]
+fn merge_and_convert_do_not_write_over_their_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "ball.npy", [8, 8, 8]);
+    let part = |i: usize| dir.path().join(format!("p{i}.tmesh"));
+    for i in 1..=2 {
+        let (spec, out) = (format!("{i}/2"), part(i));
+        let argv = [
+            "extract",
+            s(&input),
+            "--iso",
+            "0",
+            "--part",
+            &spec,
+            "-o",
+            s(&out),
+        ];
+        assert!(tmc(&argv).status.success());
+    }
+    let (p1, p2) = (part(1), part(2));
+    let before = fs::read(&p1).unwrap();
+    let line = assert_one_line(&tmc(&["merge", s(&p1), s(&p2), "-o", s(&p1)]), 1);
+    assert!(line.contains("the output is the input file"), "{line}");
+    let whole = dir.path().join("whole.tmesh");
+    let argv = ["extract", s(&input), "--iso", "0", "-o", s(&whole)];
+    assert!(tmc(&argv).status.success());
+    let line = assert_one_line(&tmc(&["convert", s(&whole), "-o", s(&whole)]), 1);
+    assert!(line.contains("the output is the input file"), "{line}");
+    assert_eq!(fs::read(&p1).unwrap(), before);
+    assert!(temp_files(dir.path()).is_empty());
 }
 
 #[test]

@@ -311,3 +311,59 @@ fn require_surface_with_one_empty_isovalue_writes_no_output() {
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(names(dir.path()), ["a.nrrd", "m_0.1.tmesh", "m_0.tmesh"]);
 }
+
+/// `{stem}` and `{iso}` are replaced in a single run too (one input, one
+/// isovalue), as `--help` says, so that a shell loop over inputs writes one
+/// file per input.
+#[test]
+fn a_single_run_names_its_output_from_the_template() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = synth(dir.path(), "noise", "10,10,10", "f32", "vol.nrrd");
+    let out = tmc(&[
+        "extract",
+        s(&a),
+        "--iso",
+        "0.25",
+        "-o",
+        s(&dir.path().join("{stem}_{iso}.ply")),
+        "-q",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.path().join("vol_0.25.ply").exists());
+    assert!(!dir.path().join("{stem}_{iso}.ply").exists());
+}
+
+/// The report is appended to while the batch runs, so it may not be the
+/// manifest or an output of the batch; the manifest is left as it was.
+#[test]
+fn the_report_may_not_be_the_manifest_or_an_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = synth(dir.path(), "noise", "10,10,10", "f32", "a.nrrd");
+    let manifest = dir.path().join("m.txt");
+    let text = format!("{} 0 {}\n", s(&a), s(&dir.path().join("a.ply")));
+    fs::write(&manifest, &text).unwrap();
+    let out = tmc(&[
+        "extract",
+        "--manifest",
+        s(&manifest),
+        "--report",
+        s(&manifest),
+    ]);
+    let line = assert_one_line(&out, 1);
+    assert!(line.contains("the report is the manifest"), "{line}");
+    assert_eq!(fs::read_to_string(&manifest).unwrap(), text);
+    let ply = dir.path().join("b.ply");
+    let out = tmc(&[
+        "extract",
+        s(&a),
+        "--iso",
+        "0",
+        "-o",
+        s(&ply),
+        "--report",
+        s(&ply),
+    ]);
+    let line = assert_one_line(&out, 1);
+    assert!(line.contains("the report is an output"), "{line}");
+    assert!(!ply.exists());
+}

@@ -10,7 +10,7 @@ use serde::Serialize;
 use std::cell::Cell;
 use std::fs::File;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
@@ -74,6 +74,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         (None, Some(template)) => manifest::from_args(&args.input, &args.iso, template)?,
         (None, None) => return Err(Error::Invalid("no output given (-o)".into())),
     };
+    if let Some(path) = &args.batch.report {
+        check_report_path(path, args.batch.manifest.as_deref(), &items)?;
+    }
     let mut report = match &args.batch.report {
         Some(path) => Some((
             File::options()
@@ -147,6 +150,40 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     }
 }
 
+/// Refuses a report path that is the manifest, an input or an output of the
+/// batch: the report is appended to while they are read or replaced.
+fn check_report_path(report: &Path, manifest: Option<&Path>, items: &[Item]) -> Result<()> {
+    let inputs = items.iter().map(|item| (&item.input, "an input"));
+    let outputs = items
+        .iter()
+        .flat_map(|item| item.outputs.iter().map(|o| (o, "an output")));
+    let manifest = manifest.map(|m| (m, "the manifest"));
+    let clashes = manifest
+        .into_iter()
+        .chain(inputs.map(|(p, what)| (p.as_path(), what)))
+        .chain(outputs.map(|(p, what)| (p.as_path(), what)))
+        .find(|(path, _)| same_path(report, path));
+    match clashes {
+        Some((path, what)) => Err(Error::Invalid(format!(
+            "{}: the report is {what} of the batch ({}); choose another --report path",
+            report.display(),
+            path.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// Whether `a` and `b` name the same file: the same absolute path, or (when
+/// both exist) the same file through links.
+fn same_path(a: &Path, b: &Path) -> bool {
+    if let (Ok(x), Ok(y)) = (std::path::absolute(a), std::path::absolute(b)) {
+        if x == y {
+            return true;
+        }
+    }
+    check_distinct(a, b).is_err()
+}
+
 /// The report line of `item` (with its newline).
 fn report_line(item: &Item, result: &Result<Vec<Stats>>, seconds: f64) -> String {
     let (status, error, stats) = match result {
@@ -181,7 +218,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     for output in &item.outputs {
         check_distinct(&item.input, output)?;
     }
-    let source = tmc::volume::open(&item.input, raw.as_ref())?;
+    let source = super::raw_input::open_input(&item.input, raw.as_ref())?;
     for (data, output) in source
         .data_files()
         .iter()

@@ -68,8 +68,9 @@ pub(crate) struct ExtractArgs {
     #[arg(long)]
     pub json: bool,
 
-    /// Worker threads; 0 (the default) uses all cores.
-    #[arg(long, value_name = "N")]
+    /// Worker threads, at most 1024 (and no more are started than there
+    /// are slabs); 0 (the default) uses all cores.
+    #[arg(long, value_name = "N", value_parser = values::threads)]
     pub threads: Option<usize>,
 
     /// Cell layers per slab (1 to 64; a slab is the unit of parallel work);
@@ -153,14 +154,21 @@ impl ExtractArgs {
 
 /// Runs `tmc extract`; setting `cancel` stops it with [`Error::Interrupted`].
 pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
-    let (input, iso, output) = match (&args.input[..], &args.iso[..], &args.output) {
+    let (input, iso, template) = match (&args.input[..], &args.iso[..], &args.output) {
         ([input], [iso], Some(output)) if !args.batch.given() => (input, *iso, output),
         _ => return super::batch::run(args, cancel),
     };
+    let output = &super::manifest::outputs(template, input, &[iso])[0];
+    if args.part.is_some() && output.extension().is_none_or(|e| e != "tmesh") {
+        return Err(Error::Invalid(format!(
+            "{}: --part writes a part file for 'tmc merge', so the output must end in .tmesh",
+            output.display()
+        )));
+    }
     let started = Instant::now();
     let raw = args.raw.options();
     check_distinct(input, output)?;
-    let source = tmc::volume::open(input, raw.as_ref())?;
+    let source = super::raw_input::open_input(input, raw.as_ref())?;
     for data in source.data_files() {
         check_distinct(data, output)?;
     }
@@ -288,7 +296,30 @@ impl Monitor {
 /// Rejects grids with fewer than 2 samples along an axis (no cells), unless
 /// `close` pads the volume with an outside border, which gives every grid
 /// cells (a single inside sample then has a closed surface around it).
+///
+/// Also rejects grids whose corners (one sample beyond with `close`) lie
+/// outside the range of the mesh's f32 coordinates.
 pub(super) fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
+    let pad = if close { 1.0 } else { 0.0 };
+    for corner in 0..8 {
+        let index: [f64; 3] = std::array::from_fn(|a| {
+            if corner >> a & 1 == 1 {
+                grid.dims[a] as f64 - 1.0 + pad
+            } else {
+                -pad
+            }
+        });
+        if grid
+            .world(index)
+            .iter()
+            .any(|c| !(c.abs() <= f64::from(f32::MAX)))
+        {
+            return Err(Error::Invalid(format!(
+                "{}: the grid's corners (origin + index * spacing) lie beyond the range of 32-bit float coordinates; check the spacing and origin",
+                input.display()
+            )));
+        }
+    }
     if close {
         return Ok(());
     }

@@ -123,7 +123,7 @@ struct Info {
 /// Runs `tmc info`.
 pub(crate) fn run(args: &InfoArgs) -> Result<()> {
     let raw = args.raw.options();
-    let source = tmc::volume::open(&args.input, raw.as_ref())?;
+    let source = super::raw_input::open_input(&args.input, raw.as_ref())?;
     let grid = *source.grid();
     let samples: u64 = grid.dims.iter().map(|&n| n as u64).product();
     let plane_step = if args.plane_step > 0 {

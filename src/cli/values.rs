@@ -15,6 +15,22 @@ pub(crate) fn finite(text: &str) -> Result<f64, String> {
     }
 }
 
+/// The most worker threads `--threads` takes: more is a typo, and starting
+/// that many threads would take longer than any extraction.
+const MAX_THREADS: usize = 1024;
+
+/// Parses `--threads N` (0: all cores; at most [`MAX_THREADS`]).
+pub(crate) fn threads(text: &str) -> Result<usize, String> {
+    let n: usize = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{text}' is not a number of threads"))?;
+    if n > MAX_THREADS {
+        return Err(format!("{n} threads: at most {MAX_THREADS}"));
+    }
+    Ok(n)
+}
+
 /// Parses three comma-separated values (an `x` also separates: `64x64x93`).
 fn triple<T: std::str::FromStr>(text: &str) -> Result<[T; 3], String> {
     let parts: Vec<&str> = text.split([',', 'x', 'X']).map(str::trim).collect();

@@ -299,6 +299,13 @@ pub fn check_input_kind(path: &Path) -> Result<()> {
 pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
     check_input_kind(path)?;
     if let Some(options) = raw {
+        if let Some(format) = Format::detect(path, false).filter(|_| path.is_file()) {
+            return Err(crate::Error::Invalid(format!(
+                "{}: {} data describe their own grid and samples; --dims and --dtype are for headerless raw samples",
+                path.display(),
+                format.name()
+            )));
+        }
         return Ok(Box::new(raw::RawVolume::open(path, options)?));
     }
     let format = Format::detect(path, false).ok_or_else(|| {

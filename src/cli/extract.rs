@@ -312,7 +312,7 @@ pub(super) fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
         if grid
             .world(index)
             .iter()
-            .any(|c| !(c.abs() <= f64::from(f32::MAX)))
+            .any(|c| c.is_nan() || c.abs() > f64::from(f32::MAX))
         {
             return Err(Error::Invalid(format!(
                 "{}: the grid's corners (origin + index * spacing) lie beyond the range of 32-bit float coordinates; check the spacing and origin",

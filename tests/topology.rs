@@ -314,6 +314,43 @@ fn scaling_the_values_changes_nothing() {
     assert!(tunnels > 20, "only {tunnels} tunnels");
 }
 
+/// Exact ties at large magnitudes: a grid of small integers times a large
+/// odd factor (QA's `134217729` and `100000007`, random ones up to 2^30 as
+/// in int32 volumes and up to 2^50) or times `1 + 2^-51` is decided as the
+/// small grid (every predicate is homogeneous), so the mesh must have the
+/// oracle's topology of the small grid. Plain floating point took some of
+/// these ties for tunnels.
+#[test]
+fn large_multiples_of_small_grids_match_the_oracle() {
+    let mut rng = Pcg64::seed_from_u64(13);
+    let mut tunnels = 0;
+    for trial in 0..600 {
+        let n: [usize; 3] = std::array::from_fn(|_| rng.gen_range(2..=6));
+        let len = n.iter().product();
+        let values: Vec<f64> = (0..len).map(|_| rng.gen_range(-3..=3) as f64).collect();
+        let (pdims, g) = oracle::padded(n, &oracle::scaled(&values, 0.0), 1, 0);
+        let topo = oracle::topology(pdims, &g);
+        let odd =
+            |rng: &mut Pcg64, bits: u32| (rng.gen_range(1u64 << (bits - 1)..1 << bits) | 1) as f64;
+        let factors = [
+            134_217_729.0,
+            100_000_007.0,
+            odd(&mut rng, 29),
+            odd(&mut rng, 50),
+            1.0 + f64::EPSILON / 2.0,
+        ];
+        for factor in factors {
+            let scaled: Vec<f64> = values.iter().map(|v| v * factor).collect();
+            let (mesh, stats) = run(n, &scaled, 0.0, true, Method::Tmc);
+            compare_with_oracle(&check_mesh(&mesh), &topo).unwrap_or_else(|e| {
+                panic!("trial {trial}, x {factor}: {e}\n  dims {n:?} values {values:?}")
+            });
+            tunnels += stats.tunnels;
+        }
+    }
+    assert!(tunnels > 20, "only {tunnels} tunnels");
+}
+
 /// Infinite samples (and the largest doubles) next to ordinary ones: the
 /// mesh stays a closed, consistently oriented manifold.
 #[test]

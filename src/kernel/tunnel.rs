@@ -16,15 +16,24 @@
 //! Ties follow `{g > ε}`: the inside of an edge is a half-open interval whose
 //! zero end is excluded, so inside corners join only where `D > 0` on an open
 //! range; for the outside (`g <= ε`, ties included) the ranges are closed and
-//! `D >= 0` suffices. The predicate is evaluated in exact integer arithmetic
-//! (i128) whenever the eight values are integers after scaling by a power of
-//! two (every integer volume, half-integer isovalues, ...), and in floating
-//! point otherwise.
+//! `D >= 0` suffices.
+//!
+//! The predicates are signs of polynomials of degree up to four in the
+//! values, decided exactly whenever the eight values are integers of at most
+//! [`WIDE_BITS`] bits after scaling by a common power of two (every 32-bit
+//! integer volume at an integer or half-integer isovalue; float32 values
+//! minus an isovalue such as 0 whose magnitudes are within about 2^36 of
+//! each other): in `i64` up to 14 bits, in `i128` up to 26, and beyond that
+//! in `f64` with an error bound ([`Filtered`]), redone in 256-bit integers
+//! only where a sign is in doubt. Cells whose values span more bits keep
+//! the plain `f64` answer, which can misjudge near-ties.
 
 use super::contour::ContourSet;
 use super::scale::{normalized, power_of_two};
+use ethnum::I256;
+use std::convert::Infallible;
 use std::hint::select_unpredictable;
-use std::ops::{Add, Mul, Neg, Sub};
+use std::ops::{Add, BitAnd, BitOr, Mul, Neg, Not, Sub};
 
 /// Two surface components (corner labels) that the interior joins.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,25 +59,60 @@ pub fn labelled_joins(g: &[f64; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join>
     }
     if let Some(ints) = small_integers(g) {
         // Every 8- and 16-bit volume at an integer isovalue: no scaling.
-        return sweep_both(&ints, pairs, labels);
+        return exact(sweep_both(&ints, pairs, labels));
     }
-    match integer_scale(g) {
-        Some((scale, bits)) if bits <= SMALL_BITS => {
-            sweep_both(&g.map(|v| (v * scale) as i64), pairs, labels)
+    let Some(span) = Span::of(g) else {
+        // Infinite values: rounded.
+        return exact(sweep_both(&normalized(g), pairs, labels));
+    };
+    match span.upscaled() {
+        (scale, bits) if bits <= SMALL_BITS => {
+            exact(sweep_both(&g.map(|v| (v * scale) as i64), pairs, labels))
         }
         // At most 26 bits: through i64, which converts without a library call.
-        Some((scale, _)) => sweep_both(&g.map(|v| i128::from((v * scale) as i64)), pairs, labels),
-        None => sweep_both(&normalized(g), pairs, labels),
+        (scale, bits) if bits <= MEDIUM_BITS => exact(sweep_both(
+            &g.map(|v| i128::from((v * scale) as i64)),
+            pairs,
+            labels,
+        )),
+        _ => wide_joins(g, span, pairs, labels),
     }
 }
 
+/// [`labelled_joins`] for values beyond 26 bits: exact up to
+/// [`WIDE_BITS`] bits (an `f64` sweep with error bounds, redone in `I256`
+/// when a sign is in doubt), rounded beyond.
+fn wide_joins(g: &[f64; 8], span: Span, pairs: u8, labels: &[u8; 8]) -> Option<Join> {
+    let Some(scale) = span.integer_scale(WIDE_BITS) else {
+        return exact(sweep_both(&normalized(g), pairs, labels));
+    };
+    let integers = g.map(|v| v * scale);
+    match sweep_both(&integers.map(Filtered::exact), pairs, labels) {
+        Ok(join) => join,
+        // At most 60 bits: every integer converts to i64 exactly.
+        Err(Doubt) => exact(sweep_both(
+            &integers.map(|v| I256::from(v as i64)),
+            pairs,
+            labels,
+        )),
+    }
+}
+
+/// The answer of a sweep that has no doubts: an exact one, or a plain
+/// `f64` one, which takes rounded signs at their word.
+fn exact(sweep: Result<Option<Join>, Infallible>) -> Option<Join> {
+    let Ok(join) = sweep;
+    join
+}
+
 /// The first join among the diagonal pairs of `pairs`: inside pairs
-/// (`h > 0`, bits 0 and 1) before outside ones (`h <= 0`, bits 2 and 3).
+/// (`h > 0`, bits 0 and 1) before outside ones (`h <= 0`, bits 2 and 3),
+/// or [`Num::Doubt`] if a sign it needed was in doubt.
 ///
 /// Each pair is tested without a branch (its terms are all computed and
 /// then combined); only the loop over the pairs branches.
 #[inline(always)]
-fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
+fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Result<Option<Join>, T::Doubt> {
     let outside = h.map(|v| -v);
     let mut rest = pairs;
     while rest != 0 {
@@ -77,22 +121,27 @@ fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
         let closed = bit >= 2;
         let region = select_unpredictable(closed, &outside, h);
         let diagonal = DIAGONALS[bit % 2];
-        if pair_joins(region, diagonal, closed) {
+        if pair_joins(region, diagonal, closed).decided()? {
             // The corner of each edge in the region (the lower one if both
-            // are), as `may_join` chose it.
-            let corner = |e: usize| if is_in(region[e], closed) { e } else { e + 4 };
-            let (la, lb) = (labels[corner(diagonal.0)], labels[corner(diagonal.1)]);
-            return Some(Join {
+            // are), as `may_join` chose it. (The signs of the values
+            // themselves are never in doubt.)
+            let corner = |e: usize| {
+                is_in(region[e], closed)
+                    .decided()
+                    .map(|i| if i { e } else { e + 4 })
+            };
+            let (la, lb) = (labels[corner(diagonal.0)?], labels[corner(diagonal.1)?]);
+            return Ok(Some(Join {
                 a: la.min(lb),
                 b: la.max(lb),
-            });
+            }));
         }
     }
-    None
+    Ok(None)
 }
 
 /// The eight values as `i64`s if they are all integers of magnitude below
-/// `2^SMALL_BITS` (what [`integer_scale`] finds with scale 1, without its
+/// `2^SMALL_BITS` (what [`Span::upscaled`] finds with scale 1, without its
 /// bit by bit look at each value).
 fn small_integers(g: &[f64; 8]) -> Option<[i64; 8]> {
     // Adding and taking away 1.5 * 2^52 rounds a value below 2^51 in
@@ -136,8 +185,9 @@ const DIAGONALS: [(usize, usize, usize, usize); 2] = [(0, 3, 1, 2), (1, 2, 0, 3)
 ///
 /// Exact because the sweep sees the same signs as `config`: scaling to
 /// integers or normalising never turns a nonzero value into zero. (Where
-/// the sweep rounds, for values more than 26 bits apart, rounding can make
-/// a case 3 pair look joined; leaving it out is then the exact answer.)
+/// the sweep rounds, for values more than [`WIDE_BITS`] bits apart,
+/// rounding can make a case 3 pair look joined; leaving it out is then the
+/// exact answer.)
 pub fn may_join(config: u8, labels: &[u8; 8]) -> u8 {
     let inside = |c: usize| config >> c & 1 == 1;
     let mut pairs = 0;
@@ -159,40 +209,237 @@ pub fn may_join(config: u8, labels: &[u8; 8]) -> u8 {
     pairs
 }
 
-/// Arithmetic the sweep needs; exact for `i128`, rounded for `f64`.
+/// Arithmetic the sweep needs: exact for the integer types, rounded for
+/// `f64`, and rounded with an error bound for [`Filtered`], whose
+/// comparisons say when their sign is in doubt.
 trait Num:
-    Copy
-    + PartialOrd
-    + Add<Output = Self>
-    + Sub<Output = Self>
-    + Mul<Output = Self>
-    + Neg<Output = Self>
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Neg<Output = Self>
 {
+    /// What a comparison gives: `bool`, or [`Maybe`] for a type that can
+    /// be in doubt.
+    type Bool: Logic<Doubt = Self::Doubt>;
+    /// What a sweep gives up with: [`Infallible`] for a type never in doubt.
+    type Doubt;
     const ZERO: Self;
     const ONE: Self;
     const TWO: Self;
     const FOUR: Self;
+    /// `self < other`, or `self <= other` if `or_equal`.
+    fn below(self, other: Self, or_equal: bool) -> Self::Bool;
+    /// `x` if `c`, else `y`, without a branch.
+    fn select(c: Self::Bool, x: Self, y: Self) -> Self;
 }
 
-impl Num for i128 {
-    const ZERO: Self = 0;
-    const ONE: Self = 1;
-    const TWO: Self = 2;
-    const FOUR: Self = 4;
+/// The truth values of comparisons, combined without branches.
+trait Logic: Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> {
+    /// See [`Num::Doubt`].
+    type Doubt;
+    /// The value as a `bool`, unless it is in doubt.
+    fn decided(self) -> Result<bool, Self::Doubt>;
 }
 
-impl Num for i64 {
-    const ZERO: Self = 0;
-    const ONE: Self = 1;
-    const TWO: Self = 2;
-    const FOUR: Self = 4;
+impl Logic for bool {
+    type Doubt = Infallible;
+    fn decided(self) -> Result<bool, Infallible> {
+        Ok(self)
+    }
 }
 
-impl Num for f64 {
-    const ZERO: Self = 0.0;
-    const ONE: Self = 1.0;
-    const TWO: Self = 2.0;
-    const FOUR: Self = 4.0;
+/// Implements [`Num`] for a type whose comparisons are taken at their word.
+macro_rules! plain_num {
+    ($t:ty, $zero:expr, $one:expr, $two:expr, $four:expr) => {
+        impl Num for $t {
+            type Bool = bool;
+            type Doubt = Infallible;
+            const ZERO: Self = $zero;
+            const ONE: Self = $one;
+            const TWO: Self = $two;
+            const FOUR: Self = $four;
+            #[inline(always)]
+            fn below(self, other: Self, or_equal: bool) -> bool {
+                (self < other) | (or_equal & (self == other))
+            }
+            #[inline(always)]
+            fn select(c: bool, x: Self, y: Self) -> Self {
+                select_unpredictable(c, x, y)
+            }
+        }
+    };
+}
+
+plain_num!(i64, 0, 1, 2, 4);
+plain_num!(i128, 0, 1, 2, 4);
+plain_num!(I256, I256::ZERO, I256::ONE, I256::new(2), I256::new(4));
+plain_num!(f64, 0.0, 1.0, 2.0, 4.0);
+
+/// An `f64` computed from integer values by `+`, `-` and `*`, with the
+/// same expression evaluated on the magnitudes (`m`, each product's and
+/// sum's terms taken positive). The sweep's expressions are at most
+/// [`MAX_DEPTH`] roundings deep, so the rounded value differs from the
+/// exact one by at most `γ_9 m < 2^-49 m` (Higham, Accuracy and Stability
+/// of Numerical Algorithms, 3.1: each term of the expanded polynomial
+/// carries at most 9 factors `1 + δ`, `|δ| <= 2^-53`); `m` itself is
+/// rounded down by at most a factor `(1 - 2^-53)^9`. The values are
+/// integers of at most [`WIDE_BITS`] bits, so no product underflows or
+/// overflows, and every rounded value is an integer too (a double of
+/// magnitude at least 2^53 is one): a bound below 1/2 means the value is
+/// exact.
+#[derive(Clone, Copy, Debug)]
+struct Filtered {
+    v: f64,
+    m: f64,
+}
+
+/// The deepest chain of roundings in the sweep: `value_at`'s
+/// `qb * p * q` (`qb` is five roundings deep: a difference of values, a
+/// product and three sums) and the two sums after it.
+const MAX_DEPTH: u32 = 9;
+
+impl Filtered {
+    /// An integer value (exact).
+    fn exact(v: f64) -> Self {
+        Filtered { v, m: v.abs() }
+    }
+}
+
+impl Add for Filtered {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Filtered {
+            v: self.v + o.v,
+            m: self.m + o.m,
+        }
+    }
+}
+
+impl Sub for Filtered {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Filtered {
+            v: self.v - o.v,
+            m: self.m + o.m,
+        }
+    }
+}
+
+impl Mul for Filtered {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        Filtered {
+            v: self.v * o.v,
+            m: self.m * o.m,
+        }
+    }
+}
+
+impl Neg for Filtered {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Filtered {
+            v: -self.v,
+            m: self.m,
+        }
+    }
+}
+
+impl Num for Filtered {
+    type Bool = Maybe;
+    type Doubt = Doubt;
+    const ZERO: Self = Filtered { v: 0.0, m: 0.0 };
+    const ONE: Self = Filtered { v: 1.0, m: 1.0 };
+    const TWO: Self = Filtered { v: 2.0, m: 2.0 };
+    const FOUR: Self = Filtered { v: 4.0, m: 4.0 };
+
+    /// The rounded comparison, sure when the values are further apart than
+    /// their error bounds (`2^-46 m`, 8 times what [`Filtered`] proves, which
+    /// covers this test's own roundings), or when the bounds are below 1/2
+    /// (then both values are exact).
+    #[inline(always)]
+    fn below(self, o: Self, or_equal: bool) -> Maybe {
+        const _: () = assert!(MAX_DEPTH <= 9, "the error bound assumes 9 roundings");
+        const ERROR: f64 = 1.0 / (1u64 << 46) as f64;
+        let bound = (self.m + o.m) * ERROR;
+        Maybe {
+            value: (self.v < o.v) | (or_equal & (self.v == o.v)),
+            sure: ((self.v - o.v).abs() > bound) | (bound < 0.5),
+        }
+    }
+
+    /// A choice in doubt gives a value whose bound is infinite, so that
+    /// every comparison it enters is in doubt (`∞ * 0`, NaN, compares
+    /// false too).
+    #[inline(always)]
+    fn select(c: Maybe, x: Self, y: Self) -> Self {
+        let chosen = select_unpredictable(c.value, x, y);
+        Filtered {
+            v: chosen.v,
+            m: select_unpredictable(c.sure, chosen.m, f64::INFINITY),
+        }
+    }
+}
+
+/// A sign of [`Filtered`] values that was in doubt: the sweep must be
+/// redone exactly.
+#[derive(Debug)]
+struct Doubt;
+
+/// A truth value that may be in doubt (`sure` false). Combined as in
+/// Kleene's three-valued logic, so that a sure `false` settles an `&` (and a
+/// sure `true` an `|`) whatever the other side.
+#[derive(Clone, Copy, Debug)]
+struct Maybe {
+    value: bool,
+    sure: bool,
+}
+
+impl BitAnd for Maybe {
+    type Output = Self;
+    #[inline(always)]
+    fn bitand(self, o: Self) -> Self {
+        let settled = |x: Maybe| x.sure & !x.value;
+        Maybe {
+            value: self.value & o.value,
+            sure: (self.sure & o.sure) | settled(self) | settled(o),
+        }
+    }
+}
+
+impl BitOr for Maybe {
+    type Output = Self;
+    #[inline(always)]
+    fn bitor(self, o: Self) -> Self {
+        let settled = |x: Maybe| x.sure & x.value;
+        Maybe {
+            value: self.value | o.value,
+            sure: (self.sure & o.sure) | settled(self) | settled(o),
+        }
+    }
+}
+
+impl Not for Maybe {
+    type Output = Self;
+    #[inline(always)]
+    fn not(self) -> Self {
+        Maybe {
+            value: !self.value,
+            sure: self.sure,
+        }
+    }
+}
+
+impl Logic for Maybe {
+    type Doubt = Doubt;
+    fn decided(self) -> Result<bool, Doubt> {
+        if self.sure {
+            Ok(self.value)
+        } else {
+            Err(Doubt)
+        }
+    }
 }
 
 /// A fraction `p / q` with `q > 0`.
@@ -203,30 +450,39 @@ struct Frac<T> {
 }
 
 impl<T: Num> Frac<T> {
-    fn less(self, o: Self) -> bool {
-        self.p * o.q < o.p * self.q
+    /// `self < o`, or `self <= o` if `or_equal`.
+    #[inline(always)]
+    fn below(self, o: Self, or_equal: bool) -> T::Bool {
+        (self.p * o.q).below(o.p * self.q, or_equal)
+    }
+
+    fn less(self, o: Self) -> T::Bool {
+        self.below(o, false)
     }
 }
 
 /// Is `v` in the region: `v > 0` (open, the inside), or `v >= 0` (closed,
 /// the outside given as `h = -g`)?
 #[inline(always)]
-fn is_in<T: Num>(v: T, closed: bool) -> bool {
-    (v > T::ZERO) | (closed & (v == T::ZERO))
+fn is_in<T: Num>(v: T, closed: bool) -> T::Bool {
+    T::ZERO.below(v, closed)
 }
 
-/// `x` if `c`, else `y`, hinted as unpredictable so that the compiler
-/// selects without a branch (a plain `if` was compiled to one).
+/// `x` if `c`, else `y`, without a branch (a plain `if` was compiled to
+/// one).
 #[inline(always)]
-fn pick<T: Copy>(c: bool, x: Frac<T>, y: Frac<T>) -> Frac<T> {
-    select_unpredictable(c, x, y)
+fn pick<T: Num>(c: T::Bool, x: Frac<T>, y: Frac<T>) -> Frac<T> {
+    Frac {
+        p: T::select(c, x.p, y.p),
+        q: T::select(c, x.q, y.q),
+    }
 }
 
 /// Does the diagonal pair `(k, kk, j, jj)` join through the interior, for
 /// the region `h > 0` (open) or `h >= 0` (closed)? The edges `k` and `kk`
 /// must each have a corner in the region.
 #[inline(always)]
-fn pair_joins<T: Num>(h: &[T; 8], diagonal: (usize, usize, usize, usize), closed: bool) -> bool {
+fn pair_joins<T: Num>(h: &[T; 8], diagonal: (usize, usize, usize, usize), closed: bool) -> T::Bool {
     let (k, kk, _, _) = diagonal;
     let (lo_k, hi_k) = range(h[k], h[k + 4], closed);
     let (lo_kk, hi_kk) = range(h[kk], h[kk + 4], closed);
@@ -272,9 +528,9 @@ fn joined_on<T: Num>(
     lo: Frac<T>,
     hi: Frac<T>,
     closed: bool,
-) -> bool {
-    // Closed: not hi < lo, that is lo <= hi; open: lo < hi.
-    let nonempty = lo.less(hi) | (closed & !hi.less(lo));
+) -> T::Bool {
+    // Closed: lo <= hi; open: lo < hi.
+    let nonempty = lo.below(hi, closed);
     let (ak, bk) = (h[k], h[k + 4] - h[k]);
     let (akk, bkk) = (h[kk], h[kk + 4] - h[kk]);
     let (aj, bj) = (h[j], h[j + 4] - h[j]);
@@ -290,7 +546,7 @@ fn joined_on<T: Num>(
         p: qb,
         q: -(T::TWO * qa),
     };
-    let peak = (qa < T::ZERO)
+    let peak = qa.below(T::ZERO, false)
         & lo.less(vertex)
         & vertex.less(hi)
         & is_in(qb * qb - T::FOUR * qa * qc, closed);
@@ -300,60 +556,98 @@ fn joined_on<T: Num>(
 /// Magnitude bits up to which the sweep is exact in `i64`: with `|h| <
 /// 2^b`, its largest terms (`value_at`, `qb^2 - 4 qa qc`) stay below
 /// `2^(4b + 7)`, so `b <= 14` fits. Every 8-bit volume and most CTs
-/// (12-bit values) qualify; `i128` takes the rest up to 26 bits.
+/// (12-bit values) qualify; `i128` takes the rest up to [`MEDIUM_BITS`].
 const SMALL_BITS: i32 = 14;
+
+/// Magnitude bits up to which the sweep is exact in `i128` (see
+/// [`SMALL_BITS`]: `4 * 26 + 7 < 127`).
+const MEDIUM_BITS: i32 = 26;
+
+/// Magnitude bits up to which the sweep is exact, through [`Filtered`] and
+/// `I256` (`4 * 60 + 7 < 255`): every 32-bit integer volume at an integer
+/// or half-integer isovalue, and 24-bit float mantissas up to 2^36 apart.
+const WIDE_BITS: i32 = 60;
 
 /// The eight values as integers after scaling by a power of two, if they
 /// all are (with room for degree-four products in i128).
 #[cfg(test)]
 fn scaled_integers(g: &[f64; 8]) -> Option<[i128; 8]> {
-    let (scale, _) = integer_scale(g)?;
-    Some(g.map(|v| (v * scale) as i128))
+    let (scale, bits) = Span::of(g)?.upscaled();
+    (bits <= MEDIUM_BITS).then(|| g.map(|v| (v * scale) as i128))
 }
 
-/// The power of two that makes all eight values integers, and the
-/// magnitude bits of the largest of those integers, if the values are
-/// integers after such scaling and have at most 26 bits (room for
-/// degree-four products in i128).
-fn integer_scale(g: &[f64; 8]) -> Option<(f64, i32)> {
-    const LIMIT_BITS: i32 = 26;
-    // Each value is an odd integer times 2^e; scaling by 2^-min(e) (if
-    // negative) makes all of them integers.
-    let mut min_exp = 0i32;
-    let mut max_bits = 0i32;
-    for &v in g {
-        if v == 0.0 {
-            continue;
+/// Where the binary digits of a cell's finite values lie: each nonzero
+/// value is an odd integer times `2^e` with `e >= low`, and below `2^high`
+/// in magnitude (both 0 if all values are zero). Scaling by `2^-low` makes
+/// them integers of `high - low` bits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Span {
+    low: i32,
+    high: i32,
+}
+
+impl Span {
+    /// The span of `g`, if all its values are finite.
+    fn of(g: &[f64; 8]) -> Option<Span> {
+        let (mut low, mut high) = (i32::MAX, i32::MIN);
+        for &v in g {
+            if v == 0.0 {
+                continue;
+            }
+            if !v.is_finite() {
+                return None;
+            }
+            let bits = v.to_bits();
+            let biased = ((bits >> 52) & 0x7ff) as i32;
+            let fraction = bits & ((1u64 << 52) - 1);
+            let (mantissa, exp) = if biased == 0 {
+                (fraction, -1074)
+            } else {
+                (fraction | (1u64 << 52), biased - 1075)
+            };
+            let tz = mantissa.trailing_zeros() as i32;
+            let odd_bits = 64 - (mantissa >> tz).leading_zeros() as i32;
+            low = low.min(exp + tz);
+            // Magnitude below 2^(exp + tz + odd_bits).
+            high = high.max(exp + tz + odd_bits);
         }
-        if !v.is_finite() {
-            return None;
-        }
-        let bits = v.to_bits();
-        let biased = ((bits >> 52) & 0x7ff) as i32;
-        let fraction = bits & ((1u64 << 52) - 1);
-        let (mantissa, exp) = if biased == 0 {
-            (fraction, -1074)
+        Some(if low == i32::MAX {
+            Span { low: 0, high: 0 }
         } else {
-            (fraction | (1u64 << 52), biased - 1075)
-        };
-        let tz = mantissa.trailing_zeros() as i32;
-        let odd_bits = 64 - (mantissa >> tz).leading_zeros() as i32;
-        min_exp = min_exp.min(exp + tz);
-        // Magnitude below 2^(exp + tz + odd_bits).
-        max_bits = max_bits.max(exp + tz + odd_bits);
+            Span { low, high }
+        })
     }
-    let shift = -min_exp; // >= 0
-    if max_bits + shift > LIMIT_BITS {
-        return None;
+
+    /// The power of two that makes all values integers, never below 1, and
+    /// the magnitude bits of the largest of those integers (at least 0):
+    /// what the `i64` and `i128` sweeps use.
+    fn upscaled(self) -> (f64, i32) {
+        let shift = (-self.low).max(0);
+        // A shift beyond the normal range gives more bits than any sweep takes.
+        (power_of_two(shift.min(1023)), self.high.max(0) + shift)
     }
-    // 0 <= shift <= LIMIT_BITS here (max_bits starts at 0).
-    Some((power_of_two(shift), max_bits + shift))
+
+    /// The power of two (up or down) that makes all values integers, if
+    /// they then have at most `bits` bits and it is a normal double.
+    fn integer_scale(self, bits: i32) -> Option<f64> {
+        let shift = -self.low;
+        (self.high - self.low <= bits && (-1022..=1023).contains(&shift))
+            .then(|| power_of_two(shift))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::kernel::contour;
+
+    /// The scale and bits of the `i64` and `i128` sweeps, if one of them
+    /// takes the cell.
+    fn integer_scale(g: &[f64; 8]) -> Option<(f64, i32)> {
+        Span::of(g)
+            .map(Span::upscaled)
+            .filter(|&(_, bits)| bits <= MEDIUM_BITS)
+    }
 
     fn joins(g: [f64; 8]) -> Option<Join> {
         let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
@@ -391,8 +685,8 @@ mod tests {
                 let labels = &set.corner_comp;
                 // The inside pairs, then the outside ones.
                 for pairs in [0b0011, 0b1100] {
-                    let small = sweep_both(&g, pairs, labels);
-                    let wide = sweep_both(&g.map(i128::from), pairs, labels);
+                    let small = exact(sweep_both(&g, pairs, labels));
+                    let wide = exact(sweep_both(&g.map(i128::from), pairs, labels));
                     assert_eq!(small, wide, "{g:?}");
                     found += usize::from(small.is_some());
                 }
@@ -493,10 +787,11 @@ mod tests {
                 },
             );
             let kept = interior_joins(&g, &set);
-            if integer_scale(&g).is_some() {
+            let wide = Span::of(&g).is_some_and(|s| s.integer_scale(WIDE_BITS).is_some());
+            if integer_scale(&g).is_some() || wide {
                 assert_eq!(kept, full, "{g:?}");
             } else if kept != full {
-                // Rounded sweeps (values beyond 26 bits apart) may find a
+                // Rounded sweeps (values beyond 60 bits apart) may find a
                 // join in a case 3 pair that rounding made: the table
                 // leaves those out, which is then the exact answer.
                 assert!(kept.is_none() && every & !set.tunnel_pairs != 0, "{g:?}");
@@ -509,6 +804,148 @@ mod tests {
         assert!(
             skipped > 1000 && found > 100 && case_3 > 1000,
             "{skipped} skipped, {found} joins, {case_3} with case 3 pairs, {rounded} rounded"
+        );
+    }
+
+    /// The joins of a cell as the kernel finds them: its configuration,
+    /// its (exact) face decisions, and the sweeps the tables ask for.
+    fn cell_joins(g: &[f64; 8]) -> Option<Join> {
+        let tables = crate::kernel::tables::tables();
+        let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+        if !tables.is_ambiguous[config as usize] {
+            return None;
+        }
+        let joined = crate::kernel::cell::face_decisions(g, config);
+        interior_joins(g, tables.contour_set(config, joined))
+    }
+
+    /// A cell of small integers in `-r..=r`, a third of them zero (ties).
+    fn small_cell(next: &mut impl FnMut() -> u64, r: u64) -> [i64; 8] {
+        std::array::from_fn(|_| match next() % 3 {
+            0 => 0,
+            _ => (next() % (2 * r + 1)) as i64 - r as i64,
+        })
+    }
+
+    #[test]
+    fn the_cells_qa_found_have_no_tunnel() {
+        // Exact ties (the unscaled cells are the answer) that plain
+        // floating point took for tunnels.
+        let cells: [([f64; 8], f64); 3] = [
+            ([-3.0, 0.0, -3.0, 3.0, -3.0, 1.0, 2.0, -2.0], 134217729.0),
+            ([-1.0, -3.0, -2.0, 2.0, 2.0, 0.0, 2.0, -2.0], 100000007.0),
+            (
+                [-3.0, 0.0, -3.0, 3.0, -3.0, 1.0, 2.0, -2.0],
+                1.0 + f64::EPSILON / 2.0,
+            ),
+        ];
+        for (small, factor) in cells {
+            let scaled = small.map(|v| v * factor);
+            assert_eq!(cell_joins(&scaled), cell_joins(&small), "{scaled:?}");
+        }
+        let [(qa, factor), ..] = cells;
+        assert_eq!(cell_joins(&qa.map(|v| v * factor)), None);
+    }
+
+    #[test]
+    fn multiples_of_small_cells_join_as_the_small_cells() {
+        // Every predicate is a homogeneous polynomial, so a cell times a
+        // positive factor joins exactly as the cell: small integers (exact in
+        // i64, full of ties) against their multiples by a large odd factor
+        // (up to 2^50, values up to 2^53) and a power of two.
+        let mut next = crate::kernel::xorshift(0x2545_f491_4f6c_dd1du64);
+        let (mut tested, mut joins) = (0, 0);
+        for round in 0..200_000u64 {
+            let small = small_cell(&mut next, 1 + round % 4);
+            let bits = [20, 31, 40, 50][(round / 4 % 4) as usize];
+            let factor = ((next() % (1 << bits)) | 1 | (1 << (bits - 1))) as f64;
+            let power = power_of_two([0, -30, 12, -70, 60][(round / 16 % 5) as usize]);
+            let g = small.map(|v| v as f64);
+            let expected = cell_joins(&g);
+            let scaled = g.map(|v| v * factor * power);
+            assert_eq!(
+                cell_joins(&scaled),
+                expected,
+                "{small:?} x {factor} x {power}"
+            );
+            tested += 1;
+            joins += usize::from(expected.is_some());
+        }
+        assert!(joins > 1000, "only {joins} joins in {tested} cells");
+    }
+
+    #[test]
+    fn wide_cells_match_the_sweep_in_i256() {
+        // Random integers of up to 31 and up to 60 bits, and near-ties
+        // (multiples of a small cell, nudged by one on some corners), scaled
+        // by powers of two: the filtered f64 sweep, where it is sure, and
+        // the kernel's answer, agree with the sweep in 256-bit integers.
+        let mut next = crate::kernel::xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let (mut sure, mut doubts, mut joins) = (0, 0, 0);
+        for round in 0..200_000u64 {
+            let ints: [i64; 8] = match round % 3 {
+                0 => std::array::from_fn(|_| (next() % (1 << 32)) as i64 - (1 << 31)),
+                1 => {
+                    // Up to 53 significant bits, shifted to at most 60.
+                    let shift = next() % 8;
+                    std::array::from_fn(|_| {
+                        let m = (next() % (1 << 53)) as i64 - (1 << 52);
+                        (m >> (next() % 40)) << shift
+                    })
+                }
+                _ => {
+                    let factor = (next() % (1 << 48)) as i64 | 1;
+                    small_cell(&mut next, 3)
+                        .map(|v| v * factor + (next() % 5) as i64 / 3 - (next() % 5) as i64 / 3)
+                }
+            };
+            let power = power_of_two([0, -40, 20, -100][(round / 3 % 4) as usize]);
+            let g = ints.map(|v| v as f64 * power);
+            assert!(ints.iter().all(|&v| (v as f64 * power) / power == v as f64));
+            let tables = crate::kernel::tables::tables();
+            let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+            if !tables.is_ambiguous[config as usize] {
+                continue;
+            }
+            let set = tables.contour_set(config, crate::kernel::cell::face_decisions(&g, config));
+            let (pairs, labels) = (set.tunnel_pairs, &set.corner_comp);
+            let expected = exact(sweep_both(&ints.map(I256::from), pairs, labels));
+            match sweep_both(&ints.map(|v| Filtered::exact(v as f64)), pairs, labels) {
+                Ok(join) => {
+                    assert_eq!(join, expected, "filtered {ints:?}");
+                    sure += 1;
+                }
+                Err(Doubt) => doubts += 1,
+            }
+            assert_eq!(interior_joins(&g, set), expected, "{ints:?} x {power}");
+            joins += usize::from(expected.is_some());
+        }
+        assert!(
+            sure > 10_000 && doubts > 100 && joins > 1000,
+            "{sure} sure, {doubts} in doubt, {joins} joins"
+        );
+    }
+
+    #[test]
+    fn span_finds_the_integer_scale_either_way() {
+        let span = |g: [f64; 2]| Span::of(&[g[0], g[1], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
+        // 3 * 2^40 and 1: 42 bits at scale 1.
+        let s = span([3.0 * (1u64 << 40) as f64, -1.0]);
+        assert_eq!(s.integer_scale(WIDE_BITS), Some(1.0));
+        assert_eq!(s.upscaled(), (1.0, 42));
+        // 2^71 and 2^11: 61 bits after scaling down by 2^11, too many;
+        // 2^70 and 2^11: 60 bits.
+        let s = span([power_of_two(71), -power_of_two(11)]);
+        assert_eq!(s.integer_scale(WIDE_BITS), None);
+        let s = span([power_of_two(70), -power_of_two(11)]);
+        assert_eq!(s.integer_scale(WIDE_BITS), Some(power_of_two(-11)));
+        // 0.75 and 2^-50: 51 bits after scaling up by 2^50.
+        let s = span([0.75, power_of_two(-50)]);
+        assert_eq!(s.integer_scale(WIDE_BITS), Some(power_of_two(50)));
+        assert!(Span::of(&[f64::INFINITY; 8]).is_none());
+        assert_eq!(
+            Span::of(&[0.0; 8]).unwrap().integer_scale(WIDE_BITS),
+            Some(1.0)
         );
     }
 }

@@ -197,6 +197,27 @@ fn bad_headers_and_data_give_one_line_errors() {
             &["'space directions' entry 2 is 'none'"],
         ),
         (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0.5,0,0) (0,-1,0) (0,0,2)",
+            "(1,0,0) (1,0,0) (0,0,1)",
+            &["'space directions': the direction matrix is singular (axes are parallel)"],
+        ),
+        (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0.5,0,0) (0,-1,0) (0,0,2)",
+            "(1,0,0) (0,1,0) (1,1,0)",
+            &["the direction matrix is singular"],
+        ),
+        (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0,-1,0)",
+            "(0,0,0)",
+            &["'space directions': direction of axis 1 (0, 0, 0) is not a usable vector"],
+        ),
+        (
             "nrrd_detached_rot_f64",
             "nrrd_detached_rot_f64.nhdr",
             "sizes: 9 7 6",

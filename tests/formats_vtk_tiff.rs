@@ -206,7 +206,7 @@ fn bad_legacy_vtk() {
     }
     let p = dir.path().join("short.vtk");
     std::fs::write(&p, text("DIMENSIONS 3 3 3\nPOINT_DATA 27\nSCALARS s float")).unwrap();
-    expect_err(&p, "ASCII data has 8 values, need 27");
+    expect_err(&p, "ascii data holds 8 values, 3x3x3 f32 needs 27");
     let p = dir.path().join("garbage.vtk");
     std::fs::write(&p, b"hello\n").unwrap();
     expect_err(&p, "not a legacy VTK");

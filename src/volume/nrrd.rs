@@ -97,6 +97,10 @@ impl SampleSource for NrrdVolume {
     fn sample_bytes(&self) -> usize {
         self.scalar.size()
     }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        Some(self.scalar)
+    }
 }
 
 /// Opens a 3-D NRRD file (`.nrrd` or `.nhdr`).
@@ -132,15 +136,15 @@ pub fn open(path: &Path) -> Result<NrrdVolume> {
         origin: header.origin.unwrap_or([0.0; 3]),
         direction: super::IDENTITY,
     };
-    if dims.contains(&0) {
-        return Err(fail(format!("sizes {} contain a zero", dims_text(dims))));
-    }
-
     if let Some(matrix) = directions {
         // The vectors' lengths are the spacing.
         grid.spacing = [1.0; 3];
         set_direction(&mut grid, matrix).map_err(|e| fail(format!("'space directions': {e}")))?;
     }
+    if dims.contains(&0) {
+        return Err(fail(format!("sizes {} contain a zero", dims_text(dims))));
+    }
+
     let format = DataFormat {
         scalar,
         endian,

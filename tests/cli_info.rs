@@ -341,3 +341,65 @@ fn bad_input_is_one_error_line() {
     let out = tmc(&["info", bad.to_str().unwrap(), "--dtype", "u8"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// Every reader reports its stored sample type, and a detached header's
+/// size includes its data files.
+#[test]
+fn sample_type_and_file_bytes_of_every_reader() {
+    let dir = tempfile::tempdir().unwrap();
+    let vtk = dir.path().join("short.vtk");
+    let values: String = (0..27).map(|i| format!("{} ", i * 100 - 1300)).collect();
+    fs::write(
+        &vtk,
+        format!("# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 3 3 3\nPOINT_DATA 27\nSCALARS s short\nLOOKUP_TABLE default\n{values}\n"),
+    )
+    .unwrap();
+    let len = |name: &str| fs::metadata(data_dir().join(name)).unwrap().len();
+    let cases = [
+        (
+            data_dir().join("nrrd_gzip_be_i16.nrrd"),
+            "i16",
+            2,
+            len("nrrd_gzip_be_i16.nrrd"),
+        ),
+        (
+            data_dir().join("nrrd_ascii_i8.nrrd"),
+            "i8",
+            1,
+            len("nrrd_ascii_i8.nrrd"),
+        ),
+        (
+            data_dir().join("nrrd_detached_rot_f64.nhdr"),
+            "f64",
+            8,
+            len("nrrd_detached_rot_f64.nhdr") + len("nrrd_detached_rot_f64.raw"),
+        ),
+        (
+            data_dir().join("mhd_u8.mhd"),
+            "u8",
+            1,
+            len("mhd_u8.mhd") + len("mhd_u8.raw"),
+        ),
+        (
+            data_dir().join("nifti1_pair.hdr"),
+            "u8",
+            1,
+            len("nifti1_pair.hdr") + len("nifti1_pair.img"),
+        ),
+        (data_dir().join("dicom_ct"), "i16", 2, 0),
+        (vtk.clone(), "i16", 2, fs::metadata(&vtk).unwrap().len()),
+    ];
+    for (path, sample_type, size, file_bytes) in cases {
+        let json = info_json(&path, &[]);
+        let samples = json["samples"].as_u64().unwrap();
+        assert_eq!(json["sample_type"], sample_type, "{path:?}");
+        assert_eq!(
+            json["data_bytes"].as_u64(),
+            Some(samples * size),
+            "{path:?}"
+        );
+        if file_bytes > 0 {
+            assert_eq!(json["file_bytes"].as_u64(), Some(file_bytes), "{path:?}");
+        }
+    }
+}

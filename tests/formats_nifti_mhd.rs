@@ -8,7 +8,7 @@ mod common;
 use common::formats::{all_samples, check_grid, close, data_dir, det, fixtures, open_err};
 use std::fs;
 use std::path::{Path, PathBuf};
-use tmc::volume::{self, metaimage, nifti};
+use tmc::volume::{self, metaimage, nifti, ScalarType};
 use tmc::{ExtractParams, SampleSource};
 
 #[test]
@@ -344,4 +344,131 @@ fn mha_with_dims(mha: &[u8], dims: &str) -> Vec<u8> {
     let mut out = mha.to_vec();
     out[at..at + dims.len()].copy_from_slice(dims.as_bytes());
     out
+}
+
+/// A MetaImage header of 4x4x4 samples of `element_type` with
+/// `BinaryData = False`, the lines `extra`, and `ElementDataFile = data`.
+fn ascii_header(element_type: &str, extra: &str, data: &str) -> String {
+    format!(
+        "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = {element_type}\nBinaryData = False\n{extra}ElementDataFile = {data}\n"
+    )
+}
+
+/// `values` as text, 16 to a line.
+fn ascii_text(values: &[i64]) -> String {
+    values
+        .chunks(16)
+        .map(|row| row.iter().map(|v| format!("{v} ")).collect::<String>() + "\n")
+        .collect()
+}
+
+#[test]
+fn ascii_metaimage_data_is_parsed() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let bytes: Vec<i64> = (0..64).map(|i| i * 4).collect();
+    let shorts: Vec<i64> = (0..64).map(|i| i * 1000 - 32000).collect();
+    let cases = [
+        (
+            write(
+                d,
+                "local.mha",
+                (ascii_header("MET_UCHAR", "", "LOCAL") + &ascii_text(&bytes)).as_bytes(),
+            ),
+            &bytes,
+            ScalarType::U8,
+        ),
+        (
+            {
+                write(d, "shorts.txt", ascii_text(&shorts).as_bytes());
+                let header = ascii_header("MET_SHORT", "", "shorts.txt");
+                write(d, "detached.mhd", header.as_bytes())
+            },
+            &shorts,
+            ScalarType::I16,
+        ),
+        (
+            {
+                write(
+                    d,
+                    "skipped.txt",
+                    (String::from("junk\n") + &ascii_text(&shorts)).as_bytes(),
+                );
+                let header = ascii_header("MET_SHORT", "HeaderSize = 5\n", "skipped.txt");
+                write(d, "skip.mhd", header.as_bytes())
+            },
+            &shorts,
+            ScalarType::I16,
+        ),
+    ];
+    for (path, values, scalar) in cases {
+        let vol = volume::open(&path, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let want: Vec<f64> = values.iter().map(|&v| v as f64).collect();
+        assert_eq!(all_samples(vol.as_ref()), want, "{}", path.display());
+        assert_eq!(vol.stored_type(), Some(scalar), "{}", path.display());
+    }
+}
+
+#[test]
+fn bad_ascii_metaimage_data_is_one_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let values: Vec<i64> = (0..64).collect();
+    let local = |name: &str, extra: &str, text: &str| {
+        let bytes = ascii_header("MET_UCHAR", extra, "LOCAL") + text;
+        write(d, name, bytes.as_bytes())
+    };
+    let cases = [
+        (
+            local("short.mha", "", &ascii_text(&values[..60])),
+            "ascii data holds 60 values, 4x4x4 u8 needs 64",
+        ),
+        (
+            local("long.mha", "", &(ascii_text(&values) + "7\n")),
+            "ascii data holds more than the 64 values of 4x4x4 u8",
+        ),
+        (
+            local(
+                "token.mha",
+                "",
+                &ascii_text(&values).replace(" 9 ", " nine "),
+            ),
+            "ascii value 'nine' at sample 9 is not a number",
+        ),
+        (
+            local(
+                "range.mha",
+                "",
+                &ascii_text(&values).replace(" 9 ", " 256 "),
+            ),
+            "ascii value '256' at sample 9 does not fit u8",
+        ),
+        (
+            local("zlib.mha", "CompressedData = True\n", &ascii_text(&values)),
+            "BinaryData = False with CompressedData = True (compressed text) is not supported",
+        ),
+        (
+            {
+                write(d, "end.txt", ascii_text(&values).as_bytes());
+                let header = ascii_header("MET_UCHAR", "HeaderSize = -1\n", "end.txt");
+                write(d, "end.mhd", header.as_bytes())
+            },
+            "BinaryData = False with HeaderSize = -1 is not supported",
+        ),
+        (
+            {
+                write(d, "cut.txt", ascii_text(&values[..10]).as_bytes());
+                write(
+                    d,
+                    "cut.mhd",
+                    ascii_header("MET_UCHAR", "", "cut.txt").as_bytes(),
+                )
+            },
+            "cut.txt: ascii data holds 10 values",
+        ),
+    ];
+    for (path, phrase) in cases {
+        let e = open_err(&path);
+        assert!(e.contains(phrase), "{}: {e}", path.display());
+    }
 }

@@ -197,6 +197,27 @@ fn bad_headers_and_data_give_one_line_errors() {
             &["'space directions' entry 2 is 'none'"],
         ),
         (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0.5,0,0) (0,-1,0) (0,0,2)",
+            "(1,0,0) (1,0,0) (0,0,1)",
+            &["'space directions': the direction matrix is singular (axes are parallel)"],
+        ),
+        (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0.5,0,0) (0,-1,0) (0,0,2)",
+            "(1,0,0) (0,1,0) (1,1,0)",
+            &["the direction matrix is singular"],
+        ),
+        (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0,-1,0)",
+            "(0,0,0)",
+            &["'space directions': direction of axis 1 (0, 0, 0) is not a usable vector"],
+        ),
+        (
             "nrrd_detached_rot_f64",
             "nrrd_detached_rot_f64.nhdr",
             "sizes: 9 7 6",
@@ -317,4 +338,69 @@ fn bad_data_files_give_one_line_errors() {
     fs::write(&ascii, &bytes[..bytes.len() - 200]).unwrap();
     let e = open_err(&ascii);
     assert!(e.contains("ascii data holds"), "{e}");
+}
+
+/// An attached ascii NRRD of 4x4x4 samples of `type_name`: 63 zeros, then
+/// `last`.
+fn ascii_nrrd(dir: &Path, type_name: &str, last: &str) -> std::path::PathBuf {
+    let mut text =
+        format!("NRRD0004\ntype: {type_name}\ndimension: 3\nsizes: 4 4 4\nencoding: ascii\n\n");
+    text.push_str(&"0 ".repeat(63));
+    text.push_str(last);
+    text.push('\n');
+    let path = dir.join(format!("{type_name}.nrrd"));
+    fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn ascii_values_must_fit_the_declared_type() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (type_name, last, phrase) in [
+        (
+            "uint8",
+            "300",
+            "ascii value '300' at sample 63 does not fit u8",
+        ),
+        (
+            "uint8",
+            "-1",
+            "ascii value '-1' at sample 63 does not fit u8",
+        ),
+        (
+            "uint8",
+            "1.5",
+            "ascii value '1.5' at sample 63 does not fit u8",
+        ),
+        ("int16", "40000", "'40000' at sample 63 does not fit i16"),
+        (
+            "uint8",
+            "x7",
+            "ascii value 'x7' at sample 63 is not a number",
+        ),
+        (
+            "float",
+            "1e300",
+            "'1e300' at sample 63 is outside the range of f32",
+        ),
+    ] {
+        let e = open_err(&ascii_nrrd(d, type_name, last));
+        assert!(e.contains(phrase), "{type_name} {last}: {e}");
+    }
+    // The extremes of a type are values of it; float values are rounded
+    // to float.
+    for (type_name, last, scalar) in [
+        ("uint8", "255", ScalarType::U8),
+        ("int8", "-128", ScalarType::I8),
+        ("uint32", "4294967295", ScalarType::U32),
+        ("float", "0.1", ScalarType::F32),
+    ] {
+        let vol = volume::open(&ascii_nrrd(d, type_name, last), None).unwrap();
+        let want: f64 = match scalar {
+            ScalarType::F32 => f64::from(0.1f32),
+            _ => last.parse().unwrap(),
+        };
+        assert_eq!(all_samples(vol.as_ref())[63], want, "{type_name}");
+    }
 }

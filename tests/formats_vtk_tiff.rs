@@ -206,7 +206,7 @@ fn bad_legacy_vtk() {
     }
     let p = dir.path().join("short.vtk");
     std::fs::write(&p, text("DIMENSIONS 3 3 3\nPOINT_DATA 27\nSCALARS s float")).unwrap();
-    expect_err(&p, "ASCII data has 8 values, need 27");
+    expect_err(&p, "ascii data holds 8 values, 3x3x3 f32 needs 27");
     let p = dir.path().join("garbage.vtk");
     std::fs::write(&p, b"hello\n").unwrap();
     expect_err(&p, "not a legacy VTK");
@@ -256,4 +256,26 @@ fn bad_tiff_stacks() {
         assert!((0..g.dims[2]).any(|z| src.read_plane(z, &mut plane).is_err()));
     }
     expect_err(&dir.path().join("empty_*.tif"), "no TIFF files");
+}
+
+#[test]
+fn multi_page_files_in_a_stack_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let multi = volume::open(&data("vt_multi_u16.tif"), None).unwrap();
+    assert!(multi.grid().dims[2] > 1);
+    // One file found: all its pages, as when it is opened on its own.
+    let one = dir.path().join("one");
+    std::fs::create_dir(&one).unwrap();
+    std::fs::copy(data("vt_multi_u16.tif"), one.join("a.tif")).unwrap();
+    let stack = volume::open(&one, None).unwrap();
+    assert_eq!(planes(stack.as_ref()), planes(multi.as_ref()));
+    // Several files: a multi-page one is refused, by directory and by glob.
+    let two = dir.path().join("two");
+    std::fs::create_dir(&two).unwrap();
+    for name in ["a.tif", "b.tif"] {
+        std::fs::copy(data("vt_multi_u16.tif"), two.join(name)).unwrap();
+    }
+    for path in [two.clone(), two.join("*.tif")] {
+        expect_err(&path, "a.tif: has more than one page");
+    }
 }

@@ -40,8 +40,8 @@ JSON keys (--json; one object on one line):
   input, format          the path and the reader (NRRD, NIfTI-1, NIfTI-2,
                          MetaImage, VTK legacy, VTK ImageData, TIFF stack,
                          NumPy, raw)
-  file_bytes             size of the input file (all files of a directory);
-                         null for a glob pattern
+  file_bytes             size of the input file and the data files it names
+                         (all files of a directory, the files of a glob)
   data_bytes             samples * stored sample size; null if unknown
   dims, samples          samples along x, y, z and their product
   sample_type            stored type (u8 i8 u16 i16 u32 i32 f32 f64; before
@@ -163,7 +163,7 @@ fn describe(
     Info {
         input: input.display().to_string(),
         format: tmc::volume::format_name(input, raw).unwrap_or("unknown"),
-        file_bytes: file_bytes(input),
+        file_bytes: file_bytes(input, source),
         data_bytes: stored.map(|t| summary.samples.saturating_mul(t.size() as u64)),
         dims: grid.dims,
         samples: summary.samples,
@@ -199,14 +199,12 @@ fn affine(grid: &Grid) -> [[f64; 4]; 4] {
     a
 }
 
-/// Size of the input: the file, or the regular files directly in a
-/// directory; `None` for a glob pattern or if it cannot be read.
-fn file_bytes(path: &Path) -> Option<u64> {
-    let meta = std::fs::metadata(path).ok()?;
-    if meta.is_file() {
-        return Some(meta.len());
-    }
-    if meta.is_dir() {
+/// Size of the input: the regular files directly in a directory, else the
+/// file (if it is one) and the data files it names (a detached header's
+/// data, the files of a glob), each once; `None` if one cannot be read.
+fn file_bytes(path: &Path, source: &dyn SampleSource) -> Option<u64> {
+    let meta = std::fs::metadata(path).ok();
+    if meta.as_ref().is_some_and(|m| m.is_dir()) {
         let mut total = 0u64;
         for entry in std::fs::read_dir(path).ok()? {
             let meta = entry.ok()?.metadata().ok()?;
@@ -216,7 +214,18 @@ fn file_bytes(path: &Path) -> Option<u64> {
         }
         return Some(total);
     }
-    None
+    let mut files: Vec<PathBuf> = source
+        .data_files()
+        .into_iter()
+        .chain(meta.filter(|m| m.is_file()).map(|_| path))
+        .map(|f| std::fs::canonicalize(f).unwrap_or_else(|_| f.to_path_buf()))
+        .collect();
+    files.sort();
+    files.dedup();
+    files
+        .iter()
+        .map(|f| std::fs::metadata(f).ok().map(|m| m.len()))
+        .sum()
 }
 
 /// Numbers joined by spaces.

@@ -41,7 +41,7 @@
 //!   open. Samples must be greyscale (1 sample per pixel) of 8, 16 or 32
 //!   bits, unsigned or signed.
 
-use super::{dicom_lengths, Grid, SampleSource};
+use super::{dicom_lengths, Grid, SampleSource, ScalarType};
 use crate::{Error, Result};
 use dicom_dictionary_std::tags;
 use dicom_encoding::TransferSyntaxIndex;
@@ -770,5 +770,19 @@ impl SampleSource for DicomSeries {
 
     fn sample_bytes(&self) -> usize {
         self.format.bits_allocated as usize / 8
+    }
+
+    /// The integer type of `BitsAllocated` and `PixelRepresentation`
+    /// (before `RescaleSlope` and `RescaleIntercept`).
+    fn stored_type(&self) -> Option<ScalarType> {
+        Some(match (self.format.bits_allocated, self.format.signed) {
+            (8, false) => ScalarType::U8,
+            (8, true) => ScalarType::I8,
+            (16, false) => ScalarType::U16,
+            (16, true) => ScalarType::I16,
+            (32, false) => ScalarType::U32,
+            (32, true) => ScalarType::I32,
+            _ => return None,
+        })
     }
 }

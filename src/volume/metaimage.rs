@@ -7,6 +7,8 @@
 //! `ElementSize`), `Offset` / `Origin` / `Position`, `TransformMatrix` /
 //! `Rotation` / `Orientation`, `BinaryDataByteOrderMSB` /
 //! `ElementByteOrderMSB`, `CompressedData` (zlib, decompressed into a temporary file),
+//! `BinaryData` (`False`: the samples are numbers written as text, see
+//! [`super::ascii`]; not with `CompressedData` or `HeaderSize = -1`),
 //! `HeaderSize` (`-1`: the data ends the file) and `ElementDataFile`, which
 //! ends the header: `LOCAL` (data follows the header), a file name relative
 //! to the header, or `LIST` / `LIST 2D` followed by one file name per z
@@ -16,6 +18,7 @@
 //! origin, so vertices are in the image's world frame (ITK's LPS
 //! millimetres as written by ITK); a mirroring matrix flips the winding.
 
+use super::ascii::read_ascii;
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::spill::spill;
 use super::{set_direction, Access, Endian, Grid, SampleSource, ScalarType};
@@ -131,6 +134,8 @@ struct Header {
     matrix: Option<[f64; 9]>,
     big_endian: bool,
     compressed: bool,
+    /// `BinaryData = False`: the samples are written as text.
+    ascii: bool,
     /// `Some(-1)` means the data ends the file.
     header_size: Option<i64>,
     data_file: Option<String>,
@@ -157,6 +162,18 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
     let scalar = header
         .scalar
         .ok_or_else(|| fail("missing ElementType".into()))?;
+    if header.ascii && header.compressed {
+        return Err(fail(
+            "BinaryData = False with CompressedData = True (compressed text) is not supported"
+                .into(),
+        ));
+    }
+    if header.ascii && header.header_size == Some(-1) {
+        return Err(fail(
+            "BinaryData = False with HeaderSize = -1 is not supported (text samples have no fixed size)"
+                .into(),
+        ));
+    }
     let spacing = header.spacing.or(header.size).unwrap_or([1.0; 3]);
     let mut grid = Grid {
         dims,
@@ -196,7 +213,7 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
                 let samples = inflate(path, file, data_len)?;
                 Data::Volume(RawVolume::map_file(path, &samples, layout(0))?)
             } else {
-                Data::Volume(RawVolume::map_file(path, &file, layout(consumed))?)
+                Data::Volume(samples(path, &file, layout(consumed), header.ascii)?)
             }
         }
         ["LIST"] | ["LIST", "2D" | "2d"] => {
@@ -234,7 +251,7 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
                     grid: plane,
                     ..layout(offset)
                 };
-                slices.push(RawVolume::map_file(&slice_path, &file, slice_layout)?);
+                slices.push(samples(&slice_path, &file, slice_layout, header.ascii)?);
             }
             Data::Slices(slices)
         }
@@ -258,11 +275,30 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
                 Data::Volume(RawVolume::map_file(&data_path, &samples, layout(0))?)
             } else {
                 let offset = data_offset(&data_path, &file, header.header_size, data_len)?;
-                Data::Volume(RawVolume::map_file(&data_path, &file, layout(offset))?)
+                Data::Volume(samples(&data_path, &file, layout(offset), header.ascii)?)
             }
         }
     };
     Ok(MetaImageVolume { grid, data })
+}
+
+/// The samples of `layout` in `file` (opened from `path`): mapped, or
+/// parsed from the text that starts at the layout's offset when `ascii`.
+fn samples(path: &Path, mut file: &File, layout: Layout, ascii: bool) -> Result<RawVolume> {
+    if !ascii {
+        return RawVolume::map_file(path, file, layout);
+    }
+    file.seek(SeekFrom::Start(layout.offset))
+        .map_err(|e| Error::io(path, e))?;
+    read_ascii(
+        path,
+        BufReader::new(file),
+        Layout {
+            offset: 0,
+            ..layout
+        },
+        false,
+    )
 }
 
 /// The offset of `len` bytes of samples in `file`, after `HeaderSize` bytes
@@ -375,6 +411,7 @@ fn parse_line(line: &str, header: &mut Header) -> std::result::Result<(), String
             header.big_endian = boolean(key, value)?
         }
         "compresseddata" => header.compressed = boolean(key, value)?,
+        "binarydata" => header.ascii = !boolean(key, value)?,
         "headersize" => {
             let n: i64 = value
                 .parse()

@@ -7,6 +7,7 @@
 //! plane, as a `.nrrd`, `.npy` or raw file.
 
 mod array;
+mod ascii;
 pub mod dicom;
 mod dicom_lengths;
 mod guarded;

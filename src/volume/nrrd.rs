@@ -18,7 +18,8 @@
 //!
 //! The spacing along each axis is the norm of its `space directions` vector
 //! and its direction the unit vector, so the mesh lives in the NRRD's space,
-//! rotation or axis flip included, shifted by `space origin`.
+//! rotation or axis flip included, shifted by `space origin`. Vectors that
+//! are parallel (a singular matrix) are refused, as in the other readers.
 
 use super::nrrd_data::{open_data, DataFormat};
 use super::nrrd_header::{parse_line, DataFile, Encoding, Header};
@@ -26,7 +27,7 @@ pub(crate) use super::nrrd_header::{read_line, MAX_HEADER};
 use super::nrrd_pattern::format_number;
 use super::raw::dims_text;
 use super::slab_stack::SlabStack;
-use super::{Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
+use super::{set_direction, Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::BufReader;
@@ -96,6 +97,10 @@ impl SampleSource for NrrdVolume {
     fn sample_bytes(&self) -> usize {
         self.scalar.size()
     }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        Some(self.scalar)
+    }
 }
 
 /// Opens a 3-D NRRD file (`.nrrd` or `.nhdr`).
@@ -111,10 +116,7 @@ pub fn open(path: &Path) -> Result<NrrdVolume> {
         Some(d) => return Err(fail(format!("dimension {d} is not supported (need 3)"))),
         None => return Err(fail("missing 'dimension' field".into())),
     }
-    let (spacing, direction) = match &header.directions {
-        Some(directions) => directions.clone().map_err(fail)?,
-        None => (header.spacings.unwrap_or([1.0; 3]), super::IDENTITY),
-    };
+    let directions = header.directions.clone().transpose().map_err(fail)?;
     let dims = match header.sizes.as_deref() {
         Some(&[x, y, z]) => [x, y, z],
         Some(s) => return Err(fail(format!("'sizes' has {} values, need 3", s.len()))),
@@ -128,12 +130,17 @@ pub fn open(path: &Path) -> Result<NrrdVolume> {
         (None, 1, _) | (None, _, Encoding::Ascii) => Endian::Little,
         (None, _, _) => return Err(fail(format!("missing 'endian' field for type {scalar}"))),
     };
-    let grid = Grid {
+    let mut grid = Grid {
         dims,
-        spacing,
+        spacing: header.spacings.unwrap_or([1.0; 3]),
         origin: header.origin.unwrap_or([0.0; 3]),
-        direction,
+        direction: super::IDENTITY,
     };
+    if let Some(matrix) = directions {
+        // The vectors' lengths are the spacing.
+        grid.spacing = [1.0; 3];
+        set_direction(&mut grid, matrix).map_err(|e| fail(format!("'space directions': {e}")))?;
+    }
     if dims.contains(&0) {
         return Err(fail(format!("sizes {} contain a zero", dims_text(dims))));
     }

@@ -5,6 +5,7 @@
 //! Every data file of a multi-file NRRD goes through [`open_data`] on its
 //! own, so the skips apply to each file, as the format says.
 
+use super::ascii::read_ascii;
 use super::nrrd_header::{read_line, Encoding};
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::{Endian, Grid, ScalarType};
@@ -153,56 +154,16 @@ pub(crate) fn decompressed(
     RawVolume::map_file(path, &samples, layout)
 }
 
-/// Parses the numbers of `ascii` data (separated by whitespace or commas)
-/// after `skip` bytes into the samples of `layout`, held as `f64` in
-/// memory (exact for every type).
+/// Parses the `ascii` data after `skip` bytes into the samples of
+/// `layout` (see [`read_ascii`]).
 fn ascii(path: &Path, mut reader: impl BufRead, skip: u64, layout: Layout) -> Result<RawVolume> {
-    let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
-    let dims = layout.grid.dims;
-    let count = dims
-        .iter()
-        .try_fold(1usize, |acc, &d| acc.checked_mul(d))
-        .filter(|n| n.checked_mul(8).is_some())
-        .ok_or_else(|| fail(format!("sizes {} are too large", dims_text(dims))))?;
     let skipped = io::copy(&mut reader.by_ref().take(skip), &mut io::sink())
         .map_err(|e| Error::io(path, e))?;
     if skipped < skip {
-        return Err(fail("'byte skip' goes past the end of the file".into()));
+        return Err(Error::Format(format!(
+            "{}: 'byte skip' goes past the end of the file",
+            path.display()
+        )));
     }
-    let mut values: Vec<f64> = Vec::new();
-    values
-        .try_reserve_exact(count)
-        .map_err(|_| fail(format!("not enough memory for {count} ascii values")))?;
-    let mut line = Vec::new();
-    while values.len() < count {
-        line.clear();
-        if reader
-            .read_until(b'\n', &mut line)
-            .map_err(|e| Error::io(path, e))?
-            == 0
-        {
-            return Err(fail(format!(
-                "ascii data holds {} values, sizes {} need {count}",
-                values.len(),
-                dims_text(dims)
-            )));
-        }
-        let text = String::from_utf8_lossy(&line);
-        for word in text.split(|c: char| c.is_whitespace() || c == ',') {
-            if word.is_empty() || values.len() == count {
-                continue;
-            }
-            let v: f64 = word
-                .parse()
-                .map_err(|_| fail(format!("bad number '{word}' in ascii data")))?;
-            values.push(v);
-        }
-    }
-    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-    let layout = Layout {
-        scalar: ScalarType::F64,
-        endian: Endian::Little,
-        ..layout
-    };
-    RawVolume::from_bytes(path, bytes, layout)
+    read_ascii(path, reader, layout, false)
 }

@@ -89,11 +89,10 @@ pub(crate) struct Header {
     pub encoding: Option<Encoding>,
     /// From `spacings` (absolute values).
     pub spacings: Option<[f64; 3]>,
-    /// From `space directions`: the vector lengths and the unit vectors as
-    /// columns, or why they do not fit a 3-D grid (reported after a wrong
-    /// `dimension`, the likelier cause). Takes precedence over `spacings`.
-    #[allow(clippy::type_complexity)]
-    pub directions: Option<Result<([f64; 3], [[f64; 3]; 3]), String>>,
+    /// From `space directions`: the vectors as the columns of a matrix, or
+    /// why they do not fit a 3-D grid (reported after a wrong `dimension`,
+    /// the likelier cause). Takes precedence over `spacings`.
+    pub directions: Option<Result<[[f64; 3]; 3], String>>,
     pub origin: Option<[f64; 3]>,
     /// The `space` name (`left-posterior-superior`, ...), recorded only.
     pub space: Option<String>,
@@ -270,8 +269,9 @@ fn scalar_type(name: &str) -> Result<ScalarType, String> {
     Ok(t)
 }
 
-/// Parses `space directions` into the lengths and unit vectors (columns).
-fn space_directions(value: &str) -> Result<([f64; 3], [[f64; 3]; 3]), String> {
+/// Parses `space directions` into the matrix whose columns are the
+/// vectors (checked as a grid's directions by [`super::set_direction`]).
+fn space_directions(value: &str) -> Result<[[f64; 3]; 3], String> {
     let vectors = vectors(value).ok_or_else(|| format!("bad 'space directions' '{value}'"))?;
     if vectors.len() != 3 {
         return Err(format!(
@@ -279,8 +279,7 @@ fn space_directions(value: &str) -> Result<([f64; 3], [[f64; 3]; 3]), String> {
             vectors.len()
         ));
     }
-    let mut spacing = [1.0; 3];
-    let mut direction = super::IDENTITY;
+    let mut matrix = [[0.0; 3]; 3];
     for (j, v) in vectors.iter().enumerate() {
         let Some(v) = v else {
             return Err(format!(
@@ -291,16 +290,11 @@ fn space_directions(value: &str) -> Result<([f64; 3], [[f64; 3]; 3]), String> {
         if v.len() != 3 {
             return Err(format!("bad 'space directions' '{value}' (need 3-vectors)"));
         }
-        let norm = v.iter().map(|c| c * c).sum::<f64>().sqrt();
-        if !(norm.is_finite() && norm > 0.0) {
-            return Err(format!("'space directions' vector {} has no length", j + 1));
-        }
-        spacing[j] = norm;
-        for (i, row) in direction.iter_mut().enumerate() {
-            row[j] = v[i] / norm;
+        for (i, row) in matrix.iter_mut().enumerate() {
+            row[j] = v[i];
         }
     }
-    Ok((spacing, direction))
+    Ok(matrix)
 }
 
 /// Parses a list of vectors `(a,b,c) (d,e,f) none ...`; `none` gives `None`.

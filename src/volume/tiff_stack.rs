@@ -1,7 +1,9 @@
 //! TIFF stacks: one multi-page TIFF (page `k` = plane `z = k`), a directory
 //! of single-page TIFFs, or a glob pattern (`*`, `?` in the file name) naming
 //! single-page TIFFs. Files are sorted by name in natural order (`slice_2`
-//! before `slice_10`).
+//! before `slice_10`). A directory or glob that finds one file reads all
+//! its pages; one that finds several refuses a multi-page file among them
+//! rather than read only its first page.
 //!
 //! Greyscale pages of 8-, 16- or 32-bit unsigned or signed integers or 32-
 //! or 64-bit floats are read, classic TIFF or BigTIFF; every page must have
@@ -189,7 +191,7 @@ pub fn open(path: &Path) -> Result<TiffStack> {
     } else {
         vec![path.to_path_buf()]
     };
-    let multi = files.len() == 1;
+    let all_pages = files.len() == 1;
     let mut pages = Vec::new();
     let mut first: Option<((u32, u32), ScalarType)> = None;
     for file in &files {
@@ -215,8 +217,14 @@ pub fn open(path: &Path) -> Result<TiffStack> {
                 Some(_) => {}
             }
             pages.push((file.clone(), index));
-            if !multi || !dec.more_images() {
+            if !dec.more_images() {
                 break;
+            }
+            if !all_pages {
+                return Err(Error::Format(format!(
+                    "{}: has more than one page; the files of a TIFF stack directory or glob must be single pages (open a multi-page TIFF on its own)",
+                    file.display()
+                )));
             }
             dec.next_image().map_err(|e| {
                 Error::Format(format!("{} page {}: {e}", file.display(), index + 1))

@@ -4,14 +4,16 @@
 //! `POINT_DATA n`, `SCALARS name type [1]`, `LOOKUP_TABLE`; types
 //! `unsigned_char`, `char`, `unsigned_short`, `short`, `unsigned_int`, `int`,
 //! `float`, `double`. `BINARY` data is big-endian (as the VTK spec says) and
-//! memory-mapped; `ASCII` data is parsed into memory (meant for small files).
+//! memory-mapped; `ASCII` data is parsed into memory (meant for small files)
+//! as NRRD ascii data is, each value checked against the type.
 //! Only the first `SCALARS` array of the point data is read.
 
+use super::ascii::read_ascii;
 use super::raw::{Layout, Order, RawVolume};
 use super::{Endian, Grid, ScalarType};
 use crate::{Error, Result};
 use std::fs::File;
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader};
 use std::path::Path;
 
 /// Longest header accepted.
@@ -180,27 +182,13 @@ pub fn open(path: &Path) -> Result<RawVolume> {
         };
         return RawVolume::map_file(path, &file, layout);
     }
-    let mut text = String::new();
-    reader
-        .read_to_string(&mut text)
-        .map_err(|e| Error::io(path, e))?;
-    let mut bytes = crate::error::try_vec::<u8>("the ASCII samples", count.saturating_mul(8))?;
-    let mut words = text.split_ascii_whitespace();
-    for i in 0..count {
-        let w = words
-            .next()
-            .ok_or_else(|| fail(format!("ASCII data has {i} values, need {count}")))?;
-        let v: f64 = w
-            .parse()
-            .map_err(|_| fail(format!("bad ASCII value '{w}' at sample {i}")))?;
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
     let layout = Layout {
         grid,
-        scalar: ScalarType::F64,
+        scalar,
         endian: Endian::Little,
         offset: 0,
         order: Order::XFastest,
     };
-    RawVolume::from_bytes(path, bytes, layout)
+    // Other arrays may follow the scalars.
+    read_ascii(path, reader, layout, true)
 }

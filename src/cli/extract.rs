@@ -18,8 +18,11 @@ use tmc::{Error, ExtractParams, Grid, Inside, Method, PipelineOptions, Result};
 #[derive(Debug, Args)]
 #[command(after_help = CONVENTIONS)]
 pub(crate) struct ExtractArgs {
-    /// Input volume: .npy, .nrrd, or headerless samples with --dims and --dtype.
-    /// Several inputs are a batch (see --keep-going): -o must contain {stem}.
+    /// Input volume: .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha,
+    /// .vtk, .vti, .tif/.tiff, a directory or pattern of TIFFs, DICOM (.dcm
+    /// or a directory of slices), or headerless samples with --dims and
+    /// --dtype. Several inputs are a batch (see --keep-going): -o must
+    /// contain {stem}.
     #[arg(value_name = "INPUT", required_unless_present = "manifest")]
     pub input: Vec<PathBuf>,
 

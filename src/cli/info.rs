@@ -67,9 +67,10 @@ JSON keys (--json; one object on one line):
 #[derive(Debug, Args)]
 #[command(after_help = INFO_HELP)]
 pub(crate) struct InfoArgs {
-    /// Input volume: .npy, .nrrd, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti,
-    /// .tif/.tiff, a directory or pattern of TIFFs, or headerless samples
-    /// with --dims and --dtype.
+    /// Input volume: .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha,
+    /// .vtk, .vti, .tif/.tiff, a directory or pattern of TIFFs, DICOM (.dcm
+    /// or a directory of slices), or headerless samples with --dims and
+    /// --dtype.
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
 

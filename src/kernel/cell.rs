@@ -159,7 +159,7 @@ pub enum Triangles {
 /// itself, each a function of the face's four values only, so that the two
 /// cells sharing a face always agree; the rest of the kernel works on the
 /// cell's values scaled by a power of two when their largest magnitude lies
-/// outside `[2^-200, 2^200]` (see [`in_kernel_range`]).
+/// outside `[2^-200, 2^200]`.
 pub fn triangulate_ambiguous(
     g: &[f64; 8],
     config: u8,

@@ -20,11 +20,11 @@
 //!
 //! The predicates are signs of polynomials of degree up to four in the
 //! values, decided exactly whenever the eight values are integers of at most
-//! [`WIDE_BITS`] bits after scaling by a common power of two (every 32-bit
+//! 60 bits after scaling by a common power of two (every 32-bit
 //! integer volume at an integer or half-integer isovalue; float32 values
 //! minus an isovalue such as 0 whose magnitudes are within about 2^36 of
 //! each other): in `i64` up to 14 bits, in `i128` up to 26, and beyond that
-//! in `f64` with an error bound ([`Filtered`]), redone in 256-bit integers
+//! in `f64` with an error bound (`Filtered`), redone in 256-bit integers
 //! only where a sign is in doubt. Cells whose values span more bits keep
 //! the plain `f64` answer, which can misjudge near-ties.
 
@@ -185,7 +185,7 @@ const DIAGONALS: [(usize, usize, usize, usize); 2] = [(0, 3, 1, 2), (1, 2, 0, 3)
 ///
 /// Exact because the sweep sees the same signs as `config`: scaling to
 /// integers or normalising never turns a nonzero value into zero. (Where
-/// the sweep rounds, for values more than [`WIDE_BITS`] bits apart,
+/// the sweep rounds, for values more than 60 bits apart,
 /// rounding can make a case 3 pair look joined; leaving it out is then the
 /// exact answer.)
 pub fn may_join(config: u8, labels: &[u8; 8]) -> u8 {

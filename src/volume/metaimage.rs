@@ -7,8 +7,8 @@
 //! `ElementSize`), `Offset` / `Origin` / `Position`, `TransformMatrix` /
 //! `Rotation` / `Orientation`, `BinaryDataByteOrderMSB` /
 //! `ElementByteOrderMSB`, `CompressedData` (zlib, decompressed into a temporary file),
-//! `BinaryData` (`False`: the samples are numbers written as text, see
-//! [`super::ascii`]; not with `CompressedData` or `HeaderSize = -1`),
+//! `BinaryData` (`False`: the samples are numbers written as text, read by
+//! the shared ascii parser; not with `CompressedData` or `HeaderSize = -1`),
 //! `HeaderSize` (`-1`: the data ends the file) and `ElementDataFile`, which
 //! ends the header: `LOCAL` (data follows the header), a file name relative
 //! to the header, or `LIST` / `LIST 2D` followed by one file name per z

@@ -309,6 +309,12 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
         }
         return Ok(Box::new(raw::RawVolume::open(path, options)?));
     }
+    if !path.exists() && !tiff_stack::is_pattern(path) {
+        return Err(crate::Error::Invalid(format!(
+            "{}: no such file or directory",
+            path.display()
+        )));
+    }
     let format = Format::detect(path, false).ok_or_else(|| {
         crate::Error::Invalid(format!(
             "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff, .dcm, a directory of TIFFs or DICOM files, or give --dims and --dtype for raw data)",

@@ -159,7 +159,7 @@ pub enum Triangles {
 /// itself, each a function of the face's four values only, so that the two
 /// cells sharing a face always agree; the rest of the kernel works on the
 /// cell's values scaled by a power of two when their largest magnitude lies
-/// outside `[2^-200, 2^200]`.
+/// outside about `[2^-200, 2^197]`.
 pub fn triangulate_ambiguous(
     g: &[f64; 8],
     config: u8,
@@ -236,19 +236,18 @@ fn triangulate_decided(
     Triangles::Mesh
 }
 
-/// Is the largest magnitude of `g` within `[2^-200, 2^200]`? Then every
-/// product of up to four values the kernel forms (the quadratics'
+/// Is the largest magnitude of `g` within about `[2^-200, 2^200]`? Then
+/// every product of up to four values the kernel forms (the quadratics'
 /// discriminants are the largest) is far from overflow, and from underflow
-/// where it matters. Compared on the bits: for finite doubles the order of
-/// magnitudes is the order of their bits without the sign.
+/// where it matters. Tested on the sum of the magnitudes, which lies
+/// between the largest and eight times it (a few instructions, side by
+/// side); NaN and infinities fail it.
 #[inline]
 fn in_kernel_range(g: &[f64; 8]) -> bool {
-    const LOW: u64 = 0x3370_0000_0000_0000; // 2^-200
-    const HIGH: u64 = 0x4c70_0000_0000_0000; // 2^200
-    let top = g
-        .iter()
-        .fold(0, |m: u64, v| m.max(v.to_bits() & !(1 << 63)));
-    (LOW..=HIGH).contains(&top)
+    const LOW: f64 = 1.0 / (1u128 << 100) as f64 / (1u128 << 97) as f64; // 2^-197
+    const HIGH: f64 = (1u128 << 100) as f64 * (1u128 << 97) as f64; // 2^197
+    let sum = g.iter().fold(0.0, |s, v| s + v.abs());
+    (LOW..=HIGH).contains(&sum)
 }
 
 /// [`triangulate_decided`] of a cell out of [`in_kernel_range`]: on its
@@ -384,6 +383,7 @@ fn inner_triangle(hex: &[DVec3; 6], out: &mut CellMesh) -> [VertexRef; 3] {
 /// to the contour's centroid when there are more; the centroid if rounding
 /// left no saddle point in the cell. With one or two saddle points the
 /// centroid decides nothing, and neither it nor the contour is looked at.
+#[inline(always)]
 fn interior_vertex<'c>(
     saddles: &Saddles,
     g: &[f64; 8],

@@ -132,12 +132,25 @@ pub(crate) fn outputs(template: &Path, input: &Path, isos: &[f64]) -> Vec<PathBu
 }
 
 /// The input's name without its extension, and without a compression
-/// extension before it (`head.nii.gz` -> `head`).
+/// extension before it (`head.nii.gz` -> `head`). For a glob pattern of
+/// TIFF pages, the pattern's name without its wildcards
+/// (`scan/slice_*.tif` -> `slice`), or the folder's name if nothing is
+/// left (`scan/*.tif` -> `scan`).
 fn stem(input: &Path) -> String {
     let name = input
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    if name.contains(['*', '?']) {
+        let plain: String = name.chars().filter(|c| !matches!(c, '*' | '?')).collect();
+        let base = plain.rfind('.').map_or(plain.as_str(), |i| &plain[..i]);
+        let base = base.trim_matches(|c: char| matches!(c, '_' | '-' | '.' | ' '));
+        if !base.is_empty() {
+            return base.to_string();
+        }
+        let folder = input.parent().and_then(Path::file_name);
+        return folder.map_or_else(|| "volume".into(), |f| f.to_string_lossy().into_owned());
+    }
     let strip = |s: &str| s.rfind('.').filter(|&i| i > 0).map(|i| s[..i].to_string());
     let lower = name.to_ascii_lowercase();
     let once = strip(&name).unwrap_or_else(|| name.clone());
@@ -170,6 +183,15 @@ mod tests {
             outputs(Path::new("m.ply"), input, &[1.0]),
             [PathBuf::from("m.ply")]
         );
+    }
+
+    #[test]
+    fn a_glob_pattern_has_a_stem_without_wildcards() {
+        assert_eq!(stem(Path::new("scan/slice_*.tif")), "slice");
+        assert_eq!(stem(Path::new("scan/*.tif")), "scan");
+        assert_eq!(stem(Path::new("scan/p??_*.tiff")), "p");
+        assert_eq!(stem(Path::new("*.tif")), "volume");
+        assert_eq!(stem(Path::new("data/head.nii.gz")), "head");
     }
 
     #[test]

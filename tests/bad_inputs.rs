@@ -320,7 +320,7 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
                 let rest = ["--dims", "7,5,3", "--dtype", "u8", "--iso", "0"];
                 args(&file(d, "long.raw", &[0; 140]), &rest)
             },
-            "long.raw: file has 140 bytes, 35 more than dims 7x5x3 u8 need",
+            "long.raw: file has 35 bytes more than dims 7x5x3 u8 need",
             1,
         ),
         (

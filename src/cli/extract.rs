@@ -72,7 +72,7 @@ pub(crate) struct ExtractArgs {
     pub json: bool,
 
     /// Worker threads, at most 1024 (and no more are started than there
-    /// are slabs); 0 (the default) uses all cores.
+    /// are cell layers); 0 (the default) uses all cores.
     #[arg(long, value_name = "N", value_parser = values::threads)]
     pub threads: Option<usize>,
 

@@ -5,7 +5,7 @@
 use super::values;
 use clap::{Args, ValueEnum};
 use std::path::Path;
-use tmc::volume::{Endian, RawOptions, SampleSource, ScalarType};
+use tmc::volume::{Endian, RawOptions, RawVolume, SampleSource, ScalarType};
 use tmc::{Error, Result};
 
 /// How to read headerless samples; all absent for a file with a header.
@@ -82,24 +82,12 @@ impl RawArgs {
 pub(crate) fn open_input(input: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
     let source = tmc::volume::open(input, raw)?;
     if let Some(options) = raw {
-        let data = options
-            .dims
-            .iter()
-            .try_fold(options.scalar.size() as u64, |n, &d| {
-                n.checked_mul(d as u64)
-            });
-        let needed = data.and_then(|d| d.checked_add(options.header_bytes));
-        let len = std::fs::metadata(input)
-            .map_err(|e| Error::io(input, e))?
-            .len();
-        if let Some(needed) = needed.filter(|&n| len > n) {
+        let extra = RawVolume::trailing_bytes(input, options);
+        if extra > 0 {
+            let [x, y, z] = options.dims;
             return Err(Error::Format(format!(
-                "{}: file has {len} bytes, {} more than dims {}x{}x{} {} need after a {}-byte header; check --dims and --dtype (--header-bytes skips a header)",
+                "{}: file has {extra} bytes more than dims {x}x{y}x{z} {} need after a {}-byte header; check --dims and --dtype (--header-bytes skips a header)",
                 input.display(),
-                len - needed,
-                options.dims[0],
-                options.dims[1],
-                options.dims[2],
                 options.scalar,
                 options.header_bytes
             )));

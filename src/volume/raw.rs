@@ -94,6 +94,20 @@ pub struct RawVolume {
 }
 
 impl RawVolume {
+    /// Bytes of the file at `path` beyond the header and the samples that
+    /// `options` describe (0 when there are none, when the file is shorter
+    /// or cannot be looked up). [`RawVolume::open`] ignores them; a caller
+    /// that knows the file holds nothing else can take them as a sign of
+    /// wrong dims or type.
+    pub fn trailing_bytes(path: &Path, options: &RawOptions) -> u64 {
+        let needed = data_bytes(options.dims, options.scalar)
+            .and_then(|d| d.checked_add(options.header_bytes));
+        match (needed, std::fs::metadata(path)) {
+            (Some(needed), Ok(meta)) if meta.is_file() => meta.len().saturating_sub(needed),
+            _ => 0,
+        }
+    }
+
     /// Opens a headerless file of samples described by `options`.
     ///
     /// The file must hold at least `header_bytes + dims product * sample size`

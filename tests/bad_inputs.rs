@@ -334,6 +334,16 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
             1,
         ),
         (
+            "ascii .nrrd declaring far more samples than it holds",
+            |d| {
+                let text = "NRRD0004\ntype: short\ndimension: 3\n\
+                            sizes: 3000 3000 3000\nencoding: ascii\n\n1 2 3\n";
+                args(&file(d, "a.nrrd", text.as_bytes()), &["--iso", "0"])
+            },
+            "ascii data holds 3 values, 3000x3000x3000 i16 needs 27000000000",
+            1,
+        ),
+        (
             "an absurd number of threads",
             |d| raw4(d, &["--iso", "0", "--threads", "100000"]),
             "100000 threads: at most 1024",

@@ -70,6 +70,30 @@ fn help_states_the_convention_formats_and_exit_codes() {
 }
 
 #[test]
+fn help_that_cannot_be_written_is_a_failure() {
+    let Ok(full) = fs::OpenOptions::new().write(true).open("/dev/full") else {
+        eprintln!("skipped: no /dev/full on this system");
+        return;
+    };
+    for args in [
+        &["--help"][..],
+        &["extract", "--help"][..],
+        &["--version"][..],
+    ] {
+        let out = std::process::Command::new(common::cli::tmc_path())
+            .args(args)
+            .stdout(full.try_clone().unwrap())
+            .output()
+            .unwrap();
+        let line = assert_one_line(&out, 1);
+        assert!(
+            line.contains("cannot write to standard output"),
+            "{args:?}: {line}"
+        );
+    }
+}
+
+#[test]
 fn usage_errors_exit_2_with_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let input = sphere_npy(dir.path(), "in.npy", [4, 4, 4]);

@@ -228,6 +228,13 @@ fn bad_vti() {
     let p = dir.path().join("extent.vti");
     std::fs::write(&p, good.replacen("0 8 0 6 0 5", "0 9 0 6 0 5", 1)).unwrap();
     expect_err(&p, "differs from WholeExtent");
+    // ASCII values are checked against the declared type and counted.
+    let p = dir.path().join("range.vti");
+    std::fs::write(&p, good.replacen("125 97 77", "300 97 77", 1)).unwrap();
+    expect_err(&p, "ascii value '300' at sample 0 does not fit u8");
+    let p = dir.path().join("short.vti");
+    std::fs::write(&p, good.replacen("125 97 77 65 61 65", "", 1)).unwrap();
+    expect_err(&p, "ascii data holds 372 values, 9x7x6 u8 needs 378");
 }
 
 #[test]

@@ -419,7 +419,7 @@ fn cli_synth_fails_cleanly() {
                 s(&missing),
             ],
             1,
-            "missing",
+            "missing does not exist",
         ),
         (
             vec!["sphere", "--dims", "4,4,4", "--dtype", "u8", "-o", s(&sub)],
@@ -437,6 +437,10 @@ fn cli_synth_fails_cleanly() {
         assert_eq!(stderr.lines().count(), 1, "{args:?}: {stderr}");
         assert!(stderr.starts_with("tmc: "), "{args:?}: {stderr}");
         assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains(".tmc-"),
+            "{args:?} names a temporary file: {stderr}"
+        );
         assert_eq!(
             names(dir.path()),
             ["sub.nrrd"],

@@ -23,6 +23,7 @@ mod values;
 
 use clap::error::ErrorKind;
 use clap::{Parser, Subcommand};
+use std::io::Write;
 use std::panic::{self, AssertUnwindSafe};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -178,7 +179,12 @@ fn usage_error(e: &clap::Error) -> ExitCode {
         ErrorKind::DisplayHelp
         | ErrorKind::DisplayVersion
         | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            let _ = e.print();
+            // Help on a full disk or a closed pipe is an error like any
+            // other failed write.
+            if let Err(write) = e.print().and_then(|()| std::io::stdout().flush()) {
+                eprintln!("tmc: error: cannot write to standard output: {write}");
+                return ExitCode::FAILURE;
+            }
             ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2))
         }
         _ => {

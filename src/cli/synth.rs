@@ -120,6 +120,7 @@ pub(crate) fn run(args: &SynthArgs) -> Result<()> {
     };
     let kind = args.kind.kind();
     let format = VolumeFormat::from_path(&args.output)?;
+    tmc::export::check_output_file(&args.output)?;
     let source = Synthetic::new(kind, grid, args.dtype, args.seed)?;
     let samples: u64 = grid.dims.iter().map(|&n| n as u64).product();
     let bytes = {

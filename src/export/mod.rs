@@ -121,6 +121,13 @@ pub fn write_mesh(path: &Path, mesh: &Mesh) -> Result<()> {
 /// directory exists and accepts new files.
 pub fn check_output_path(path: &Path) -> Result<()> {
     Format::from_path(path)?;
+    check_output_file(path)
+}
+
+/// Checks, before any work is done, that a file of any kind could be
+/// written to `path`: it is not a directory, and its parent directory exists
+/// and accepts new files.
+pub fn check_output_file(path: &Path) -> Result<()> {
     if path.is_dir() {
         return Err(Error::Invalid(format!(
             "{}: is a directory, not an output file",

@@ -1,12 +1,14 @@
 //! Samples written as text: NRRD `encoding: ascii`, MetaImage
-//! `BinaryData = False` and legacy VTK `ASCII`. The numbers are separated by
-//! whitespace or commas; there must be one per sample (and no more, unless
-//! other data may follow), and each must be a value of the declared type (an
-//! integer in range for integer types). The samples are held in memory in
-//! that type, so the volume reports it as stored.
+//! `BinaryData = False`, legacy VTK `ASCII` and `.vti` `format="ascii"`.
+//! The numbers are separated by whitespace or commas; there must be one per
+//! sample (and no more, unless other data may follow), and each must be a
+//! value of the declared type (an integer in range for integer types). The
+//! samples are held in memory in that type, so the volume reports it as
+//! stored.
 
 use super::raw::{dims_text, Layout, RawVolume};
 use super::{encode_samples, Endian, ScalarType};
+use crate::error::make_room;
 use crate::{Error, Result};
 use std::io::BufRead;
 use std::path::Path;
@@ -28,7 +30,11 @@ pub(crate) fn read_ascii(
         .try_fold(1usize, |acc, &d| acc.checked_mul(d))
         .filter(|n| n.checked_mul(scalar.size()).is_some())
         .ok_or_else(|| fail(format!("dims {} are too large", dims_text(dims))))?;
-    let mut bytes = crate::error::try_vec::<u8>("the ascii samples", count * scalar.size())?;
+    // Room grows with the values read (up to a first 64 MiB), so that a
+    // header declaring far more samples than the text holds ends in the
+    // count error below, not in an attempt to allocate them all.
+    let mut bytes =
+        crate::error::try_vec::<u8>("the ascii samples", (count * scalar.size()).min(1 << 26))?;
     let mut sample = [0u8; 8];
     let mut values = 0usize;
     let mut line = Vec::new();
@@ -56,6 +62,7 @@ pub(crate) fn read_ascii(
                 .map_err(|why| fail(format!("ascii value '{word}' at sample {values} {why}")))?;
             let out = &mut sample[..scalar.size()];
             encode_samples(scalar, Endian::Little, &[v], out);
+            make_room(&mut bytes, out.len(), "the ascii samples")?;
             bytes.extend_from_slice(out);
             values += 1;
         }

@@ -14,6 +14,7 @@
 //! (`Direction` row-major, the identity when absent); the whole map goes
 //! into the [`Grid`], a mirroring `Direction` flipping the winding.
 
+use super::ascii::read_ascii;
 use super::raw::{Layout, Order, RawVolume};
 use super::{Access, Endian, Grid, SampleSource, ScalarType};
 use crate::{Error, Result};
@@ -40,7 +41,7 @@ impl VtiVolume {
         self.inner.grid().direction
     }
 
-    /// The stored sample type (`f64` for ASCII data).
+    /// The stored sample type.
     pub fn scalar(&self) -> ScalarType {
         self.inner.scalar()
     }
@@ -333,20 +334,8 @@ pub fn open(path: &Path) -> Result<VtiVolume> {
     let count = h.grid.dims.iter().product::<usize>();
     let bytes = match h.format.as_str() {
         "ascii" => {
-            let mut bytes =
-                crate::error::try_vec::<u8>("the ascii DataArray", count.saturating_mul(8))?;
-            let mut words = h.content.split_ascii_whitespace();
-            for i in 0..count {
-                let w = words
-                    .next()
-                    .ok_or_else(|| fail(format!("ascii DataArray has {i} values, need {count}")))?;
-                let v: f64 = w
-                    .parse()
-                    .map_err(|_| fail(format!("bad ascii value '{w}' at sample {i}")))?;
-                bytes.extend_from_slice(&v.to_le_bytes());
-            }
-            let inner =
-                RawVolume::from_bytes(path, bytes, layout(ScalarType::F64, Endian::Little))?;
+            let layout = layout(h.scalar, Endian::Little);
+            let inner = read_ascii(path, h.content.as_bytes(), layout, false)?;
             return Ok(VtiVolume { inner });
         }
         "binary" => {

@@ -3,10 +3,11 @@
 //!
 //! The model counts what grows with the plane size and the slab depth; the
 //! memory-mapped input is not counted (its pages belong to the page cache,
-//! which the kernel reclaims). It is an estimate, not a hard cap: the mesh
-//! of a slab waiting to be written depends on the surface, and is assumed
-//! to take [`OUTPUT_BYTES_PER_CELL`] per cell, about what dense value noise
-//! takes; sparse surfaces (CT skin, bone) take far less.
+//! which the kernel reclaims). The plan assumes the mesh of a slab takes
+//! [`OUTPUT_BYTES_PER_CELL`] per cell, about what dense value noise takes
+//! (sparse surfaces such as CT skin or bone take far less); the surface
+//! decides, so [`crate::schedule`] measures the mesh as it is made and
+//! starts slabs only as far as the budget allows.
 
 use crate::{Error, Result};
 

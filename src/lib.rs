@@ -35,6 +35,7 @@ pub mod meshfile;
 pub mod multi;
 pub mod part;
 pub mod pipeline;
+pub mod schedule;
 pub mod seam;
 pub mod sink;
 pub mod slab;

@@ -10,9 +10,10 @@
 use crate::pipeline::{
     default_depth, thread_pool, worker_threads, ExtractParams, PipelineOptions, Progress,
 };
+use crate::schedule::Schedule;
 use crate::seam::Seam;
 use crate::sink::{Chunk, MeshInfo, MeshSink};
-use crate::slab::{process_slab, Spares};
+use crate::slab::{chunk_bytes, process_slab, Spares};
 use crate::volume::{Access, LentPlane, Padded, ScalarType};
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use std::ops::Range;
@@ -115,7 +116,14 @@ pub(crate) fn extract_many_part_to(
         Some((i, n)) => crate::part::layer_range(layers, i, n)?,
         None => 0..layers,
     };
-    let slabs = crate::part::slabs(range, layers, depth);
+    let mut schedule = Schedule::new(
+        range,
+        layers,
+        plan,
+        options.max_memory,
+        [source.grid().plane_len(), threads],
+    );
+    let layers_total = schedule.layers_total();
     for (p, sink) in params.iter().zip(sinks.iter_mut()) {
         sink.begin(&info(p))?;
     }
@@ -130,19 +138,19 @@ pub(crate) fn extract_many_part_to(
                 .with_spares(&spares)
         })
         .collect();
-    let report = |seams: &[Seam]| {
+    let report = |seams: &[Seam], schedule: &Schedule| {
         if let Some(progress) = options.progress {
-            let done = slabs[..seams[0].written()].iter().map(|r| r.len()).sum();
+            let written = &schedule.started()[..seams[0].written()];
             progress(&Progress {
-                layers_done: done,
-                layers_total: slabs.iter().map(|r| r.len()).sum(),
+                layers_done: written.iter().map(|r| r.len()).sum(),
+                layers_total,
             });
         }
     };
-    let run = |i: usize| {
+    let run = |layers: Range<usize>| {
         options.check_cancel()?;
         source.check_unchanged()?;
-        slab_for_each(source, params, slabs[i].clone(), &spares)
+        slab_for_each(source, params, layers, &spares)
     };
     // Hands slab `i` to every seam; returns how many slabs got written
     // (the same for all seams, as they all see the same slabs).
@@ -153,39 +161,45 @@ pub(crate) fn extract_many_part_to(
         }
         Ok::<usize, Error>(written)
     };
+    // The next slab, if the window and the budget allow one now.
+    let start_next = |schedule: &mut Schedule, written: usize| {
+        if schedule.spares_in_the_way(spares.block_bytes()) {
+            spares.free_blocks();
+        }
+        schedule.start_next(written, spares.block_bytes())
+    };
     if threads == 1 {
-        for i in 0..slabs.len() {
-            accept(&mut seams, i, run(i)?)?;
-            report(&seams);
+        while let Some((i, layers)) = start_next(&mut schedule, seams[0].written()) {
+            let result = run(layers)?;
+            schedule.finished(i, mesh_bytes(&result));
+            accept(&mut seams, i, result)?;
+            report(&seams, &schedule);
         }
     } else {
         let pool = thread_pool(threads)?;
-        // At most `window` slabs computed but not yet written.
-        let window = plan.window;
         let (tx, rx) = crossbeam::channel::unbounded();
         pool.in_place_scope(|scope| -> Result<()> {
             let run = &run;
-            let launch = |i: usize| {
+            let launch = |i: usize, layers: Range<usize>| {
                 let tx = tx.clone();
                 scope.spawn(move |_| {
                     // The receiver outlives the scope; a send cannot fail.
-                    let _ = tx.send((i, run(i)));
+                    let _ = tx.send((i, run(layers)));
                 });
             };
-            let mut launched = 0;
-            while launched < slabs.len().min(window) {
-                launch(launched);
-                launched += 1;
-            }
-            while seams[0].written() < slabs.len() {
-                let (i, result) = rx.recv().expect("a worker holds a sender");
-                for _ in 0..accept(&mut seams, i, result?)? {
-                    if launched < slabs.len() {
-                        launch(launched);
-                        launched += 1;
-                    }
+            loop {
+                // As many slabs as the window and the budget allow.
+                while let Some((i, layers)) = start_next(&mut schedule, seams[0].written()) {
+                    launch(i, layers);
                 }
-                report(&seams);
+                if schedule.all_started() && seams[0].written() == schedule.started().len() {
+                    break;
+                }
+                let (i, result) = rx.recv().expect("a worker holds a sender");
+                let result = result?;
+                schedule.finished(i, mesh_bytes(&result));
+                accept(&mut seams, i, result)?;
+                report(&seams, &schedule);
             }
             Ok(())
         })?;
@@ -196,11 +210,21 @@ pub(crate) fn extract_many_part_to(
         let (mut stats, totals) = seam.finish()?;
         stats.vertices = totals.vertices;
         stats.triangles = totals.triangles;
-        stats.slabs = slabs.len() as u64;
+        stats.slabs = schedule.started().len() as u64;
         stats.seconds = start.elapsed().as_secs_f64();
         all.push(stats);
     }
     Ok(all)
+}
+
+/// Bytes of the meshes of one slab, all isovalues (capacities: what they
+/// hold in memory while they wait to be written).
+fn mesh_bytes(results: &[(Vec<Chunk>, Stats)]) -> u64 {
+    results
+        .iter()
+        .flat_map(|(chunks, _)| chunks)
+        .map(chunk_bytes)
+        .sum()
 }
 
 /// Triangulates cell layers `layers` for every entry of `params`, the

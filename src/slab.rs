@@ -18,7 +18,7 @@ mod bits;
 mod edges;
 mod spares;
 
-pub use spares::Spares;
+pub use spares::{chunk_bytes, Spares};
 
 use crate::error::make_room;
 use crate::kernel::tables::{tables, Tables};

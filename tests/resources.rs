@@ -111,3 +111,53 @@ fn max_memory_thins_the_slabs_and_keeps_the_output() {
     assert_eq!(roomy_slabs, free_slabs);
     assert!(roomy == free);
 }
+
+/// A JSON number field of `--json` output.
+fn json_number(json: &[u8], key: &str) -> f64 {
+    let text = String::from_utf8_lossy(json);
+    let needle = format!("\"{key}\":");
+    let at = text.find(&needle).expect("key in JSON") + needle.len();
+    let digits: String = text[at..]
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == '.')
+        .collect();
+    digits.parse().unwrap()
+}
+
+#[test]
+fn max_memory_holds_on_the_densest_surface() {
+    // Uniform random samples: about 3.8 triangles a cell, some 25 times
+    // what the budget's first estimate of a slab's mesh assumed.
+    let dir = tempfile::tempdir().unwrap();
+    let [nx, ny, nz] = [256usize, 256, 48];
+    let mut bytes = common::cli::npy_header(&format!(
+        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}"
+    ));
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    for _ in 0..nx * ny * nz {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        bytes.extend_from_slice(&((state >> 40) as f32 / (1u64 << 24) as f32).to_le_bytes());
+    }
+    let input = dir.path().join("uniform.npy");
+    fs::write(&input, bytes).unwrap();
+    let run = |name: &str, extra: &[&str]| {
+        let output = dir.path().join(name);
+        let mut argv = vec!["extract", s(&input), "--iso", "0.5", "-o", s(&output)];
+        argv.extend(["--json", "-q", "--threads", "2"]);
+        argv.extend(extra);
+        let out = tmc(&argv);
+        assert_eq!(out.status.code(), Some(0), "{extra:?}: {out:?}");
+        (fs::read(&output).unwrap(), out.stdout)
+    };
+    let (free, free_json) = run("free.tmesh", &[]);
+    let (bounded, bounded_json) = run("bounded.tmesh", &["--max-memory", "48M"]);
+    assert!(free == bounded, "--max-memory changed the output");
+    let peak = json_number(&bounded_json, "peak_rss_anon_bytes");
+    let free_peak = json_number(&free_json, "peak_rss_anon_bytes");
+    assert!(
+        peak <= 48.0 * (1 << 20) as f64,
+        "peak {peak} bytes beyond --max-memory 48M (without it: {free_peak})"
+    );
+}

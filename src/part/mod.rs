@@ -59,20 +59,6 @@ pub fn layer_range(layers: usize, index: usize, count: usize) -> Result<Range<us
     Ok(at(index - 1)..at(index))
 }
 
-/// The slabs of `depth` layers covering `range` of `layers`; the part that
-/// ends at the last layer also gets the top plane's chunk, even when empty.
-pub fn slabs(range: Range<usize>, layers: usize, depth: usize) -> Vec<Range<usize>> {
-    let mut slabs: Vec<Range<usize>> = range
-        .clone()
-        .step_by(depth.max(1))
-        .map(|z| z..(z + depth).min(range.end))
-        .collect();
-    if slabs.is_empty() && range.end == layers {
-        slabs.push(layers..layers);
-    }
-    slabs
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

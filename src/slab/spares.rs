@@ -13,6 +13,7 @@ use super::bits::SignBits;
 use super::edges::EdgeRows;
 use crate::sink::Chunk;
 use crossbeam::queue::ArrayQueue;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// One plane's buffers, contents stale (see the plane's doc: stale entries
 /// are never read).
@@ -41,6 +42,15 @@ pub struct Spares {
     scratch: ArrayQueue<Scratch>,
     /// Written chunks, emptied; their vectors become blocks again.
     blocks: ArrayQueue<Chunk>,
+    /// Bytes of block vectors held in `blocks` (their capacities).
+    block_bytes: AtomicU64,
+}
+
+/// Bytes the vectors of `chunk` hold (capacity, not length).
+pub fn chunk_bytes(chunk: &Chunk) -> u64 {
+    let vertices = chunk.vertices.capacity() * std::mem::size_of::<[f32; 3]>();
+    let triangles = chunk.triangles.capacity() * std::mem::size_of::<[u32; 3]>();
+    (vertices + triangles) as u64
 }
 
 impl Spares {
@@ -51,6 +61,7 @@ impl Spares {
         Spares {
             scratch: ArrayQueue::new(slabs.max(1)),
             blocks: ArrayQueue::new(blocks.max(1)),
+            block_bytes: AtomicU64::new(0),
         }
     }
 
@@ -67,6 +78,8 @@ impl Spares {
     /// Empty vectors for a block (with their old capacity), or new ones.
     pub(super) fn take_block(&self) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
         let chunk = self.blocks.pop().unwrap_or_default();
+        self.block_bytes
+            .fetch_sub(chunk_bytes(&chunk), Ordering::Relaxed);
         (chunk.vertices, chunk.triangles)
     }
 
@@ -74,6 +87,26 @@ impl Spares {
     pub fn give_chunk(&self, mut chunk: Chunk) {
         chunk.vertices.clear();
         chunk.triangles.clear();
-        let _ = self.blocks.push(chunk);
+        // Counted before it can be taken, so that the count never wraps.
+        let bytes = chunk_bytes(&chunk);
+        self.block_bytes.fetch_add(bytes, Ordering::Relaxed);
+        if self.blocks.push(chunk).is_err() {
+            self.block_bytes.fetch_sub(bytes, Ordering::Relaxed);
+        }
+    }
+
+    /// Frees the spare block vectors (when a memory budget needs the room
+    /// more than the next slab needs the speed).
+    pub fn free_blocks(&self) {
+        while let Some(chunk) = self.blocks.pop() {
+            self.block_bytes
+                .fetch_sub(chunk_bytes(&chunk), Ordering::Relaxed);
+        }
+    }
+
+    /// Bytes held by the spare block vectors (counted against a memory
+    /// budget: they are the written mesh's memory, kept for reuse).
+    pub fn block_bytes(&self) -> u64 {
+        self.block_bytes.load(Ordering::Relaxed)
     }
 }

@@ -128,3 +128,81 @@ fn a_chunk_size_past_its_room_is_a_clean_error() {
         assert!(!ply.exists());
     }
 }
+
+/// Fields that checksums do not vouch for (or that a writer could get
+/// wrong) are refused with one line by the reader, `tmc check` and `tmc
+/// convert`: a zero dimension, a NaN isovalue, an unknown method byte,
+/// nonzero reserved chunk header bytes, a repeated plane, a plane far beyond
+/// the grid, and non-finite vertex coordinates.
+#[test]
+fn unchecked_fields_are_refused() {
+    use common::cli::{assert_one_line, s, tmc};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let good = std::fs::read(&path).expect("read");
+    let reader = TmeshReader::open(&path).expect("open");
+    let entries = reader.entries().to_vec();
+    let n = good.len();
+    let index = u64::from_le_bytes(good[n - 32..n - 24].try_into().unwrap()) as usize;
+    let header = |f: &dyn Fn(&mut Vec<u8>)| {
+        let mut b = good.clone();
+        f(&mut b);
+        let crc = crc32fast::hash(&b[..124]);
+        b[124..128].copy_from_slice(&crc.to_le_bytes());
+        b
+    };
+    let plane = |i: usize, p: u64| {
+        let mut b = good.clone();
+        let at = index + 16 + 32 * i + 24;
+        b[at..at + 8].copy_from_slice(&p.to_le_bytes());
+        let crc = crc32fast::hash(&b[index + 16..n - 32]);
+        b[index + 4..index + 8].copy_from_slice(&crc.to_le_bytes());
+        b
+    };
+    let mut reserved = good.clone();
+    reserved[entries[2].offset as usize + 44] = 1;
+    let cases: Vec<(Vec<u8>, &str)> = vec![
+        (header(&|b| b[16..24].fill(0)), "dimension is 0"),
+        (
+            header(&|b| b[88..96].copy_from_slice(&f64::NAN.to_le_bytes())),
+            "not a finite",
+        ),
+        (header(&|b| b[96] = 7), "unknown method byte 7"),
+        (plane(4, entries[3].plane), "not after the previous"),
+        (plane(entries.len() - 1, 1 << 63), "beyond the grid"),
+        (reserved, "bytes 44..48 are not zero"),
+    ];
+    let ply = dir.path().join("m.ply");
+    for (bytes, needle) in &cases {
+        std::fs::write(&path, bytes).expect("write");
+        for args in [
+            vec!["check", s(&path)],
+            vec!["convert", s(&path), "-o", s(&ply)],
+        ] {
+            let line = assert_one_line(&tmc(&args), 1);
+            assert!(line.contains(needle), "{args:?}: {line:?} lacks {needle:?}");
+            assert!(!ply.exists());
+        }
+    }
+    // A NaN or infinite coordinate, written as it comes (the pipeline never
+    // makes one).
+    for bad in [f32::NAN, f32::INFINITY] {
+        let mut writer = TmeshWriter::create(&path).expect("create");
+        writer.begin(reader.info()).expect("begin");
+        let chunk = tmc::Chunk {
+            plane: 1,
+            vertices: vec![[0.0, bad, 0.0]; 3],
+            triangles: vec![[0, 1, 2]],
+        };
+        writer.chunk(0, &chunk).expect("chunk");
+        let totals = Totals {
+            vertices: 3,
+            triangles: 1,
+            ..Default::default()
+        };
+        writer.finish(&totals).expect("finish");
+        let line = assert_one_line(&tmc(&["check", s(&path)]), 1);
+        assert!(line.contains("not a finite number"), "{line}");
+    }
+}

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::cli::{assert_one_line, s, synth, tmc};
+use common::cli::{assert_one_line, npy_header, s, synth, tmc};
 use std::path::{Path, PathBuf};
 
 /// Runs `tmc extract input -o output` with `opts` (and `--part` if given).
@@ -124,7 +124,7 @@ fn merge_refuses_inconsistent_parts() {
     refused(&[&p3[0], &other_iso[1], &p3[2]], "isovalues");
     refused(&[&p3[0], &other_input[1], &p3[2]], "inputs");
     refused(&[&p3[0], &p2[1], &p3[2]], "part counts");
-    refused(&[&p3[0], &close[1], &p3[2]], "differ");
+    refused(&[&p3[0], &close[1], &p3[2]], "options (--close: off vs on)");
     refused(&[&p3[0], &p3[2]], "part 2/3 is missing");
     refused(&[&p3[0], &p3[1]], "part 3/3 is missing");
     refused(&[&p3[0], &p3[1], &p3[1], &p3[2]], "part 2/3 is given twice");
@@ -173,15 +173,147 @@ fn the_shell_script_splits_and_merges() {
     let whole = dir.path().join("whole.tmesh");
     extract(&input, &whole, &["--iso", "128"], None);
     let merged = dir.path().join("merged.tmesh");
-    let out = std::process::Command::new("sh")
-        .arg(&script)
+    let mut sh = std::process::Command::new("sh");
+    sh.arg(&script)
         .args([s(&input), "3", s(&merged), "--iso", "128"])
-        .env("TMC", common::cli::tmc_path())
-        .output()
-        .unwrap();
+        .env("TMC", common::cli::tmc_path());
+    assert_merged_by(&mut sh, &merged, &whole);
+}
+
+/// Runs `sh`, which merges into `merged`, and asserts it equals `whole`.
+fn assert_merged_by(sh: &mut std::process::Command, merged: &Path, whole: &Path) {
+    let out = sh.output().unwrap();
     assert!(out.status.success(), "{out:?}");
     assert_eq!(
-        std::fs::read(&merged).unwrap(),
-        std::fs::read(&whole).unwrap()
+        std::fs::read(merged).unwrap(),
+        std::fs::read(whole).unwrap()
     );
+}
+
+/// Writes a u8 `.npy` of 64 x 64 x 600 samples whose planes from `from` on
+/// are shifted by `shift`: beyond the first MiB, so the same input identity.
+fn layered_npy(dir: &Path, name: &str, from: usize, shift: u8) -> PathBuf {
+    let mut bytes =
+        npy_header("{'descr': '|u1', 'fortran_order': False, 'shape': (600, 64, 64), }");
+    for z in 0..600 {
+        for i in 0..64 * 64 {
+            let v = ((i * 7 + z * 13) % 256) as u8;
+            bytes.push(if z >= from { v.wrapping_add(shift) } else { v });
+        }
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// Parts of two inputs that agree on their size and first MiB (so on the
+/// recorded identity) but not on the seam's samples are refused, naming
+/// both parts and the plane; parts of one input still merge.
+#[test]
+fn merge_refuses_parts_that_disagree_at_the_seam() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = layered_npy(dir.path(), "a.npy", 600, 0);
+    let b = layered_npy(dir.path(), "b.npy", 290, 1);
+    let a1 = dir.path().join("a1.tmesh");
+    let a2 = dir.path().join("a2.tmesh");
+    let b2 = dir.path().join("b2.tmesh");
+    let opts = ["--iso", "128", "--close"];
+    extract(&a, &a1, &opts, Some("1/2".into()));
+    extract(&a, &a2, &opts, Some("2/2".into()));
+    extract(&b, &b2, &opts, Some("2/2".into()));
+    refused(&[&a1, &b2], "a1.tmesh and ");
+    refused(
+        &[&b2, &a1],
+        "disagree on the samples of plane 300: they were made from different inputs",
+    );
+    merge(&[a1, a2], &dir.path().join("m.tmesh"));
+}
+
+/// Parts of one input read headerless with different options are refused.
+#[test]
+fn merge_refuses_parts_read_with_other_raw_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let raw = dir.path().join("v.raw");
+    std::fs::write(
+        &raw,
+        (0..8 * 8 * 8 * 2)
+            .map(|i| (i * 37 % 251) as u8)
+            .collect::<Vec<_>>(),
+    )
+    .unwrap();
+    let p1 = dir.path().join("p1.tmesh");
+    let p2 = dir.path().join("p2.tmesh");
+    let opts = ["--iso", "30000", "--dims", "8,8,8", "--dtype", "u16"];
+    extract(&raw, &p1, &opts, Some("1/2".into()));
+    let mut big = opts.to_vec();
+    big.extend_from_slice(&["--endian", "big"]);
+    extract(&raw, &p2, &big, Some("2/2".into()));
+    refused(&[&p1, &p2], "--endian");
+}
+
+/// Misleading messages of the QA pass: a truncated part says so; a part
+/// given to check or convert says to merge it; --report with --part says
+/// why; isovalues 0 and -0 are the same.
+#[test]
+fn part_messages_name_the_real_problem() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = synth(dir.path(), "noise", "9,9,12", "u8", "a.npy");
+    let p = parts(&a, dir.path(), &["--iso", "0"], 2);
+    let bytes = std::fs::read(&p[1]).unwrap();
+    let cut = dir.path().join("cut.tmesh");
+    std::fs::write(&cut, &bytes[..bytes.len() - 100]).unwrap();
+    refused(&[&p[0], &cut], "truncated");
+    let line = assert_one_line(&tmc(&["check", s(&p[0])]), 1);
+    assert!(
+        line.contains("part file") && line.contains("tmc merge"),
+        "{line}"
+    );
+    let ply = dir.path().join("c.ply");
+    let line = assert_one_line(&tmc(&["convert", s(&p[0]), "-o", s(&ply)]), 1);
+    assert!(line.contains("tmc merge"), "{line}");
+    assert!(!ply.exists());
+    let x = dir.path().join("x.tmesh");
+    let r = dir.path().join("r.json");
+    let args = [
+        "extract",
+        s(&a),
+        "--iso",
+        "0",
+        "--part",
+        "1/2",
+        "-o",
+        s(&x),
+        "--report",
+        s(&r),
+    ];
+    let line = assert_one_line(&tmc(&args), 1);
+    assert!(
+        line.contains("--json") && line.contains("not a batch"),
+        "{line}"
+    );
+    let minus = dir.path().join("minus.tmesh");
+    extract(&a, &minus, &["--iso", "-0"], Some("2/2".into()));
+    merge(&[p[0].clone(), minus], &dir.path().join("m.tmesh"));
+}
+
+/// The merge holds one part file open at a time: 40 parts merge under a
+/// limit of 16 open files.
+#[test]
+fn merge_opens_one_part_at_a_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = synth(dir.path(), "noise", "9,9,50", "u8", "a.npy");
+    let ps = parts(&a, dir.path(), &["--iso", "128"], 40);
+    let whole = dir.path().join("whole.tmesh");
+    extract(&a, &whole, &["--iso", "128"], None);
+    let merged = dir.path().join("merged.tmesh");
+    let list: Vec<&str> = ps.iter().map(|p| s(p)).collect();
+    let mut sh = std::process::Command::new("sh");
+    sh.arg("-c")
+        .arg(format!(
+            "ulimit -n 16 && exec \"$0\" merge \"$@\" -o {}",
+            s(&merged)
+        ))
+        .arg(common::cli::tmc_path())
+        .args(&list);
+    assert_merged_by(&mut sh, &merged, &whole);
 }

@@ -61,6 +61,7 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
 
 /// Reads a whole `.tmesh` file, chunk by chunk, into a [`Mesh`].
 fn read_tmesh(path: &Path) -> Result<Mesh> {
+    crate::part::PartRecord::refuse_part(path)?;
     let mut reader = TmeshReader::open(path)?;
     let (vertices, triangles) = (reader.vertices(), reader.triangles());
     if vertices > u64::from(u32::MAX) || triangles > MAX_TRIANGLES as u64 {

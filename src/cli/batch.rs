@@ -65,7 +65,7 @@ struct Line<'a> {
 pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     if let Some(part) = args.part {
         return Err(Error::Invalid(format!(
-            "--part {}/{} extracts one input at one isovalue; run one 'tmc extract' per input and isovalue",
+            "--part {}/{} runs one extraction, not a batch: it takes one input, one isovalue and no batch option (--report, --manifest); use --json for the run's statistics",
             part.index, part.count
         )));
     }

@@ -31,6 +31,7 @@ pub(crate) struct ConvertArgs {
 /// the next chunk with [`tmc::Error::Interrupted`], leaving no output.
 pub(crate) fn run(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     super::extract::check_distinct(&args.input, &args.output)?;
+    tmc::part::PartRecord::refuse_part(&args.input)?;
     let mut reader = TmeshReader::open(&args.input)?;
     tmc::export::check_output_path(&args.output)?;
     let mut sink = tmc::export::create_sink(&args.output)?;

@@ -184,12 +184,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
     let options = args.pipeline_options(&on_progress, cancel);
     let mut sink: Box<dyn tmc::MeshSink> = match args.part {
-        Some(spec) => Box::new(tmc::part::PartWriter::create(
-            output,
-            spec,
-            input,
-            tmc::part::identify(input)?,
-        )?),
+        Some(spec) => {
+            let reading = raw.as_ref().map(|r| format!("{r:?}"));
+            let record =
+                tmc::part::PartRecord::new(spec, input, source.as_ref(), args.close, reading)?;
+            Box::new(tmc::part::PartWriter::create(output, record)?)
+        }
         None => tmc::export::create_sink(output)?,
     };
     let part = args.part.map(|p| (p.index, p.count));

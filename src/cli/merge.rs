@@ -8,9 +8,10 @@ use tmc::Result;
 /// Stitch the part files of 'tmc extract --part I/N' (given in any order)
 /// into one mesh, byte-identical to a single run with the same options.
 ///
-/// Streams one chunk at a time. Refuses (exit 1) parts of different runs
-/// (input, isovalue, options, tmc version or part count differ), missing
-/// parts and parts given twice.
+/// Streams one chunk at a time from one open part at a time. Refuses
+/// (exit 1) parts of different runs (input, isovalue, options, tmc version
+/// or part count differ, or the samples of a plane two parts share),
+/// missing, truncated parts and parts given twice.
 #[derive(Debug, Args)]
 pub(crate) struct MergeArgs {
     /// The part files, all N of them, in any order.

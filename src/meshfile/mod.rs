@@ -44,6 +44,11 @@
 //!  24   8  "TMESHEND"
 //! ```
 //!
+//! A reader refuses zero dimensions, a non-finite isovalue, option bytes
+//! other than 0 and 1, nonzero reserved bytes, chunks not in increasing
+//! plane order or with a plane beyond the grid (`dims[2] + 2` planes with
+//! close), and non-finite vertex coordinates.
+//!
 //! Global vertex indices are 64-bit, so a file holds more than 2^32
 //! vertices; the index lets a reader seek to any chunk; the checksums let a
 //! reader name the damaged chunk. `scripts/read_tmesh.py` reads the format
@@ -139,6 +144,20 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
         return Err(bad("header checksum mismatch"));
     }
     let dim = |i: usize| usize::try_from(le_u64(&h[16 + 8 * i..])).unwrap_or(usize::MAX);
+    if (0..3).any(|i| dim(i) == 0) {
+        return Err(bad("a grid dimension is 0"));
+    }
+    let iso = le_f64(&h[88..]);
+    if !iso.is_finite() {
+        return Err(bad(&format!("the isovalue {iso} is not a finite number")));
+    }
+    if let Some(at) = (96..99).find(|&i| h[i] > 1) {
+        let field = ["method", "inside", "close"][at - 96];
+        return Err(bad(&format!("unknown {field} byte {}", h[at])));
+    }
+    if h[99..124].iter().any(|&b| b != 0) {
+        return Err(bad("reserved header bytes 99..124 are not zero"));
+    }
     Ok(MeshInfo {
         grid: Grid {
             dims: [dim(0), dim(1), dim(2)],
@@ -146,7 +165,7 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
             origin: [0, 1, 2].map(|i| le_f64(&h[64 + 8 * i..])),
             direction: crate::volume::IDENTITY,
         },
-        iso: le_f64(&h[88..]),
+        iso,
         method: if h[96] == 1 { Method::Mc } else { Method::Tmc },
         inside: if h[97] == 1 {
             Inside::Low

@@ -79,9 +79,24 @@ impl TmeshReader {
         // The index must add up to the totals and tile the vertex numbers.
         let mut next_base = 0u64;
         let mut sum_t = 0u64;
+        // Planes increase and lie in the grid (padded by 2 with close).
+        let planes = info.grid.dims[2] as u64 + if info.close { 2 } else { 0 };
         for (i, e) in entries.iter().enumerate() {
             if e.vertex_base != next_base || e.offset >= index_offset {
                 return Err(bad(format!("index entry {i} is inconsistent")));
+            }
+            if e.plane >= planes {
+                return Err(bad(format!(
+                    "chunk {i} is on plane {}, beyond the grid's {planes} planes",
+                    e.plane
+                )));
+            }
+            if i > 0 && e.plane <= entries[i - 1].plane {
+                return Err(bad(format!(
+                    "chunk {i} is on plane {}, not after the previous chunk's plane {}",
+                    e.plane,
+                    entries[i - 1].plane
+                )));
             }
             next_base += e.vertex_count as u64;
             sum_t += e.triangle_count as u64;
@@ -144,7 +159,11 @@ impl TmeshReader {
         if &h[0..4] != b"CHNK" || le_u32(&h[40..]) != crc32fast::hash(&h[..40]) {
             return Err(bad("chunk header damaged"));
         }
-        if le_u64(&h[16..]) != e.vertex_base
+        if le_u32(&h[44..]) != 0 {
+            return Err(bad("chunk header bytes 44..48 are not zero"));
+        }
+        if le_u64(&h[8..]) != e.plane
+            || le_u64(&h[16..]) != e.vertex_base
             || le_u32(&h[24..]) != e.vertex_count
             || le_u32(&h[28..]) != e.triangle_count
         {
@@ -189,10 +208,18 @@ impl TmeshReader {
             return Err(bad("payload has the wrong size"));
         }
         let f = |b: &[u8]| f32::from_le_bytes(b[..4].try_into().expect("4 bytes"));
-        let vertices = raw[..nv * 12]
+        let vertices: Vec<[f32; 3]> = raw[..nv * 12]
             .chunks_exact(12)
             .map(|v| [f(v), f(&v[4..]), f(&v[8..])])
             .collect();
+        if let Some(k) = vertices
+            .iter()
+            .position(|v| v.iter().any(|c| !c.is_finite()))
+        {
+            return Err(bad(&format!(
+                "vertex {k} has a coordinate that is not a finite number"
+            )));
+        }
         let bound = e.vertex_count as u64 + next as u64;
         let mut triangles = crate::error::try_vec("a .tmesh chunk's triangles", nt)?;
         for t in raw[nv * 12..].chunks_exact(12) {

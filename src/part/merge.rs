@@ -1,18 +1,35 @@
 //! `tmc merge`: part files, given in any order, stitched into one mesh in
-//! any output format, one chunk in memory at a time.
+//! any output format, one chunk in memory and one part file open at a time.
 
 use super::PartRecord;
-use crate::meshfile::TmeshReader;
-use crate::sink::Totals;
+use crate::meshfile::{ChunkEntry, TmeshReader};
+use crate::pipeline::Method;
+use crate::sink::{MeshInfo, Totals};
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// An open part file.
+/// A part file, as its header, index and record describe it.
 struct Part {
     path: PathBuf,
     record: PartRecord,
-    reader: TmeshReader,
+    info: MeshInfo,
+    /// Its first chunk, which the previous part's last chunk may point into.
+    first: Option<ChunkEntry>,
+}
+
+impl Part {
+    /// Reads the record, header and index of the part file `path`.
+    fn scan(path: &Path) -> Result<Part> {
+        let record = PartRecord::read(path)?;
+        let reader = TmeshReader::open(path)?;
+        Ok(Part {
+            path: path.to_path_buf(),
+            record,
+            info: reader.info().clone(),
+            first: reader.entries().first().copied(),
+        })
+    }
 }
 
 /// Stitches the part files `parts` (any order) into the mesh at `output`,
@@ -30,30 +47,23 @@ pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<To
         }
     };
     crate::export::check_output_path(output)?;
-    let mut opened = Vec::with_capacity(parts.len());
-    for path in parts {
-        let record = PartRecord::read(path)?;
-        let reader = TmeshReader::open(path)?;
-        opened.push(Part {
-            path: path.clone(),
-            record,
-            reader,
-        });
-    }
-    let parts = order(opened)?;
+    let scanned = parts.iter().map(|p| Part::scan(p)).collect::<Result<_>>()?;
+    let parts = order(scanned)?;
     let mut sink = crate::export::create_sink(output)?;
-    sink.begin(parts[0].reader.info())?;
+    sink.begin(&parts[0].info)?;
     let mut totals = Totals::default();
-    let count = parts.len();
-    let mut parts = parts;
-    for k in 0..count {
+    for (k, part) in parts.iter().enumerate() {
         // The next chunk after this part (parts may be empty), which the
         // last chunk may point into.
-        let next_first = parts[k + 1..]
-            .iter()
-            .find_map(|p| p.reader.entries().first().copied());
-        let part = &mut parts[k];
-        let entries = part.reader.entries().to_vec();
+        let next_first = parts[k + 1..].iter().find_map(|p| p.first);
+        let mut reader = TmeshReader::open(&part.path)?;
+        if reader.info() != &part.info || reader.entries().first() != part.first.as_ref() {
+            return Err(Error::Invalid(format!(
+                "{}: the part file changed during the merge",
+                part.path.display()
+            )));
+        }
+        let entries = reader.entries().to_vec();
         for (j, e) in entries.iter().enumerate() {
             let next = match entries.get(j + 1) {
                 Some(n) => n.vertex_count,
@@ -62,12 +72,12 @@ pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<To
                     .map_or(0, |n| n.vertex_count),
             };
             interrupted()?;
-            let chunk = part.reader.chunk_then(j, next)?;
+            let chunk = reader.chunk_then(j, next)?;
             sink.chunk(totals.vertices + e.vertex_base, &chunk)?;
             totals.chunks += 1;
         }
-        totals.vertices += part.reader.vertices();
-        totals.triangles += part.reader.triangles();
+        totals.vertices += reader.vertices();
+        totals.triangles += reader.triangles();
     }
     interrupted()?;
     sink.finish(&totals)?;
@@ -101,18 +111,22 @@ fn order(mut parts: Vec<Part>) -> Result<Vec<Part>> {
         if a.count != b.count {
             return differ(&format!("part counts ({} vs {})", a.count, b.count));
         }
-        if a.input != b.input || a.total_layers != b.total_layers {
-            return differ(&format!("inputs ({} vs {})", a.input_name, b.input_name));
+        let (x, y) = (&first.info, &p.info);
+        if let Some(options) = options_differ(x, y) {
+            return differ(&options);
         }
-        let (x, y) = (first.reader.info(), p.reader.info());
         if x.grid != y.grid {
             return differ("grids");
         }
-        if x.iso.to_bits() != y.iso.to_bits() {
+        // 0 and -0 are the same isovalue.
+        if x.iso != y.iso {
             return differ(&format!("isovalues ({} vs {})", x.iso, y.iso));
         }
-        if (x.method, x.inside, x.close) != (y.method, y.inside, y.close) {
-            return differ("options (--method, --inside, --close)");
+        if a.reading != b.reading {
+            return differ("the options reading headerless samples (--dtype, --dims, --endian, --header-bytes)");
+        }
+        if a.input != b.input || a.total_layers != b.total_layers {
+            return differ(&format!("inputs ({} vs {})", a.input_name, b.input_name));
         }
         let expect = super::layer_range(b.total_layers, b.index, b.count)?;
         if b.layers != [expect.start, expect.end] {
@@ -143,5 +157,37 @@ fn order(mut parts: Vec<Part>) -> Result<Vec<Part>> {
     if parts.len() != n {
         return invalid(format!("part {}/{n} is missing", parts.len() + 1));
     }
+    for w in parts.windows(2) {
+        if w[0].record.seam_crc[1] != w[1].record.seam_crc[0] {
+            return invalid(format!(
+                "parts {} and {} disagree on the samples of plane {}: they were made from different inputs",
+                w[0].path.display(),
+                w[1].path.display(),
+                w[0].record.layers[1]
+            ));
+        }
+    }
     Ok(parts)
+}
+
+/// The extraction options (`--method`, `--inside`, `--close`) in which `x`
+/// and `y` differ, as "options (--close: on vs off)", if any.
+fn options_differ(x: &MeshInfo, y: &MeshInfo) -> Option<String> {
+    let on = |b: bool| if b { "on" } else { "off" };
+    let method = |m: Method| if m == Method::Mc { "mc" } else { "tmc" };
+    let mut differ = Vec::new();
+    if x.method != y.method {
+        differ.push(format!(
+            "--method: {} vs {}",
+            method(x.method),
+            method(y.method)
+        ));
+    }
+    if x.inside != y.inside {
+        differ.push(format!("--inside: {:?} vs {:?}", x.inside, y.inside).to_lowercase());
+    }
+    if x.close != y.close {
+        differ.push(format!("--close: {} vs {}", on(x.close), on(y.close)));
+    }
+    (!differ.is_empty()).then(|| format!("options ({})", differ.join(", ")))
 }

@@ -10,15 +10,19 @@
 //! next part; the merge renumbers by adding the vertex counts of the parts
 //! before. A [`PartRecord`] (JSON) between the last chunk and the index
 //! records what the merge checks: tmc version, part I of N and its layers,
-//! and the input's identity (size and a checksum of its first bytes, which
-//! survive copying the input to another node).
+//! the input's identity (size and a checksum of its first bytes, which
+//! survive copying the input to another node), how headerless samples were
+//! read, and checksums of the samples of the planes shared with the
+//! neighbouring parts, which must agree across every seam.
 
 mod merge;
 mod record;
+mod seams;
 mod writer;
 
 pub use merge::merge;
 pub use record::{identify, InputId, PartRecord};
+pub use seams::seam_checksums;
 pub use writer::PartWriter;
 
 use crate::{Error, Result};

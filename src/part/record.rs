@@ -1,6 +1,7 @@
 //! What a part file records about its run, and the input's identity.
 
-use crate::{Error, Result};
+use super::{seam_checksums, PartSpec};
+use crate::{Error, Result, SampleSource};
 use serde::{Deserialize, Serialize};
 use std::io::Read;
 use std::path::Path;
@@ -9,7 +10,8 @@ use std::path::Path;
 const HEAD_BYTES: u64 = 1 << 20;
 
 /// Identifies an input across copies: its size and a checksum of its first
-/// MiB (for a directory, of its file names and sizes).
+/// MiB (for a directory, of its file names and sizes); a detached header
+/// (`.mhd`, `.nhdr`) adds its data files' sizes and the first one's MiB.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct InputId {
     /// Bytes in the input (summed over a directory's files).
@@ -33,12 +35,46 @@ pub struct PartRecord {
     pub total_layers: usize,
     /// The input's identity.
     pub input: InputId,
+    /// How headerless samples were read (`--dtype`, `--dims`, `--endian`,
+    /// `--header-bytes`, ...), `None` for inputs with a header.
+    pub reading: Option<String>,
+    /// CRC-32 of the samples of the part's first and last planes, which it
+    /// shares with the parts before and after it (see [`seam_checksums`]).
+    pub seam_crc: [u32; 2],
     /// The input's path as given (for messages only).
     pub input_name: String,
 }
 
-/// The identity of the input at `path`.
-pub fn identify(path: &Path) -> Result<InputId> {
+impl PartRecord {
+    /// The record of part `spec` of the extraction of `source` (read from
+    /// `input`, headerless with `reading`), padded with `close`.
+    pub fn new(
+        spec: PartSpec,
+        input: &Path,
+        source: &dyn SampleSource,
+        close: bool,
+        reading: Option<String>,
+    ) -> Result<PartRecord> {
+        let pad = if close { 2 } else { 0 };
+        let total = (source.grid().dims[2] + pad).saturating_sub(1);
+        let range = super::layer_range(total, spec.index, spec.count)?;
+        Ok(PartRecord {
+            tmc_version: env!("CARGO_PKG_VERSION").to_string(),
+            index: spec.index,
+            count: spec.count,
+            layers: [range.start, range.end],
+            total_layers: total,
+            input: identify(input, &source.data_files())?,
+            reading,
+            seam_crc: seam_checksums(source, close, range)?,
+            input_name: input.display().to_string(),
+        })
+    }
+}
+
+/// The identity of the input at `path` whose samples are read from
+/// `data_files` (see [`SampleSource::data_files`]).
+pub fn identify(path: &Path, data_files: &[&Path]) -> Result<InputId> {
     let io = |e| Error::io(path, e);
     let meta = std::fs::metadata(path).map_err(io)?;
     if meta.is_dir() {
@@ -60,16 +96,33 @@ pub fn identify(path: &Path) -> Result<InputId> {
             crc: hasher.finalize(),
         });
     }
+    let mut hasher = crc32fast::Hasher::new();
+    hasher.update(&head(path)?);
+    let mut size = meta.len();
+    let detached: Vec<&&Path> = data_files.iter().filter(|d| **d != path).collect();
+    for (k, data) in detached.iter().enumerate() {
+        let len = std::fs::metadata(data)
+            .map_err(|e| Error::io(data, e))?
+            .len();
+        size += len;
+        hasher.update(&len.to_le_bytes());
+        if k == 0 {
+            hasher.update(&head(data)?);
+        }
+    }
+    Ok(InputId {
+        size,
+        crc: hasher.finalize(),
+    })
+}
+
+/// The first MiB of the file at `path`.
+fn head(path: &Path) -> Result<Vec<u8>> {
     let mut head = Vec::new();
     std::fs::File::open(path)
-        .map_err(io)?
-        .take(HEAD_BYTES)
-        .read_to_end(&mut head)
-        .map_err(io)?;
-    Ok(InputId {
-        size: meta.len(),
-        crc: crc32fast::hash(&head),
-    })
+        .and_then(|f| f.take(HEAD_BYTES).read_to_end(&mut head))
+        .map_err(|e| Error::io(path, e))?;
+    Ok(head)
 }
 
 /// The section's footer: JSON length u64, CRC-32 of the JSON, tag.
@@ -90,6 +143,18 @@ impl PartRecord {
 
     /// Reads the record of the part file at `path`.
     pub(crate) fn read(path: &Path) -> Result<PartRecord> {
+        let json = PartRecord::read_json(path)?;
+        serde_json::from_slice(&json).map_err(|_| {
+            Error::Format(format!(
+                "{}: the part record is not one this tmc ({}) reads (written by another version?); extract the parts again",
+                path.display(),
+                env!("CARGO_PKG_VERSION")
+            ))
+        })
+    }
+
+    /// The checked JSON of the record of the part file at `path`.
+    fn read_json(path: &Path) -> Result<Vec<u8>> {
         use std::io::{Seek, SeekFrom};
         let io = |e| Error::io(path, e);
         let not_part = || {
@@ -99,10 +164,20 @@ impl PartRecord {
             ))
         };
         let mut file = std::fs::File::open(path).map_err(io)?;
+        let mut magic = [0u8; 8];
+        if file.read_exact(&mut magic).is_err() || magic != crate::meshfile::MAGIC {
+            return Err(not_part());
+        }
         let mut trailer = [0u8; crate::meshfile::TRAILER_BYTES];
         file.seek(SeekFrom::End(-(trailer.len() as i64)))
             .map_err(|_| not_part())?;
         file.read_exact(&mut trailer).map_err(io)?;
+        if trailer[24..] != crate::meshfile::END_MAGIC {
+            return Err(Error::Format(format!(
+                "{}: the part file is truncated or damaged (its end marker is missing); extract this part again",
+                path.display()
+            )));
+        }
         let index = u64::from_le_bytes(trailer[..8].try_into().expect("8 bytes"));
         let footer_at = index
             .checked_sub(FOOTER_BYTES as u64)
@@ -128,6 +203,21 @@ impl PartRecord {
                 path.display()
             )));
         }
-        serde_json::from_slice(&json).map_err(|_| not_part())
+        Ok(json)
+    }
+
+    /// Refuses the file at `path` if it is one part of several: such a file
+    /// is not a whole mesh (its last chunk points into the next part).
+    pub fn refuse_part(path: &Path) -> Result<()> {
+        let Ok(json) = PartRecord::read_json(path) else {
+            return Ok(());
+        };
+        match serde_json::from_slice::<PartRecord>(&json) {
+            Ok(r) if r.count == 1 => Ok(()),
+            _ => Err(Error::Format(format!(
+                "{}: this is a part file of 'tmc extract --part I/N', not a whole mesh; stitch all the parts with 'tmc merge' first",
+                path.display()
+            ))),
+        }
     }
 }

@@ -1,7 +1,7 @@
 //! Writes a part file: a `.tmesh` file of the part's chunks with its
 //! [`PartRecord`] between the last chunk and the index.
 
-use super::{InputId, PartRecord, PartSpec};
+use super::PartRecord;
 use crate::meshfile::TmeshWriter;
 use crate::sink::{Chunk, MeshInfo, MeshSink, Totals};
 use crate::Result;
@@ -14,31 +14,17 @@ pub struct PartWriter {
 }
 
 impl PartWriter {
-    /// Starts the part file `path` for part `spec` of `input`.
-    pub fn create(path: &Path, spec: PartSpec, input: &Path, id: InputId) -> Result<PartWriter> {
+    /// Starts the part file `path` that will record `record`.
+    pub fn create(path: &Path, record: PartRecord) -> Result<PartWriter> {
         Ok(PartWriter {
             inner: TmeshWriter::create(path)?,
-            record: PartRecord {
-                tmc_version: env!("CARGO_PKG_VERSION").to_string(),
-                index: spec.index,
-                count: spec.count,
-                layers: [0, 0],
-                total_layers: 0,
-                input: id,
-                input_name: input.display().to_string(),
-            },
+            record,
         })
     }
 }
 
 impl MeshSink for PartWriter {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
-        // The layers as the pipeline cuts them (padded with --close).
-        let pad = if info.close { 2 } else { 0 };
-        let total = (info.grid.dims[2] + pad).saturating_sub(1);
-        let range = super::layer_range(total, self.record.index, self.record.count)?;
-        self.record.layers = [range.start, range.end];
-        self.record.total_layers = total;
         self.inner.begin(info)
     }
 

@@ -157,17 +157,25 @@ fn merge_refuses_inconsistent_parts() {
     assert!(!x.exists());
 }
 
-#[test]
-fn the_shell_script_splits_and_merges() {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/parts-local.sh");
+/// `scripts/slurm/parts-local.sh`, or `None` (the test is skipped) where
+/// xargs is absent.
+fn parts_local() -> Option<PathBuf> {
     if std::process::Command::new("xargs")
         .arg("--version")
         .output()
         .is_err()
     {
         println!("skipped: xargs is absent");
-        return;
+        return None;
     }
+    Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/parts-local.sh"))
+}
+
+#[test]
+fn the_shell_script_splits_and_merges() {
+    let Some(script) = parts_local() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     let input = synth(dir.path(), "noise", "12,10,15", "u8", "v.npy");
     let whole = dir.path().join("whole.tmesh");
@@ -190,15 +198,9 @@ fn the_shell_script_splits_and_merges() {
 fn the_shell_script_removes_its_parts_when_interrupted() {
     use std::os::unix::process::CommandExt;
     use std::time::{Duration, Instant};
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/parts-local.sh");
-    if std::process::Command::new("xargs")
-        .arg("--version")
-        .output()
-        .is_err()
-    {
-        println!("skipped: xargs is absent");
+    let Some(script) = parts_local() else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     // Each part of 400^3 noise takes a second or so on one thread.
     let input = synth(dir.path(), "noise", "400,400,400", "u8", "v.raw");

@@ -245,7 +245,7 @@ mod tests {
 
         let cancel = AtomicBool::new(false);
         one_triangle(&path)
-            .finish(&TOTALS, &cancel, |w, v, f| Ply::header(w, v, f))
+            .finish(&TOTALS, &cancel, Ply::header)
             .unwrap();
         assert!(path.exists());
     }

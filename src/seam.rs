@@ -89,7 +89,10 @@ impl<'a> Seam<'a> {
     /// Finishes the sink; returns the summed counts and the totals.
     pub fn finish(mut self) -> Result<(Stats, Totals)> {
         let start = Instant::now();
-        self.sink.finish(&self.totals)?;
+        match self.cancel {
+            Some(cancel) => self.sink.finish_cancellable(&self.totals, cancel)?,
+            None => self.sink.finish(&self.totals)?,
+        }
         self.stats.write_seconds += start.elapsed().as_secs_f64();
         Ok((self.stats, self.totals))
     }

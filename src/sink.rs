@@ -8,6 +8,7 @@
 use crate::error::make_room;
 use crate::pipeline::{Inside, Method};
 use crate::{Error, Grid, Mesh, Result};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The vertices owned by one grid plane and the triangles of the cell layer
 /// above it.
@@ -61,6 +62,18 @@ pub trait MeshSink {
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()>;
     /// Called once after the last chunk; a file sink commits its output here.
     fn finish(&mut self, totals: &Totals) -> Result<()>;
+    /// [`MeshSink::finish`] that stops with [`Error::Interrupted`], leaving
+    /// nothing at the output path, once `cancel` is set. The pipeline calls
+    /// this one when it has a cancel flag. The default looks at the flag
+    /// once and then finishes; a sink whose finishing takes long (PLY, OBJ
+    /// and OFF copy their spools into the output) looks at it as it goes,
+    /// and a wrapper passes it on.
+    fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
+        if cancel.load(Ordering::Relaxed) {
+            return Err(Error::Interrupted);
+        }
+        self.finish(totals)
+    }
 }
 
 /// Builds an in-memory [`Mesh`] (32-bit indices).

@@ -834,3 +834,90 @@ fn grids_one_sample_thin_extract_with_close_only() {
         fs::remove_file(&output).unwrap();
     }
 }
+
+/// Runs `tmc args` with its stdout a pipe whose reading end is already
+/// closed, so that its first write fails with EPIPE (as under `| head -1`
+/// once head has its line).
+fn tmc_into_closed_pipe(args: &[&str]) -> std::process::Output {
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    std::process::Command::new(common::cli::tmc_path())
+        .args(args)
+        .stdout(writer)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn a_closed_stdout_pipe_ends_the_run_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "in.npy", [8, 8, 8]);
+    let mesh = dir.path().join("m.tmesh");
+    tmc_ok(&["extract", s(&input), "--iso", "0", "-q", "-o", s(&mesh)]);
+    let json_mesh = dir.path().join("j.ply");
+    for args in [
+        &["check", s(&mesh)][..],
+        &["check", s(&mesh), "--json"],
+        &["info", s(&input)],
+        &["info", s(&input), "--json"],
+        &[
+            "extract",
+            s(&input),
+            "--iso",
+            "0",
+            "-q",
+            "--json",
+            "-o",
+            s(&json_mesh),
+        ],
+        &["--help"],
+        &["--version"],
+    ] {
+        let out = tmc_into_closed_pipe(args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {stderr}");
+        assert!(stderr.is_empty(), "{args:?}: {stderr}");
+    }
+    // The mesh of a run that succeeded stays.
+    assert!(json_mesh.exists());
+}
+
+#[test]
+fn a_report_that_cannot_be_written_fails_the_run_and_takes_the_mesh_back() {
+    let Ok(full) = fs::OpenOptions::new().write(true).open("/dev/full") else {
+        eprintln!("skipped: no /dev/full on this system");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "in.npy", [8, 8, 8]);
+    let i = s(&input);
+    for (name, args, to_full) in [
+        ("jj.tmesh", vec!["--json"], true),
+        ("jp.ply", vec!["--json"], true),
+        ("kk.tmesh", vec!["--report", "/dev/full"], false),
+        ("kb.tmesh", vec!["--report", "/dev/full", "--json"], false),
+    ] {
+        let output = dir.path().join(name);
+        let mut command = std::process::Command::new(common::cli::tmc_path());
+        command
+            .args(["extract", i, "--iso", "0", "-q", "-o", s(&output)])
+            .args(&args);
+        if to_full {
+            command.stdout(full.try_clone().unwrap());
+        }
+        let out = command.output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{name}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{name}: {stderr}");
+        assert!(
+            stderr.starts_with("tmc: error: ") && stderr.contains("No space left on device"),
+            "{name}: {stderr}"
+        );
+        assert!(
+            stderr.contains(&format!("removed the output {}", output.display())),
+            "{name}: {stderr}"
+        );
+        assert!(!output.exists(), "{name} stayed");
+    }
+    assert_eq!(names(dir.path()), vec!["in.npy".to_string()]);
+}

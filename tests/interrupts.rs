@@ -363,3 +363,88 @@ fn sigint_and_sigterm_stop_a_conversion_or_a_merge_and_remove_the_output() {
         interrupt_and_check(child, name, code, out_dir.path(), &output);
     }
 }
+
+/// Waits until the run `child` has created its temporary output in `dir`
+/// (of at least `min_bytes`): it has then installed its signal handlers
+/// and is in the phase the caller wants to interrupt. Fails if the run
+/// ends first.
+fn wait_for_temp(child: &mut Child, dir: &Path, min_bytes: u64) {
+    let start = Instant::now();
+    loop {
+        let started = temp_files(dir)
+            .iter()
+            .any(|name| fs::metadata(dir.join(name)).is_ok_and(|m| m.len() >= min_bytes));
+        if started {
+            return;
+        }
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before it wrote its temporary output"
+        );
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "no temporary output after 120 s"
+        );
+        sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn sighup_stops_the_extraction_like_sigterm() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let input = volume().join("noise.raw");
+    let (dir, output) = out_dir("mesh.ply");
+    let mut child = start(&input, &output);
+    wait_for_temp(&mut child, dir.path(), 0);
+    still_running_after(&mut child, 0.2);
+    interrupt_and_check(child, "HUP", 129, dir.path(), &output);
+}
+
+#[test]
+fn signals_inherited_as_ignored_stay_ignored() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let input = volume().join("noise.raw");
+    let (dir, output) = out_dir("mesh.tmesh");
+    let dims = format!("{N},{N},{N}");
+    // As `tmc ... &` in a script (SIGINT) and under nohup (SIGHUP): the
+    // shell ignores them and exec keeps them ignored.
+    let mut child = Command::new("sh")
+        .args(["-c", "trap '' INT HUP; exec \"$0\" \"$@\""])
+        .arg(tmc_path())
+        .args(["extract", s(&input), "--dims", &dims, "--dtype", "u8"])
+        .args(["--iso", "127.5", "--threads", "1", "-o", s(&output)])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start sh");
+    wait_for_temp(&mut child, dir.path(), 0);
+    signal(&child, "INT");
+    signal(&child, "HUP");
+    // Still running: they were ignored; SIGTERM still stops it cleanly.
+    still_running_after(&mut child, 0.3);
+    interrupt_and_check(child, "TERM", 143, dir.path(), &output);
+}
+
+#[test]
+fn sigint_and_sighup_stop_synth_and_remove_the_output() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    for (name, code) in [("INT", 130), ("HUP", 129)] {
+        let (dir, output) = out_dir("s.nrrd");
+        // 256 MiB of f32 noise: a few seconds on the test machine.
+        let mut child = spawn(&[
+            "synth",
+            "noise",
+            "--dims",
+            "512,512,256",
+            "--dtype",
+            "f32",
+            "-q",
+            "-o",
+            s(&output),
+        ]);
+        // The header and the first planes are written.
+        wait_for_temp(&mut child, dir.path(), 1 << 20);
+        interrupt_and_check(child, name, code, dir.path(), &output);
+    }
+}

@@ -157,17 +157,25 @@ fn merge_refuses_inconsistent_parts() {
     assert!(!x.exists());
 }
 
-#[test]
-fn the_shell_script_splits_and_merges() {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/parts-local.sh");
+/// `scripts/slurm/parts-local.sh`, or `None` (the test is skipped) where
+/// xargs is absent.
+fn parts_local() -> Option<PathBuf> {
     if std::process::Command::new("xargs")
         .arg("--version")
         .output()
         .is_err()
     {
         println!("skipped: xargs is absent");
-        return;
+        return None;
     }
+    Some(Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/parts-local.sh"))
+}
+
+#[test]
+fn the_shell_script_splits_and_merges() {
+    let Some(script) = parts_local() else {
+        return;
+    };
     let dir = tempfile::tempdir().unwrap();
     let input = synth(dir.path(), "noise", "12,10,15", "u8", "v.npy");
     let whole = dir.path().join("whole.tmesh");
@@ -316,4 +324,61 @@ fn merge_opens_one_part_at_a_time() {
         .arg(common::cli::tmc_path())
         .args(&list);
     assert_merged_by(&mut sh, &merged, &whole);
+}
+
+#[test]
+fn the_shell_script_removes_its_parts_when_interrupted() {
+    use std::os::unix::process::CommandExt;
+    use std::time::{Duration, Instant};
+    let Some(script) = parts_local() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // Each part of 400^3 noise takes a second or so on one thread.
+    let input = synth(dir.path(), "noise", "400,400,400", "u8", "v.raw");
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let merged = out_dir.join("merged.tmesh");
+    // In a process group of its own, signalled as a whole, as Ctrl-C does.
+    let mut child = std::process::Command::new("sh")
+        .arg(&script)
+        .args([s(&input), "2", s(&merged)])
+        .args(["--dims", "400,400,400", "--dtype", "u8", "--iso", "127.5"])
+        .env("TMC", common::cli::tmc_path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .process_group(0)
+        .spawn()
+        .unwrap();
+    // Until a part is being written in the parts directory.
+    let part_started = || {
+        std::fs::read_dir(&out_dir).unwrap().flatten().any(|e| {
+            e.file_name().to_string_lossy().starts_with(".tmc-parts.")
+                && std::fs::read_dir(e.path())
+                    .map(|d| d.count() > 0)
+                    .unwrap_or(false)
+        })
+    };
+    let start = Instant::now();
+    while !part_started() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the script ended before a part was written"
+        );
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "no part started"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let group = format!("-{}", child.id());
+    let status = std::process::Command::new("kill")
+        .args(["-s", "INT", "--", &group])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{out:?}");
+    let left: Vec<_> = std::fs::read_dir(&out_dir).unwrap().flatten().collect();
+    assert!(left.is_empty(), "left {left:?}");
 }

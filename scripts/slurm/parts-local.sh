@@ -12,7 +12,13 @@ input=$1 n=$2 output=$3
 shift 3
 tmc=${TMC:-tmc}
 parts=$(mktemp -d "$(dirname "$output")/.tmc-parts.XXXXXX")
+# EXIT alone is not enough: dash (sh on Debian) does not run the EXIT trap
+# when a signal kills the shell. On SIGINT, SIGTERM or SIGHUP remove the
+# parts, then exit with 128 + the signal's number, as the shell would.
 trap 'rm -rf "$parts"' EXIT
+trap 'rm -rf "$parts"; exit 130' INT
+trap 'rm -rf "$parts"; exit 143' TERM
+trap 'rm -rf "$parts"; exit 129' HUP
 seq 1 "$n" | xargs -P "${JOBS:-$n}" -I{} \
     "$tmc" extract "$input" -q --threads 1 --part "{}/$n" -o "$parts/part-{}.tmesh" "$@"
 "$tmc" merge "$parts"/part-*.tmesh -o "$output"

@@ -96,16 +96,19 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         let started = Instant::now();
         let result = run_item(args, item, cancel);
         let line = report_line(item, &result, started.elapsed().as_secs_f64());
+        // The item's meshes are committed; if its report line cannot be
+        // written, the run fails and takes them back.
+        let withdraw = |e| match result {
+            Ok(_) => super::withdraw(item.outputs.iter().map(PathBuf::as_path), e),
+            Err(_) => e,
+        };
         if let Some((file, path)) = &mut report {
             file.write_all(line.as_bytes())
                 .and_then(|()| file.flush())
-                .map_err(|e| Error::io(path.as_path(), e))?;
+                .map_err(|e| withdraw(Error::io(path.as_path(), e)))?;
         }
         if args.json {
-            let mut out = std::io::stdout().lock();
-            out.write_all(line.as_bytes())
-                .and_then(|()| out.flush())
-                .map_err(|e| Error::io("standard output", e))?;
+            super::to_stdout(|out| out.write_all(line.as_bytes())).map_err(withdraw)?;
         }
         match result {
             Ok(_) => {}
@@ -218,7 +221,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     for output in &item.outputs {
         check_distinct(&item.input, output)?;
     }
-    let source = super::raw_input::open_input(&item.input, raw.as_ref())?;
+    let source = super::raw_input::open_input(&item.input, raw.as_ref(), cancel)?;
     for (data, output) in source
         .data_files()
         .iter()
@@ -318,6 +321,14 @@ struct RequireAll<'a> {
 }
 
 impl RequireAll<'_> {
+    /// Fails when some isovalue has no triangle.
+    fn check(&self) -> Result<()> {
+        match self.triangles.iter().position(|t| t.get() == 0) {
+            Some(empty) => Err(Error::Invalid(self.messages[empty].clone())),
+            None => Ok(()),
+        }
+    }
+
     /// Adds the triangles of `chunk` to this isovalue's count.
     fn count(&self, chunk: &Chunk) {
         let seen = &self.triangles[self.index];
@@ -336,9 +347,12 @@ impl MeshSink for RequireAll<'_> {
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
-        match self.triangles.iter().position(|t| t.get() == 0) {
-            Some(empty) => Err(Error::Invalid(self.messages[empty].clone())),
-            None => self.inner.finish(totals),
-        }
+        self.check()?;
+        self.inner.finish(totals)
+    }
+
+    fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
+        self.check()?;
+        self.inner.finish_cancellable(totals, cancel)
     }
 }

@@ -32,15 +32,14 @@ pub(crate) struct CheckArgs {
 pub(crate) fn run(args: &CheckArgs) -> Result<()> {
     let mesh = tmc::check::read_mesh(&args.mesh)?;
     let report = tmc::check::check_mesh(&mesh);
-    let mut out = std::io::stdout().lock();
-    let stdout_err = |e| Error::io("standard output", e);
-    if args.json {
-        serde_json::to_writer(&mut out, &report).map_err(|e| stdout_err(e.into()))?;
-        writeln!(out).map_err(stdout_err)?;
-    } else {
-        report.print_text(&mut out).map_err(stdout_err)?;
-    }
-    out.flush().map_err(stdout_err)?;
+    super::to_stdout(|out| {
+        if args.json {
+            serde_json::to_writer(&mut *out, &report)?;
+            writeln!(out)
+        } else {
+            report.print_text(out)
+        }
+    })?;
     if report.is_oriented_manifold() {
         Ok(())
     } else {

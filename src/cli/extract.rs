@@ -5,7 +5,6 @@ use super::raw_input::RawArgs;
 use super::require_surface::RequireSurface;
 use super::{memory, progress, report, values, CONVENTIONS};
 use clap::{Args, ValueEnum};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -171,7 +170,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let started = Instant::now();
     let raw = args.raw.options();
     check_distinct(input, output)?;
-    let source = super::raw_input::open_input(input, raw.as_ref())?;
+    let source = super::raw_input::open_input(input, raw.as_ref(), cancel)?;
     for data in source.data_files() {
         check_distinct(data, output)?;
     }
@@ -232,15 +231,16 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         stats: &stats,
         resources: &resources,
     };
+    // The mesh is committed; if its report cannot be written, the run
+    // fails and takes the mesh back.
     if args.stats {
         let mut err = std::io::stderr().lock();
-        report::write_table(&mut err, &run).map_err(|e| Error::io("standard error", e))?;
+        report::write_table(&mut err, &run)
+            .map_err(|e| super::withdraw([output.as_path()], Error::io("standard error", e)))?;
     }
     if args.json {
-        let mut out = std::io::stdout().lock();
-        report::write_json(&mut out, &run)
-            .and_then(|()| out.flush())
-            .map_err(|e| Error::io("standard output", e))?;
+        super::to_stdout(|out| report::write_json(out, &run))
+            .map_err(|e| super::withdraw([output.as_path()], e))?;
     }
     Ok(())
 }

@@ -14,7 +14,7 @@ use serde::Serialize;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use tmc::volume::{summarize, RawOptions, Summary, SummaryOptions};
-use tmc::{Error, Grid, Result, SampleSource};
+use tmc::{Grid, Result, SampleSource};
 
 /// Text at the end of `tmc info --help`.
 const INFO_HELP: &str = "\
@@ -124,7 +124,7 @@ struct Info {
 /// Runs `tmc info`.
 pub(crate) fn run(args: &InfoArgs) -> Result<()> {
     let raw = args.raw.options();
-    let source = super::raw_input::open_input(&args.input, raw.as_ref())?;
+    let source = super::raw_input::open_input(&args.input, raw.as_ref(), None)?;
     let grid = *source.grid();
     let samples: u64 = grid.dims.iter().map(|&n| n as u64).product();
     let plane_step = if args.plane_step > 0 {
@@ -138,17 +138,14 @@ pub(crate) fn run(args: &InfoArgs) -> Result<()> {
     };
     let summary = summarize(source.as_ref(), &options)?;
     let info = describe(&args.input, raw.as_ref(), source.as_ref(), &grid, &summary);
-    let mut out = io::stdout().lock();
-    let written = if args.json {
-        serde_json::to_writer(&mut out, &info)
-            .map_err(io::Error::from)
-            .and_then(|()| writeln!(out))
-    } else {
-        write_text(&mut out, &info)
-    };
-    written
-        .and_then(|()| out.flush())
-        .map_err(|e| Error::io("standard output", e))
+    super::to_stdout(|out| {
+        if args.json {
+            serde_json::to_writer(&mut *out, &info)?;
+            writeln!(out)
+        } else {
+            write_text(out, &info)
+        }
+    })
 }
 
 /// Gathers everything reported about the volume.

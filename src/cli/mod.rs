@@ -90,8 +90,11 @@ Exit status:
        a batch ('tmc extract' with several inputs, isovalues or --manifest)
        exits 1 when any item failed, after naming each on stderr
   2    usage error (unknown option, missing or malformed value)
-  130  interrupted by SIGINT, 143 by SIGTERM: extract and convert stop at the next
-       slab or chunk and no output is left";
+  130  interrupted by SIGINT, 143 by SIGTERM, 129 by SIGHUP: extract, convert,
+       merge and synth stop at the next slab, chunk or plane (also while
+       decompressing the input or assembling the output) and no output is
+       left; a signal inherited as ignored (nohup, a background job of a
+       script) stays ignored";
 
 /// Topologically correct and manifold isosurfaces (Grosso 2016 marching cubes).
 ///
@@ -134,11 +137,11 @@ pub fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     let interrupts = match cli.command {
-        Command::Extract(_) | Command::Convert(_) | Command::Merge(_) => {
+        Command::Extract(_) | Command::Convert(_) | Command::Merge(_) | Command::Synth(_) => {
             match signals::Interrupts::install() {
                 Ok(i) => Some(i),
                 Err(e) => {
-                    eprintln!("tmc: error: cannot install the SIGINT/SIGTERM handlers: {e}");
+                    eprintln!("tmc: error: cannot install the SIGINT/SIGTERM/SIGHUP handlers: {e}");
                     return ExitCode::FAILURE;
                 }
             }
@@ -151,7 +154,7 @@ pub fn main() -> ExitCode {
         Command::Merge(args) => merge::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Check(args) => check::run(&args),
         Command::Info(args) => info::run(&args),
-        Command::Synth(args) => synth::run(&args),
+        Command::Synth(args) => synth::run(&args, interrupts.as_ref().map(|i| i.flag())),
     }));
     match result {
         Ok(Ok(())) => ExitCode::SUCCESS,
@@ -179,11 +182,14 @@ fn usage_error(e: &clap::Error) -> ExitCode {
         ErrorKind::DisplayHelp
         | ErrorKind::DisplayVersion
         | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            // Help on a full disk or a closed pipe is an error like any
-            // other failed write.
-            if let Err(write) = e.print().and_then(|()| std::io::stdout().flush()) {
-                eprintln!("tmc: error: cannot write to standard output: {write}");
-                return ExitCode::FAILURE;
+            // Help on a full disk is an error like any other failed
+            // write; a closed pipe (`tmc --help | head`) is not.
+            match e.print().and_then(|()| std::io::stdout().flush()) {
+                Err(write) if write.kind() != std::io::ErrorKind::BrokenPipe => {
+                    eprintln!("tmc: error: cannot write to standard output: {write}");
+                    return ExitCode::FAILURE;
+                }
+                _ => {}
             }
             ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2))
         }
@@ -238,6 +244,40 @@ fn install_panic_hook() {
             .unwrap_or_default();
         eprintln!("tmc: internal error: {}{place}", one_line(&message));
     }));
+}
+
+/// Writes to standard output through `write`, then flushes it. A closed
+/// pipe (EPIPE: the reader, `head` say, has all it wanted) is not an error:
+/// the rest of the output is dropped and the run ends as it would have
+/// (the common convention, as ripgrep does); any other failure is.
+pub(crate) fn to_stdout(
+    write: impl FnOnce(&mut std::io::StdoutLock<'static>) -> std::io::Result<()>,
+) -> tmc::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match write(&mut out).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other.map_err(|e| tmc::Error::io("standard output", e)),
+    }
+}
+
+/// The error of a run whose outputs were committed but whose report (the
+/// JSON on stdout, the --stats table, a --report line) could not be
+/// written: the outputs are removed again, so that a run that exits 1
+/// leaves no new output (a file that was at an output path before the run
+/// was replaced when the mesh was committed and is not restored).
+pub(crate) fn withdraw<'a>(
+    outputs: impl IntoIterator<Item = &'a std::path::Path>,
+    e: tmc::Error,
+) -> tmc::Error {
+    let removed: Vec<String> = outputs
+        .into_iter()
+        .filter(|o| std::fs::remove_file(o).is_ok())
+        .map(|o| o.display().to_string())
+        .collect();
+    if removed.is_empty() {
+        return e;
+    }
+    tmc::Error::Invalid(format!("{e}; removed the output {}", removed.join(", ")))
 }
 
 /// Joins the lines of `text` into one.

@@ -5,6 +5,7 @@
 use super::values;
 use clap::{Args, ValueEnum};
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 use tmc::volume::{Endian, RawOptions, RawVolume, SampleSource, ScalarType};
 use tmc::{Error, Result};
 
@@ -78,9 +79,15 @@ impl RawArgs {
 /// Opens `input` as the command line describes it. Headerless data must
 /// fill the file exactly: extra bytes mean that `--dims` or `--dtype` are
 /// wrong (the library reads such files and ignores what follows the
-/// samples; a shorter file is refused there).
-pub(crate) fn open_input(input: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
-    let source = tmc::volume::open(input, raw)?;
+/// samples; a shorter file is refused there). Setting `cancel` stops the
+/// decompression of compressed samples with [`tmc::Error::Interrupted`].
+pub(crate) fn open_input(
+    input: &Path,
+    raw: Option<&RawOptions>,
+    cancel: Option<&AtomicBool>,
+) -> Result<Box<dyn SampleSource>> {
+    let never = AtomicBool::new(false);
+    let source = tmc::volume::open_cancellable(input, raw, cancel.unwrap_or(&never))?;
     if let Some(options) = raw {
         let extra = RawVolume::trailing_bytes(input, options);
         if extra > 0 {

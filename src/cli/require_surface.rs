@@ -1,6 +1,7 @@
 //! `--require-surface`: a sink wrapper that refuses to finish an empty mesh,
 //! so the output file is never committed when there is no surface.
 
+use std::sync::atomic::AtomicBool;
 use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Totals};
 
 /// Passes everything to `inner`, but fails instead of finishing when the
@@ -23,9 +24,22 @@ impl MeshSink for RequireSurface<'_> {
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
+        self.check(totals)?;
+        self.inner.finish(totals)
+    }
+
+    fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
+        self.check(totals)?;
+        self.inner.finish_cancellable(totals, cancel)
+    }
+}
+
+impl RequireSurface<'_> {
+    /// Fails when the mesh has no triangle.
+    fn check(&self, totals: &Totals) -> Result<()> {
         if totals.triangles == 0 {
             return Err(Error::Invalid(self.message.clone()));
         }
-        self.inner.finish(totals)
+        Ok(())
     }
 }

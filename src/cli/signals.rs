@@ -1,12 +1,16 @@
-//! Signals: SIGINT and SIGTERM cancel an extraction cleanly (exit status
-//! 130 or 143), and a SIGBUS from a memory-mapped input that shrank is
+//! Signals: SIGINT, SIGTERM and SIGHUP cancel a run cleanly (exit status
+//! 130, 143 or 129), and a SIGBUS from a memory-mapped input that shrank is
 //! reported as one line instead of a crash.
 
-use signal_hook::consts::{SIGBUS, SIGINT, SIGTERM};
+use signal_hook::consts::{SIGBUS, SIGHUP, SIGINT, SIGTERM};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
 
-/// The cancel flag that SIGINT and SIGTERM set, and which of them came.
+/// The signals that cancel a run.
+const CANCELLING: [i32; 3] = [SIGINT, SIGTERM, SIGHUP];
+
+/// The cancel flag that SIGINT, SIGTERM and SIGHUP set, and which of them
+/// came.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Interrupts {
     /// Set by either signal; passed to the pipeline as its cancel flag.
@@ -16,13 +20,22 @@ pub(crate) struct Interrupts {
 }
 
 impl Interrupts {
-    /// Installs the handlers. The first SIGINT or SIGTERM only sets the
-    /// flag, so the pipeline stops at its next slab and removes its
-    /// temporary output; a second one exits at once (status 130 or 143)
-    /// in case something does not look at the flag.
+    /// Installs the handlers. The first SIGINT, SIGTERM or SIGHUP only
+    /// sets the flag, so the run stops at its next slab, plane or chunk and
+    /// removes its temporary output; a second one exits at once (status
+    /// 128 + the signal's number) in case something does not look at the
+    /// flag.
+    ///
+    /// A signal that the process inherited as ignored (SIGINT of a
+    /// background job started by a non-interactive shell, SIGHUP under
+    /// `nohup`) stays ignored, as the shell convention asks.
     pub(crate) fn install() -> std::io::Result<Interrupts> {
         let interrupts = Interrupts::default();
-        for signal in [SIGINT, SIGTERM] {
+        let ignored = inherited_ignored();
+        for signal in CANCELLING {
+            if ignored.contains(&signal) {
+                continue;
+            }
             // Registered first, so that it runs before the flag is set and
             // only fires on a second signal.
             signal_hook::flag::register_conditional_shutdown(
@@ -51,9 +64,32 @@ impl Interrupts {
         match self.signal.load(Ordering::SeqCst) {
             0 => None,
             s if s == SIGTERM as usize => Some(("SIGTERM", 128 + SIGTERM as u8)),
+            s if s == SIGHUP as usize => Some(("SIGHUP", 128 + SIGHUP as u8)),
             _ => Some(("SIGINT", 128 + SIGINT as u8)),
         }
     }
+}
+
+/// Those of [`CANCELLING`] that the process inherited as ignored, from the
+/// `SigIgn` mask of `/proc/self/status` (read before any handler is
+/// installed; no `unsafe` needed). Where that file cannot be read (not
+/// Linux), none: the handlers are installed as before.
+fn inherited_ignored() -> Vec<i32> {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let mask = status
+        .lines()
+        .find_map(|line| line.strip_prefix("SigIgn:"))
+        .and_then(|hex| u64::from_str_radix(hex.trim(), 16).ok())
+        .unwrap_or(0);
+    ignored_in(mask)
+}
+
+/// Those of [`CANCELLING`] set in a signal mask (bit `n - 1` for signal `n`).
+fn ignored_in(mask: u64) -> Vec<i32> {
+    CANCELLING
+        .into_iter()
+        .filter(|&signal| mask >> (signal - 1) & 1 == 1)
+        .collect()
 }
 
 /// The line written on SIGBUS.
@@ -88,4 +124,17 @@ pub(crate) fn install_sigbus() -> std::io::Result<()> {
     // and never returns, so the faulting instruction is not retried; it
     // touches no lock, allocator or Rust state.
     unsafe { signal_hook::low_level::register(SIGBUS, action) }.map(|_| ())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_sigign_mask_names_the_ignored_signals() {
+        // SIGHUP is 1, SIGINT 2, SIGTERM 15; bit 12 (SIGPIPE, 13) is not ours.
+        assert_eq!(ignored_in(0), Vec::<i32>::new());
+        assert_eq!(ignored_in(0b11 | 1 << 12), vec![SIGINT, SIGHUP]);
+        assert_eq!(ignored_in(1 << 14), vec![SIGTERM]);
+    }
 }

@@ -3,9 +3,10 @@
 use super::{progress, values};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tmc::synth::{Kind, Synthetic, HEAD_SKIN_ISO_HU, HEAD_SKULL_ISO_HU};
-use tmc::volume::{write_volume, ScalarType, VolumeFormat};
+use tmc::volume::{write_volume_cancellable, ScalarType, VolumeFormat};
 use tmc::{Grid, Result};
 
 /// Text at the end of `tmc synth --help`.
@@ -109,8 +110,10 @@ impl KindArg {
     }
 }
 
-/// Runs `tmc synth`.
-pub(crate) fn run(args: &SynthArgs) -> Result<()> {
+/// Runs `tmc synth`; setting `cancel` (SIGINT, SIGTERM, SIGHUP) stops it
+/// before the next plane with [`tmc::Error::Interrupted`], leaving no
+/// output.
+pub(crate) fn run(args: &SynthArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     let started = Instant::now();
     let grid = Grid {
         dims: args.dims,
@@ -126,7 +129,9 @@ pub(crate) fn run(args: &SynthArgs) -> Result<()> {
     let bytes = {
         let bar = progress::Bar::new(samples, "samples", args.quiet);
         let report = |done: usize, total: usize| bar.set_fraction(done as f64 / total as f64);
-        write_volume(&args.output, &source, args.dtype, Some(&report))?
+        let never = AtomicBool::new(false);
+        let cancel = cancel.unwrap_or(&never);
+        write_volume_cancellable(&args.output, &source, args.dtype, Some(&report), cancel)?
     };
     if args.quiet {
         return Ok(());

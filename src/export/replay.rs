@@ -41,6 +41,6 @@ pub fn replay_cancellable(
         triangles: reader.triangles(),
         chunks: count as u64,
     };
-    sink.finish(&totals)?;
+    sink.finish_cancellable(&totals, cancel)?;
     Ok(totals)
 }

@@ -16,9 +16,10 @@ use super::AtomicFile;
 use crate::sink::{Chunk, MeshInfo, MeshSink, Totals};
 use crate::{Error, Mesh, Result};
 use std::fs::File;
-use std::io::{self, BufWriter, Seek, SeekFrom, Write};
+use std::io::{self, BufWriter, Read, Seek, SeekFrom, Write};
 use std::marker::PhantomData;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// How a shared-vertex format lays out its header, vertices and faces.
 pub trait Layout {
@@ -91,13 +92,25 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
+        self.finish_cancellable(totals, &AtomicBool::new(false))
+    }
+
+    /// Looks at `cancel` before the header and every [`COPY_STEP`] bytes of
+    /// the spools copied into the output.
+    fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
         let body = self.body.take().ok_or_else(super::finished)?;
-        body.finish(totals, |w, vertices, faces| L::header(w, vertices, faces))
+        body.finish(totals, cancel, |w, vertices, faces| {
+            L::header(w, vertices, faces)
+        })
     }
 }
 
 /// Buffer size of each spool.
 const BUFFER_BYTES: usize = 1 << 20;
+
+/// Bytes of spool copied into the output between two looks at the cancel
+/// flag (a few milliseconds of copying).
+const COPY_STEP: u64 = 8 << 20;
 
 /// A shared-vertex mesh file being streamed.
 pub(crate) struct Spooled {
@@ -140,8 +153,10 @@ impl Spooled {
     }
 
     /// Checks the totals, writes the header (`header` gets the vertex and
-    /// face counts), appends the vertices and the faces, and commits.
-    pub(crate) fn finish<H>(self, totals: &Totals, header: H) -> Result<()>
+    /// face counts), appends the vertices and the faces, and commits; stops
+    /// with [`Error::Interrupted`] (nothing committed) once `cancel` is set,
+    /// which it looks at every [`COPY_STEP`] bytes.
+    pub(crate) fn finish<H>(self, totals: &Totals, cancel: &AtomicBool, header: H) -> Result<()>
     where
         H: FnOnce(&mut Vec<u8>, u64, u64) -> io::Result<()>,
     {
@@ -153,18 +168,85 @@ impl Spooled {
             numbering,
         } = self;
         let path = out.path().to_path_buf();
+        let interrupted = || cancel.load(Ordering::Relaxed);
         let result = (|| {
             let mut head = Vec::new();
             header(&mut head, numbering.vertices(), numbering.triangles())?;
+            if interrupted() {
+                return Ok(false);
+            }
             out.write_all(&head)?;
             for spool in [vertices, faces] {
                 let mut file = spool.into_inner().map_err(|e| e.into_error())?;
                 file.seek(SeekFrom::Start(0))?;
-                io::copy(&mut file, out.file())?;
+                // In steps, each still copied by the kernel where it can.
+                loop {
+                    if interrupted() {
+                        return Ok(false);
+                    }
+                    if io::copy(&mut (&mut file).take(COPY_STEP), out.file())? == 0 {
+                        break;
+                    }
+                }
             }
-            Ok(())
+            Ok(!interrupted())
         })();
-        result.map_err(|e| Error::io(&path, e))?;
-        out.commit()
+        // Dropping `out` uncommitted removes the temporary file.
+        match result.map_err(|e| Error::io(&path, e))? {
+            true => out.commit(),
+            false => Err(Error::Interrupted),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::export::Ply;
+
+    /// A spooled PLY file in `dir` holding one triangle.
+    fn one_triangle(path: &Path) -> Spooled {
+        let mut body = Spooled::create(path).unwrap();
+        let chunk = Chunk {
+            plane: 0,
+            vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            triangles: vec![[0, 1, 2]],
+        };
+        body.chunk(0, &chunk, |vertices, faces| {
+            for v in &chunk.vertices {
+                Ply::vertex(vertices, v)?;
+            }
+            Ply::face(faces, [0, 1, 2])
+        })
+        .unwrap();
+        body
+    }
+
+    const TOTALS: Totals = Totals {
+        vertices: 3,
+        triangles: 1,
+        chunks: 1,
+    };
+
+    #[test]
+    fn a_cancel_during_the_final_copy_commits_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("mesh.ply");
+        let cancel = AtomicBool::new(false);
+        // The flag is set once finishing has begun (here: while the header
+        // is made, just before the spools are copied).
+        let result = one_triangle(&path).finish(&TOTALS, &cancel, |w, v, f| {
+            cancel.store(true, Ordering::Relaxed);
+            Ply::header(w, v, f)
+        });
+        assert!(matches!(result, Err(Error::Interrupted)), "{result:?}");
+        assert!(!path.exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+
+        let cancel = AtomicBool::new(false);
+        one_triangle(&path)
+            .finish(&TOTALS, &cancel, Ply::header)
+            .unwrap();
+        assert!(path.exists());
     }
 }

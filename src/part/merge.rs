@@ -80,7 +80,7 @@ pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<To
         totals.triangles += reader.triangles();
     }
     interrupted()?;
-    sink.finish(&totals)?;
+    sink.finish_cancellable(&totals, cancel)?;
     Ok(totals)
 }
 

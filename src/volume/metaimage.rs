@@ -30,6 +30,7 @@ use std::fs::File;
 use std::io::{BufReader, Seek, SeekFrom};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 /// A MetaImage volume.
 #[derive(Debug)]
@@ -143,6 +144,12 @@ struct Header {
 
 /// Opens a MetaImage volume (`.mhd` or `.mha`).
 pub fn open(path: &Path) -> Result<MetaImageVolume> {
+    open_cancellable(path, &AtomicBool::new(false))
+}
+
+/// [`open`] that stops with [`Error::Interrupted`] once `cancel` is set
+/// while compressed samples are decompressed (it is looked at every MiB).
+pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVolume> {
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
     let mut reader = BufReader::new(file);
@@ -210,7 +217,7 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
             if header.compressed {
                 file.seek(SeekFrom::Start(consumed))
                     .map_err(|e| Error::io(path, e))?;
-                let samples = inflate(path, file, data_len)?;
+                let samples = inflate(path, file, data_len, cancel)?;
                 Data::Volume(RawVolume::map_file(path, &samples, layout(0))?)
             } else {
                 Data::Volume(samples(path, &file, layout(consumed), header.ascii)?)
@@ -271,7 +278,7 @@ pub fn open(path: &Path) -> Result<MetaImageVolume> {
             super::check_input_kind(&data_path)?;
             let file = File::open(&data_path).map_err(|e| Error::io(&data_path, e))?;
             if header.compressed {
-                let samples = inflate(&data_path, file, data_len)?;
+                let samples = inflate(&data_path, file, data_len, cancel)?;
                 Data::Volume(RawVolume::map_file(&data_path, &samples, layout(0))?)
             } else {
                 let offset = data_offset(&data_path, &file, header.header_size, data_len)?;
@@ -321,9 +328,9 @@ fn data_offset(path: &Path, file: &File, header_size: Option<i64>, len: u64) -> 
 
 /// Decompresses the zlib data in `file`, which must hold at least `len`
 /// bytes, into a temporary file to be mapped (see [`super::spill`]).
-fn inflate(path: &Path, file: File, len: u64) -> Result<File> {
+fn inflate(path: &Path, file: File, len: u64, cancel: &AtomicBool) -> Result<File> {
     let decoder = flate2::read::ZlibDecoder::new(BufReader::new(file));
-    let (samples, got) = spill(path, "zlib", &[], decoder, len)?;
+    let (samples, got) = spill(path, "zlib", &[], decoder, len, cancel)?;
     if got < len {
         return Err(Error::Format(format!(
             "{}: compressed data holds {got} bytes, DimSize and ElementType need {len}",

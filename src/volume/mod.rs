@@ -37,11 +37,12 @@ pub use padded::Padded;
 pub use raw::RawVolume;
 pub use scalar::{decode_samples, decode_strided, encode_samples, Endian, ScalarType};
 pub use summary::{summarize, Suggestions, Summary, SummaryOptions};
-pub use write::{write_volume, VolumeFormat};
+pub use write::{write_volume, write_volume_cancellable, VolumeFormat};
 
 use crate::Result;
 use std::ops::Range;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 
 /// Geometry of a regular grid: sample counts and the index-to-world map
 /// `world = origin + direction * (index * spacing)` (x varies fastest in
@@ -298,6 +299,18 @@ pub fn check_input_kind(path: &Path) -> Result<()> {
 
 /// Opens a volume, choosing the reader with [`Format::detect`].
 pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSource>> {
+    open_cancellable(path, raw, &AtomicBool::new(false))
+}
+
+/// [`open`] that stops with [`crate::Error::Interrupted`] once `cancel` is
+/// set (from a signal handler, say) while compressed samples (gzip, bzip2,
+/// zlib) are decompressed into their temporary file; it is looked at every
+/// MiB of decompressed data. Other readers do not look at it.
+pub fn open_cancellable(
+    path: &Path,
+    raw: Option<&RawOptions>,
+    cancel: &AtomicBool,
+) -> Result<Box<dyn SampleSource>> {
     check_input_kind(path)?;
     if let Some(options) = raw {
         if let Some(format) = Format::detect(path, false).filter(|_| path.is_file()) {
@@ -329,9 +342,9 @@ pub fn open(path: &Path, raw: Option<&RawOptions>) -> Result<Box<dyn SampleSourc
             )))
         }
         Format::Npy => Box::new(npy::open(path)?),
-        Format::Nrrd => Box::new(nrrd::open(path)?),
-        Format::Nifti => Box::new(nifti::open(path)?),
-        Format::MetaImage => Box::new(metaimage::open(path)?),
+        Format::Nrrd => Box::new(nrrd::open_cancellable(path, cancel)?),
+        Format::Nifti => Box::new(nifti::open_cancellable(path, cancel)?),
+        Format::MetaImage => Box::new(metaimage::open_cancellable(path, cancel)?),
         Format::VtkLegacy => Box::new(vtk_legacy::open(path)?),
         Format::Vti => Box::new(vti::open(path)?),
         Format::TiffStack => Box::new(tiff_stack::open(path)?),

@@ -25,6 +25,7 @@ use std::fs::File;
 use std::io::{BufReader, Read};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 /// A NIfTI volume: the stored samples, their scaling and orientation.
 #[derive(Debug)]
@@ -149,6 +150,12 @@ impl Fields<'_> {
 /// Opens a NIfTI-1 or NIfTI-2 volume: `.nii`, `.nii.gz`, or a `.hdr` header
 /// whose samples are in the `.img` file of the same stem.
 pub fn open(path: &Path) -> Result<NiftiVolume> {
+    open_cancellable(path, &AtomicBool::new(false))
+}
+
+/// [`open`] that stops with [`Error::Interrupted`] once `cancel` is set
+/// while compressed samples are decompressed (it is looked at every MiB).
+pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NiftiVolume> {
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     let name = path
         .file_name()
@@ -175,7 +182,7 @@ pub fn open(path: &Path) -> Result<NiftiVolume> {
         let need = data_bytes(header.dims, header.scalar)
             .and_then(|n| n.checked_add(layout.offset))
             .ok_or_else(|| fail("dims are too large".into()))?;
-        let (samples, _) = spill(path, "gzip", &head, decoder, need)?;
+        let (samples, _) = spill(path, "gzip", &head, decoder, need, cancel)?;
         let inner = RawVolume::map_file(path, &samples, layout)?;
         return Ok(volume(header, inner));
     }

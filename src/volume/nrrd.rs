@@ -33,6 +33,7 @@ use std::fs::File;
 use std::io::BufReader;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 
 /// A 3-D NRRD volume: its samples stay in their data file(s), memory-mapped
 /// for raw encoding.
@@ -105,6 +106,12 @@ impl SampleSource for NrrdVolume {
 
 /// Opens a 3-D NRRD file (`.nrrd` or `.nhdr`).
 pub fn open(path: &Path) -> Result<NrrdVolume> {
+    open_cancellable(path, &AtomicBool::new(false))
+}
+
+/// [`open`] that stops with [`Error::Interrupted`] once `cancel` is set
+/// while compressed samples are decompressed (it is looked at every MiB).
+pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> {
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     let (header, consumed) = read_header(path)?;
 
@@ -160,7 +167,7 @@ pub fn open(path: &Path) -> Result<NrrdVolume> {
     };
     let slabs = files
         .iter()
-        .map(|file| open_data(path, file, start, slab, &format))
+        .map(|file| open_data(path, file, start, slab, &format, cancel))
         .collect::<Result<Vec<_>>>()?;
     Ok(NrrdVolume {
         scalar,

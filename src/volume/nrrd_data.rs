@@ -13,6 +13,7 @@ use crate::{Error, Result};
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 
 /// How the samples are stored in every data file.
 #[derive(Debug, Clone, Copy)]
@@ -36,6 +37,7 @@ pub(crate) fn open_data(
     start: u64,
     grid: Grid,
     format: &DataFormat,
+    cancel: &AtomicBool,
 ) -> Result<RawVolume> {
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     // A FIFO data file would block the open below.
@@ -100,7 +102,7 @@ pub(crate) fn open_data(
             let mut file = reader.into_inner();
             file.seek(SeekFrom::Start(offset))
                 .map_err(|e| Error::io(path, e))?;
-            decompressed(path, format.encoding, file, skip, layout(0))
+            decompressed(path, format.encoding, file, skip, layout(0), cancel)
         }
         Encoding::Ascii => {
             let skip = skip()?;
@@ -121,6 +123,7 @@ pub(crate) fn decompressed(
     file: File,
     skip: u64,
     layout: Layout,
+    cancel: &AtomicBool,
 ) -> Result<RawVolume> {
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     let name = encoding.name();
@@ -147,7 +150,7 @@ pub(crate) fn decompressed(
     if skipped < skip {
         return Err(short(skipped));
     }
-    let (samples, got) = super::spill::spill(path, name, &[], decoder, len)?;
+    let (samples, got) = super::spill::spill(path, name, &[], decoder, len, cancel)?;
     if got < len {
         return Err(short(skip + got));
     }

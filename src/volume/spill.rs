@@ -13,6 +13,7 @@ use crate::{Error, Result};
 use std::fs::File;
 use std::io::{self, Read, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Size of the copy buffer.
 const BUFFER: usize = 1 << 20;
@@ -23,13 +24,17 @@ const BUFFER: usize = 1 << 20;
 /// the number of bytes it holds (less than `limit` if the stream was
 /// shorter; the caller checks the length it needs).
 ///
-/// `path` and `what` (for example "gzip") name the input in errors.
+/// `path` and `what` (for example "gzip") name the input in errors. Once
+/// `cancel` is set (it is looked at every [`BUFFER`] bytes of decompressed
+/// data) the spilling stops with [`Error::Interrupted`] and the temporary
+/// file is closed, which removes it.
 pub(crate) fn spill(
     path: &Path,
     what: &str,
     head: &[u8],
     mut stream: impl Read,
     limit: u64,
+    cancel: &AtomicBool,
 ) -> Result<(File, u64)> {
     let bad = |e: io::Error| Error::Format(format!("{}: bad {what} data: {e}", path.display()));
     let temp_dir = std::env::temp_dir();
@@ -46,7 +51,12 @@ pub(crate) fn spill(
     file.write_all(&head[..keep as usize]).map_err(no_room)?;
     let mut written = keep;
     let mut buffer = vec![0u8; BUFFER];
+    let interrupted = || match cancel.load(Ordering::Relaxed) {
+        true => Err(Error::Interrupted),
+        false => Ok(()),
+    };
     while written < limit {
+        interrupted()?;
         let want = (limit - written).min(BUFFER as u64) as usize;
         let got = read_some(&mut stream, &mut buffer[..want]).map_err(bad)?;
         if got == 0 {
@@ -56,7 +66,12 @@ pub(crate) fn spill(
         written += got as u64;
     }
     // Trailing data is not needed, but reading it checks the stream's CRC.
-    io::copy(&mut stream, &mut io::sink()).map_err(bad)?;
+    loop {
+        interrupted()?;
+        if read_some(&mut stream, &mut buffer).map_err(bad)? == 0 {
+            break;
+        }
+    }
     file.flush().map_err(no_room)?;
     Ok((file, written))
 }
@@ -77,6 +92,45 @@ mod tests {
     use flate2::write::GzEncoder;
     use flate2::Compression;
 
+    static NEVER: AtomicBool = AtomicBool::new(false);
+
+    /// Reads from `inner`, setting `flag` once `after` bytes were read.
+    struct SetsFlag<'a, R> {
+        inner: R,
+        read: usize,
+        after: usize,
+        flag: &'a AtomicBool,
+    }
+
+    impl<R: Read> Read for SetsFlag<'_, R> {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            let n = self.inner.read(buf)?;
+            self.read += n;
+            if self.read >= self.after {
+                self.flag.store(true, Ordering::Relaxed);
+            }
+            Ok(n)
+        }
+    }
+
+    #[test]
+    fn a_cancel_stops_the_decompression_and_the_checksum_read() {
+        let data = vec![5u8; 8 * BUFFER];
+        let packed = gzip(&data);
+        // While spilling, and while reading the trailing data for the CRC.
+        for (after, limit) in [(BUFFER, data.len() as u64), (BUFFER, 10)] {
+            let flag = AtomicBool::new(false);
+            let stream = SetsFlag {
+                inner: flate2::read::GzDecoder::new(&packed[..]),
+                read: 0,
+                after,
+                flag: &flag,
+            };
+            let result = spill(Path::new("x.gz"), "gzip", &[], stream, limit, &flag);
+            assert!(matches!(result, Err(Error::Interrupted)), "{result:?}");
+        }
+    }
+
     fn gzip(bytes: &[u8]) -> Vec<u8> {
         let mut e = GzEncoder::new(Vec::new(), Compression::fast());
         e.write_all(bytes).unwrap();
@@ -96,8 +150,15 @@ mod tests {
         let data: Vec<u8> = (0..3_000_000u32).map(|i| (i % 251) as u8).collect();
         let packed = gzip(&data[10..]);
         let decoder = flate2::read::GzDecoder::new(&packed[..]);
-        let (file, len) =
-            spill(Path::new("x.gz"), "gzip", &data[..10], decoder, 2_000_000).unwrap();
+        let (file, len) = spill(
+            Path::new("x.gz"),
+            "gzip",
+            &data[..10],
+            decoder,
+            2_000_000,
+            &NEVER,
+        )
+        .unwrap();
         assert_eq!(len, 2_000_000);
         assert_eq!(contents(file), data[..2_000_000]);
     }
@@ -106,14 +167,14 @@ mod tests {
     fn short_streams_report_their_length_and_corruption_is_an_error() {
         let packed = gzip(&[7u8; 1000]);
         let decoder = flate2::read::GzDecoder::new(&packed[..]);
-        let (_, len) = spill(Path::new("x.gz"), "gzip", &[], decoder, 5000).unwrap();
+        let (_, len) = spill(Path::new("x.gz"), "gzip", &[], decoder, 5000, &NEVER).unwrap();
         assert_eq!(len, 1000);
 
         let mut broken = packed.clone();
         let n = broken.len();
         broken[n - 6] ^= 0xff; // inside the CRC-32 trailer
         let decoder = flate2::read::GzDecoder::new(&broken[..]);
-        let e = spill(Path::new("x.gz"), "gzip", &[], decoder, 10)
+        let e = spill(Path::new("x.gz"), "gzip", &[], decoder, 10, &NEVER)
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("x.gz: bad gzip data"), "{e}");

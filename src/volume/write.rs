@@ -13,6 +13,7 @@ use crate::{Error, Result};
 use rayon::prelude::*;
 use std::io::{self, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 
 /// A volume file format that [`write_volume`] writes.
@@ -73,6 +74,19 @@ pub fn write_volume(
     scalar: ScalarType,
     progress: Option<&dyn Fn(usize, usize)>,
 ) -> Result<u64> {
+    write_volume_cancellable(path, source, scalar, progress, &AtomicBool::new(false))
+}
+
+/// [`write_volume`] that looks at `cancel` before each plane (one relaxed
+/// load) and, once it is set (from a signal handler, say), stops with
+/// [`Error::Interrupted`]; nothing is then left at `path`.
+pub fn write_volume_cancellable(
+    path: &Path,
+    source: &dyn SampleSource,
+    scalar: ScalarType,
+    progress: Option<&dyn Fn(usize, usize)>,
+    cancel: &AtomicBool,
+) -> Result<u64> {
     let format = VolumeFormat::from_path(path)?;
     let grid = *source.grid();
     let data = data_bytes(grid.dims, scalar).ok_or_else(|| {
@@ -92,7 +106,7 @@ pub fn write_volume(
     let mut file = AtomicFile::create(path)?;
     let out = file.file();
     out.write_all(&header).map_err(|e| Error::io(path, e))?;
-    write_planes(path, source, scalar, out, progress)?;
+    write_planes(path, source, scalar, out, progress, cancel)?;
     file.commit()?;
     Ok(header.len() as u64 + data)
 }
@@ -105,6 +119,7 @@ fn write_planes(
     scalar: ScalarType,
     out: &mut std::fs::File,
     progress: Option<&dyn Fn(usize, usize)>,
+    cancel: &AtomicBool,
 ) -> Result<()> {
     let [nx, _, nz] = source.grid().dims;
     let plane_len = source.grid().plane_len();
@@ -124,6 +139,10 @@ fn write_planes(
         let mut values = vec![0.0; plane_len];
         let mut produced = Ok(());
         for z in 0..nz {
+            if cancel.load(Ordering::Relaxed) {
+                produced = Err(Error::Interrupted);
+                break;
+            }
             if let Err(e) = source.read_plane(z, &mut values) {
                 produced = Err(e);
                 break;

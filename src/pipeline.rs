@@ -67,9 +67,11 @@ pub struct PipelineOptions<'a> {
     /// atomic load each), and the extraction then returns
     /// [`Error::Interrupted`] without finishing the sink.
     pub cancel: Option<&'a AtomicBool>,
-    /// A memory budget in bytes: the slab depth and the slabs in flight are
-    /// chosen to fit it (see [`crate::budget`]), and the extraction fails
-    /// with [`Error::OutOfMemory`] if even the thinnest slabs do not fit.
+    /// A memory budget in bytes: the workers' buffers are planned to fit it
+    /// (see [`crate::budget`]; the extraction fails with
+    /// [`Error::OutOfMemory`] if even the thinnest slabs do not fit), and
+    /// slabs start only as far as the measured mesh in flight allows (see
+    /// [`crate::schedule`]).
     /// `None`: no budget.
     pub max_memory: Option<u64>,
 }

@@ -159,13 +159,14 @@ impl Schedule {
             budget.running.remove(&index);
             budget.waiting.insert(index, u128::from(bytes));
             if layers > 0 {
+                // The first measurement replaces the assumption; later ones
+                // can only raise it.
                 let per_cell = u128::from(bytes).div_ceil(layers * budget.layer_cells.max(1));
-                let floor = u128::from(OUTPUT_BYTES_PER_CELL);
-                budget.bytes_per_cell = if budget.measured {
-                    budget.bytes_per_cell.max(per_cell)
-                } else {
-                    per_cell.max(floor)
+                let so_far = match budget.measured {
+                    true => budget.bytes_per_cell,
+                    false => u128::from(OUTPUT_BYTES_PER_CELL),
                 };
+                budget.bytes_per_cell = so_far.max(per_cell);
                 budget.measured = true;
             }
         }

@@ -83,10 +83,11 @@ pub(crate) struct ExtractArgs {
     pub slab_depth: Option<u16>,
 
     /// Bound the pipeline's memory to about BYTES (suffixes K, M, G, T:
-    /// powers of 1024): the slab depth and the slabs in flight are chosen to
-    /// fit (an estimate: the memory-mapped input is not counted, the mesh
-    /// of a waiting slab is assumed dense); an error if even one slab of 2
-    /// layers per worker does not fit. The output does not depend on it.
+    /// powers of 1024): the workers' buffers are planned to fit (an error if
+    /// they do not beside one slab of 2 layers per worker), and a slab
+    /// starts only when the mesh measured in flight leaves room for it (one
+    /// layer always may). The memory-mapped input is not counted. The
+    /// output does not depend on it.
     #[arg(long, value_name = "BYTES", value_parser = values::bytes)]
     pub max_memory: Option<u64>,
 

@@ -95,7 +95,7 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
         self.finish_cancellable(totals, &AtomicBool::new(false))
     }
 
-    /// Looks at `cancel` before the header and every [`COPY_STEP`] bytes of
+    /// Looks at `cancel` before the header and every `COPY_STEP` (8 MiB) of
     /// the spools copied into the output.
     fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
         let body = self.body.take().ok_or_else(super::finished)?;

@@ -10,7 +10,7 @@ use tmc::{extract, synth, ExtractParams, Method, Stats};
 fn triangulate_all(cells: &[([f64; 8], u8)], out: &mut CellMesh, stats: &mut Stats) {
     for (g, config) in cells {
         out.clear();
-        let count = match triangulate_ambiguous(g, *config, stats, out) {
+        let count = match triangulate_ambiguous(g, None, *config, stats, out) {
             Triangles::Table(fans) | Triangles::Centred(fans, _) => fans.len(),
             Triangles::Mesh => out.triangles.len(),
         };

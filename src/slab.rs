@@ -22,6 +22,7 @@ pub use spares::{chunk_bytes, Spares};
 
 use crate::error::make_room;
 use crate::kernel::tables::{tables, Tables};
+use crate::kernel::wide::subtraction_residual;
 use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles};
 use crate::pipeline::{ExtractParams, Inside, Method};
 use crate::sink::Chunk;
@@ -118,6 +119,9 @@ struct Plane<'s> {
     /// The samples as read, when the source lends none.
     read: Vec<f64>,
     level: Level,
+    /// Every sample's `rel` is exact (the sample type and the isovalue
+    /// say so), so no cell needs residuals.
+    exact: bool,
     /// `rel(sample) > 0` per sample.
     inside: SignBits,
     /// Local index of the first x-edge vertex of each row.
@@ -159,6 +163,24 @@ impl Level {
         } else {
             d.clamp(-f64::MAX / 4.0, f64::MAX / 4.0)
         }
+    }
+
+    /// What rounding left out of `rel(v)` for each of `values`, so that
+    /// the kernel can decide on the exact differences: 0 where the
+    /// subtraction was exact, and for NaN and clamped values, which stay
+    /// rounded. One pass of plain arithmetic over the eight, without a
+    /// branch, so that it runs in vector registers.
+    #[inline(always)]
+    fn residuals(self, values: [f64; 8]) -> [f64; 8] {
+        let mut out = [0.0; 8];
+        for (r, &v) in out.iter_mut().zip(&values) {
+            let d = v - self.iso;
+            let rest = subtraction_residual(v, self.iso, d) * self.sign;
+            // NaN (from NaN or infinite values) fails the test. Below
+            // `f64::MAX / 4`, the residual of finite values is finite.
+            *r = if d.abs() < f64::MAX / 4.0 { rest } else { 0.0 };
+        }
+        out
     }
 }
 
@@ -204,6 +226,7 @@ impl<'s> Plane<'s> {
                 iso: 0.0,
                 sign: 1.0,
             },
+            exact: true,
             inside,
             x_first,
             y_first,
@@ -226,14 +249,13 @@ impl<'s> Plane<'s> {
         rel_at(self.lent, &self.read, self.level, i)
     }
 
-    /// The kernel's values of samples `at`.
+    /// The samples `at`, as `f64`s.
     #[inline(always)]
-    fn rels<const N: usize>(&self, at: [usize; N]) -> [f64; N] {
-        let values = match &self.lent {
+    fn values<const N: usize>(&self, at: [usize; N]) -> [f64; N] {
+        match &self.lent {
             Some(samples) => samples.get_many(at),
             None => at.map(|i| self.read[i]),
-        };
-        values.map(|v| self.level.rel(v))
+        }
     }
 
     /// Reads and classifies plane `z`; appends the positions of its edge
@@ -259,6 +281,10 @@ impl<'s> Plane<'s> {
         stats.read_seconds += start.elapsed().as_secs_f64();
         let level = Level::new(params);
         self.level = level;
+        self.exact = match self.lent {
+            Some(samples) => samples.subtracts_exactly(level.iso),
+            None => level.iso == 0.0,
+        };
         match self.lent {
             None => self
                 .inside
@@ -590,13 +616,22 @@ fn cell_at(
     }
     t.touch_sets(config);
     let corners = [i, i + 1, i + nx, i + nx + 1];
-    let (low, high) = (bottom.rels(corners), top.rels(corners));
-    let g: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
+    let (low, high) = (bottom.values(corners), top.values(corners));
+    let values: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
+    // Both planes were read with the same level.
+    let level = bottom.level;
+    let g = values.map(|v| level.rel(v));
+    let rest = if bottom.exact && top.exact {
+        [0.0; 8]
+    } else {
+        level.residuals(values)
+    };
+    let residual = (rest != [0.0; 8]).then_some(&rest);
     cell.clear();
     // Room a row keeps for MC triangles, which a cell must not eat into.
     let row_room = t.mc_most * (nx - 1);
     let origin = DVec3::new(x as f64, y as f64, bottom.z as f64);
-    match triangulate_ambiguous(&g, config, stats, cell) {
+    match triangulate_ambiguous(&g, residual, config, stats, cell) {
         Triangles::Table(fans) => {
             // Edge vertices only, as MC: room for `fans.len()` beyond the row's.
             make_room(&mut block.triangles, fans.len() + row_room, TRIANGLES)?;

@@ -2,7 +2,7 @@
 
 use super::contour::ContourSet;
 use super::cube::{EDGE_CORNERS, FACE_CORNERS};
-use super::decider::inside_joined;
+use super::decider::{inside_joined, residual_det2_sign};
 use super::quadratic::{inner_hexagon, saddle_points, Saddles};
 use super::scale::normalized;
 use super::tables::tables;
@@ -10,6 +10,7 @@ use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
 use super::tunnel::labelled_joins;
 use crate::Stats;
 use glam::DVec3;
+use std::cmp::Ordering::{Greater, Less};
 
 /// A vertex of a cell's triangles: `0..12` is the vertex on that cell edge,
 /// `INTERIOR + i` is interior vertex `i` of the cell.
@@ -76,7 +77,8 @@ fn edge_points<'a>(g: &'a [f64; 8], contour: &'a [u8]) -> impl Iterator<Item = D
 }
 
 /// Face decisions of a cell: bit `f` set iff the inside corners of
-/// ambiguous face `f` are joined across it (asymptotic decider).
+/// ambiguous face `f` are joined across it (asymptotic decider), for the
+/// exact values `g + residual` (`None`: `g` is exact).
 ///
 /// All six faces at once without a branch: with `d = g0 g2 - g1 g3` over the
 /// face's corners, the inside corners are joined iff `d > 0` when corner 0
@@ -85,8 +87,11 @@ fn edge_points<'a>(g: &'a [f64; 8], contour: &'a [u8]) -> impl Iterator<Item = D
 /// is exact when nonzero). Only faces where the rounded products tie go to
 /// the exact decider.
 #[inline]
-pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
+pub fn face_decisions(g: &[f64; 8], residual: Option<&[f64; 8]>, config: u8) -> u8 {
     let ambiguous = tables().ambiguous_faces[config as usize];
+    if let Some(residual) = residual {
+        return residual_decisions(g, residual, config, ambiguous);
+    }
     let (mut positive, mut negative, mut first_inside) = (0u8, 0u8, 0u8);
     for (f, q) in FACE_CORNERS.iter().enumerate() {
         let d = g[q[0]] * g[q[2]] - g[q[1]] * g[q[3]];
@@ -100,6 +105,32 @@ pub fn face_decisions(g: &[f64; 8], config: u8) -> u8 {
         return joined & ambiguous;
     }
     (joined & ambiguous & !ties) | exact_decisions(g, ties)
+}
+
+/// [`face_decisions`] on the `ambiguous` faces of a cell whose values
+/// `g + residual` were rounded: a face whose four corners are exact is
+/// decided as in a cell without residuals, the others by the sign of
+/// `d` in exact arithmetic (see [`super::decider::residual_det2_sign`]).
+#[cold]
+#[inline(never)]
+fn residual_decisions(g: &[f64; 8], residual: &[f64; 8], config: u8, ambiguous: u8) -> u8 {
+    let mut joined = 0u8;
+    for (f, q) in FACE_CORNERS.iter().enumerate() {
+        if ambiguous >> f & 1 == 0 {
+            continue;
+        }
+        let (v, r) = (q.map(|c| g[c]), q.map(|c| residual[c]));
+        let inside_joined = if r == [0.0; 4] {
+            exact_decisions(g, 1 << f) != 0
+        } else {
+            // Joined iff the sign of d is that of corner 0's value.
+            let first_inside = config >> q[0] & 1 == 1;
+            let sign = residual_det2_sign(v, r);
+            sign == if first_inside { Greater } else { Less }
+        };
+        joined |= u8::from(inside_joined) << f;
+    }
+    joined
 }
 
 /// The asymptotic decider, exact, on each face of `faces` (rare: only
@@ -155,6 +186,12 @@ pub enum Triangles {
 /// The triangles are either the tables' or appended to `out` (see
 /// [`Triangles`]).
 ///
+/// `residual`, if given, is what rounding left out of `g` (`g + residual`
+/// are the exact values, `|residual| <= 2^-53 |g|`, as when `g = value -
+/// iso` is rounded; see [`subtraction_residual`](super::wide::subtraction_residual)):
+/// face and tunnel decisions are taken on the exact values, the vertex
+/// positions on `g`.
+///
 /// Values of any magnitude are taken. The face decisions are made on `g`
 /// itself, each a function of the face's four values only, so that the two
 /// cells sharing a face always agree; the rest of the kernel works on the
@@ -162,22 +199,26 @@ pub enum Triangles {
 /// outside about `[2^-200, 2^197]`.
 pub fn triangulate_ambiguous(
     g: &[f64; 8],
+    residual: Option<&[f64; 8]>,
     config: u8,
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
-    let joined = face_decisions(g, config);
+    let joined = face_decisions(g, residual, config);
     if !in_kernel_range(g) {
-        return triangulate_rescaled(g, config, joined, stats, out);
+        return triangulate_rescaled(g, residual, config, joined, stats, out);
     }
-    triangulate_decided(g, config, joined, stats, out)
+    triangulate_decided(g, (g, residual), config, joined, stats, out)
 }
 
 /// [`triangulate_ambiguous`] of a cell in [`in_kernel_range`] whose face
-/// decisions are `joined`.
+/// decisions are `joined`: its vertices placed with `g`, its tunnel decided
+/// on `tested` (the values `g` was scaled from, if it was, and their
+/// residual).
 #[inline(always)]
 fn triangulate_decided(
     g: &[f64; 8],
+    tested: (&[f64; 8], Option<&[f64; 8]>),
     config: u8,
     joined: u8,
     stats: &mut Stats,
@@ -189,7 +230,7 @@ fn triangulate_decided(
     let tunnel = if head.tunnel_pairs == 0 {
         None
     } else {
-        labelled_joins(g, head.tunnel_pairs, &head.labels)
+        labelled_joins(tested.0, tested.1, head.tunnel_pairs, &head.labels)
             .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b))
     };
     // No tunnel, and flat contours but for at most one that meets a face
@@ -252,11 +293,13 @@ fn in_kernel_range(g: &[f64; 8]) -> bool {
 
 /// [`triangulate_decided`] of a cell out of [`in_kernel_range`]: on its
 /// values scaled by the power of two that brings the largest near 1 (NaN as
-/// 0, infinities as `±f64::MAX / 4`), which keeps every sign.
+/// 0, infinities as `±f64::MAX / 4`), which keeps every sign; its tunnel is
+/// decided on the values before scaling (the test is homogeneous).
 #[cold]
 #[inline(never)]
 fn triangulate_rescaled(
     g: &[f64; 8],
+    residual: Option<&[f64; 8]>,
     config: u8,
     joined: u8,
     stats: &mut Stats,
@@ -274,7 +317,7 @@ fn triangulate_rescaled(
         // All zero: no corner is inside, so there is nothing to triangulate.
         return Triangles::Table(&[]);
     }
-    triangulate_decided(&scaled, config, joined, stats, out)
+    triangulate_decided(&scaled, (&finite, residual), config, joined, stats, out)
 }
 
 /// Counts a flat contour of `n` vertices in the paper's Table 1.
@@ -443,7 +486,7 @@ mod tests {
                 .any(|(f, q)| ambiguous >> f & 1 == 1 && g[q[0]] * g[q[2]] == g[q[1]] * g[q[3]]);
             ties += usize::from(tied);
             assert_eq!(
-                face_decisions(&g, config),
+                face_decisions(&g, None, config),
                 exact_decisions(&g, ambiguous),
                 "{g:?}"
             );

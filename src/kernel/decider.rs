@@ -8,6 +8,10 @@
 //! sign of the numerator matters. A tie (saddle value equal to the isovalue)
 //! separates the inside corners, as `{T > iso + ε}` requires.
 
+use super::wide::{integers, Span, WideInt};
+use bnum::types::{I1024, I256, I512};
+use std::cmp::Ordering;
+
 /// Sign of `p * q - r * s`, exact for finite inputs (no overflow assumed).
 ///
 /// First the plain difference of the rounded products: rounding is
@@ -20,21 +24,65 @@
 /// the target's baseline `mul_add` is a library call, kept for these
 /// near-ties.) Symmetric in `p <-> q` and `r <-> s`, so both cells sharing a
 /// face get the same answer.
-pub fn det2_sign(p: f64, q: f64, r: f64, s: f64) -> std::cmp::Ordering {
+pub fn det2_sign(p: f64, q: f64, r: f64, s: f64) -> Ordering {
     let d = p * q - r * s;
     if d != 0.0 {
         return if d > 0.0 {
-            std::cmp::Ordering::Greater
+            Ordering::Greater
         } else {
-            std::cmp::Ordering::Less
+            Ordering::Less
         };
     }
     let w = r * s;
     let e = (-r).mul_add(s, w); // w - r*s, exact
     let f = p.mul_add(q, -w); // p*q - w, rounded once
-    (f + e)
-        .partial_cmp(&0.0)
-        .unwrap_or(std::cmp::Ordering::Equal)
+    (f + e).partial_cmp(&0.0).unwrap_or(Ordering::Equal)
+}
+
+/// Sign of `(p + rp)(q + rq) - (r + rr)(s + rs)` for the values `v = [p,
+/// q, r, s]` and their residuals `rest` (`|rest[i]| <= 2^-53 |v[i]|`, what
+/// rounding `v` left out), exact for finite inputs.
+///
+/// First the rounded `p q - r s`, whose error is below `2^-48 (|p q| +
+/// |r s|)` when those products neither overflow nor come near underflow;
+/// only a difference within that bound is redone in integers of 256, 512
+/// or 1024 bits (see [`super::wide`]; `|e| < 2^(bits + 1)`, so products
+/// and their difference fit). Values spanning more than 508 bits
+/// keep the rounded answer on `v`.
+pub fn residual_det2_sign(v: [f64; 4], rest: [f64; 4]) -> Ordering {
+    let (pq, rs) = (v[0] * v[2], v[1] * v[3]);
+    let d = pq - rs;
+    let size = pq.abs() + rs.abs();
+    const BOUND: f64 = 1.0 / (1u64 << 48) as f64;
+    const TINY: f64 = f64::from_bits((1023 - 800) << 52); // 2^-800
+    if d.abs() > size * BOUND && size > TINY && size.is_finite() {
+        return d.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+    }
+    exact_det2_sign(v, rest)
+}
+
+/// [`residual_det2_sign`] in integers.
+#[cold]
+#[inline(never)]
+fn exact_det2_sign(v: [f64; 4], rest: [f64; 4]) -> Ordering {
+    fn sign<T: WideInt + Ord + std::ops::Mul<Output = T>>(
+        high: &[f64; 4],
+        low: &[f64; 4],
+    ) -> Ordering {
+        let e: [T; 4] = integers(high, low);
+        (e[0] * e[2]).cmp(&(e[1] * e[3]))
+    }
+    let span = Span::of(v.iter().chain(&rest).copied());
+    let Some((span, scale)) = span.and_then(|s| Some((s, s.integer_scale(508)?))) else {
+        let [p, q, r, s] = v;
+        return det2_sign(p, q, r, s);
+    };
+    let (high, low) = (v.map(|x| x * scale), rest.map(|x| x * scale));
+    match span.bits() {
+        bits if bits <= 125 => sign::<I256>(&high, &low),
+        bits if bits <= 252 => sign::<I512>(&high, &low),
+        _ => sign::<I1024>(&high, &low),
+    }
 }
 
 /// Are the inside corners `a`, `c` of an ambiguous face joined across it?
@@ -42,13 +90,13 @@ pub fn det2_sign(p: f64, q: f64, r: f64, s: f64) -> std::cmp::Ordering {
 /// `a` and `c` are the values of the inside diagonal (both `> 0`), `b` and
 /// `d` those of the outside diagonal (both `<= 0`).
 pub fn inside_joined(a: f64, c: f64, b: f64, d: f64) -> bool {
-    det2_sign(a, c, b, d) == std::cmp::Ordering::Greater
+    det2_sign(a, c, b, d) == Ordering::Greater
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::cmp::Ordering::*;
+    use Ordering::*;
 
     #[test]
     fn exact_sign_on_ties_and_cancellation() {
@@ -84,6 +132,75 @@ mod tests {
             let exact = (i128::from(ip) * i128::from(iq)).cmp(&(i128::from(ir) * i128::from(is)));
             let [p, q, r, s] = [ip, iq, ir, is].map(|v| v as f64 * scale);
             assert_eq!(det2_sign(p, q, r, s), exact, "{p} {q} {r} {s}");
+        }
+    }
+
+    #[test]
+    fn residuals_break_the_ties_of_the_rounded_values() {
+        // Integer samples v at iso = fl(1/3) = 1/3 - δ: the exact values are
+        // g = (h + 3δ) / 3 with h = 3v - 1, so where h0 h2 = h1 h3 the sign
+        // of the face determinant is that of 3δ (h0 + h2 - h1 - h3). The
+        // rounded differences alone lose δ.
+        let iso = 1.0 / 3.0;
+        let (mut ties, mut rounded_wrong) = (0, 0);
+        let range = -7i64..=7;
+        for v0 in range.clone() {
+            for v1 in range.clone() {
+                for v2 in range.clone() {
+                    for v3 in range.clone() {
+                        let v = [v0, v1, v2, v3];
+                        let h = v.map(|x| 3 * x - 1);
+                        let tie_break = h[0] + h[2] - h[1] - h[3];
+                        if h[0] * h[2] != h[1] * h[3] || tie_break == 0 {
+                            continue;
+                        }
+                        ties += 1;
+                        let g = v.map(|x| x as f64 - iso);
+                        let rest = std::array::from_fn(|i| {
+                            super::super::wide::subtraction_residual(v[i] as f64, iso, g[i])
+                        });
+                        let expected = tie_break.cmp(&0);
+                        assert_eq!(residual_det2_sign(g, rest), expected, "{v:?}");
+                        rounded_wrong += usize::from(det2_sign(g[0], g[2], g[1], g[3]) != expected);
+                    }
+                }
+            }
+        }
+        assert!(
+            ties > 50 && rounded_wrong > 10,
+            "{ties} ties, {rounded_wrong} rounded wrong"
+        );
+    }
+
+    #[test]
+    fn residual_sign_agrees_with_integers_far_from_ties() {
+        // Random values with random residuals (below half an ulp), some
+        // faces near a tie: the filtered sign is the exact one, computed
+        // here in i128 from 40-bit integers scaled down.
+        let mut next = crate::kernel::xorshift(0x1234_5678_9abc_def1u64);
+        for round in 0..100_000u32 {
+            let int = |r: u64| (r % (1 << 40)) as i64 - (1 << 39);
+            // Values of 40 bits with residuals of up to 12 more bits.
+            let e: [i128; 4] = std::array::from_fn(|_| {
+                i128::from(int(next())) << 12 | i128::from((next() % 4096) as i64)
+            });
+            let e = if round % 2 == 0 {
+                // Near-tie: e3 chosen so that e0 e2 - e1 e3 is small.
+                let e3 = if e[1] == 0 { 1 } else { e[0] * e[2] / e[1] };
+                [e[0], e[1], e[2], e3]
+            } else {
+                e
+            };
+            let exact = (e[0] * e[2]).cmp(&(e[1] * e[3]));
+            let scale = 2f64.powi(-60);
+            let g = e.map(|x| x as f64);
+            let rest: [f64; 4] = std::array::from_fn(|i| (e[i] - g[i] as i128) as f64);
+            assert!(rest
+                .iter()
+                .zip(&g)
+                .all(|(r, v)| r.abs() <= v.abs() * f64::EPSILON));
+            let (g, rest) = (g.map(|x| x * scale), rest.map(|x| x * scale));
+            assert_eq!(residual_det2_sign(g, rest), exact, "{e:?}");
         }
     }
 

@@ -9,14 +9,18 @@
 //! * [`tunnel`]: does the level set join two contours through the cell (a
 //!   tunnel)? Decided exactly, ties included;
 //! * [`scale`]: a cell's values scaled by a power of two, out of overflow;
+//! * [`wide`]: a cell's exact values as wide integers, for the decisions
+//!   that must not round;
 //! * [`quadratic`]: the three quadratic equations, their roots, the saddle
 //!   points and the inner hexagon;
 //! * [`triangulate`]: the triangulation rules of Section 5;
 //! * [`cell`]: puts them together for one ambiguous cell.
 //!
 //! Values given to the kernel are `g = value - iso` (or `iso - value` for
-//! `--inside low`), with NaN already replaced by 0; a corner is inside iff
-//! `g > 0`, so the kernel always triangulates `{g > ε}` for infinitesimal ε.
+//! `--inside low`), with NaN already replaced by 0, and, where that
+//! subtraction was rounded, its residual; a corner is inside iff `g > 0`,
+//! so the kernel always triangulates `{g > ε}` for infinitesimal ε, and
+//! decides on the exact differences.
 
 pub mod cell;
 pub mod contour;
@@ -27,6 +31,7 @@ pub mod scale;
 pub mod tables;
 pub mod triangulate;
 pub mod tunnel;
+pub mod wide;
 
 pub use cell::{triangulate_ambiguous, CellMesh, Triangles, VertexRef};
 

@@ -19,18 +19,20 @@
 //! `D >= 0` suffices.
 //!
 //! The predicates are signs of polynomials of degree up to four in the
-//! values, decided exactly whenever the eight values are integers of at most
-//! 60 bits after scaling by a common power of two (every 32-bit
-//! integer volume at an integer or half-integer isovalue; float32 values
-//! minus an isovalue such as 0 whose magnitudes are within about 2^36 of
-//! each other): in `i64` up to 14 bits, in `i128` up to 26, and beyond that
-//! in `f64` with an error bound (`Filtered`), redone in 256-bit integers
-//! only where a sign is in doubt. Cells whose values span more bits keep
-//! the plain `f64` answer, which can misjudge near-ties.
+//! exact values `g + r` (see [`super::wide`]), decided exactly whenever
+//! those are integers of at most 248 bits after scaling by a
+//! common power of two: cells of integers (no residual) in `i64` up to 14
+//! bits and in `i128` up to 26; beyond that, and for every cell with a
+//! residual, in `f64` with an error bound (`Filtered`), redone in 256-,
+//! 512- or 1024-bit integers only where a sign is in doubt. Cells whose
+//! values span more bits (values more than about 2^195 apart, far beyond
+//! any float32 volume at a normal isovalue) keep the plain `f64` answer on
+//! the rounded values, which can misjudge near-ties.
 
 use super::contour::ContourSet;
-use super::scale::{normalized, power_of_two};
-use ethnum::I256;
+use super::scale::normalized;
+use super::wide::{integers, Span};
+use bnum::types::{I1024, I256, I512};
 use std::convert::Infallible;
 use std::hint::select_unpredictable;
 use std::ops::{Add, BitAnd, BitOr, Mul, Neg, Not, Sub};
@@ -48,20 +50,29 @@ pub struct Join {
 /// fixed order (inside components first); a join is a tunnel. A trilinear
 /// cell holds at most one tunnel.
 pub fn interior_joins(g: &[f64; 8], set: &ContourSet) -> Option<Join> {
-    labelled_joins(g, set.tunnel_pairs, &set.corner_comp)
+    labelled_joins(g, None, set.tunnel_pairs, &set.corner_comp)
 }
 
 /// [`interior_joins`] of a set given by its tunnel sweeps `pairs` and its
-/// corner labels `labels`.
-pub fn labelled_joins(g: &[f64; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
+/// corner labels `labels`, for the exact values `g + residual` (`None`: `g`
+/// is exact).
+pub fn labelled_joins(
+    g: &[f64; 8],
+    residual: Option<&[f64; 8]>,
+    pairs: u8,
+    labels: &[u8; 8],
+) -> Option<Join> {
     if pairs == 0 {
         return None;
+    }
+    if let Some(residual) = residual {
+        return wide_joins(g, residual, pairs, labels);
     }
     if let Some(ints) = small_integers(g) {
         // Every 8- and 16-bit volume at an integer isovalue: no scaling.
         return exact(sweep_both(&ints, pairs, labels));
     }
-    let Some(span) = Span::of(g) else {
+    let Some(span) = Span::of(*g) else {
         // Infinite values: rounded.
         return exact(sweep_both(&normalized(g), pairs, labels));
     };
@@ -75,26 +86,37 @@ pub fn labelled_joins(g: &[f64; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join>
             pairs,
             labels,
         )),
-        _ => wide_joins(g, span, pairs, labels),
+        _ => wide_joins(g, &[0.0; 8], pairs, labels),
     }
 }
 
-/// [`labelled_joins`] for values beyond 26 bits: exact up to
-/// [`WIDE_BITS`] bits (an `f64` sweep with error bounds, redone in `I256`
-/// when a sign is in doubt), rounded beyond.
-fn wide_joins(g: &[f64; 8], span: Span, pairs: u8, labels: &[u8; 8]) -> Option<Join> {
-    let Some(scale) = span.integer_scale(WIDE_BITS) else {
+/// [`labelled_joins`] for the exact values `g + residual` of a cell with a
+/// residual, or beyond 26 bits: exact up to [`WIDEST_BITS`] bits (an `f64`
+/// sweep with error bounds on `g`, redone in integers when a sign is in
+/// doubt), rounded beyond.
+#[cold]
+#[inline(never)]
+fn wide_joins(g: &[f64; 8], residual: &[f64; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
+    let span = Span::of(g.iter().chain(residual).copied());
+    let Some((span, scale)) = span.and_then(|s| Some((s, s.integer_scale(WIDEST_BITS)?))) else {
         return exact(sweep_both(&normalized(g), pairs, labels));
     };
-    let integers = g.map(|v| v * scale);
-    match sweep_both(&integers.map(Filtered::exact), pairs, labels) {
+    let (high, low) = (g.map(|v| v * scale), residual.map(|v| v * scale));
+    match sweep_both(&high.map(Filtered::input), pairs, labels) {
         Ok(join) => join,
-        // At most 60 bits: every integer converts to i64 exactly.
-        Err(Doubt) => exact(sweep_both(
-            &integers.map(|v| I256::from(v as i64)),
-            pairs,
-            labels,
-        )),
+        Err(Doubt) => match span.bits() {
+            bits if bits <= WIDE_BITS => {
+                exact(sweep_both(&integers::<I256, 8>(&high, &low), pairs, labels))
+            }
+            bits if bits <= WIDER_BITS => {
+                exact(sweep_both(&integers::<I512, 8>(&high, &low), pairs, labels))
+            }
+            _ => exact(sweep_both(
+                &integers::<I1024, 8>(&high, &low),
+                pairs,
+                labels,
+            )),
+        },
     }
 }
 
@@ -185,7 +207,7 @@ const DIAGONALS: [(usize, usize, usize, usize); 2] = [(0, 3, 1, 2), (1, 2, 0, 3)
 ///
 /// Exact because the sweep sees the same signs as `config`: scaling to
 /// integers or normalising never turns a nonzero value into zero. (Where
-/// the sweep rounds, for values more than 60 bits apart,
+/// the sweep rounds, for values more than 248 bits apart,
 /// rounding can make a case 3 pair look joined; leaving it out is then the
 /// exact answer.)
 pub fn may_join(config: u8, labels: &[u8; 8]) -> u8 {
@@ -269,21 +291,26 @@ macro_rules! plain_num {
 
 plain_num!(i64, 0, 1, 2, 4);
 plain_num!(i128, 0, 1, 2, 4);
-plain_num!(I256, I256::ZERO, I256::ONE, I256::new(2), I256::new(4));
+plain_num!(I256, I256::ZERO, I256::ONE, I256::TWO, I256::FOUR);
+plain_num!(I512, I512::ZERO, I512::ONE, I512::TWO, I512::FOUR);
+plain_num!(I1024, I1024::ZERO, I1024::ONE, I1024::TWO, I1024::FOUR);
 plain_num!(f64, 0.0, 1.0, 2.0, 4.0);
 
 /// An `f64` computed from integer values by `+`, `-` and `*`, with the
 /// same expression evaluated on the magnitudes (`m`, each product's and
-/// sum's terms taken positive). The sweep's expressions are at most
-/// [`MAX_DEPTH`] roundings deep, so the rounded value differs from the
-/// exact one by at most `γ_9 m < 2^-49 m` (Higham, Accuracy and Stability
-/// of Numerical Algorithms, 3.1: each term of the expanded polynomial
-/// carries at most 9 factors `1 + δ`, `|δ| <= 2^-53`); `m` itself is
-/// rounded down by at most a factor `(1 - 2^-53)^9`. The values are
-/// integers of at most [`WIDE_BITS`] bits, so no product underflows or
-/// overflows, and every rounded value is an integer too (a double of
-/// magnitude at least 2^53 is one): a bound below 1/2 means the value is
-/// exact.
+/// sum's terms taken positive). Each input is an integer rounded to a
+/// double (exact unless it needs more than 53 bits), and the sweep's
+/// expressions are at most [`MAX_DEPTH`] roundings deep, so each term of
+/// the expanded polynomial carries at most 13 factors `1 + δ`,
+/// `|δ| <= 2^-53` (9 roundings and its at most four inputs) and the rounded
+/// value differs from the exact one by at most `γ_13 m < 2^-49 m` (Higham,
+/// Accuracy and Stability of Numerical Algorithms, 3.1); `m` itself is
+/// rounded down by at most a factor `(1 - 2^-53)^13`. The integers have at
+/// most [`WIDEST_BITS`] bits, so no product underflows or overflows, and
+/// every rounded value is an integer too (a double of magnitude at least
+/// 2^53 is one): a bound below 1/2 means the value is exact (an input that
+/// was rounded has a magnitude of at least 2^53, and so has every nonzero
+/// term it enters).
 #[derive(Clone, Copy, Debug)]
 struct Filtered {
     v: f64,
@@ -296,8 +323,8 @@ struct Filtered {
 const MAX_DEPTH: u32 = 9;
 
 impl Filtered {
-    /// An integer value (exact).
-    fn exact(v: f64) -> Self {
+    /// An input: an integer, rounded to a double.
+    fn input(v: f64) -> Self {
         Filtered { v, m: v.abs() }
     }
 }
@@ -563,88 +590,38 @@ const SMALL_BITS: i32 = 14;
 /// [`SMALL_BITS`]: `4 * 26 + 7 < 127`).
 const MEDIUM_BITS: i32 = 26;
 
-/// Magnitude bits up to which the sweep is exact, through [`Filtered`] and
-/// `I256` (`4 * 60 + 7 < 255`): every 32-bit integer volume at an integer
-/// or half-integer isovalue, and 24-bit float mantissas up to 2^36 apart.
+/// Magnitude bits up to which the sweep is exact in 256-bit integers
+/// (`4 * 60 + 7 < 255`): every 32-bit integer volume at an integer or
+/// half-integer isovalue, and 24-bit float mantissas up to 2^36 apart.
 const WIDE_BITS: i32 = 60;
+
+/// Magnitude bits up to which the sweep is exact in 512-bit integers
+/// (`4 * 124 + 7 < 511`).
+const WIDER_BITS: i32 = 124;
+
+/// Magnitude bits up to which the sweep is exact, in 1024-bit integers
+/// (`4 * 252 + 7 < 1023`), and up to which the [`Filtered`] sweep neither
+/// overflows nor underflows (`2^(4 * 248 + 7) < 2^1023`).
+const WIDEST_BITS: i32 = 248;
 
 /// The eight values as integers after scaling by a power of two, if they
 /// all are (with room for degree-four products in i128).
 #[cfg(test)]
 fn scaled_integers(g: &[f64; 8]) -> Option<[i128; 8]> {
-    let (scale, bits) = Span::of(g)?.upscaled();
+    let (scale, bits) = Span::of(*g)?.upscaled();
     (bits <= MEDIUM_BITS).then(|| g.map(|v| (v * scale) as i128))
-}
-
-/// Where the binary digits of a cell's finite values lie: each nonzero
-/// value is an odd integer times `2^e` with `e >= low`, and below `2^high`
-/// in magnitude (both 0 if all values are zero). Scaling by `2^-low` makes
-/// them integers of `high - low` bits.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Span {
-    low: i32,
-    high: i32,
-}
-
-impl Span {
-    /// The span of `g`, if all its values are finite.
-    fn of(g: &[f64; 8]) -> Option<Span> {
-        let (mut low, mut high) = (i32::MAX, i32::MIN);
-        for &v in g {
-            if v == 0.0 {
-                continue;
-            }
-            if !v.is_finite() {
-                return None;
-            }
-            let bits = v.to_bits();
-            let biased = ((bits >> 52) & 0x7ff) as i32;
-            let fraction = bits & ((1u64 << 52) - 1);
-            let (mantissa, exp) = if biased == 0 {
-                (fraction, -1074)
-            } else {
-                (fraction | (1u64 << 52), biased - 1075)
-            };
-            let tz = mantissa.trailing_zeros() as i32;
-            let odd_bits = 64 - (mantissa >> tz).leading_zeros() as i32;
-            low = low.min(exp + tz);
-            // Magnitude below 2^(exp + tz + odd_bits).
-            high = high.max(exp + tz + odd_bits);
-        }
-        Some(if low == i32::MAX {
-            Span { low: 0, high: 0 }
-        } else {
-            Span { low, high }
-        })
-    }
-
-    /// The power of two that makes all values integers, never below 1, and
-    /// the magnitude bits of the largest of those integers (at least 0):
-    /// what the `i64` and `i128` sweeps use.
-    fn upscaled(self) -> (f64, i32) {
-        let shift = (-self.low).max(0);
-        // A shift beyond the normal range gives more bits than any sweep takes.
-        (power_of_two(shift.min(1023)), self.high.max(0) + shift)
-    }
-
-    /// The power of two (up or down) that makes all values integers, if
-    /// they then have at most `bits` bits and it is a normal double.
-    fn integer_scale(self, bits: i32) -> Option<f64> {
-        let shift = -self.low;
-        (self.high - self.low <= bits && (-1022..=1023).contains(&shift))
-            .then(|| power_of_two(shift))
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::kernel::contour;
+    use crate::kernel::scale::power_of_two;
 
     /// The scale and bits of the `i64` and `i128` sweeps, if one of them
     /// takes the cell.
     fn integer_scale(g: &[f64; 8]) -> Option<(f64, i32)> {
-        Span::of(g)
+        Span::of(*g)
             .map(Span::upscaled)
             .filter(|&(_, bits)| bits <= MEDIUM_BITS)
     }
@@ -766,7 +743,7 @@ mod tests {
             if !tables.is_ambiguous[config as usize] {
                 continue;
             }
-            let joined = crate::kernel::cell::face_decisions(&g, config);
+            let joined = crate::kernel::cell::face_decisions(&g, None, config);
             let set = *tables.contour_set(config, joined);
             let mut every = 0;
             for (s, inside) in [true, false].into_iter().enumerate() {
@@ -787,11 +764,11 @@ mod tests {
                 },
             );
             let kept = interior_joins(&g, &set);
-            let wide = Span::of(&g).is_some_and(|s| s.integer_scale(WIDE_BITS).is_some());
+            let wide = Span::of(g).is_some_and(|s| s.integer_scale(WIDEST_BITS).is_some());
             if integer_scale(&g).is_some() || wide {
                 assert_eq!(kept, full, "{g:?}");
             } else if kept != full {
-                // Rounded sweeps (values beyond 60 bits apart) may find a
+                // Rounded sweeps (values beyond 248 bits apart) may find a
                 // join in a case 3 pair that rounding made: the table
                 // leaves those out, which is then the exact answer.
                 assert!(kept.is_none() && every & !set.tunnel_pairs != 0, "{g:?}");
@@ -815,7 +792,7 @@ mod tests {
         if !tables.is_ambiguous[config as usize] {
             return None;
         }
-        let joined = crate::kernel::cell::face_decisions(g, config);
+        let joined = crate::kernel::cell::face_decisions(g, None, config);
         interior_joins(g, tables.contour_set(config, joined))
     }
 
@@ -907,10 +884,13 @@ mod tests {
             if !tables.is_ambiguous[config as usize] {
                 continue;
             }
-            let set = tables.contour_set(config, crate::kernel::cell::face_decisions(&g, config));
+            let set = tables.contour_set(
+                config,
+                crate::kernel::cell::face_decisions(&g, None, config),
+            );
             let (pairs, labels) = (set.tunnel_pairs, &set.corner_comp);
             let expected = exact(sweep_both(&ints.map(I256::from), pairs, labels));
-            match sweep_both(&ints.map(|v| Filtered::exact(v as f64)), pairs, labels) {
+            match sweep_both(&ints.map(|v| Filtered::input(v as f64)), pairs, labels) {
                 Ok(join) => {
                     assert_eq!(join, expected, "filtered {ints:?}");
                     sure += 1;
@@ -923,29 +903,6 @@ mod tests {
         assert!(
             sure > 10_000 && doubts > 100 && joins > 1000,
             "{sure} sure, {doubts} in doubt, {joins} joins"
-        );
-    }
-
-    #[test]
-    fn span_finds_the_integer_scale_either_way() {
-        let span = |g: [f64; 2]| Span::of(&[g[0], g[1], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]).unwrap();
-        // 3 * 2^40 and 1: 42 bits at scale 1.
-        let s = span([3.0 * (1u64 << 40) as f64, -1.0]);
-        assert_eq!(s.integer_scale(WIDE_BITS), Some(1.0));
-        assert_eq!(s.upscaled(), (1.0, 42));
-        // 2^71 and 2^11: 61 bits after scaling down by 2^11, too many;
-        // 2^70 and 2^11: 60 bits.
-        let s = span([power_of_two(71), -power_of_two(11)]);
-        assert_eq!(s.integer_scale(WIDE_BITS), None);
-        let s = span([power_of_two(70), -power_of_two(11)]);
-        assert_eq!(s.integer_scale(WIDE_BITS), Some(power_of_two(-11)));
-        // 0.75 and 2^-50: 51 bits after scaling up by 2^50.
-        let s = span([0.75, power_of_two(-50)]);
-        assert_eq!(s.integer_scale(WIDE_BITS), Some(power_of_two(50)));
-        assert!(Span::of(&[f64::INFINITY; 8]).is_none());
-        assert_eq!(
-            Span::of(&[0.0; 8]).unwrap().integer_scale(WIDE_BITS),
-            Some(1.0)
         );
     }
 }

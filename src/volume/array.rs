@@ -22,6 +22,12 @@ pub trait Sample: Copy + PartialOrd + Send + Sync + 'static {
         let _ = (iso, above);
         Threshold::ViaF64
     }
+    /// Is `to_f64() - iso` exact in `f64` for every sample of this type?
+    /// Then the slab loop need not look for rounding in the differences.
+    /// The default says so only for `iso == 0`.
+    fn subtracts_exactly(iso: f64) -> bool {
+        iso == 0.0
+    }
 }
 
 /// A comparison with the isovalue, as [`Sample::threshold`] gives it.
@@ -39,9 +45,10 @@ pub enum Threshold<T> {
     Below(T),
 }
 
-/// `impl Sample`: `$threshold(iso, above)` gives [`Sample::threshold`].
+/// `impl Sample`: `$threshold(iso, above)` gives [`Sample::threshold`],
+/// `$exact(iso)` [`Sample::subtracts_exactly`].
 macro_rules! sample {
-    ($($t:ty => $v:ident, $threshold:expr;)*) => {$(
+    ($($t:ty => $v:ident, $threshold:expr, $exact:expr;)*) => {$(
         impl Sample for $t {
             #[inline]
             fn to_f64(self) -> f64 {
@@ -52,6 +59,9 @@ macro_rules! sample {
             }
             fn threshold(iso: f64, above: bool) -> Threshold<Self> {
                 $threshold(iso, above)
+            }
+            fn subtracts_exactly(iso: f64) -> bool {
+                $exact(iso)
             }
         }
     )*};
@@ -68,15 +78,40 @@ macro_rules! integer {
     };
 }
 
+/// Integers: exact for every value of the type (see
+/// [`integers_subtract_exactly`]).
+macro_rules! integer_exact {
+    ($t:ty) => {
+        |iso| integers_subtract_exactly(iso, f64::from(<$t>::MIN), f64::from(<$t>::MAX))
+    };
+}
+
 sample! {
-    u8 => U8, integer!(u8);
-    i8 => I8, integer!(i8);
-    u16 => U16, integer!(u16);
-    i16 => I16, integer!(i16);
-    u32 => U32, integer!(u32);
-    i32 => I32, integer!(i32);
-    f32 => F32, f32_threshold;
-    f64 => F64, |_, _| Threshold::ViaF64;
+    u8 => U8, integer!(u8), integer_exact!(u8);
+    i8 => I8, integer!(i8), integer_exact!(i8);
+    u16 => U16, integer!(u16), integer_exact!(u16);
+    i16 => I16, integer!(i16), integer_exact!(i16);
+    u32 => U32, integer!(u32), integer_exact!(u32);
+    i32 => I32, integer!(i32), integer_exact!(i32);
+    f32 => F32, f32_threshold, |iso| iso == 0.0;
+    f64 => F64, |_, _| Threshold::ViaF64, |iso| iso == 0.0;
+}
+
+/// Is `v - iso` exact in `f64` for every integer `v` in `[min, max]`? With
+/// `k` the fraction bits of `iso`, every difference is an integer times
+/// `2^-k` below `(max |v| + |iso|) 2^k` in magnitude, so it is exact when
+/// that bound is at most `2^53`.
+fn integers_subtract_exactly(iso: f64, min: f64, max: f64) -> bool {
+    if !iso.is_finite() {
+        return false;
+    }
+    let (mut scaled, mut k) = (iso, 0);
+    // Each doubling is exact and takes one fraction bit: at most 1074.
+    while scaled.fract() != 0.0 {
+        scaled *= 2.0;
+        k += 1;
+    }
+    (min.abs().max(max.abs()) + iso.abs()) * 2f64.powi(k) <= (1u64 << 53) as f64
 }
 
 impl<T> Threshold<T> {
@@ -309,6 +344,69 @@ impl<T: Sample> SampleSource for ArrayVolume<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn exact_subtraction_is_claimed_only_where_it_holds() {
+        use crate::kernel::wide::subtraction_residual;
+        let exact = |v: f64, iso: f64| subtraction_residual(v, iso, v - iso) == 0.0;
+        let isos = [
+            0.0,
+            500.0,
+            -3.5,
+            127.5,
+            0.25,
+            1.0 / 3.0,
+            0.1,
+            1e-300,
+            (1u64 << 40) as f64 + 0.5,
+            4e15,
+            2f64.powi(-30),
+        ];
+        let mut claimed = 0;
+        for iso in isos {
+            // Every value of the 8- and 16-bit types, the ends and a
+            // stride of the 32-bit ones.
+            let check = |claim: bool, values: &mut dyn Iterator<Item = f64>| {
+                if claim {
+                    for v in values {
+                        assert!(exact(v, iso), "{v} - {iso} claimed exact");
+                    }
+                }
+                usize::from(claim)
+            };
+            claimed += check(u8::subtracts_exactly(iso), &mut (0..=255).map(f64::from));
+            claimed += check(i8::subtracts_exactly(iso), &mut (-128..=127).map(f64::from));
+            claimed += check(u16::subtracts_exactly(iso), &mut (0..=65535).map(f64::from));
+            claimed += check(
+                i16::subtracts_exactly(iso),
+                &mut (-32768..=32767).map(f64::from),
+            );
+            let wide = |min: f64, max: f64| {
+                (0..=4096).map(move |k| min + (max - min) * f64::from(k) / 4096.0)
+            };
+            let (u, i) = (u32::MAX as f64, i32::MIN as f64);
+            claimed += check(
+                u32::subtracts_exactly(iso),
+                &mut wide(0.0, u).map(f64::floor),
+            );
+            claimed += check(
+                i32::subtracts_exactly(iso),
+                &mut wide(i, -i - 1.0).map(f64::floor),
+            );
+        }
+        // Integers and half-integers at any integer type, quarters too.
+        for t in [500.0, -3.5, 127.5, 0.25] {
+            assert!(u8::subtracts_exactly(t) && i32::subtracts_exactly(t), "{t}");
+        }
+        for t in [1.0 / 3.0, 0.1, 1e-300] {
+            assert!(
+                !u8::subtracts_exactly(t) && !f32::subtracts_exactly(t),
+                "{t}"
+            );
+        }
+        assert!(f32::subtracts_exactly(0.0) && f64::subtracts_exactly(0.0));
+        assert!(claimed > 20, "{claimed}");
+    }
 
     #[test]
     fn narrow_samples_read_as_their_f64_values() {

@@ -176,9 +176,9 @@ impl Level {
         for (r, &v) in out.iter_mut().zip(&values) {
             let d = v - self.iso;
             let rest = subtraction_residual(v, self.iso, d) * self.sign;
-            // NaN (from NaN or infinite values) fails the test. Below
-            // `f64::MAX / 4`, the residual of finite values is finite.
-            *r = if d.abs() < f64::MAX / 4.0 { rest } else { 0.0 };
+            // NaN (from NaN or infinite values) fails the test. Up to
+            // `f64::MAX / 4` (not clamped), the residual is finite.
+            *r = if d.abs() <= f64::MAX / 4.0 { rest } else { 0.0 };
         }
         out
     }

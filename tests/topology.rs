@@ -401,6 +401,78 @@ fn rounded_differences_are_decided_exactly() {
     assert!(tunnels > 20, "only {tunnels} tunnels");
 }
 
+/// A face whose exact values are too far apart for wide integers (a
+/// clamped infinity next to ordinary values), or whose own corners are
+/// exact while the rest of the cell is not, must be decided alike by the two
+/// cells that share it (a review found both disagreeing, which cracked the
+/// mesh). Three 3x2x2 volumes whose middle face is shared, then random ones.
+#[test]
+fn shared_faces_are_decided_alike_at_any_isovalue() {
+    let inf = f64::INFINITY;
+    // The shared face x = 1 in the order (y, z) = (0,0), (1,0), (1,1), (0,1),
+    // and the other corners of the cells at x = 0 and x = 2.
+    let volume = |face: [f64; 4], left: [f64; 4], right: [f64; 4]| {
+        let mut v = [0.0; 12];
+        for (k, (y, z)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
+            v[1 + 3 * (y + 2 * z)] = face[k];
+            v[3 * (y + 2 * z)] = left[k];
+            v[2 + 3 * (y + 2 * z)] = right[k];
+        }
+        v
+    };
+    let cases = [
+        (volume([1.0, -0.8, inf, -inf], [-1.0; 4], [-1.0; 4]), 0.1),
+        (volume([2.0, -1.0, 2.0, -4.0], [-1.0; 4], [-1.0; 4]), 1e-300),
+        (
+            volume(
+                [inf, -inf, 0.25 + 2f64.powi(-54), 0.25 - 2f64.powi(-55)],
+                [2f64.powi(53), 0.0, 0.0, 0.0],
+                [0.0; 4],
+            ),
+            0.25,
+        ),
+    ];
+    for (values, iso) in cases {
+        let (mesh, _) = run([3, 2, 2], &values, iso, true, Method::Tmc);
+        let report = check_mesh(&mesh);
+        assert!(
+            report.is_closed_manifold(),
+            "iso {iso} {values:?}: {report:?}"
+        );
+    }
+    // As int32 samples (typed, so the residuals come from the type's test).
+    let ints: Vec<i32> = cases[1].0.iter().map(|&v| v as i32).collect();
+    let vol = ArrayVolume::new(Grid::unit([3, 2, 2]), ints).expect("volume");
+    let params = ExtractParams {
+        iso: 1e-300,
+        close: true,
+        threads: 1,
+        ..Default::default()
+    };
+    let report = check_mesh(&extract(&vol, &params).expect("extract").0);
+    assert!(report.is_closed_manifold(), "int32: {report:?}");
+    let mut rng = Pcg64::seed_from_u64(19);
+    for trial in 0..600 {
+        let n: [usize; 3] = std::array::from_fn(|_| rng.gen_range(2..=5));
+        let iso = [0.1, 0.25, 1e-300, 1.0 / 3.0][trial % 4];
+        let values: Vec<f64> = (0..n.iter().product::<usize>())
+            .map(|_| match rng.gen_range(0..8) {
+                0 => inf,
+                1 => -inf,
+                2 => iso + rng.gen_range(-2..=2) as f64 * 2f64.powi(-54),
+                3 => 2f64.powi(53) * rng.gen_range(-1..=1) as f64,
+                _ => rng.gen_range(-4..=4) as f64 * 0.1,
+            })
+            .collect();
+        let (mesh, _) = run(n, &values, iso, true, Method::Tmc);
+        let report = check_mesh(&mesh);
+        assert!(
+            report.is_closed_manifold(),
+            "trial {trial}, iso {iso}: {report:?}\n  dims {n:?} values {values:?}"
+        );
+    }
+}
+
 /// Infinite samples (and the largest doubles) next to ordinary ones: the
 /// mesh stays a closed, consistently oriented manifold.
 #[test]

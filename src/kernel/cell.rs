@@ -108,27 +108,38 @@ pub fn face_decisions(g: &[f64; 8], residual: Option<&[f64; 8]>, config: u8) -> 
 }
 
 /// [`face_decisions`] on the `ambiguous` faces of a cell whose values
-/// `g + residual` were rounded: a face whose four corners are exact is
-/// decided as in a cell without residuals, the others by the sign of
-/// `d` in exact arithmetic (see [`super::decider::residual_det2_sign`]).
+/// `g + residual` were rounded: by the sign of `d` in exact arithmetic (see
+/// [`residual_det2_sign`]), except on faces whose four corners are exact
+/// or whose values are too far apart for it, which are decided as in a
+/// cell without residuals (so that the cell sharing the face, which may
+/// have none, decides alike).
 #[cold]
 #[inline(never)]
 fn residual_decisions(g: &[f64; 8], residual: &[f64; 8], config: u8, ambiguous: u8) -> u8 {
     let mut joined = 0u8;
+    let mut rounded = None;
     for (f, q) in FACE_CORNERS.iter().enumerate() {
         if ambiguous >> f & 1 == 0 {
             continue;
         }
         let (v, r) = (q.map(|c| g[c]), q.map(|c| residual[c]));
-        let inside_joined = if r == [0.0; 4] {
-            exact_decisions(g, 1 << f) != 0
+        let sign = if r == [0.0; 4] {
+            None
         } else {
-            // Joined iff the sign of d is that of corner 0's value.
-            let first_inside = config >> q[0] & 1 == 1;
-            let sign = residual_det2_sign(v, r);
-            sign == if first_inside { Greater } else { Less }
+            residual_det2_sign(v, r)
         };
-        joined |= u8::from(inside_joined) << f;
+        let face_joined = match sign {
+            // Joined iff the sign of d is that of corner 0's value.
+            Some(sign) => {
+                sign == if config >> q[0] & 1 == 1 {
+                    Greater
+                } else {
+                    Less
+                }
+            }
+            None => *rounded.get_or_insert_with(|| face_decisions(g, None, config)) >> f & 1 == 1,
+        };
+        joined |= u8::from(face_joined) << f;
     }
     joined
 }

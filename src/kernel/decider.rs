@@ -39,32 +39,34 @@ pub fn det2_sign(p: f64, q: f64, r: f64, s: f64) -> Ordering {
     (f + e).partial_cmp(&0.0).unwrap_or(Ordering::Equal)
 }
 
-/// Sign of `(p + rp)(q + rq) - (r + rr)(s + rs)` for the values `v = [p,
-/// q, r, s]` and their residuals `rest` (`|rest[i]| <= 2^-53 |v[i]|`, what
-/// rounding `v` left out), exact for finite inputs.
+/// Sign of `(v0 + r0)(v2 + r2) - (v1 + r1)(v3 + r3)` for the values `v` of
+/// a face (in its corner order) and their residuals `r` (`|r[i]| <= 2^-53
+/// |v[i]|`, what rounding `v` left out), exact for finite inputs; `None`
+/// if the values span more than 508 bits (as clamped infinities do), where
+/// the caller keeps the answer it gives without residuals.
 ///
-/// First the rounded `p q - r s`, whose error is below `2^-48 (|p q| +
-/// |r s|)` when those products neither overflow nor come near underflow;
-/// only a difference within that bound is redone in integers of 256, 512
-/// or 1024 bits (see [`super::wide`]; `|e| < 2^(bits + 1)`, so products
-/// and their difference fit). Values spanning more than 508 bits
-/// keep the rounded answer on `v`.
-pub fn residual_det2_sign(v: [f64; 4], rest: [f64; 4]) -> Ordering {
-    let (pq, rs) = (v[0] * v[2], v[1] * v[3]);
-    let d = pq - rs;
-    let size = pq.abs() + rs.abs();
+/// First the rounded `v0 v2 - v1 v3`, whose error is below `2^-48 (|v0 v2|
+/// + |v1 v3|)` when those products neither overflow nor come near
+/// underflow; only a difference within that bound is redone in integers of
+/// 256, 512 or 1024 bits (see [`super::wide`]; `|e| < 2^(bits + 1)`, so
+/// products and their difference fit). Symmetric under the reflection
+/// `[v0, v3, v2, v1]` in which the neighbouring cell sees the face.
+pub fn residual_det2_sign(v: [f64; 4], r: [f64; 4]) -> Option<Ordering> {
+    let (diagonal, other) = (v[0] * v[2], v[1] * v[3]);
+    let d = diagonal - other;
+    let size = diagonal.abs() + other.abs();
     const BOUND: f64 = 1.0 / (1u64 << 48) as f64;
     const TINY: f64 = f64::from_bits((1023 - 800) << 52); // 2^-800
     if d.abs() > size * BOUND && size > TINY && size.is_finite() {
-        return d.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+        return d.partial_cmp(&0.0);
     }
-    exact_det2_sign(v, rest)
+    exact_det2_sign(v, r)
 }
 
 /// [`residual_det2_sign`] in integers.
 #[cold]
 #[inline(never)]
-fn exact_det2_sign(v: [f64; 4], rest: [f64; 4]) -> Ordering {
+fn exact_det2_sign(v: [f64; 4], r: [f64; 4]) -> Option<Ordering> {
     fn sign<T: WideInt + Ord + std::ops::Mul<Output = T>>(
         high: &[f64; 4],
         low: &[f64; 4],
@@ -72,17 +74,14 @@ fn exact_det2_sign(v: [f64; 4], rest: [f64; 4]) -> Ordering {
         let e: [T; 4] = integers(high, low);
         (e[0] * e[2]).cmp(&(e[1] * e[3]))
     }
-    let span = Span::of(v.iter().chain(&rest).copied());
-    let Some((span, scale)) = span.and_then(|s| Some((s, s.integer_scale(508)?))) else {
-        let [p, q, r, s] = v;
-        return det2_sign(p, q, r, s);
-    };
-    let (high, low) = (v.map(|x| x * scale), rest.map(|x| x * scale));
-    match span.bits() {
+    let span = Span::of(v.iter().chain(&r).copied())?;
+    let scale = span.integer_scale(508)?;
+    let (high, low) = (v.map(|x| x * scale), r.map(|x| x * scale));
+    Some(match span.bits() {
         bits if bits <= 125 => sign::<I256>(&high, &low),
         bits if bits <= 252 => sign::<I512>(&high, &low),
         _ => sign::<I1024>(&high, &low),
-    }
+    })
 }
 
 /// Are the inside corners `a`, `c` of an ambiguous face joined across it?
@@ -160,7 +159,7 @@ mod tests {
                             super::super::wide::subtraction_residual(v[i] as f64, iso, g[i])
                         });
                         let expected = tie_break.cmp(&0);
-                        assert_eq!(residual_det2_sign(g, rest), expected, "{v:?}");
+                        assert_eq!(residual_det2_sign(g, rest), Some(expected), "{v:?}");
                         rounded_wrong += usize::from(det2_sign(g[0], g[2], g[1], g[3]) != expected);
                     }
                 }
@@ -200,7 +199,39 @@ mod tests {
                 .zip(&g)
                 .all(|(r, v)| r.abs() <= v.abs() * f64::EPSILON));
             let (g, rest) = (g.map(|x| x * scale), rest.map(|x| x * scale));
-            assert_eq!(residual_det2_sign(g, rest), exact, "{e:?}");
+            assert_eq!(residual_det2_sign(g, rest), Some(exact), "{e:?}");
+        }
+    }
+
+    #[test]
+    fn residual_sign_is_the_same_for_both_cells_of_a_face() {
+        // The neighbouring cell sees the face reflected, [v0, v3, v2, v1]:
+        // the same sign; rotated by one corner the determinant changes sign.
+        // Values of every magnitude, clamped infinities included (there the
+        // answer is left to the caller, for both alike).
+        let mut next = crate::kernel::xorshift(0x0ddc_0ffe_e15e_a5e5u64);
+        let pick = |r: u64| match r % 6 {
+            0 => f64::MAX / 4.0,
+            1 => 1e-300,
+            2 => 0.25,
+            3 => 3.0,
+            4 => 2f64.powi(53),
+            _ => (r >> 8) as f64 / (1u64 << 52) as f64,
+        };
+        for _ in 0..100_000 {
+            let v: [f64; 4] = std::array::from_fn(|_| {
+                let r = next();
+                pick(r) * if r >> 63 == 1 { -1.0 } else { 1.0 }
+            });
+            let r: [f64; 4] = std::array::from_fn(|i| {
+                let frac = (next() % 2049) as f64 / 2048.0 - 0.5;
+                v[i] * f64::EPSILON / 2.0 * frac
+            });
+            let sign = residual_det2_sign(v, r);
+            let reflected = residual_det2_sign([v[0], v[3], v[2], v[1]], [r[0], r[3], r[2], r[1]]);
+            assert_eq!(sign, reflected, "{v:?} {r:?}");
+            let rotated = residual_det2_sign([v[1], v[2], v[3], v[0]], [r[1], r[2], r[3], r[0]]);
+            assert_eq!(sign.map(Ordering::reverse), rotated, "{v:?} {r:?}");
         }
     }
 

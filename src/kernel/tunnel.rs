@@ -299,28 +299,29 @@ plain_num!(f64, 0.0, 1.0, 2.0, 4.0);
 /// An `f64` computed from integer values by `+`, `-` and `*`, with the
 /// same expression evaluated on the magnitudes (`m`, each product's and
 /// sum's terms taken positive). Each input is an integer rounded to a
-/// double (exact unless it needs more than 53 bits), and the sweep's
-/// expressions are at most [`MAX_DEPTH`] roundings deep, so each term of
-/// the expanded polynomial carries at most 13 factors `1 + δ`,
-/// `|δ| <= 2^-53` (9 roundings and its at most four inputs) and the rounded
-/// value differs from the exact one by at most `γ_13 m < 2^-49 m` (Higham,
-/// Accuracy and Stability of Numerical Algorithms, 3.1); `m` itself is
-/// rounded down by at most a factor `(1 - 2^-53)^13`. The integers have at
-/// most [`WIDEST_BITS`] bits, so no product underflows or overflows, and
-/// every rounded value is an integer too (a double of magnitude at least
-/// 2^53 is one): a bound below 1/2 means the value is exact (an input that
-/// was rounded has a magnitude of at least 2^53, and so has every nonzero
-/// term it enters).
+/// double (exact unless it needs more than 53 bits). In the expanded
+/// polynomial each term carries one factor `1 + δ`, `|δ| <= 2^-53`, per
+/// rounding it went through and per rounded input in it: a product's terms
+/// carry the factors of both operands. That is at most [`MAX_ROUNDINGS`]
+/// factors, so the rounded value differs from the exact one by at most
+/// `γ_16 m`, about `2^-49 m` (Higham, Accuracy and Stability of Numerical
+/// Algorithms, 3.1); `m` itself is rounded down by at most a factor
+/// `(1 - 2^-53)^16`. The integers have at most [`WIDEST_BITS`] bits, so no
+/// product underflows or overflows, and every rounded value is an integer
+/// too (a double of magnitude at least 2^53 is one): a bound below 1/2
+/// means the value is exact (an input that was rounded has a magnitude of
+/// at least 2^53, and so has every nonzero term it enters).
 #[derive(Clone, Copy, Debug)]
 struct Filtered {
     v: f64,
     m: f64,
 }
 
-/// The deepest chain of roundings in the sweep: `value_at`'s
-/// `qb * p * q` (`qb` is five roundings deep: a difference of values, a
-/// product and three sums) and the two sums after it.
-const MAX_DEPTH: u32 = 9;
+/// The most factors `1 + δ` a term of the sweep carries: `qb * qb - 4 qa
+/// qc` (`qb` is five roundings deep: a difference of values, a product and
+/// three sums; squared and subtracted, 12) with its four rounded inputs.
+/// `value_at`'s `qb p q` and the sums after it carry at most 15.
+const MAX_ROUNDINGS: u32 = 16;
 
 impl Filtered {
     /// An input: an integer, rounded to a double.
@@ -382,12 +383,12 @@ impl Num for Filtered {
     const FOUR: Self = Filtered { v: 4.0, m: 4.0 };
 
     /// The rounded comparison, sure when the values are further apart than
-    /// their error bounds (`2^-46 m`, 8 times what [`Filtered`] proves, which
-    /// covers this test's own roundings), or when the bounds are below 1/2
-    /// (then both values are exact).
+    /// their error bounds (`2^-46 m`, about 8 times what [`Filtered`] proves,
+    /// which covers this test's own roundings), or when the bounds are
+    /// below 1/2 (then both values are exact).
     #[inline(always)]
     fn below(self, o: Self, or_equal: bool) -> Maybe {
-        const _: () = assert!(MAX_DEPTH <= 9, "the error bound assumes 9 roundings");
+        const _: () = assert!(MAX_ROUNDINGS <= 16, "the error bound assumes 16 factors");
         const ERROR: f64 = 1.0 / (1u64 << 46) as f64;
         let bound = (self.m + o.m) * ERROR;
         Maybe {

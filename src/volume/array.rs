@@ -99,8 +99,8 @@ sample! {
 
 /// Is `v - iso` exact in `f64` for every integer `v` in `[min, max]`? With
 /// `k` the fraction bits of `iso`, every difference is an integer times
-/// `2^-k` below `(max |v| + |iso|) 2^k` in magnitude, so it is exact when
-/// that bound is at most `2^53`.
+/// `2^-k` of magnitude at most `(max |v| + |iso|) 2^k`, so it is exact when
+/// that bound (as rounded) is below `2^53`.
 fn integers_subtract_exactly(iso: f64, min: f64, max: f64) -> bool {
     if !iso.is_finite() {
         return false;
@@ -111,7 +111,8 @@ fn integers_subtract_exactly(iso: f64, min: f64, max: f64) -> bool {
         scaled *= 2.0;
         k += 1;
     }
-    (min.abs().max(max.abs()) + iso.abs()) * 2f64.powi(k) <= (1u64 << 53) as f64
+    // `<`, not `<=`: a sum that rounds down to 2^53 is above it.
+    (min.abs().max(max.abs()) + iso.abs()) * 2f64.powi(k) < (1u64 << 53) as f64
 }
 
 impl<T> Threshold<T> {
@@ -361,6 +362,11 @@ mod tests {
             (1u64 << 40) as f64 + 0.5,
             4e15,
             2f64.powi(-30),
+            // MIN - iso rounds while the bound rounds down to 2^53 (i32,
+            // i16, i8): a review found them claimed exact.
+            2f64.powi(-22),
+            2f64.powi(-38),
+            2f64.powi(-46),
         ];
         let mut claimed = 0;
         for iso in isos {

@@ -76,7 +76,7 @@ fn exact_det2_sign(v: [f64; 4], r: [f64; 4]) -> Option<Ordering> {
     }
     let span = Span::of(v.iter().chain(&r).copied())?;
     let scale = span.integer_scale(508)?;
-    let (high, low) = (v.map(|x| x * scale), r.map(|x| x * scale));
+    let (high, low) = (v.map(|x| scale.apply(x)), r.map(|x| scale.apply(x)));
     Some(match span.bits() {
         bits if bits <= 125 => sign::<I256>(&high, &low),
         bits if bits <= 252 => sign::<I512>(&high, &low),

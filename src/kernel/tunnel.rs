@@ -101,7 +101,7 @@ fn wide_joins(g: &[f64; 8], residual: &[f64; 8], pairs: u8, labels: &[u8; 8]) ->
     let Some((span, scale)) = span.and_then(|s| Some((s, s.integer_scale(WIDEST_BITS)?))) else {
         return exact(sweep_both(&normalized(g), pairs, labels));
     };
-    let (high, low) = (g.map(|v| v * scale), residual.map(|v| v * scale));
+    let (high, low) = (g.map(|v| scale.apply(v)), residual.map(|v| scale.apply(v)));
     match sweep_both(&high.map(Filtered::input), pairs, labels) {
         Ok(join) => join,
         Err(Doubt) => match span.bits() {

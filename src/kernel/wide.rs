@@ -57,11 +57,17 @@ impl Span {
     }
 
     /// The power of two (up or down) that makes all values integers, if
-    /// they then have at most `bits` bits and it is a normal double.
-    pub(super) fn integer_scale(self, bits: i32) -> Option<f64> {
+    /// they then have at most `bits` bits (at most about 1000).
+    pub(super) fn integer_scale(self, bits: i32) -> Option<Scale> {
         let shift = -self.low;
-        (self.high - self.low <= bits && (-1022..=1023).contains(&shift))
-            .then(|| super::scale::power_of_two(shift))
+        let (first, second) = (shift / 2, shift - shift / 2);
+        let normal = -1022..=1023;
+        (self.high - self.low <= bits && normal.contains(&first) && normal.contains(&second)).then(
+            || Scale {
+                first: super::scale::power_of_two(first),
+                second: super::scale::power_of_two(second),
+            },
+        )
     }
 
     /// The power of two that makes all values integers, never below 1, and
@@ -79,6 +85,25 @@ impl Span {
     /// Bits of the integers [`Span::integer_scale`] makes.
     pub(super) fn bits(self) -> i32 {
         self.high - self.low
+    }
+}
+
+/// A power of two as two normal factors, applied one after the other, so
+/// that values whose lowest bits lie below `2^-1022` (subnormal residuals,
+/// cells of tiny values) still scale to integers. Exact for the values of
+/// the span it was made for: every intermediate keeps their lowest bit at
+/// `2^-1074` or above, and their magnitude below `2^1024`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Scale {
+    first: f64,
+    second: f64,
+}
+
+impl Scale {
+    /// `v` times the power of two.
+    #[inline]
+    pub(super) fn apply(self, v: f64) -> f64 {
+        v * self.first * self.second
     }
 }
 
@@ -136,20 +161,38 @@ mod tests {
     fn span_finds_the_integer_scale_either_way() {
         let span = |g: [f64; 2]| Span::of(g).unwrap();
         // 3 * 2^40 and 1: 42 bits at scale 1.
+        let scaled = |s: Span, v: f64| s.integer_scale(60).map(|k| k.apply(v));
         let s = span([3.0 * (1u64 << 40) as f64, -1.0]);
-        assert_eq!(s.integer_scale(60), Some(1.0));
+        assert_eq!(scaled(s, 1.0), Some(1.0));
         assert_eq!(s.bits(), 42);
         // 2^71 and 2^11: 61 bits after scaling down by 2^11, too many;
         // 2^70 and 2^11: 60 bits.
         let s = span([power_of_two(71), -power_of_two(11)]);
         assert_eq!(s.integer_scale(60), None);
         let s = span([power_of_two(70), -power_of_two(11)]);
-        assert_eq!(s.integer_scale(60), Some(power_of_two(-11)));
+        assert_eq!(scaled(s, 1.0), Some(power_of_two(-11)));
         // 0.75 and 2^-50: 51 bits after scaling up by 2^50.
         let s = span([0.75, power_of_two(-50)]);
-        assert_eq!(s.integer_scale(60), Some(power_of_two(50)));
+        assert_eq!(scaled(s, 1.0), Some(power_of_two(50)));
         assert!(Span::of([f64::INFINITY; 8]).is_none());
-        assert_eq!(Span::of([0.0; 8]).unwrap().integer_scale(60), Some(1.0));
+        assert_eq!(scaled(Span::of([0.0; 8]).unwrap(), 1.0), Some(1.0));
+        // Below 2^-1022: 3 * 2^-1010 and the smallest subnormal scale to
+        // 3 * 2^64 and 1 (a scale of 2^1074, beyond a double, in two steps).
+        let tiny = f64::from_bits(1);
+        let s = span([3.0 * power_of_two(-1010), tiny]);
+        assert_eq!(scaled(s, tiny), None);
+        let k = s.integer_scale(70).unwrap();
+        assert_eq!(
+            (k.apply(tiny), k.apply(3.0 * power_of_two(-1010))),
+            (1.0, 3.0 * power_of_two(64))
+        );
+        // And down from near the largest double: 2^1000 + 2^960 to 2^40 + 1.
+        let s = span([power_of_two(1000) + power_of_two(960), power_of_two(990)]);
+        let k = s.integer_scale(60).unwrap();
+        assert_eq!(
+            k.apply(power_of_two(1000) + power_of_two(960)),
+            power_of_two(40) + 1.0
+        );
     }
 
     #[test]

@@ -204,8 +204,8 @@ pub enum Triangles {
 /// positions on `g`.
 ///
 /// Values of any magnitude are taken. The face decisions are made on `g`
-/// itself, each a function of the face's four values only, so that the two
-/// cells sharing a face always agree; the rest of the kernel works on the
+/// itself (and the residual), each a function of the face's four values
+/// only, so that the two cells sharing a face always agree; the rest of the kernel works on the
 /// cell's values scaled by a power of two when their largest magnitude lies
 /// outside about `[2^-200, 2^197]`.
 pub fn triangulate_ambiguous(

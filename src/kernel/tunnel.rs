@@ -23,11 +23,14 @@
 //! those are integers of at most 248 bits after scaling by a
 //! common power of two: cells of integers (no residual) in `i64` up to 14
 //! bits and in `i128` up to 26; beyond that, and for every cell with a
-//! residual, in `f64` with an error bound (`Filtered`), redone in 256-,
-//! 512- or 1024-bit integers only where a sign is in doubt. Cells whose
+//! residual, in `f64`: on the values scaled to a unit range with one fixed
+//! error bound (`Unit`, which settles nearly every float cell), then with
+//! an error bound carried along (`Filtered`), then in 256-, 512- or
+//! 1024-bit integers, each only where the one before was in doubt. Cells whose
 //! values span more bits (values more than about 2^195 apart, far beyond
-//! any float32 volume at a normal isovalue) keep the plain `f64` answer on
-//! the rounded values, which can misjudge near-ties.
+//! any float32 volume at a normal isovalue) are exact where `Unit` is sure
+//! (its bound does not depend on the span) and otherwise keep the plain
+//! `f64` answer on the rounded values, which can misjudge near-ties.
 
 use super::contour::ContourSet;
 use super::scale::normalized;
@@ -65,12 +68,18 @@ pub fn labelled_joins(
     if pairs == 0 {
         return None;
     }
+    if residual.is_none() {
+        if let Some(ints) = small_integers(g) {
+            // Every 8- and 16-bit volume at an integer isovalue: no scaling.
+            return exact(sweep_both(&ints, pairs, labels));
+        }
+    }
+    // Float data: nearly always settled here, without the wider arithmetic.
+    if let Some(join) = unit_joins(g, pairs, labels) {
+        return join;
+    }
     if let Some(residual) = residual {
         return wide_joins(g, residual, pairs, labels);
-    }
-    if let Some(ints) = small_integers(g) {
-        // Every 8- and 16-bit volume at an integer isovalue: no scaling.
-        return exact(sweep_both(&ints, pairs, labels));
     }
     let Some(span) = Span::of(*g) else {
         // Infinite values: rounded.
@@ -88,6 +97,36 @@ pub fn labelled_joins(
         )),
         _ => wide_joins(g, &[0.0; 8], pairs, labels),
     }
+}
+
+/// [`labelled_joins`] by a plain `f64` sweep on the values scaled by the
+/// power of two that brings the sum of their magnitudes into `[1, 2)`, if
+/// that sweep is sure of every sign it takes (see [`Unit`]); `None` if it
+/// is not, or if the values do not scale so (infinities, NaN, sums below
+/// 2^-1022 or from 2^1023, a value that scaling would flush to zero).
+///
+/// `g` may have a residual (`g + r` exact, `|r| <= 2^-53 |g|`): the bound
+/// of [`Unit`] covers it as a rounding of the input, so it is not read.
+#[inline(never)]
+fn unit_joins(g: &[f64; 8], pairs: u8, labels: &[u8; 8]) -> Option<Option<Join>> {
+    let sum = g.iter().fold(0.0, |s, v| s + v.abs());
+    // The biased exponent of the (non-negative) sum: 1..=2045 is a normal
+    // sum below 2^1023, whose scale 2^(1023 - e) is a normal double too.
+    let e = (sum.to_bits() >> 52) as i64;
+    if !(1..=2045).contains(&e) {
+        return None;
+    }
+    let scale = f64::from_bits(((2046 - e) as u64) << 52);
+    let h = g.map(|v| v * scale);
+    // Scaling down can flush a tiny value to zero, which changes its sign.
+    let kept = g
+        .iter()
+        .zip(&h)
+        .fold(true, |k, (a, b)| k & ((*a == 0.0) == (*b == 0.0)));
+    if !kept {
+        return None;
+    }
+    sweep_both(&h.map(Unit), pairs, labels).ok()
 }
 
 /// [`labelled_joins`] for the exact values `g + residual` of a cell with a
@@ -148,7 +187,8 @@ fn sweep_both<T: Num>(h: &[T; 8], pairs: u8, labels: &[u8; 8]) -> Result<Option<
             // are), as `may_join` chose it. (The signs of the values
             // themselves are never in doubt.)
             let corner = |e: usize| {
-                is_in(region[e], closed)
+                region[e]
+                    .input_in(closed)
                     .decided()
                     .map(|i| if i { e } else { e + 4 })
             };
@@ -250,6 +290,12 @@ trait Num:
     fn below(self, other: Self, or_equal: bool) -> Self::Bool;
     /// `x` if `c`, else `y`, without a branch.
     fn select(c: Self::Bool, x: Self, y: Self) -> Self;
+    /// [`is_in`] of one of the sweep's inputs (a cell value, or its
+    /// negation), whose sign is never in doubt.
+    #[inline(always)]
+    fn input_in(self, closed: bool) -> Self::Bool {
+        is_in(self, closed)
+    }
 }
 
 /// The truth values of comparisons, combined without branches.
@@ -410,6 +456,100 @@ impl Num for Filtered {
     }
 }
 
+/// An `f64` of a sweep whose inputs are the cell's values scaled so that
+/// their magnitudes sum to less than 2. Every quantity the sweep compares
+/// is then a polynomial whose terms, taken positive, sum to at most 2^11
+/// (the largest, `qb^2 - 4 qa qc`: `|qb| <= 32`, `|qa| <= 32`, `|qc| <= 8`,
+/// as `|h| < 2` and `|h' - h| < 4`; `value_at` is at most 512, the fraction
+/// comparisons at most 256). With at most [`MAX_ROUNDINGS`] factors `1 +
+/// δ` per term (an input's residual is one), its rounding error is below
+/// `γ_16 2^11 < 2^-37`, plus what underflow adds, in the products or where
+/// scaling made an input subnormal (far below 2^-1000). The bound is
+/// absolute, so it holds however far apart the values are (no span limit
+/// as in the integer sweeps). So a comparison whose two sides differ by more
+/// than [`UNIT_DOUBT`] = 2^-32 has the exact sign; closer ones are in
+/// doubt, and the cell goes to the exact sweeps. Unlike [`Filtered`], no
+/// bound is carried along: the check is one subtraction per comparison.
+#[derive(Clone, Copy, Debug)]
+struct Unit(f64);
+
+/// How far apart two [`Unit`] values must be for their order to be sure.
+const UNIT_DOUBT: f64 = 1.0 / (1u64 << 32) as f64;
+
+impl Add for Unit {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Unit(self.0 + o.0)
+    }
+}
+
+impl Sub for Unit {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Unit(self.0 - o.0)
+    }
+}
+
+impl Mul for Unit {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        Unit(self.0 * o.0)
+    }
+}
+
+impl Neg for Unit {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Unit(-self.0)
+    }
+}
+
+impl Num for Unit {
+    type Bool = Maybe;
+    type Doubt = Doubt;
+    const ZERO: Self = Unit(0.0);
+    const ONE: Self = Unit(1.0);
+    const TWO: Self = Unit(2.0);
+    const FOUR: Self = Unit(4.0);
+
+    #[inline(always)]
+    fn below(self, o: Self, or_equal: bool) -> Maybe {
+        Maybe {
+            value: (self.0 < o.0) | (or_equal & (self.0 == o.0)),
+            sure: (self.0 - o.0).abs() > UNIT_DOUBT,
+        }
+    }
+
+    /// A choice in doubt gives NaN, which every comparison it enters
+    /// leaves in doubt, unless both candidates came out as the same number:
+    /// then that number is the computed value of the right one, whose bound
+    /// holds. (Equal fractions such as two ranges that both start at
+    /// `t = 0` are common, and their order is never sure here.)
+    #[inline(always)]
+    fn select(c: Maybe, x: Self, y: Self) -> Self {
+        let chosen = select_unpredictable(c.value, x, y);
+        Unit(select_unpredictable(
+            c.sure | (x.0 == y.0),
+            chosen.0,
+            f64::NAN,
+        ))
+    }
+
+    /// Sure: scaling kept every input's sign (see [`unit_joins`]), and a
+    /// residual never changes one (`|r| < |g|`, and `r = 0` when `g = 0`).
+    #[inline(always)]
+    fn input_in(self, closed: bool) -> Maybe {
+        Maybe {
+            value: is_in(self.0, closed),
+            sure: true,
+        }
+    }
+}
+
 /// A sign of [`Filtered`] values that was in doubt: the sweep must be
 /// redone exactly.
 #[derive(Debug)]
@@ -541,8 +681,8 @@ fn range<T: Num>(bottom: T, top: T, closed: bool) -> (Frac<T>, Frac<T>) {
         q: top - bottom,
     };
     (
-        pick(is_in(bottom, closed), zero, enters),
-        pick(is_in(top, closed), one, leaves),
+        pick(bottom.input_in(closed), zero, enters),
+        pick(top.input_in(closed), one, leaves),
     )
 }
 
@@ -905,5 +1045,81 @@ mod tests {
             sure > 10_000 && doubts > 100 && joins > 1000,
             "{sure} sure, {doubts} in doubt, {joins} joins"
         );
+    }
+
+    #[test]
+    fn unit_sweep_is_right_where_it_is_sure() {
+        // Integers of up to 60 bits (rounded to doubles, with what rounding
+        // left as the residual the bound must cover), near-ties (multiples of
+        // a small cell nudged by one on some corners) and exact ties, scaled
+        // by powers of two: where the unit sweep is sure, it agrees with the
+        // sweep in 256-bit integers on the exact values.
+        let mut next = crate::kernel::xorshift(0x6a09_e667_f3bc_c909u64);
+        let tables = crate::kernel::tables::tables();
+        let (mut sure, mut doubts, mut joins, mut rounded) = (0, 0, 0, 0);
+        for round in 0..300_000u64 {
+            let ints: [i64; 8] = match round % 4 {
+                0 => std::array::from_fn(|_| (next() % (1 << 32)) as i64 - (1 << 31)),
+                1 => std::array::from_fn(|_| {
+                    let m = (next() % (1 << 60)) as i64 - (1 << 59);
+                    m >> (next() % 50)
+                }),
+                2 => {
+                    let factor = (next() % (1 << 48)) as i64 | 1;
+                    small_cell(&mut next, 3)
+                        .map(|v| v * factor + (next() % 5) as i64 / 3 - (next() % 5) as i64 / 3)
+                }
+                _ => small_cell(&mut next, 4),
+            };
+            let power = power_of_two([0, -40, 20, -300, 300][(round / 4 % 5) as usize]);
+            let g = ints.map(|v| v as f64 * power);
+            let residual = ints.map(|v| (v - v as f64 as i64) as f64 * power);
+            rounded += usize::from(residual.iter().any(|&r| r != 0.0));
+            let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+            if !tables.is_ambiguous[config as usize] {
+                continue;
+            }
+            let joined = crate::kernel::cell::face_decisions(&g, Some(&residual), config);
+            let set = tables.contour_set(config, joined);
+            let (pairs, labels) = (set.tunnel_pairs, &set.corner_comp);
+            if pairs == 0 {
+                continue;
+            }
+            let expected = exact(sweep_both(&ints.map(I256::from), pairs, labels));
+            match unit_joins(&g, pairs, labels) {
+                Some(join) => {
+                    assert_eq!(join, expected, "{ints:?} x {power}");
+                    sure += 1;
+                }
+                None => doubts += 1,
+            }
+            assert_eq!(
+                labelled_joins(&g, Some(&residual), pairs, labels),
+                expected,
+                "{ints:?} x {power}"
+            );
+            joins += usize::from(expected.is_some());
+        }
+        assert!(
+            sure > 20_000 && doubts > 1000 && joins > 1000 && rounded > 10_000,
+            "{sure} sure, {doubts} in doubt, {joins} joins, {rounded} rounded"
+        );
+    }
+
+    #[test]
+    fn unit_sweep_declines_values_it_cannot_scale() {
+        let labels = [0, 1, 1, 0, 1, 0, 0, 1];
+        let cell = |a: f64, b: f64| [a, -b, -b, a, -b, a, a, -b];
+        // A value flushed to zero by the scale, infinities, NaN, a sum
+        // beyond 2^1023, and all zeros.
+        assert!(unit_joins(&cell(1e300, 1e-310), 0b1111, &labels).is_none());
+        assert!(unit_joins(&cell(f64::INFINITY, 1.0), 0b1111, &labels).is_none());
+        assert!(unit_joins(&cell(f64::NAN, 1.0), 0b1111, &labels).is_none());
+        assert!(unit_joins(&cell(f64::MAX / 4.0, 1.0), 0b1111, &labels).is_none());
+        assert!(unit_joins(&[0.0; 8], 0b1111, &labels).is_none());
+        // Ordinary values and values near the ends of the range are taken.
+        assert!(unit_joins(&cell(1.0, 0.5), 0b1111, &labels).is_some());
+        assert!(unit_joins(&cell(1e-300, 3e-301), 0b1111, &labels).is_some());
+        assert!(unit_joins(&cell(1e300, 3e299), 0b1111, &labels).is_some());
     }
 }

@@ -457,7 +457,8 @@ impl Num for Filtered {
 }
 
 /// An `f64` of a sweep whose inputs are the cell's values scaled so that
-/// their magnitudes sum to less than 2. Every quantity the sweep compares
+/// their magnitudes sum to less than 2 (to within the rounding of that sum,
+/// which the margin below absorbs). Every quantity the sweep compares
 /// is then a polynomial whose terms, taken positive, sum to at most 2^11
 /// (the largest, `qb^2 - 4 qa qc`: `|qb| <= 32`, `|qa| <= 32`, `|qc| <= 8`,
 /// as `|h| < 2` and `|h' - h| < 4`; `value_at` is at most 512, the fraction

@@ -445,9 +445,10 @@ fn interior_vertex<'c>(
 ) -> DVec3 {
     // One or two saddle points (most cells), without a branch on which: with
     // one, `b` is `a` and the midpoint is `a` exactly (doubling and halving
-    // are exact). Only the rare other counts take a branch.
+    // are exact); with two, their order does not matter. Only the rare
+    // other counts take a branch.
     let [a, b] = saddles.first_two();
-    if saddles.count().wrapping_sub(1) < 2 {
+    if saddles.one_or_two() {
         return (a + b) * 0.5;
     }
     let contour = contour();

@@ -161,26 +161,54 @@ fn cut_crossing(c: &Cut, axis: usize, s: f64) -> (DVec3, bool) {
 /// every root slot, with a mask of those that are saddle points in the cell.
 /// A point found lies within a tolerance of the cell and is clamped into it
 /// when read, so that only the one or two points a cell uses pay for that.
+///
+/// Slot `2 axis + i` holds the crossing at root `i` of that axis' quadratic,
+/// the roots in the order they were computed: only [`Saddles::iter`] needs
+/// them ascending, and sorts. The points are stored coordinate by
+/// coordinate, `coords[c][slot]`, as the two slots of an axis are computed.
+///
+/// Where an axis' two roots are equal, its two points are either both found
+/// or neither, and both are read as the first: sorted, as [`roots`] returns
+/// them, both were that root, and the second, computed apart, may differ in
+/// the sign of a zero (roots 0 and -0).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Saddles {
-    points: [DVec3; 6],
+    coords: [[f64; 6]; 3],
     found: u8,
 }
 
-/// A point found, clamped into the closed unit cell.
-fn into_cell(p: DVec3) -> DVec3 {
-    DVec3::from_array(p.to_array().map(|x| x.clamp(0.0, 1.0)))
+/// A coordinate of a point found, clamped into the closed unit interval.
+fn into_cell(x: f64) -> f64 {
+    x.clamp(0.0, 1.0)
 }
 
 impl Saddles {
+    /// The point in `slot`, clamped into the closed unit cell.
+    fn point(&self, slot: usize) -> DVec3 {
+        let c = &self.coords;
+        DVec3::new(
+            into_cell(c[0][slot]),
+            into_cell(c[1][slot]),
+            into_cell(c[2][slot]),
+        )
+    }
+
     /// How many points were found.
     pub fn count(&self) -> u32 {
         self.found.count_ones()
     }
 
-    /// The first two points found, in the order of [`Saddles::iter`], picked
-    /// without a branch; the first twice when only one was found, and
-    /// meaningless when none was.
+    /// Whether one or two points were found: `count()` in `1..=2`, without
+    /// counting bits (no baseline x86-64 instruction does).
+    pub fn one_or_two(&self) -> bool {
+        let rest = self.found & self.found.wrapping_sub(1);
+        self.found != 0 && rest & rest.wrapping_sub(1) == 0
+    }
+
+    /// Two points found, picked without a branch: those of the lowest two
+    /// slots, the one twice when only one was found, and meaningless when
+    /// none was. Their order may differ from that of [`Saddles::iter`],
+    /// which sorts an axis' roots; their midpoint does not.
     pub fn first_two(&self) -> [DVec3; 2] {
         let first = (self.found.trailing_zeros() as usize).min(5);
         let rest = self.found & self.found.wrapping_sub(1);
@@ -189,50 +217,175 @@ impl Saddles {
         } else {
             rest.trailing_zeros() as usize
         };
-        [self.points[first], self.points[second.min(5)]].map(into_cell)
+        let second = second.min(5);
+        // The two slots of one axis with equal roots: the first twice.
+        let roots = &self.coords[first / 2];
+        let tie = (second == first | 1) & (roots[second] == roots[first]);
+        let second = std::hint::select_unpredictable(tie, first, second);
+        [self.point(first), self.point(second)]
     }
 
     /// The points found, in the order of axis and ascending root.
     pub fn iter(&self) -> impl Iterator<Item = DVec3> + '_ {
-        (0..6)
-            .filter(|&i| self.found >> i & 1 == 1)
-            .map(|i| into_cell(self.points[i]))
+        // The slots in that order, each with the slot it reads.
+        let mut order = [(0, 0); 6];
+        for (axis, roots) in self.coords.iter().enumerate() {
+            let first = 2 * axis;
+            let (low, high) = if roots[first + 1] < roots[first] {
+                (first + 1, first)
+            } else {
+                (first, first + 1)
+            };
+            let tie = roots[first + 1] == roots[first];
+            order[first] = (low, low);
+            order[first + 1] = (high, if tie { first } else { high });
+        }
+        order
+            .into_iter()
+            .filter(|&(slot, _)| self.found >> slot & 1 == 1)
+            .map(|(_, read)| self.point(read))
     }
 }
 
 /// Saddle points of the level set inside the closed cell: for each axis, the
 /// crossings of the lines found by that axis' quadratic. Both root slots of
-/// every axis are worked out and kept or dropped without a branch (see
-/// [`roots`]).
+/// every axis are worked out side by side and kept or dropped without a
+/// branch.
+///
+/// Not inlined, so that the result is written straight into the caller's
+/// variable: inlined, it was built apart and copied there by `memcpy`.
+#[inline(never)]
 pub fn saddle_points(g: &[f64; 8]) -> Saddles {
-    let mut out = Saddles::default();
     // One call per axis, each inlined with its axis a constant: the corner
     // and coordinate indices are then fixed at compile time.
-    axis_saddles(g, 0, &mut out);
-    axis_saddles(g, 1, &mut out);
-    axis_saddles(g, 2, &mut out);
-    out
-}
-
-/// The saddle points that the quadratic of `axis` finds, into slots
-/// `2 axis` and `2 axis + 1` of `out`.
-#[inline(always)]
-fn axis_saddles(g: &[f64; 8], axis: usize, out: &mut Saddles) {
-    const TOL: f64 = 1e-9;
-    let cut = cut(g, axis);
-    let (a, b, c) = cut_coefficients(&cut);
-    let r = roots(a, b, c);
-    for (slot, &s) in r.values.iter().enumerate() {
-        let (p, ok) = cut_crossing(&cut, axis, s);
-        let p = p.to_array();
-        let inside = p.iter().fold(ok & (slot < r.len), |m, &x| {
-            m & (-TOL..=1.0 + TOL).contains(&x)
-        });
-        let i = 2 * axis + slot;
-        out.points[i] = DVec3::from_array(p);
-        out.found |= u8::from(inside) << i;
+    let axes = [
+        axis_saddles::<0>(g),
+        axis_saddles::<1>(g),
+        axis_saddles::<2>(g),
+    ];
+    let coord = |c: usize| {
+        let [x, y, z] = axes.map(|axis| axis.coords[c]);
+        [x[0], x[1], y[0], y[1], z[0], z[1]]
+    };
+    Saddles {
+        coords: [coord(0), coord(1), coord(2)],
+        found: axes[0].found | axes[1].found | axes[2].found,
     }
 }
+
+/// The two slots of one axis: `coords[c][i]` is coordinate `c` of slot `i`.
+#[derive(Clone, Copy)]
+struct AxisSaddles {
+    coords: [[f64; 2]; 3],
+    /// Bit `2 axis + i` set iff slot `i` is a saddle point in the cell.
+    found: u8,
+}
+
+/// The roots of `a s^2 + b s + c` that [`roots`] finds, for the two slots
+/// of an axis: the values, unsorted, and which slots may hold a root. The
+/// case (linear, double root or two) only picks the operands of slot 0's
+/// division; both slots are then divided at once. Coefficients that are
+/// not finite give no root, as in [`roots`].
+///
+/// A slot flagged that holds no root holds NaN or an infinity, which no
+/// range test passes: `-c / 0` where the equation is linear with `b` zero,
+/// NaN from the square root where there are no real roots.
+#[inline(always)]
+fn slot_roots(a: f64, b: f64, c: f64) -> ([f64; 2], [bool; 2]) {
+    // Where some coefficient is NaN, so is `disc`, and then every root is
+    // NaN: the care for NaN of `f64::max` is not needed.
+    let max = |x: f64, y: f64| if x > y { x } else { y };
+    let scale = max(a.abs(), max(b.abs(), c.abs()));
+    let finite = scale < f64::INFINITY;
+    let linear = a.abs() <= 1e-14 * scale;
+    let disc = b * b - 4.0 * a * c;
+    // `b + b.signum() * sqrt` of `roots`, the same for every `b` not NaN.
+    let q = -0.5 * (b + disc.sqrt().copysign(b));
+    // Slot 0 holds the linear root, the double root or `q / a`; slot 1
+    // holds `c / q`, a root only in the last case.
+    let [num, den] = if linear {
+        [-c, b]
+    } else if disc == 0.0 {
+        [-b, 2.0 * a]
+    } else {
+        [q, a]
+    };
+    let single = linear || disc == 0.0;
+    ([num / den, c / q], [finite, finite & !single])
+}
+
+/// The saddle points that the quadratic of `AXIS` finds, in slots `2 AXIS`
+/// and `2 AXIS + 1`: both computed side by side, each in the operations of
+/// [`cut_crossing`].
+#[inline(always)]
+fn axis_saddles<const AXIS: usize>(g: &[f64; 8]) -> AxisSaddles {
+    const TOL: f64 = 1e-9;
+    let cut = cut(g, AXIS);
+    let (a, b, c) = cut_coefficients(&cut);
+    let (s, valid) = slot_roots(a, b, c);
+    let s = Pair(s);
+    let v = |j: usize, k: usize| Pair::splat(cut[j][k].0) + Pair::splat(cut[j][k].1) * s;
+    let (s00, s10, s01, s11) = (v(0, 0), v(1, 0), v(0, 1), v(1, 1));
+    let d = s00 - s10;
+    let eta = d - s01 + s11;
+    let next = (s00 - s01) / eta;
+    let after = d / eta;
+    // The crossing is in the cell iff `miss` is zero: the sum of how far
+    // each coordinate lies outside [-TOL, 1 + TOL] (exactly zero iff it lies
+    // inside, NaN for NaN) and `eta - eta` (zero iff `eta` is finite). A
+    // few vector instructions, where the comparisons took three times as
+    // many scalar ones. A zero `eta` leaves `next` infinite or NaN.
+    let out_by = |x: Pair| (x - x.clamp(-TOL, 1.0 + TOL)).abs();
+    #[allow(clippy::eq_op)]
+    let miss = out_by(s) + out_by(next) + out_by(after) + (eta - eta);
+    let inside = miss.0.map(|m| m == 0.0);
+    let found = u8::from(valid[0] & inside[0]) | u8::from(valid[1] & inside[1]) << 1;
+    let mut coords = [[0.0; 2]; 3];
+    coords[AXIS] = s.0;
+    coords[(AXIS + 1) % 3] = next.0;
+    coords[(AXIS + 2) % 3] = after.0;
+    AxisSaddles {
+        coords,
+        found: found << (2 * AXIS),
+    }
+}
+
+/// Two values side by side, one per root slot of an axis, operated on as
+/// pairs so that the compiler keeps each pair in one vector register.
+#[derive(Clone, Copy)]
+struct Pair([f64; 2]);
+
+impl Pair {
+    fn splat(x: f64) -> Pair {
+        Pair([x; 2])
+    }
+
+    fn abs(self) -> Pair {
+        Pair(self.0.map(f64::abs))
+    }
+
+    /// Each clamped into `[lo, hi]`, NaN to `hi` (one `minpd`, one `maxpd`).
+    fn clamp(self, lo: f64, hi: f64) -> Pair {
+        let min = |x: f64, y: f64| if x < y { x } else { y };
+        let max = |x: f64, y: f64| if x > y { x } else { y };
+        Pair(self.0.map(|x| max(min(x, hi), lo)))
+    }
+}
+
+macro_rules! pair_op {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl std::ops::$trait for Pair {
+            type Output = Pair;
+            fn $method(self, o: Pair) -> Pair {
+                Pair([self.0[0] $op o.0[0], self.0[1] $op o.0[1]])
+            }
+        }
+    };
+}
+pair_op!(Add, add, +);
+pair_op!(Sub, sub, -);
+pair_op!(Mul, mul, *);
+pair_op!(Div, div, /);
 
 /// Two roots of the quadratic of `axis` in [0, 1], ascending. Used only when
 /// the tunnel test has established that the hexagon exists: a double root
@@ -310,18 +463,132 @@ mod tests {
             let saddles = saddle_points(&g);
             let found: Vec<DVec3> = saddles.iter().collect();
             assert_eq!(saddles.count() as usize, found.len());
+            assert_eq!(saddles.one_or_two(), (1..=2).contains(&found.len()));
             counts[found.len()] += 1;
             let [a, b] = saddles.first_two();
-            if let Some(&p) = found.first() {
-                assert_eq!(a, p);
-            }
             match found.len() {
                 0 => {}
-                1 => assert_eq!(b, a),
-                _ => assert_eq!(b, found[1]),
+                1 => assert_eq!([a, b], [found[0]; 2]),
+                2 => assert!([a, b] == [found[0], found[1]] || [b, a] == [found[0], found[1]]),
+                _ => {}
             }
         }
         assert!(counts[..4].iter().all(|&c| c > 100), "{counts:?}");
+    }
+
+    /// The points `saddle_points` found when it took each root of [`roots`]
+    /// (ascending) one by one: the crossing, kept if in the cell.
+    fn saddle_points_one_by_one(g: &[f64; 8]) -> Vec<DVec3> {
+        const TOL: f64 = 1e-9;
+        let mut found = Vec::new();
+        for axis in 0..3 {
+            let cut = cut(g, axis);
+            let (a, b, c) = cut_coefficients(&cut);
+            for s in roots(a, b, c) {
+                let (p, ok) = cut_crossing(&cut, axis, s);
+                if ok && p.to_array().iter().all(|x| (-TOL..=1.0 + TOL).contains(x)) {
+                    found.push(DVec3::from_array(p.to_array().map(|x| x.clamp(0.0, 1.0))));
+                }
+            }
+        }
+        found
+    }
+
+    #[test]
+    fn saddle_points_match_the_roots_one_by_one() {
+        let mut next = crate::kernel::xorshift(0x9e37_79b9_7f4a_7c15u64);
+        let mut counts = [0usize; 7];
+        // Axes whose coefficients are not finite, linear, with a double
+        // root, without real roots, with two.
+        let mut kinds = [0usize; 5];
+        for round in 0..300_000u32 {
+            let g: [f64; 8] = std::array::from_fn(|_| {
+                let r = next();
+                let unit = (r >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                match round % 5 {
+                    // Small integers: zero leading coefficients and double
+                    // roots are common.
+                    0 => (r % 9) as f64 - 4.0,
+                    1 => (r % 3) as f64 - 1.0,
+                    2 => unit,
+                    // Values far apart: coefficients that overflow, vanish
+                    // or are subnormal.
+                    3 => unit * [1e300, 1e-300, 1.0, 1e150, 1e-160][(r % 5) as usize],
+                    _ => [
+                        0.0,
+                        -0.0,
+                        f64::MIN_POSITIVE,
+                        5e-324,
+                        -5e-324,
+                        1.0,
+                        -1.0,
+                        f64::MAX,
+                    ][(r % 8) as usize],
+                }
+            });
+            let found: Vec<DVec3> = saddle_points(&g).iter().collect();
+            let expected = saddle_points_one_by_one(&g);
+            // Equal to the bit, but for the sign of a zero: `f64::min` and
+            // `max`, which sort the roots, leave it unspecified (see
+            // `equal_roots_give_one_point_twice`).
+            let bits = |v: &[DVec3]| {
+                v.iter()
+                    .map(|p| p.to_array().map(|x| (x + 0.0).to_bits()))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&found), bits(&expected), "{g:?}");
+            counts[found.len()] += 1;
+            for axis in 0..3 {
+                let (a, b, c) = coefficients(&g, axis);
+                let disc = b * b - 4.0 * a * c;
+                let kind = if !a.abs().max(b.abs()).max(c.abs()).is_finite() {
+                    0
+                } else if a.abs() <= 1e-14 * a.abs().max(b.abs()).max(c.abs()) {
+                    1
+                } else if disc == 0.0 {
+                    2
+                } else if disc < 0.0 {
+                    3
+                } else {
+                    4
+                };
+                kinds[kind] += 1;
+            }
+        }
+        assert!(counts[..5].iter().all(|&c| c > 100), "{counts:?}");
+        assert!(kinds.iter().all(|&c| c > 1000), "{kinds:?}");
+    }
+
+    #[test]
+    fn equal_roots_give_one_point_twice() {
+        // The quadratic of axis 1 has the roots 0 (as `q / a`, underflowed)
+        // and -0 (as `c / q`): both slots read the crossing at the first,
+        // as when the sorted roots were 0 twice.
+        let g = [
+            -2.67123038736488e-301,
+            4.853691071312115e-161,
+            3.5301514461418117e149,
+            0.2956676059056478,
+            -5.739951465167481e-303,
+            4.799651061680731e-301,
+            -0.44298088125269364,
+            -6.140293119715201e148,
+        ];
+        let saddles = saddle_points(&g);
+        let roots = saddles.coords[1];
+        assert_eq!((roots[2], roots[3]), (0.0, 0.0));
+        assert_ne!(roots[2].to_bits(), roots[3].to_bits());
+        let found: Vec<[u64; 3]> = saddles
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect();
+        assert_eq!(found.len(), 5);
+        assert_eq!(found[2], found[3]);
+        let first = cut_saddle(&g, 1, roots[2]).expect("a saddle");
+        assert_eq!(
+            found[2],
+            first.to_array().map(|x| x.clamp(0.0, 1.0).to_bits())
+        );
     }
 
     #[test]

@@ -41,58 +41,84 @@ pub fn fan_around(contour: &[u8], centre: u8, out: &mut Vec<[VertexRef; 3]>) {
 /// assignment: the contour split into three runs, one per inner vertex.
 pub fn ring_assignment(cost: &[[f64; 3]], dir: i32) -> (f64, [u8; 12]) {
     let n = cost.len();
+    assert!((1..=12).contains(&n), "contour of {n} vertices");
     let step = dir.rem_euclid(3) as usize;
-    let runs = std::array::from_fn(|i| (3 * i / n.max(1) * step % 3) as u8);
-    let mut best = (f64::INFINITY, runs);
-    // For a start k0 of vertex 0, the vertex after s steps sits at
-    // `k0 + s step`: so dp[i][s], the best cost of vertices 0..=i with vertex
-    // i after s steps, says where vertex i is. Each entry takes the better
-    // of two candidates, stay (s steps before) or step (s - 1), by a select
-    // rather than a branch; a tie goes to the candidate at the smaller k, as
-    // if the candidates were offered in order of k. `stepped` records which.
-    let mut dp = [[f64::INFINITY; 4]; 12];
-    let mut stepped = [[false; 4]; 12];
-    for k0 in 0..3 {
-        let labels: [usize; 6] = std::array::from_fn(|s| (k0 + s * step) % 3);
-        let at = |s: usize| labels[s];
-        dp[0] = [cost[0][k0], f64::INFINITY, f64::INFINITY, f64::INFINITY];
-        for i in 1..n {
-            for s in 0..4 {
-                let k = at(s);
-                let stay = dp[i - 1][s] + cost[i][k];
-                let moved = if s > 0 {
-                    dp[i - 1][s - 1] + cost[i][k]
-                } else {
-                    f64::INFINITY
-                };
-                // at(s + 2) is where the step comes from: s - 1 steps, mod 3.
-                let take = if at(s + 2) < k {
-                    moved <= stay
-                } else {
-                    moved < stay
-                };
-                dp[i][s] = if take { moved } else { stay };
-                stepped[i][s] = take && s > 0;
-            }
-        }
-        // Closing edge back to vertex 0: a stay after three steps, or the
-        // third step.
-        for s in [3, 2] {
-            let c = dp[n - 1][s];
+    // A step known at compile time makes every label and tie rule below a
+    // constant: no table lookups and no selects between `<` and `<=`.
+    let ends = match step {
+        0 => ring_starts::<0>(cost),
+        1 => ring_starts::<1>(cost),
+        _ => ring_starts::<2>(cost),
+    };
+    // Closing edge back to vertex 0: a stay after three steps, or the third
+    // step; the first strictly cheapest, in order of k0 and then of these.
+    let mut best = (f64::INFINITY, None);
+    for (k0, closings) in ends.into_iter().enumerate() {
+        for (c, path) in closings {
             if c < best.0 {
-                let mut asg = [0u8; 12];
-                let mut s = s;
-                for i in (0..n).rev() {
-                    asg[i] = at(s) as u8;
-                    if i > 0 && stepped[i][s] {
-                        s -= 1;
-                    }
-                }
-                best = (c, asg);
+                best = (c, Some((k0, path)));
             }
         }
     }
-    best
+    let Some((k0, path)) = best.1 else {
+        let runs = std::array::from_fn(|i| (3 * i / n * step % 3) as u8);
+        return (f64::INFINITY, runs);
+    };
+    // A cost below infinity comes from vertex 0 at k0 (a state not reached
+    // yet stays infinite or not a number), so the path has its s steps.
+    let mut asg = [0u8; 12];
+    let mut steps = 0;
+    for (i, a) in asg.iter_mut().enumerate().take(n) {
+        steps += usize::from(path >> i & 1 == 1);
+        *a = ((k0 + steps * step) % 3) as u8;
+    }
+    (best.0, asg)
+}
+
+/// The dynamic programme of [`ring_assignment`] for each start `k0` of
+/// vertex 0: the cost and path of ending after three steps, then after two.
+fn ring_starts<const STEP: usize>(cost: &[[f64; 3]]) -> [[(f64, u16); 2]; 3] {
+    [
+        ring_start::<STEP, 0>(cost),
+        ring_start::<STEP, 1>(cost),
+        ring_start::<STEP, 2>(cost),
+    ]
+}
+
+/// For the start K0 of vertex 0, the vertex after s steps sits at
+/// `K0 + s STEP`: so d[s], the best cost so far with the current vertex
+/// after s steps, says where that vertex is. Each entry takes the better of
+/// two candidates, stay (s steps before) or step (s - 1); a tie goes to the
+/// candidate whose previous vertex is at the smaller k, as if the candidates
+/// were offered in order of k. The four states live in registers, and each
+/// carries its path as a bit set of the vertices reached by a step (bit i: a
+/// step from i - 1 to i), so there is no table to fill and no backtrack.
+#[inline(always)]
+fn ring_start<const STEP: usize, const K0: usize>(cost: &[[f64; 3]]) -> [(f64, u16); 2] {
+    let at: [usize; 4] = std::array::from_fn(|s| (K0 + s * STEP) % 3);
+    // Whether a tie takes the step into state s (s - 1 steps at a smaller k).
+    let tie = |s: usize| at[s - 1] < at[s];
+    // States not reached yet start at infinity, as in a table: an infinite
+    // cost can make them not a number, which then loses every comparison.
+    let mut d = [cost[0][K0], f64::INFINITY, f64::INFINITY, f64::INFINITY];
+    let mut path = [0u16; 4];
+    for (i, row) in cost.iter().enumerate().skip(1) {
+        let bit = 1u16 << i;
+        let c = at.map(|k| row[k]);
+        let better = |s: usize| {
+            let (stay, moved) = (d[s] + c[s], d[s - 1] + c[s]);
+            let take = if tie(s) { moved <= stay } else { moved < stay };
+            if take {
+                (moved, path[s - 1] | bit)
+            } else {
+                (stay, path[s])
+            }
+        };
+        let ((d1, p1), (d2, p2), (d3, p3)) = (better(1), better(2), better(3));
+        d = [d[0] + c[0], d1, d2, d3];
+        path = [0, p1, p2, p3];
+    }
+    [(d[3], path[3]), (d[2], path[2])]
 }
 
 /// The strip joining `contour` to the inner vertices `inner` (vertex refs)

@@ -33,7 +33,7 @@
 //! `f64` answer on the rounded values, which can misjudge near-ties.
 
 use super::contour::ContourSet;
-use super::scale::normalized;
+use super::scale::{normalized, power_of_two};
 use super::wide::{integers, Span};
 use bnum::types::{I1024, I256, I512};
 use std::convert::Infallible;
@@ -110,13 +110,14 @@ pub fn labelled_joins(
 #[inline(never)]
 fn unit_joins(g: &[f64; 8], pairs: u8, labels: &[u8; 8]) -> Option<Option<Join>> {
     let sum = g.iter().fold(0.0, |s, v| s + v.abs());
-    // The biased exponent of the (non-negative) sum: 1..=2045 is a normal
-    // sum below 2^1023, whose scale 2^(1023 - e) is a normal double too.
-    let e = (sum.to_bits() >> 52) as i64;
+    // The biased exponent e of the (non-negative) sum: 1..=2045 is a normal
+    // sum in [2^(e - 1023), 2^(e - 1022)) below 2^1023, which the normal
+    // double 2^(1023 - e) brings into [1, 2).
+    let e = (sum.to_bits() >> 52) as i32;
     if !(1..=2045).contains(&e) {
         return None;
     }
-    let scale = f64::from_bits(((2046 - e) as u64) << 52);
+    let scale = power_of_two(1023 - e);
     let h = g.map(|v| v * scale);
     // Scaling down can flush a tiny value to zero, which changes its sign.
     let kept = g

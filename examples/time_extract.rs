@@ -47,6 +47,12 @@ struct Args {
     /// options above.
     #[arg(long)]
     serve: bool,
+    /// Extract from the file as `tmc extract` opens it (memory-mapped where
+    /// the format allows, samples in their own type) instead of from an
+    /// `f32`/`f64` copy in memory: the path `tmc extract` and the
+    /// `tmc_vs_mc` bench take.
+    #[arg(long)]
+    opened: bool,
 }
 
 /// `--method`.
@@ -78,10 +84,12 @@ impl MethodArg {
     }
 }
 
-/// A volume held in memory, as `f32` (as the peers hold it) or `f64`.
+/// A volume held in memory, as `f32` (as the peers hold it) or `f64`, or
+/// the file as opened (see `--opened`).
 enum Loaded {
     F32(ArrayVolume<f32>),
     F64(ArrayVolume<f64>),
+    Opened(Box<dyn SampleSource>),
 }
 
 impl Loaded {
@@ -89,6 +97,7 @@ impl Loaded {
         match self {
             Loaded::F32(v) => v,
             Loaded::F64(v) => v,
+            Loaded::Opened(v) => v.as_ref(),
         }
     }
 
@@ -96,6 +105,11 @@ impl Loaded {
     /// in slabs of planes like the extraction: the bandwidth floor.
     fn pass(&self, threads: usize) -> tmc::Result<f64> {
         use rayon::prelude::*;
+        if let Loaded::Opened(_) = self {
+            return Err(tmc::Error::Invalid(
+                "--method pass times a volume in memory, not --opened".into(),
+            ));
+        }
         let plane = self.source().grid().plane_len();
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -112,6 +126,7 @@ impl Loaded {
                 .par_chunks(plane * 16)
                 .map(|c| c.iter().fold(f64::MIN, |m, &x| m.max(x)))
                 .reduce(|| f64::MIN, f64::max),
+            Loaded::Opened(_) => unreachable!("refused above"),
         });
         Ok(max)
     }
@@ -119,8 +134,11 @@ impl Loaded {
 
 /// Reads every plane of `path` into an [`ArrayVolume`] of the file's own
 /// sample type when that is `f32` (as the peers hold it), else of `f64`.
-fn load(path: &std::path::Path) -> tmc::Result<Loaded> {
+fn load(path: &std::path::Path, opened: bool) -> tmc::Result<Loaded> {
     let source = tmc::volume::open(path, None)?;
+    if opened {
+        return Ok(Loaded::Opened(source));
+    }
     let grid = *source.grid();
     let plane = grid.plane_len();
     let mut data = vec![0.0; plane * grid.dims[2]];
@@ -206,7 +224,7 @@ fn serve(volume: &Loaded, iso: f64) -> Result<(), Box<dyn std::error::Error>> {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     let start = Instant::now();
-    let volume = load(&args.volume)?;
+    let volume = load(&args.volume, args.opened)?;
     let load_seconds = start.elapsed().as_secs_f64();
     if args.serve {
         let ready = serde_json::json!({

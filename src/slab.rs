@@ -165,6 +165,25 @@ impl Level {
         }
     }
 
+    /// [`Level::rel`] of each of `values`, the same numbers, computed with
+    /// selects instead of branches (NaN fails both comparisons and is
+    /// replaced last) so that the eight run side by side. (`rel` itself
+    /// stays as it is: the vertex loops compile worse with this form.)
+    #[inline(always)]
+    fn rel_all(self, values: [f64; 8]) -> [f64; 8] {
+        const LIMIT: f64 = f64::MAX / 4.0;
+        values.map(|v| {
+            let d = (v - self.iso) * self.sign;
+            let d = if d > LIMIT { LIMIT } else { d };
+            let d = if d < -LIMIT { -LIMIT } else { d };
+            if d.is_nan() {
+                0.0
+            } else {
+                d
+            }
+        })
+    }
+
     /// What rounding left out of `rel(v)` for each of `values`, so that
     /// the kernel can decide on the exact differences: 0 where the
     /// subtraction was exact, and for NaN and clamped values, which stay
@@ -420,6 +439,7 @@ pub fn process_slab(
         &mut stats,
     )?;
     let mut cell = CellMesh::new();
+    let mut waiting = Vec::with_capacity(nx);
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     for z in layers.clone() {
@@ -465,7 +485,11 @@ pub fn process_slab(
             },
         };
         rows.new_layer();
-        layer_cells(&layer, &mut rows, &mut block, &mut cell, &mut stats)?;
+        let mut ambiguous = Ambiguous {
+            waiting: &mut waiting,
+            cell: &mut cell,
+        };
+        layer_cells(&layer, &mut rows, &mut block, &mut ambiguous, &mut stats)?;
         finished = (block.vertices.len(), block.triangles.len());
         chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
         std::mem::swap(&mut bottom, &mut top);
@@ -516,16 +540,28 @@ struct Layer<'a> {
     numbers: LayerNumbers<'a>,
 }
 
+/// The ambiguous cells of a row that wait for the kernel, and its scratch.
+struct Ambiguous<'a> {
+    /// `(x, config)` of each, in row order (room for a row).
+    waiting: &'a mut Vec<(usize, u8)>,
+    cell: &'a mut CellMesh,
+}
+
 /// Triangulates the cells between planes `bottom` and `top`, visiting only
-/// the cells whose corners are not all on one side.
+/// the cells whose corners are not all on one side. With `Method::Tmc`, a
+/// row's ambiguous cells are set aside and triangulated after its other
+/// cells (their triangles follow the row's): the loop over a row then holds
+/// only the table look-ups of standard MC, and its code does not change
+/// with the kernel's.
 fn layer_cells(
     layer: &Layer,
     rows: &mut EdgeRows,
     block: &mut Block,
-    cell: &mut CellMesh,
+    ambiguous: &mut Ambiguous,
     stats: &mut Stats,
 ) -> Result<()> {
     let [nx, ny, _] = layer.place.grid.dims;
+    let kernel = layer.params.method == Method::Tmc;
     let (bottom, top) = (layer.bottom, layer.top);
     let words = bottom.inside.words() - 1;
     for y in 0..ny - 1 {
@@ -572,17 +608,44 @@ fn layer_cells(
                     .iter()
                     .enumerate()
                     .fold(0u8, |m, (c, w)| m | (((w >> j) & 1) as u8) << c);
-                cell_at(layer, edges.cell(x), block, cell, stats, [x, y], config)
+                let t = layer.tables;
+                if t.is_ambiguous[config as usize] {
+                    stats.ambiguous_cells += 1;
+                    if kernel {
+                        ambiguous.waiting.push((x, config));
+                        return Ok(());
+                    }
+                }
+                // No reallocation: the row made room for `mc_most` per cell.
+                let range =
+                    t.mc_start[config as usize] as usize..t.mc_start[config as usize + 1] as usize;
+                let edges = edges.cell(x);
+                for tri in &t.mc_tris[range] {
+                    block.triangles.push(tri.map(|e| edges.get(e)));
+                }
+                Ok(())
             })?;
         }
+        for &(x, config) in ambiguous.waiting.iter() {
+            ambiguous_cell(
+                layer,
+                edges.cell(x),
+                block,
+                ambiguous.cell,
+                stats,
+                [x, y],
+                config,
+            )?;
+        }
+        ambiguous.waiting.clear();
     }
     Ok(())
 }
 
-/// Triangulates cell `(x, y)` of the layer, whose configuration `config`
-/// is neither empty nor full.
-#[inline]
-fn cell_at(
+/// Triangulates ambiguous cell `(x, y)` of the layer, of configuration
+/// `config`, with the kernel.
+#[inline(never)]
+fn ambiguous_cell(
     layer: &Layer,
     edges: CellEdges,
     block: &mut Block,
@@ -593,7 +656,6 @@ fn cell_at(
 ) -> Result<()> {
     let Layer {
         place,
-        params,
         tables: t,
         bottom,
         top,
@@ -601,81 +663,104 @@ fn cell_at(
     } = *layer;
     let nx = place.grid.dims[0];
     let i = y * nx + x;
-    let edge_ref = |e: u8| edges.get(e);
-    let ambiguous = t.is_ambiguous[config as usize];
-    if ambiguous {
-        stats.ambiguous_cells += 1;
-    }
-    if !ambiguous || params.method == Method::Mc {
-        // No reallocation: the row made room for `mc_most` per cell.
-        let range = t.mc_start[config as usize] as usize..t.mc_start[config as usize + 1] as usize;
-        for tri in &t.mc_tris[range] {
-            block.triangles.push(tri.map(edge_ref));
-        }
-        return Ok(());
-    }
     t.touch_sets(config);
     let corners = [i, i + 1, i + nx, i + nx + 1];
     let (low, high) = (bottom.values(corners), top.values(corners));
     let values: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
     // Both planes were read with the same level.
     let level = bottom.level;
-    let g = values.map(|v| level.rel(v));
-    let rest = if bottom.exact && top.exact {
-        [0.0; 8]
+    let g = level.rel_all(values);
+    let rest;
+    let residual = if bottom.exact && top.exact {
+        None
     } else {
-        level.residuals(values)
+        rest = level.residuals(values);
+        (rest != [0.0; 8]).then_some(&rest)
     };
-    let residual = (rest != [0.0; 8]).then_some(&rest);
     cell.clear();
-    // Room a row keeps for MC triangles, which a cell must not eat into.
-    let row_room = t.mc_most * (nx - 1);
     let origin = DVec3::new(x as f64, y as f64, bottom.z as f64);
     match triangulate_ambiguous(&g, residual, config, stats, cell) {
         Triangles::Table(fans) => {
-            // Edge vertices only, as MC: room for `fans.len()` beyond the row's.
-            make_room(&mut block.triangles, fans.len() + row_room, TRIANGLES)?;
-            for tri in fans {
-                block.triangles.push(tri.map(edge_ref));
-            }
+            // Edge vertices only, as MC.
+            make_room(&mut block.triangles, fans.len(), TRIANGLES)?;
+            let refs = fans.iter().map(|tri| tri.map(|e| edges.get(e)));
+            block.triangles.extend(refs);
             Ok(())
         }
-        Triangles::Centred(fans, centre) => {
-            push_cell(block, place, edges, fans, [origin + centre], row_room)
-        }
+        Triangles::Centred(fans, centre) => push_cell(block, place, edges, fans, [origin + centre]),
         Triangles::Mesh => {
             let interior = cell.interior.iter().map(|p| origin + *p);
-            push_cell(block, place, edges, &cell.triangles, interior, row_room)
+            push_cell(block, place, edges, &cell.triangles, interior)
         }
     }
 }
 
 /// Appends a cell's interior vertices (grid index coordinates) and its
 /// triangles, whose refs from [`INTERIOR`] on point at those vertices, to
-/// the block, keeping `row_room` free for the row's MC triangles.
+/// the block.
 fn push_cell(
     block: &mut Block,
     place: &Placement,
     edges: CellEdges,
     triangles: &[[u8; 3]],
     interior: impl IntoIterator<Item = DVec3, IntoIter: ExactSizeIterator>,
-    row_room: usize,
 ) -> Result<()> {
     let interior = interior.into_iter();
     let first_interior = local_index(block)?;
     make_room(&mut block.vertices, interior.len(), VERTICES)?;
-    make_room(&mut block.triangles, triangles.len() + row_room, TRIANGLES)?;
+    make_room(&mut block.triangles, triangles.len(), TRIANGLES)?;
     for p in interior {
         block.vertices.push(place.at(p.to_array()));
     }
-    for tri in triangles {
-        block.triangles.push(tri.map(|r| {
+    let refs = triangles.iter().map(|tri| {
+        tri.map(|r| {
             if r < INTERIOR {
                 edges.get(r)
             } else {
                 first_interior + (r - INTERIOR) as u32
             }
-        }));
-    }
+        })
+    });
+    block.triangles.extend(refs);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cells_values_are_the_vertex_loops_values() {
+        let special = [
+            0.0,
+            -0.0,
+            1.5,
+            -2.25,
+            1e300,
+            -1e300,
+            f64::MAX,
+            f64::MIN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE / 4.0,
+            f64::MAX / 4.0,
+            -f64::MAX / 4.0,
+        ];
+        let mut tested = 0;
+        for iso in [0.0, 0.3, -1e300, 1e308, f64::MAX] {
+            for sign in [1.0, -1.0] {
+                let level = Level { iso, sign };
+                for window in special.windows(8) {
+                    let values: [f64; 8] = window.try_into().expect("eight values");
+                    let all = level.rel_all(values);
+                    for (v, g) in values.iter().zip(all) {
+                        assert_eq!(g.to_bits(), level.rel(*v).to_bits(), "{v} {iso} {sign}");
+                        tested += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(tested, 5 * 2 * 7 * 8);
+    }
 }

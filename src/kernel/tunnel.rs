@@ -210,12 +210,16 @@ fn small_integers(g: &[f64; 8]) -> Option<[i64; 8]> {
     // Adding and taking away 1.5 * 2^52 rounds a value below 2^51 in
     // magnitude to an integer (the sum's last bit is worth 1), so it is
     // unchanged iff it is one. No short cut: eight tests side by side.
+    // The integer is then the difference of the sum's bits and ROUND's (the
+    // sum lies in [2^52, 2^53), where the last bit of the mantissa is worth
+    // 1), which converts the eight side by side.
     const ROUND: f64 = 1.5 * (1u64 << 52) as f64;
     const LIMIT: f64 = (1u64 << SMALL_BITS) as f64;
-    let small = g.iter().fold(true, |small, &v| {
-        small & (v.abs() < LIMIT) & ((v + ROUND) - ROUND == v)
+    let rounded = g.map(|v| v + ROUND);
+    let small = g.iter().zip(&rounded).fold(true, |small, (&v, &r)| {
+        small & (v.abs() < LIMIT) & (r - ROUND == v)
     });
-    small.then(|| g.map(|v| v as i64))
+    small.then(|| rounded.map(|r| r.to_bits() as i64 - ROUND.to_bits() as i64))
 }
 
 /// The diagonal pairs of `w`-edges a sweep looks at, `(k, kk, j, jj)`: edges

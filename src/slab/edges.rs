@@ -111,6 +111,7 @@ impl EdgeRows {
     }
 
     /// The edge numbers of cell row `y` of the layer `numbers` describes.
+    #[inline]
     pub(super) fn cell_row(&mut self, y: usize, numbers: &LayerNumbers) -> CellRowEdges<'_> {
         let words = numbers.bottom.words() - 1;
         for r in [y, y + 1] {
@@ -170,16 +171,17 @@ impl<'a> CellRowEdges<'a> {
 
 /// Where, in two neighbouring records (16 numbers), each of the twelve
 /// edges of a cell of a row of even or odd `y` finds its number, in the
-/// edge order of `kernel::cube`.
-const CELL_FIELDS: [[u8; 12]; 2] = {
-    let mut fields = [[0; 12]; 2];
+/// edge order of `kernel::cube`; padded to 16 entries so that an edge index
+/// masked to four bits needs no bounds check.
+const CELL_FIELDS: [[u8; 16]; 2] = {
+    let mut fields = [[0; 16]; 2];
     let mut parity = 0;
     while parity < 2 {
         let (p, q) = (parity as u8, 1 - parity as u8);
         let (a, b) = (0, 8);
         let (bx, tx, z) = (BOTTOM_X as u8, TOP_X as u8, Z as u8);
         let (by, ty) = (BOTTOM_Y as u8, TOP_Y as u8);
-        fields[parity] = [
+        let edges = [
             a + bx + p,
             a + bx + q,
             a + tx + p,
@@ -193,6 +195,11 @@ const CELL_FIELDS: [[u8; 12]; 2] = {
             a + z + q,
             b + z + q,
         ];
+        let mut e = 0;
+        while e < 12 {
+            fields[parity][e] = edges[e];
+            e += 1;
+        }
         parity += 1;
     }
     fields
@@ -201,7 +208,7 @@ const CELL_FIELDS: [[u8; 12]; 2] = {
 /// The edge numbers of one cell (entries of uncrossed edges are stale).
 pub(super) struct CellEdges<'a> {
     window: &'a [u32; 16],
-    fields: &'static [u8; 12],
+    fields: &'static [u8; 16],
 }
 
 impl CellEdges<'_> {
@@ -209,7 +216,8 @@ impl CellEdges<'_> {
     /// when it belongs to the next block.
     #[inline(always)]
     pub(super) fn get(&self, e: u8) -> u32 {
-        self.window[usize::from(self.fields[usize::from(e)] & 15)]
+        debug_assert!(e < 12, "edge {e}");
+        self.window[usize::from(self.fields[usize::from(e & 15)] & 15)]
     }
 }
 

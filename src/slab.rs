@@ -172,16 +172,14 @@ impl Level {
     #[inline(always)]
     fn rel_all(self, values: [f64; 8]) -> [f64; 8] {
         const LIMIT: f64 = f64::MAX / 4.0;
-        values.map(|v| {
+        let mut out = [0.0; 8];
+        for (g, v) in out.iter_mut().zip(values) {
             let d = (v - self.iso) * self.sign;
             let d = if d > LIMIT { LIMIT } else { d };
             let d = if d < -LIMIT { -LIMIT } else { d };
-            if d.is_nan() {
-                0.0
-            } else {
-                d
-            }
-        })
+            *g = if d.is_nan() { 0.0 } else { d };
+        }
+        out
     }
 
     /// What rounding left out of `rel(v)` for each of `values`, so that
@@ -620,9 +618,8 @@ fn layer_cells(
                 let range =
                     t.mc_start[config as usize] as usize..t.mc_start[config as usize + 1] as usize;
                 let edges = edges.cell(x);
-                for tri in &t.mc_tris[range] {
-                    block.triangles.push(tri.map(|e| edges.get(e)));
-                }
+                let refs = t.mc_tris[range].iter().map(|tri| tri.map(|e| edges.get(e)));
+                block.triangles.extend(refs);
                 Ok(())
             })?;
         }

@@ -92,6 +92,19 @@ pub fn face_decisions(g: &[f64; 8], residual: Option<&[f64; 8]>, config: u8) -> 
     if let Some(residual) = residual {
         return residual_decisions(g, residual, config, ambiguous);
     }
+    if ambiguous.is_power_of_two() {
+        // One ambiguous face (most ambiguous cells of a CT): that face
+        // alone, by the same rule.
+        let f = ambiguous.trailing_zeros() as usize;
+        let q = FACE_CORNERS[f];
+        let d = g[q[0]] * g[q[2]] - g[q[1]] * g[q[3]];
+        let (positive, negative) = (d > 0.0, d < 0.0);
+        if !(positive | negative) {
+            return exact_decisions(g, ambiguous);
+        }
+        let first_inside = config >> q[0] & 1 == 1;
+        return u8::from(if first_inside { positive } else { negative }) << f;
+    }
     let (mut positive, mut negative, mut first_inside) = (0u8, 0u8, 0u8);
     for (f, q) in FACE_CORNERS.iter().enumerate() {
         let d = g[q[0]] * g[q[2]] - g[q[1]] * g[q[3]];

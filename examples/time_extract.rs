@@ -14,6 +14,10 @@
 //!   The benchmark driver uses this to interleave tmc's runs with the peers'
 //!   without reloading the volume.
 //!
+//! With `--opened` the volume is not copied: tmc extracts from the file as
+//! `tmc extract` opens it (memory-mapped, samples in their own type), as the
+//! `tmc_vs_mc` bench does.
+//!
 //! Build with `cargo build --release --example time_extract`.
 
 use clap::{Parser, ValueEnum};

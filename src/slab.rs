@@ -3,7 +3,8 @@
 //! Vertices are owned by grid planes. Block `z` holds, in this order: the
 //! vertices on x-edges of plane `z` (raster order), those on its y-edges, the
 //! vertices on z-edges between planes `z` and `z + 1`, and the interior
-//! vertices of cell layer `z`, which also emits its triangles into block `z`.
+//! vertices of cell layer `z`, which also emits its triangles into block `z`
+//! (row by row; in a row, the ambiguous cells' after the others').
 //! A block's content depends on planes `z` and `z + 1` only, so any split of
 //! the layers into slabs, on any number of threads, gives the same blocks.
 //! Triangles point into their own block or into the first part of block

@@ -80,7 +80,8 @@ fn edge_points<'a>(g: &'a [f64; 8], contour: &'a [u8]) -> impl Iterator<Item = D
 /// ambiguous face `f` are joined across it (asymptotic decider), for the
 /// exact values `g + residual` (`None`: `g` is exact).
 ///
-/// All six faces at once without a branch: with `d = g0 g2 - g1 g3` over the
+/// All six faces at once without a branch (or the one face alone when only
+/// one is ambiguous, most cells of a CT): with `d = g0 g2 - g1 g3` over the
 /// face's corners, the inside corners are joined iff `d > 0` when corner 0
 /// of the face is inside and iff `d < 0` otherwise (the same difference of
 /// the same rounded products, negated; see [`det2_sign`](super::decider::det2_sign) for why its sign

@@ -81,11 +81,12 @@ fn edge_points<'a>(g: &'a [f64; 8], contour: &'a [u8]) -> impl Iterator<Item = D
 /// exact values `g + residual` (`None`: `g` is exact).
 ///
 /// All six faces at once without a branch (or the one face alone when only
-/// one is ambiguous, most cells of a CT): with `d = g0 g2 - g1 g3` over the
-/// face's corners, the inside corners are joined iff `d > 0` when corner 0
-/// of the face is inside and iff `d < 0` otherwise (the same difference of
-/// the same rounded products, negated; see [`det2_sign`](super::decider::det2_sign) for why its sign
-/// is exact when nonzero). Only faces where the rounded products tie go to
+/// one is ambiguous: about two thirds of the ambiguous cells of cthead):
+/// with `d = g0 g2 - g1 g3` over the face's corners, the inside corners are
+/// joined iff `d > 0` when corner 0 of the face is inside and iff `d < 0`
+/// otherwise (the same difference of the same rounded products, negated;
+/// see [`det2_sign`](super::decider::det2_sign) for why its sign is exact
+/// when nonzero). Only faces where the rounded products tie go to
 /// the exact decider.
 #[inline]
 pub fn face_decisions(g: &[f64; 8], residual: Option<&[f64; 8]>, config: u8) -> u8 {
@@ -94,7 +95,7 @@ pub fn face_decisions(g: &[f64; 8], residual: Option<&[f64; 8]>, config: u8) -> 
         return residual_decisions(g, residual, config, ambiguous);
     }
     if ambiguous.is_power_of_two() {
-        // One ambiguous face (most ambiguous cells of a CT): that face
+        // One ambiguous face (about two thirds of those of cthead): that face
         // alone, by the same rule.
         let f = ambiguous.trailing_zeros() as usize;
         let q = FACE_CORNERS[f];

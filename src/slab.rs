@@ -123,6 +123,9 @@ struct Plane<'s> {
     /// Every sample's `rel` is exact (the sample type and the isovalue
     /// say so), so no cell needs residuals.
     exact: bool,
+    /// Every sample's `rel` is also the plain `(value - iso) * sign`:
+    /// integer samples, so never NaN, and `exact`, so never clamped.
+    plain: bool,
     /// `rel(sample) > 0` per sample.
     inside: SignBits,
     /// Local index of the first x-edge vertex of each row.
@@ -181,6 +184,13 @@ impl Level {
             *g = if d.is_nan() { 0.0 } else { d };
         }
         out
+    }
+
+    /// [`Level::rel`] of each of `values` where that is the plain
+    /// `(value - iso) * sign` (see `Plane::plain`): without the clamps.
+    #[inline(always)]
+    fn plain_all(self, values: [f64; 8]) -> [f64; 8] {
+        values.map(|v| (v - self.iso) * self.sign)
     }
 
     /// What rounding left out of `rel(v)` for each of `values`, so that
@@ -245,6 +255,7 @@ impl<'s> Plane<'s> {
                 sign: 1.0,
             },
             exact: true,
+            plain: false,
             inside,
             x_first,
             y_first,
@@ -303,6 +314,7 @@ impl<'s> Plane<'s> {
             Some(samples) => samples.subtracts_exactly(level.iso),
             None => level.iso == 0.0,
         };
+        self.plain = self.exact && self.lent.is_some_and(|s| s.is_integer());
         match self.lent {
             None => self
                 .inside
@@ -667,7 +679,11 @@ fn ambiguous_cell(
     let values: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
     // Both planes were read with the same level.
     let level = bottom.level;
-    let g = level.rel_all(values);
+    let g = if bottom.plain && top.plain {
+        level.plain_all(values)
+    } else {
+        level.rel_all(values)
+    };
     let rest;
     let residual = if bottom.exact && top.exact {
         None
@@ -760,5 +776,41 @@ mod tests {
             }
         }
         assert_eq!(tested, 5 * 2 * 7 * 8);
+    }
+
+    #[test]
+    fn plain_planes_need_no_clamps() {
+        // Integer samples whose subtraction is exact, at the ends of their
+        // types and at isovalues with fraction bits: `plain_all` must be
+        // `rel` bit for bit wherever a plane would say `plain`.
+        let u32s = [0u32, 1, 7, 65_535, u32::MAX - 1, u32::MAX];
+        let i32s = [i32::MIN, i32::MIN + 1, -1, 0, 1, i32::MAX];
+        let u16s = [0u16, 1, 1000, u16::MAX];
+        let planes = [
+            LentPlane::U32(&u32s),
+            LentPlane::I32(&i32s),
+            LentPlane::U16(&u16s),
+        ];
+        let mut tested = 0;
+        for iso in [0.0, -0.0, 0.5, -3.25, 1600.0, 2.0e9 + 0.125, -4.0e9, 1e300] {
+            for plane in planes {
+                if !plane.subtracts_exactly(iso) {
+                    continue;
+                }
+                assert!(plane.is_integer());
+                let values: Vec<f64> = (0..plane.len()).map(|i| plane.get(i)).collect();
+                for sign in [1.0, -1.0] {
+                    let level = Level { iso, sign };
+                    let eight: [f64; 8] = std::array::from_fn(|i| values[i % values.len()]);
+                    let plain = level.plain_all(eight);
+                    for (v, g) in eight.iter().zip(plain) {
+                        assert_eq!(g.to_bits(), level.rel(*v).to_bits(), "{v} {iso} {sign}");
+                        tested += 1;
+                    }
+                }
+            }
+        }
+        // Every isovalue but 1e300 subtracts exactly for all three types.
+        assert_eq!(tested, 7 * 3 * 2 * 8);
     }
 }

@@ -41,6 +41,11 @@ impl LentPlane<'_> {
         }
     }
 
+    /// Are the samples integers (not floats)?
+    pub fn is_integer(&self) -> bool {
+        !matches!(self, LentPlane::F32(_) | LentPlane::F64(_))
+    }
+
     /// Sample `i` as an `f64` (exact for every type).
     #[inline(always)]
     pub fn get(&self, i: usize) -> f64 {

@@ -62,6 +62,15 @@ pub fn try_vec<T>(what: &str, count: usize) -> Result<Vec<T>> {
     Ok(v)
 }
 
+/// A vector of `count` copies of `value`, or [`Error::OutOfMemory`] naming
+/// `what` (a plane of samples from a header that claims a huge one must
+/// give an error, not an abort).
+pub fn try_filled<T: Clone>(what: &str, count: usize, value: T) -> Result<Vec<T>> {
+    let mut v = try_vec(what, count)?;
+    v.resize(count, value);
+    Ok(v)
+}
+
 /// Makes room in `v` for `n` more items (growing as `push` would), or
 /// fails with [`Error::OutOfMemory`] naming `what`: pushes of at most `n`
 /// items after it cannot reallocate, so they cannot abort. One comparison

@@ -303,6 +303,8 @@ impl<'s> Plane<'s> {
         let start = Instant::now();
         self.lent = source.lend_plane(z).filter(|p| p.len() == nx * ny);
         if self.lent.is_none() {
+            let missing = (nx * ny).saturating_sub(self.read.len());
+            make_room(&mut self.read, missing, "a plane of samples")?;
             self.read.resize(nx * ny, 0.0);
             source.read_plane(z, &mut self.read)?;
         }

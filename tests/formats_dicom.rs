@@ -267,6 +267,42 @@ fn put_ds(obj: &mut dicom_object::DefaultDicomObject, tag: Tag, text: &str) {
 }
 
 #[test]
+fn image_sizes_beyond_the_pixel_data_are_refused_before_reading() {
+    // Rows x Columns or NumberOfFrames far beyond the pixel data: one
+    // error from the header, not an allocation of gigabytes (an abort).
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_002.dcm", |o| {
+        for tag in [tags::ROWS, tags::COLUMNS] {
+            o.put(DataElement::new(
+                tag,
+                VR::US,
+                PrimitiveValue::from(65535u16),
+            ));
+        }
+    });
+    let e = open_err(tmp.path());
+    assert!(
+        e.contains("slice_002.dcm: damaged image header: 126 bytes of pixel data, but 1 frame(s) of 65535x65535 at 16 bits need 8589672450"),
+        "{e}"
+    );
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_004.dcm", |o| {
+        o.put(DataElement::new(
+            tags::NUMBER_OF_FRAMES,
+            VR::IS,
+            PrimitiveValue::from("2147483647"),
+        ));
+    });
+    let e = open_err(tmp.path());
+    assert!(
+        e.contains(
+            "slice_004.dcm: damaged image header: 126 bytes of pixel data, but 2147483647 frame(s)"
+        ),
+        "{e}"
+    );
+}
+
+#[test]
 fn inconsistent_headers_are_errors() {
     // No ImagePositionPatient.
     let tmp = copy_series("dicom_ct");
@@ -288,7 +324,28 @@ fn inconsistent_headers_are_errors() {
     let e = open_err(tmp.path());
     assert!(e.contains("3 samples per pixel"), "{e}");
 
-    // Another BitsAllocated.
+    // Another BitsAllocated (8: the 16-bit pixel data holds enough bytes).
+    let tmp = copy_series("dicom_ct");
+    edit_file(tmp.path(), "slice_005.dcm", |o| {
+        o.put(DataElement::new(
+            tags::BITS_ALLOCATED,
+            VR::US,
+            PrimitiveValue::from(8u16),
+        ));
+        o.put(DataElement::new(
+            tags::BITS_STORED,
+            VR::US,
+            PrimitiveValue::from(8u16),
+        ));
+    });
+    let e = open_err(tmp.path());
+    assert!(
+        e.contains("slice_005.dcm: sample type (8 bits allocated"),
+        "{e}"
+    );
+
+    // BitsAllocated 32 over 16-bit pixel data: too few bytes, refused from
+    // the header before any plane is read.
     let tmp = copy_series("dicom_ct");
     edit_file(tmp.path(), "slice_005.dcm", |o| {
         o.put(DataElement::new(
@@ -299,7 +356,7 @@ fn inconsistent_headers_are_errors() {
     });
     let e = open_err(tmp.path());
     assert!(
-        e.contains("slice_005.dcm: sample type (32 bits allocated"),
+        e.contains("slice_005.dcm: damaged image header: 126 bytes of pixel data, but 1 frame(s) of 9x7 at 32 bits need 252"),
         "{e}"
     );
 

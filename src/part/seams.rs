@@ -25,8 +25,7 @@ pub fn seam_checksums(
         source
     };
     let len = source.grid().plane_len();
-    let mut plane = crate::error::try_vec::<f64>("a plane of samples", len)?;
-    plane.resize(len, 0.0);
+    let mut plane = crate::error::try_filled("a plane of samples", len, 0.0)?;
     let mut crc = |z: usize| -> Result<u32> {
         source.read_plane(z, &mut plane)?;
         let mut hasher = crc32fast::Hasher::new();

@@ -327,7 +327,7 @@ fn vec3(v: Option<Vec<f64>>) -> Option<[f64; 3]> {
 impl Header {
     /// Reads the header of `path`; `None` for a DICOMDIR.
     fn read(path: &Path) -> Result<Option<Header>> {
-        dicom_lengths::check(path).map_err(|e| format_err(path, e))?;
+        let pixels = dicom_lengths::check(path).map_err(|e| format_err(path, e))?;
         let obj = OpenFileOptions::new()
             .read_until(tags::PIXEL_DATA)
             .open_file(path)
@@ -410,6 +410,7 @@ impl Header {
             .and_then(|e| e.to_int::<u32>().ok())
             .unwrap_or(1)
             .max(1);
+        check_pixel_data(path, &format, frames, pixels)?;
 
         let shared = first_item(&obj, tags::SHARED_FUNCTIONAL_GROUPS_SEQUENCE);
         let per_frame_items =
@@ -546,6 +547,43 @@ impl Header {
             slice_step,
             planes,
         }))
+    }
+}
+
+/// Checks the image size and frame count of a header against the pixel
+/// data the length walk saw (`None`: it did not reach it), before anything
+/// of that size is allocated: a damaged header must not claim gigabytes.
+/// Native data must hold every frame; encapsulated data needs a fragment
+/// per frame at least. Whatever the walk saw, every frame takes a byte of
+/// the file at least.
+fn check_pixel_data(
+    path: &Path,
+    format: &Format,
+    frames: u32,
+    pixels: Option<dicom_lengths::PixelData>,
+) -> Result<()> {
+    let size = std::fs::metadata(path)
+        .map_err(|e| Error::io(path, e))?
+        .len();
+    let frame_bytes =
+        format.columns as u128 * format.rows as u128 * (format.bits_allocated / 8) as u128;
+    let need = frame_bytes * u128::from(frames);
+    let problem = match pixels {
+        Some(dicom_lengths::PixelData::Native(len)) if need > u128::from(len) => Some(format!(
+            "{len} bytes of pixel data, but {frames} frame(s) of {}x{} at {} bits need {need}",
+            format.columns, format.rows, format.bits_allocated
+        )),
+        Some(dicom_lengths::PixelData::Fragments(n)) if u64::from(frames) > n => Some(format!(
+            "{n} fragment(s) of encapsulated pixel data for {frames} frame(s)"
+        )),
+        _ if u64::from(frames) > size => {
+            Some(format!("NumberOfFrames {frames} in a file of {size} bytes"))
+        }
+        _ => None,
+    };
+    match problem {
+        Some(p) => Err(format_err(path, format!("damaged image header: {p}"))),
+        None => Ok(()),
     }
 }
 

@@ -7,7 +7,10 @@
 //! error. This walk reads only element headers (seeking over the values)
 //! and refuses a value that runs past the end of the file. It descends
 //! into sequences and items, so nested elements are checked too, and skips
-//! the fragments of encapsulated pixel data.
+//! the fragments of encapsulated pixel data. It refuses sequences nested
+//! deeper than [`MAX_DEPTH`], which the parser would follow by recursion
+//! until the stack overflows, and it reports what it saw of the pixel data
+//! so that the header's image size can be checked against it.
 //!
 //! A deflated data set is inflated twice, without being kept: once to learn
 //! its size, once to walk it against that size. What it does not check is
@@ -26,6 +29,7 @@ use std::path::Path;
 /// ends at a delimitation item instead.
 const UNDEFINED: u32 = 0xFFFF_FFFF;
 const ITEM: Tag = Tag(0xFFFE, 0xE000);
+const ITEM_DELIMITER: Tag = Tag(0xFFFE, 0xE00D);
 const SEQUENCE_DELIMITER: Tag = Tag(0xFFFE, 0xE0DD);
 const PIXEL_DATA: Tag = Tag(0x7FE0, 0x0010);
 /// The transfer syntaxes whose data set is not explicit VR little endian.
@@ -35,6 +39,21 @@ const EXPLICIT_VR_BE: &str = "1.2.840.10008.1.2.2";
 const DEFLATED: &str = "1.2.840.10008.1.2.1.99";
 /// Deflated frames in an explicit VR little endian data set; not walked.
 const DEFLATED_FRAMES: &str = "1.2.840.10008.1.2.8.1";
+
+/// The deepest nesting of sequences and items (each counts one level)
+/// that is walked. Real files nest a few levels; the parser recurses once
+/// per level, and ten thousand levels overflow the main thread's stack.
+pub const MAX_DEPTH: usize = 256;
+
+/// The pixel data element of the top level data set, as the walk saw it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PixelData {
+    /// Native (uncompressed) pixel data of this many bytes.
+    Native(u64),
+    /// Encapsulated pixel data: this many fragments after the offset table
+    /// (each frame takes at least one).
+    Fragments(u64),
+}
 
 /// How the data set after the meta group is stored.
 #[derive(Clone, Copy)]
@@ -166,20 +185,22 @@ fn is_sequence(tag: Tag, vr: Option<VR>) -> bool {
 }
 
 /// Checks every element length of the DICOM file at `path` against the
-/// file size. `Err` holds a message (without the path) for a value that
-/// runs past the end; a file this walk cannot follow is left to the parser.
-pub fn check(path: &Path) -> Result<(), String> {
+/// file size, and the nesting of its sequences against [`MAX_DEPTH`].
+/// `Err` holds a message (without the path) for a value that runs past the
+/// end or too deep a nesting; a file this walk cannot follow is left to the
+/// parser. `Ok` holds the top level pixel data, if the walk reached it.
+pub fn check(path: &Path) -> Result<Option<PixelData>, String> {
     let Ok(file) = File::open(path) else {
-        return Ok(());
+        return Ok(None);
     };
     let Ok(size) = file.metadata().map(|m| m.len()) else {
-        return Ok(());
+        return Ok(None);
     };
     check_reader(BufReader::with_capacity(4096, file), size)
 }
 
 /// [`check`] on any seekable input of `size` bytes.
-fn check_reader<R: Read + Seek>(input: R, size: u64) -> Result<(), String> {
+fn check_reader<R: Read + Seek>(input: R, size: u64) -> Result<Option<PixelData>, String> {
     let mut w = Walker {
         input,
         pos: 0,
@@ -189,23 +210,23 @@ fn check_reader<R: Read + Seek>(input: R, size: u64) -> Result<(), String> {
     // The preamble and magic; a file without them is left to the parser.
     match w.bytes::<132>() {
         Some(head) if &head[128..] == b"DICM" => {}
-        _ => return Ok(()),
+        _ => return Ok(None),
     }
     match meta_group(&mut w)? {
-        None => Ok(()),
+        None => Ok(None),
         Some(Stored::Plain(encoding)) => data_set(&mut w, encoding),
         Some(Stored::Deflated) => deflated_data_set(w),
     }
 }
 
 /// Walks a deflated data set, which starts at the walker's position.
-fn deflated_data_set<R: Read + Seek>(mut w: Walker<R>) -> Result<(), String> {
+fn deflated_data_set<R: Read + Seek>(mut w: Walker<R>) -> Result<Option<PixelData>, String> {
     let start = w.pos;
     // A stream that does not inflate is the parser's to report.
     let size =
         inflate_from(&mut w.input, start).and_then(|mut d| io::copy(&mut d, &mut io::sink()));
     let (Ok(size), Ok(decoder)) = (size, inflate_from(&mut w.input, start)) else {
-        return Ok(());
+        return Ok(None);
     };
     let mut inflated = Walker {
         input: Forward(decoder),
@@ -306,34 +327,87 @@ fn meta_group<R: Read + Seek>(w: &mut Walker<R>) -> Result<Option<Stored>, Strin
 
 /// Walks the data set to the end of the file. Values of sequences and of
 /// their items are walked into (their lengths only checked); fragments of
-/// encapsulated pixel data are skipped.
-fn data_set<R: Read + Seek>(w: &mut Walker<R>, enc: Encoding) -> Result<(), String> {
+/// encapsulated pixel data are skipped, and counted.
+fn data_set<R: Read + Seek>(w: &mut Walker<R>, enc: Encoding) -> Result<Option<PixelData>, String> {
+    // The sequences and items walked into, innermost last: where each ends
+    // (`None`: at its delimiter). At most MAX_DEPTH + 1 entries.
+    let mut open: Vec<Option<u64>> = Vec::new();
+    let mut pixels = None;
     let mut in_fragments = false;
-    while let Some((tag, vr, len)) = w.header(enc) {
+    let mut seen_table = false;
+    loop {
+        let start = w.pos;
+        while open
+            .last()
+            .is_some_and(|end| end.is_some_and(|e| e <= start))
+        {
+            open.pop();
+        }
+        let Some((tag, vr, len)) = w.header(enc) else {
+            break;
+        };
+        if tag == SEQUENCE_DELIMITER || tag == ITEM_DELIMITER {
+            // Closes the innermost container of undefined length.
+            while let Some(Some(_)) = open.last() {
+                open.pop();
+            }
+            open.pop();
+        }
         if tag == SEQUENCE_DELIMITER {
             in_fragments = false;
         }
         if tag.0 == 0xFFFE && tag != ITEM {
             continue; // delimiters have no value
         }
+        if in_fragments && tag == ITEM {
+            // An item of the top level pixel data: the basic offset table
+            // first, then the fragments.
+            if let Some(PixelData::Fragments(n)) = &mut pixels {
+                *n += u64::from(open.len() == 1 && seen_table);
+                seen_table |= open.len() == 1;
+            }
+        }
         if len == UNDEFINED {
             if tag == PIXEL_DATA {
                 // Encapsulated pixel data: fragment items to skip.
                 in_fragments = true;
+                if open.is_empty() {
+                    pixels = Some(PixelData::Fragments(0));
+                }
             } else if tag != ITEM && !is_sequence(tag, vr) {
                 // UN of undefined length (a sequence in implicit VR inside
                 // an explicit VR data set): left to the parser.
-                return Ok(());
+                return Ok(pixels);
+            }
+            open.push(None);
+            if open.len() > MAX_DEPTH {
+                return Err(too_deep(tag, start));
             }
             continue; // walk into the sequence or item
         }
         w.fits(tag, len)?;
+        if tag == PIXEL_DATA && open.is_empty() {
+            pixels = Some(PixelData::Native(u64::from(len)));
+        }
         let walk_into = !in_fragments && (tag == ITEM || is_sequence(tag, vr));
-        if !walk_into && w.skip(len).is_none() {
-            return Ok(());
+        if walk_into {
+            open.push(Some(w.pos + u64::from(len)));
+            if open.len() > MAX_DEPTH {
+                return Err(too_deep(tag, start));
+            }
+        } else if w.skip(len).is_none() {
+            break;
         }
     }
-    Ok(())
+    Ok(pixels)
+}
+
+/// The message for a container opened beyond [`MAX_DEPTH`].
+fn too_deep(tag: Tag, at: u64) -> String {
+    format!(
+        "not a readable DICOM file: element ({:04X},{:04X}) at byte {at} opens a sequence or item nested more than {MAX_DEPTH} deep (damaged or hostile)",
+        tag.0, tag.1
+    )
 }
 
 #[cfg(test)]
@@ -360,6 +434,10 @@ mod tests {
     }
 
     fn run(f: &[u8]) -> Result<(), String> {
+        walk(f).map(|_| ())
+    }
+
+    fn walk(f: &[u8]) -> Result<Option<PixelData>, String> {
         check_reader(Cursor::new(f), f.len() as u64)
     }
 
@@ -418,6 +496,82 @@ mod tests {
         ));
         body.extend(implicit(0xFFFE, 0xE0DD, 0, &[]));
         assert_eq!(run(&file("1.2.840.10008.1.2.4.50", &body)), Ok(()));
+    }
+
+    #[test]
+    fn encapsulated_fragments_are_counted_without_the_offset_table() {
+        let mut body = vec![0xE0, 0x7F, 0x10, 0x00, b'O', b'B', 0, 0];
+        body.extend_from_slice(&UNDEFINED.to_le_bytes());
+        body.extend(implicit(0xFFFE, 0xE000, 0, &[]));
+        for _ in 0..3 {
+            body.extend(implicit(0xFFFE, 0xE000, 2, &[1, 2]));
+        }
+        body.extend(implicit(0xFFFE, 0xE0DD, 0, &[]));
+        let syntax = "1.2.840.10008.1.2.4.50";
+        assert_eq!(
+            walk(&file(syntax, &body)),
+            Ok(Some(PixelData::Fragments(3)))
+        );
+    }
+
+    #[test]
+    fn native_pixel_data_reports_its_length() {
+        let body = implicit(0x7FE0, 0x0010, 6, &[0; 6]);
+        assert_eq!(
+            walk(&file(IMPLICIT_VR_LE, &body)),
+            Ok(Some(PixelData::Native(6)))
+        );
+        // Pixel data inside an item (an icon) is not the image's.
+        let mut body = implicit(0x0088, 0x0200, UNDEFINED, &[]);
+        body.extend(implicit(0xFFFE, 0xE000, UNDEFINED, &[]));
+        body.extend(implicit(0x7FE0, 0x0010, 2, &[0; 2]));
+        body.extend(implicit(0xFFFE, 0xE00D, 0, &[]));
+        body.extend(implicit(0xFFFE, 0xE0DD, 0, &[]));
+        assert_eq!(walk(&file(IMPLICIT_VR_LE, &body)), Ok(None));
+        body.extend(implicit(0x7FE0, 0x0010, 4, &[0; 4]));
+        assert_eq!(
+            walk(&file(IMPLICIT_VR_LE, &body)),
+            Ok(Some(PixelData::Native(4)))
+        );
+    }
+
+    /// `depth` nested (0008,1140) sequences with one item each, undefined
+    /// lengths (`defined`: lengths given instead), around one element.
+    fn nested(depth: usize, defined: bool) -> Vec<u8> {
+        let mut inner = implicit(0x0008, 0x1150, 4, b"1.2 ");
+        for _ in 0..depth {
+            let mut item = Vec::new();
+            if defined {
+                item.extend(implicit(0xFFFE, 0xE000, inner.len() as u32, &inner));
+                inner = implicit(0x0008, 0x1140, item.len() as u32, &item);
+            } else {
+                item.extend(implicit(0xFFFE, 0xE000, UNDEFINED, &inner));
+                item.extend(implicit(0xFFFE, 0xE00D, 0, &[]));
+                let mut seq = implicit(0x0008, 0x1140, UNDEFINED, &item);
+                seq.extend(implicit(0xFFFE, 0xE0DD, 0, &[]));
+                inner = seq;
+            }
+        }
+        inner
+    }
+
+    #[test]
+    fn nesting_deeper_than_the_limit_is_refused() {
+        for defined in [false, true] {
+            // Two levels a sequence: 128 sequences are 256 levels.
+            let ok = nested(MAX_DEPTH / 2, defined);
+            assert_eq!(run(&file(IMPLICIT_VR_LE, &ok)), Ok(()), "{defined}");
+            let deep = nested(MAX_DEPTH / 2 + 1, defined);
+            let e = run(&file(IMPLICIT_VR_LE, &deep)).unwrap_err();
+            assert!(e.contains("nested more than 256"), "{e}");
+        }
+        // Many sequences one after the other are not nested.
+        let mut body = Vec::new();
+        for _ in 0..2 * MAX_DEPTH {
+            body.extend(nested(1, false));
+            body.extend(nested(1, true));
+        }
+        assert_eq!(run(&file(IMPLICIT_VR_LE, &body)), Ok(()));
     }
 
     #[test]

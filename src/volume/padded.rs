@@ -1,6 +1,7 @@
 //! A one-sample border of "outside" around a volume, for `--close`.
 
 use super::{Access, Grid, SampleSource};
+use crate::error::try_filled;
 use crate::Result;
 use std::ops::Range;
 
@@ -49,7 +50,7 @@ impl SampleSource for Padded<'_> {
             return Ok(());
         }
         let [nx, ny, _] = self.inner.grid().dims;
-        let mut plane = vec![0.0; nx * ny];
+        let mut plane = try_filled("a plane of samples", nx * ny, 0.0)?;
         self.inner.read_plane(z - 1, &mut plane)?;
         let wide = self.grid.dims[0];
         for y in 0..ny {

@@ -11,6 +11,7 @@
 //! always exact.
 
 use super::{Access, SampleSource};
+use crate::error::try_filled;
 use crate::histogram::{otsu, otsu2, Histogram};
 use crate::Result;
 use rayon::prelude::*;
@@ -144,8 +145,11 @@ where
     planes
         .into_par_iter()
         .try_fold(
-            || (init(), vec![0.0; plane_len]),
+            || (init(), Vec::new()),
             |(mut acc, mut buf), z| {
+                if buf.is_empty() {
+                    buf = try_filled("a plane of samples", plane_len, 0.0)?;
+                }
                 source.read_plane(z, &mut buf)?;
                 source.advise(z..z + 1, Access::Done);
                 add(&mut acc, &buf);

@@ -8,6 +8,7 @@
 
 use super::raw::{data_bytes, dims_text};
 use super::{encode_samples, Grid, SampleSource, ScalarType};
+use crate::error::try_filled;
 use crate::export::AtomicFile;
 use crate::{Error, Result};
 use rayon::prelude::*;
@@ -136,7 +137,7 @@ fn write_planes(
             }
             Ok(())
         });
-        let mut values = vec![0.0; plane_len];
+        let mut values = try_filled("a plane of samples", plane_len, 0.0)?;
         let mut produced = Ok(());
         for z in 0..nz {
             if cancel.load(Ordering::Relaxed) {

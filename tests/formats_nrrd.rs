@@ -331,6 +331,20 @@ fn bad_data_files_give_one_line_errors() {
         "{e}"
     );
 
+    // A pattern naming a billion files that are not there: refused at the
+    // first (its names are not all built first: that took gigabytes).
+    let billion = d.join("billion.nhdr");
+    fs::write(
+        &billion,
+        "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 1000000000\nencoding: raw\ndata file: s%03d.raw 0 999999999 1 2\n\n",
+    )
+    .unwrap();
+    let e = open_err(&billion);
+    assert!(
+        e.contains("cannot open data file") && e.contains("s000.raw (file 1 of the 1000000000"),
+        "{e}"
+    );
+
     // Truncated ascii data.
     copy_set(d, "nrrd_ascii_i8");
     let ascii = d.join("nrrd_ascii_i8.nrrd");

@@ -256,10 +256,21 @@ fn data_files(
                     "'data file' pattern '{format} {min} {max} {step}' names {count} files, sizes have {nz} z-slices"
                 )));
             }
-            let names = (0..count as i64)
-                .map(|i| format_number(format, min + i * step).map(|n| resolve(&n)))
-                .collect::<std::result::Result<Vec<_>, _>>()
-                .map_err(fail)?;
+            // Each name is looked up as it is made, so that a pattern
+            // naming a billion files that are not there fails at the first
+            // one instead of building every name in memory.
+            let mut names = Vec::new();
+            for i in 0..count as i64 {
+                let name = resolve(&format_number(format, min + i * step).map_err(fail)?);
+                if let Err(e) = std::fs::metadata(&name) {
+                    return Err(fail(format!(
+                        "cannot open data file {} (file {} of the {count} the pattern names): {e}",
+                        name.display(),
+                        i + 1
+                    )));
+                }
+                names.push(name);
+            }
             (names, *subdim)
         }
     };

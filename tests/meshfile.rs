@@ -206,3 +206,53 @@ fn unchecked_fields_are_refused() {
         assert!(line.contains("not a finite number"), "{line}");
     }
 }
+
+/// A chunk claiming more vertices than one plane of the grid can have (a
+/// small file inflating to gigabytes) is refused from the index, before
+/// any chunk is inflated, by the reader, `tmc check` and `tmc convert`.
+#[test]
+fn a_chunk_larger_than_a_plane_is_refused() {
+    use common::cli::{assert_one_line, s, tmc};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let info = TmeshReader::open(&path).expect("open").info().clone();
+    let [nx, ny, _] = info.grid.dims;
+    let pad = if info.close { 2 } else { 0 };
+    let most = 11 * (nx + pad) * (ny + pad);
+    for count in [most, most + 1] {
+        let mut writer = TmeshWriter::create(&path).expect("create");
+        writer.begin(&info).expect("begin");
+        let chunk = tmc::Chunk {
+            plane: 1,
+            vertices: vec![[0.0, 0.0, 0.0]; count],
+            triangles: vec![[0, 1, 2]],
+        };
+        writer.chunk(0, &chunk).expect("chunk");
+        let totals = Totals {
+            vertices: count as u64,
+            triangles: 1,
+            ..Default::default()
+        };
+        writer.finish(&totals).expect("finish");
+        let opened = TmeshReader::open(&path);
+        if count == most {
+            opened.expect("as many as a plane can have");
+            continue;
+        }
+        let err = opened.err().expect("refused").to_string();
+        assert!(
+            err.contains("more than one plane of the grid can have"),
+            "{err}"
+        );
+        let ply = dir.path().join("m.ply");
+        for args in [
+            vec!["check", s(&path)],
+            vec!["convert", s(&path), "-o", s(&ply)],
+        ] {
+            let line = assert_one_line(&tmc(&args), 1);
+            assert!(line.contains("chunk 0 claims"), "{args:?}: {line}");
+        }
+        assert!(!ply.exists());
+    }
+}

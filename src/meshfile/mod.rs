@@ -47,7 +47,9 @@
 //! A reader refuses zero dimensions, a non-finite isovalue, option bytes
 //! other than 0 and 1, nonzero reserved bytes, chunks not in increasing
 //! plane order or with a plane beyond the grid (`dims[2] + 2` planes with
-//! close), and non-finite vertex coordinates.
+//! close), chunks claiming more vertices or triangles than one plane of the
+//! grid can have (11 and 32 per sample of a plane), and non-finite vertex
+//! coordinates.
 //!
 //! Global vertex indices are 64-bit, so a file holds more than 2^32
 //! vertices; the index lets a reader seek to any chunk; the checksums let a

@@ -23,6 +23,21 @@ pub struct TmeshReader {
     triangles: u64,
 }
 
+/// The most vertices and triangles one chunk (a grid plane) can hold: the
+/// plane's x- and y-edges and the z-edges to the next plane, with 8
+/// interior vertices and 32 triangles for each cell of the layer above.
+/// That is above what the kernel makes: a cell's contours share its 12
+/// edge vertices, a contour of n vertices takes at most n + 3 triangles
+/// (a strip) and one interior vertex, and a tunnel or a 12-vertex contour
+/// three more vertices and one more triangle. A file that claims more is
+/// damaged or crafted, and is refused before its chunks are inflated.
+fn plane_bounds(info: &MeshInfo) -> (u64, u64) {
+    let pad = if info.close { 2 } else { 0 };
+    let [nx, ny, _] = info.grid.dims.map(|d| d as u64 + pad);
+    let samples = nx.saturating_mul(ny);
+    (samples.saturating_mul(3 + 8), samples.saturating_mul(32))
+}
+
 impl TmeshReader {
     /// Opens `path` and reads its header, trailer and index.
     pub fn open(path: &Path) -> Result<TmeshReader> {
@@ -81,7 +96,16 @@ impl TmeshReader {
         let mut sum_t = 0u64;
         // Planes increase and lie in the grid (padded by 2 with close).
         let planes = info.grid.dims[2] as u64 + if info.close { 2 } else { 0 };
+        let (most_vertices, most_triangles) = plane_bounds(&info);
         for (i, e) in entries.iter().enumerate() {
+            if u64::from(e.vertex_count) > most_vertices
+                || u64::from(e.triangle_count) > most_triangles
+            {
+                return Err(bad(format!(
+                    "chunk {i} claims {} vertices and {} triangles, more than one plane of the grid can have ({most_vertices} and {most_triangles})",
+                    e.vertex_count, e.triangle_count
+                )));
+            }
             if e.vertex_base != next_base || e.offset >= index_offset {
                 return Err(bad(format!("index entry {i} is inconsistent")));
             }

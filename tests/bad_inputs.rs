@@ -640,3 +640,27 @@ fn check_fails_on_a_mesh_that_is_not_a_manifold() {
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     assert!(out.stderr.is_empty());
 }
+
+/// A FIFO as the `.tmesh` input of `convert`, `merge` or `check` is refused
+/// with one line (a `.tmesh` is read by seeking; opening a FIFO would wait
+/// for a writer, past SIGINT and SIGTERM).
+#[cfg(unix)]
+#[test]
+fn a_fifo_mesh_input_is_refused() {
+    use common::cli::{assert_one_line, s, tmc};
+    let dir = tempfile::tempdir().unwrap();
+    let pipe = fifo(dir.path(), "pipe.tmesh");
+    let out = dir.path().join("out.ply");
+    for args in [
+        vec!["convert", s(&pipe), "-o", s(&out)],
+        vec!["merge", s(&pipe), "-o", s(&out)],
+        vec!["check", s(&pipe)],
+    ] {
+        let line = assert_one_line(&tmc(&args), 1);
+        assert!(
+            line.contains("pipe.tmesh: is a FIFO (named pipe), not a regular file"),
+            "{args:?}: {line}"
+        );
+        assert!(!out.exists());
+    }
+}

@@ -448,3 +448,58 @@ fn sigint_and_sighup_stop_synth_and_remove_the_output() {
         interrupt_and_check(child, name, code, dir.path(), &output);
     }
 }
+
+/// A FIFO with nobody at the other end as `--manifest` (read) or
+/// `--report` (written): the run waits, as a shell redirection would, but
+/// SIGTERM and SIGINT stop it at once with the interrupted line, and no
+/// output appears. (A FIFO as a `.tmesh` input is refused outright; see
+/// `tests/bad_inputs.rs`.)
+#[cfg(unix)]
+#[test]
+fn a_fifo_manifest_or_report_waits_but_signals_stop_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let fifo = |name: &str| {
+        let path = d.join(name);
+        let made = Command::new("mkfifo").arg(&path).status().unwrap();
+        assert!(made.success());
+        path
+    };
+    let (manifest, report) = (fifo("manifest"), fifo("report"));
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/headsq_quarter.nrrd");
+    let output = d.join("out.ply");
+    let runs: [(Vec<&str>, &str, i32); 2] = [
+        (vec!["extract", "--manifest", s(&manifest)], "TERM", 143),
+        (
+            vec![
+                "extract",
+                s(&input),
+                "--iso",
+                "500",
+                "-o",
+                s(&output),
+                "--report",
+                s(&report),
+            ],
+            "INT",
+            130,
+        ),
+    ];
+    for (args, name, code) in runs {
+        let mut child = spawn(&args);
+        still_running_after(&mut child, 0.5);
+        let sent = Instant::now();
+        signal(&child, name);
+        let out = child.wait_with_output().unwrap();
+        let took = sent.elapsed().as_secs_f64();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {stderr}");
+        assert_eq!(
+            stderr.trim_end(),
+            format!("tmc: error: interrupted by SIG{name}; no output was written")
+        );
+        assert!(took < 2.0, "{args:?}: took {took:.3} s to exit");
+        assert!(!output.exists());
+        assert_eq!(names(d), ["manifest", "report"]);
+    }
+}

@@ -70,7 +70,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         )));
     }
     let items = match (&args.batch.manifest, &args.output) {
-        (Some(path), _) => manifest::read(path)?,
+        (Some(path), _) => {
+            // A manifest can be a FIFO (`--manifest <(...)`): its read may
+            // wait for a writer.
+            let path = path.clone();
+            super::signals::interruptible(cancel, move || manifest::read(&path))?
+        }
         (None, Some(template)) => manifest::from_args(&args.input, &args.iso, template)?,
         (None, None) => return Err(Error::Invalid("no output given (-o)".into())),
     };
@@ -78,14 +83,19 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         check_report_path(path, args.batch.manifest.as_deref(), &items)?;
     }
     let mut report = match &args.batch.report {
-        Some(path) => Some((
-            File::options()
-                .create(true)
-                .append(true)
-                .open(path)
-                .map_err(|e| Error::io(path, e))?,
-            path,
-        )),
+        Some(path) => {
+            // A report can be a FIFO read by another program: its open
+            // waits for that reader.
+            let owned = path.clone();
+            let file = super::signals::interruptible(cancel, move || {
+                File::options()
+                    .create(true)
+                    .append(true)
+                    .open(&owned)
+                    .map_err(|e| Error::io(owned, e))
+            })?;
+            Some((file, path))
+        }
         None => None,
     };
     let mut failed = Vec::new();

@@ -70,6 +70,38 @@ impl Interrupts {
     }
 }
 
+/// Runs `open` (an open or read that can block for good: a FIFO with no
+/// writer or reader at the other end) on a thread of its own, and gives up
+/// with [`tmc::Error::Interrupted`] once `cancel` is set, so that SIGINT or
+/// SIGTERM stops the run there as anywhere else. Nothing has been written
+/// when it gives up; the blocked thread ends with the process.
+pub(crate) fn interruptible<T: Send + 'static>(
+    cancel: Option<&AtomicBool>,
+    open: impl FnOnce() -> tmc::Result<T> + Send + 'static,
+) -> tmc::Result<T> {
+    let Some(cancel) = cancel else {
+        return open();
+    };
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        // The receiver is gone only if the run gave up: nothing to tell.
+        let _ = tx.send(open());
+    });
+    loop {
+        match rx.recv_timeout(std::time::Duration::from_millis(50)) {
+            Ok(result) => return result,
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                if cancel.load(Ordering::SeqCst) {
+                    return Err(tmc::Error::Interrupted);
+                }
+            }
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(tmc::Error::Invalid("the opening thread stopped".into()))
+            }
+        }
+    }
+}
+
 /// Those of [`CANCELLING`] that the process inherited as ignored, from the
 /// `SigIgn` mask of `/proc/self/status` (read before any handler is
 /// installed; no `unsafe` needed). Where that file cannot be read (not

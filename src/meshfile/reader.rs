@@ -43,6 +43,8 @@ impl TmeshReader {
     pub fn open(path: &Path) -> Result<TmeshReader> {
         let io = |e| Error::io(path, e);
         let bad = |what: String| Error::Format(format!("{}: {what}", path.display()));
+        // A FIFO would block the open below, and cannot seek.
+        crate::volume::check_input_kind(path)?;
         let mut file = File::open(path).map_err(io)?;
         let len = file.metadata().map_err(io)?.len();
         let mut header = [0u8; HEADER_BYTES];

@@ -292,7 +292,7 @@ pub fn check_input_kind(path: &Path) -> Result<()> {
     #[cfg(not(unix))]
     let what = "a special file";
     Err(crate::Error::Format(format!(
-        "{}: is {what}, not a regular file or directory; inputs are memory-mapped and must be files",
+        "{}: is {what}, not a regular file or directory; inputs are memory-mapped or read by seeking and must be files",
         path.display()
     )))
 }

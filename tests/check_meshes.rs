@@ -334,3 +334,68 @@ fn large_torus_and_reports() {
         "{text}"
     );
 }
+
+/// Reads `bytes` as the file `name` and returns the error, which must
+/// contain every string of `expected`.
+fn assert_refused(dir: &Path, name: &str, bytes: &[u8], expected: &[&str]) {
+    let msg = read_err(&write(dir, name, bytes));
+    for e in expected {
+        assert!(msg.contains(e), "{name}: '{msg}' lacks '{e}'");
+    }
+}
+
+/// The tetrahedron as OBJ vertex and face lines.
+const OBJ_TET: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+/// The tetrahedron as an OFF file.
+const OFF_TET: &str =
+    "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+/// The header of an ASCII PLY tetrahedron.
+const PLY_TET_HEADER: &str = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n\
+                              property float y\nproperty float z\nelement face 4\n\
+                              property list uchar int vertex_indices\nend_header\n";
+/// The body of the ASCII PLY tetrahedron.
+const PLY_TET_BODY: &str = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+
+#[test]
+fn non_finite_coordinates_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (i, word) in ["nan", "NaN", "inf", "-infinity", "1e39"]
+        .iter()
+        .enumerate()
+    {
+        let obj = OBJ_TET.replacen("v 1 0 0", &format!("v 1 {word} 0"), 1);
+        let name = format!("{i}.obj");
+        assert_refused(
+            d,
+            &name,
+            obj.as_bytes(),
+            &["line 2:", word, "not a finite number"],
+        );
+        let off = OFF_TET.replacen("0 1 0\n", &format!("0 1 {word}\n"), 1);
+        let name = format!("{i}.off");
+        assert_refused(
+            d,
+            &name,
+            off.as_bytes(),
+            &["line 5:", word, "not a finite number"],
+        );
+        let body = PLY_TET_BODY.replacen("0 0 1\n", &format!("0 {word} 1\n"), 1);
+        let name = format!("{i}.ply");
+        let ply = format!("{PLY_TET_HEADER}{body}");
+        assert_refused(d, &name, ply.as_bytes(), &["vertex 3", "not a finite"]);
+    }
+    // Binary PLY: a NaN float, and a double beyond the range of f32.
+    let mut cube = binary_ply_cube(true, "int");
+    let header = cube.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    let vertex = 12 + 8 + 1;
+    cube[header + 5 * vertex + 4..][..4].copy_from_slice(&f32::NAN.to_be_bytes());
+    assert_refused(d, "nan.ply", &cube, &["vertex 5", "NaN", "not a finite"]);
+    let header = "ply\nformat binary_little_endian 1.0\nelement vertex 1\n\
+                  property double x\nproperty double y\nproperty double z\nend_header\n";
+    let mut ply = header.as_bytes().to_vec();
+    for c in [0.0, 1e300, 0.0f64] {
+        ply.extend(c.to_le_bytes());
+    }
+    assert_refused(d, "big.ply", &ply, &["vertex 0", "1e300", "not a finite"]);
+}

@@ -220,6 +220,26 @@ fn parse<T: std::str::FromStr>(word: &[u8]) -> Option<T> {
     std::str::from_utf8(word).ok()?.parse().ok()
 }
 
+/// The three coordinates that follow the first `skip` words of the current
+/// line (of an OBJ or OFF file), which must be finite `f32` numbers.
+fn point(src: &Source, skip: usize) -> Result<[f32; 3]> {
+    let mut words = src.words().skip(skip);
+    let mut p = [0.0f32; 3];
+    for c in &mut p {
+        let word = words
+            .next()
+            .ok_or_else(|| src.err_line("vertex needs three coordinates"))?;
+        *c = parse(word).ok_or_else(|| src.err_line("vertex needs three coordinates"))?;
+        if !c.is_finite() {
+            return Err(src.err_line(format!(
+                "vertex coordinate '{}' is not a finite number",
+                String::from_utf8_lossy(word)
+            )));
+        }
+    }
+    Ok(p)
+}
+
 /// Appends the fan triangulation of `polygon` to `triangles`.
 fn push_fan(triangles: &mut Vec<[u32; 3]>, polygon: &[u32]) {
     for i in 1..polygon.len().saturating_sub(1) {
@@ -390,8 +410,13 @@ fn read_ply(src: &mut Source) -> Result<Mesh> {
                 Err(RecordError::Fatal(e)) => return Err(e),
             }
             if elem.name == "vertex" {
-                mesh.vertices
-                    .push([coords[0] as f32, coords[1] as f32, coords[2] as f32]);
+                if let Some(c) = coords.iter().find(|&&c| !(c as f32).is_finite()) {
+                    return Err(src.err(format!(
+                        "PLY vertex {record}: coordinate {c:e} is not a finite \
+                         single-precision number"
+                    )));
+                }
+                mesh.vertices.push(coords.map(|c| c as f32));
             }
             if is_face {
                 polygon.clear();
@@ -667,13 +692,7 @@ fn read_obj(src: &mut Source) -> Result<Mesh> {
         let mut words = src.words();
         match words.next() {
             Some(b"v") => {
-                let mut p = [0.0f32; 3];
-                for c in &mut p {
-                    *c = words
-                        .next()
-                        .and_then(parse::<f32>)
-                        .ok_or_else(|| src.err_line("vertex needs three coordinates"))?;
-                }
+                let p = point(src, 1)?;
                 if mesh.vertices.len() >= u32::MAX as usize {
                     return Err(src.err("too many vertices"));
                 }
@@ -774,15 +793,7 @@ fn read_off(src: &mut Source) -> Result<Mesh> {
         if !src.next_content_line()? {
             return Err(src.err(format!("truncated OFF file: {i} of {nv} vertices")));
         }
-        let mut words = src.words();
-        let mut p = [0.0f32; 3];
-        for c in &mut p {
-            *c = words
-                .next()
-                .and_then(parse::<f32>)
-                .ok_or_else(|| src.err_line("vertex needs three coordinates"))?;
-        }
-        mesh.vertices.push(p);
+        mesh.vertices.push(point(src, 0)?);
     }
     let mut polygon: Vec<u32> = Vec::new();
     for i in 0..nf {

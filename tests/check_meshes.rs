@@ -399,3 +399,44 @@ fn non_finite_coordinates_are_refused() {
     }
     assert_refused(d, "big.ply", &ply, &["vertex 0", "1e300", "not a finite"]);
 }
+
+#[test]
+fn data_after_the_declared_faces_or_elements_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // OFF: two more faces than the header's four.
+    let extra = format!("{OFF_TET}3 0 1 2\n3 0 1 2\n").replacen("4 4 6", "4 4 0", 1);
+    assert_refused(d, "extra.off", extra.as_bytes(), &["line 11:", "4 faces"]);
+    let text = format!("{OFF_TET}\n# a comment\nend\n");
+    assert_refused(
+        d,
+        "word.off",
+        text.as_bytes(),
+        &["line 13:", "content after"],
+    );
+    // Blank lines and comments after the faces are fine.
+    let text = format!("{OFF_TET}\n  \n# the end\n");
+    assert_sphere(&read_ok(&write(d, "comment.off", text.as_bytes())).1);
+
+    // ASCII PLY: a fifth face, or a word, after the last element.
+    let good = format!("{PLY_TET_HEADER}{PLY_TET_BODY}\n\n  \n");
+    assert_sphere(&read_ok(&write(d, "tet.ply", good.as_bytes())).1);
+    let extra = format!("{PLY_TET_HEADER}{PLY_TET_BODY}3 0 1 2\n");
+    assert_refused(
+        d,
+        "extra.ply",
+        extra.as_bytes(),
+        &["after the last element"],
+    );
+    let extra = format!(
+        "{PLY_TET_HEADER}{}",
+        PLY_TET_BODY.replace("3 0 3 2", "3 0 3 2 7")
+    );
+    assert_refused(d, "word.ply", extra.as_bytes(), &["after the last element"]);
+    // Binary PLY: any byte after the last element.
+    for tail in [&b"\n"[..], b"\0\0\0\0", b"garbage"] {
+        let mut cube = binary_ply_cube(false, "int");
+        cube.extend(tail);
+        assert_refused(d, "tail.ply", &cube, &["after the last element"]);
+    }
+}

@@ -443,6 +443,17 @@ fn read_ply(src: &mut Source) -> Result<Mesh> {
             scratch = indices;
         }
     }
+    let trailing = match encoding {
+        Encoding::Ascii => src.next_token()?.is_some(),
+        Encoding::Binary { .. } => !src
+            .reader
+            .fill_buf()
+            .map_err(|e| Error::io(src.path, e))?
+            .is_empty(),
+    };
+    if trailing {
+        return Err(src.err("data after the last element that the PLY header declares"));
+    }
     Ok(mesh)
 }
 
@@ -825,6 +836,11 @@ fn read_off(src: &mut Source) -> Result<Mesh> {
         if mesh.triangles.len() > MAX_TRIANGLES {
             return Err(src.err("too many triangles"));
         }
+    }
+    if src.next_content_line()? {
+        return Err(src.err_line(format!(
+            "content after the {nv} vertices and {nf} faces that the OFF header declares"
+        )));
     }
     Ok(mesh)
 }

@@ -357,6 +357,48 @@ const PLY_TET_HEADER: &str = "ply\nformat ascii 1.0\nelement vertex 4\nproperty 
 const PLY_TET_BODY: &str = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
 
 #[test]
+fn obj_files_with_other_statements_are_still_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "# a tetrahedron\n\n   \nmtllib t.mtl\ng tet\nusemtl red\nvt 0 0\nvn 0 0 1\nvp 0.5\n\
+         s 1\nmg 1 0.5\nl 1 2\np 1\ncstype bspline\ndeg 3 \\\n   3\nend\n{OBJ_TET}# end\n"
+    );
+    let (mesh, report) = read_ok(&write(dir.path(), "tet.obj", text.as_bytes()));
+    assert_eq!((mesh.vertices.len(), mesh.triangles.len()), (4, 4));
+    assert_sphere(&report);
+}
+
+#[test]
+fn content_that_is_not_obj_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A binary NRRD volume, an executable and prose renamed `.obj`.
+    let mut nrrd = b"NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n".to_vec();
+    nrrd.extend((0..8).flat_map(|i| (i as f32).to_le_bytes()));
+    assert_refused(
+        d,
+        "volume.obj",
+        &nrrd,
+        &["line 1:", "'NRRD0004' is not an OBJ statement"],
+    );
+    let elf = b"\x7fELF\x02\x01\x01\0\0\0\0\0\0\0\0\0\x03\0>\0\x01\0\0\0\n";
+    assert_refused(d, "program.obj", elf, &["line 1:", "NUL or non-UTF-8"]);
+    let prose = "Dear reader,\n\nthis is a letter, not a mesh.\n";
+    assert_refused(d, "letter.obj", prose.as_bytes(), &["line 1:", "'Dear'"]);
+    // Found further down, after valid statements.
+    let text = format!("{OBJ_TET}\nhello world\n");
+    assert_refused(d, "tail.obj", text.as_bytes(), &["line 10:", "'hello'"]);
+    let text = format!("{OBJ_TET}# caf\u{e9}\n").replace('\u{e9}', "\u{1}");
+    let mut bytes = text.into_bytes();
+    let at = bytes.iter().position(|&b| b == 1).unwrap();
+    bytes[at] = 0xe9; // Latin-1, not UTF-8
+    assert_refused(d, "latin1.obj", &bytes, &["line 9:", "non-UTF-8"]);
+    assert_refused(d, "nul.obj", b"v 0 0 0\nv 1 0\x000\n", &["line 2:", "NUL"]);
+    // Keywords are case-sensitive.
+    assert_refused(d, "upper.obj", b"V 0 0 0\n", &["line 1:", "'V'"]);
+}
+
+#[test]
 fn non_finite_coordinates_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

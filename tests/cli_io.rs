@@ -698,6 +698,20 @@ fn check_reads_tmesh_like_ply() {
     let expected = report(&ply);
     assert!(expected.contains("\"vertices\""), "{expected}");
     assert_eq!(report(&tmesh), expected);
+    // So do the OBJ and OFF files that extract writes.
+    for ext in ["obj", "off"] {
+        let output = dir.path().join(format!("m.{ext}"));
+        tmc_ok(&[
+            "extract",
+            s(&input),
+            "--iso",
+            "0",
+            "--close",
+            "-o",
+            s(&output),
+        ]);
+        assert_eq!(report(&output), expected, "{ext}");
+    }
     // Recognised by its magic bytes, whatever the name.
     let renamed = dir.path().join("m.bin");
     fs::copy(&tmesh, &renamed).unwrap();
@@ -708,6 +722,52 @@ fn check_reads_tmesh_like_ply() {
     let out = tmc(&["check", s(&open)]);
     assert_eq!(out.status.code(), Some(0));
     assert!(!out.stdout.is_empty());
+}
+
+#[test]
+fn check_refuses_what_is_not_a_valid_mesh_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let file = |name: &str, bytes: &[u8]| {
+        let path = d.join(name);
+        fs::write(&path, bytes).unwrap();
+        path
+    };
+    let nrrd =
+        fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/nrrd_raw_le_f32.nrrd"))
+            .unwrap();
+    let elf = fs::read(std::env::current_exe().unwrap()).unwrap();
+    let tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+    let off = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n\
+               3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 0 1 2\n3 0 1 2\n";
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+               property float z\nend_header\n0 0 0\n1 0 0\n0 1 nan\n";
+    let cases = [
+        (file("volume.obj", &nrrd), "line 1: not an OBJ file"),
+        (file("program.obj", &elf[..4096]), "line 1: not an OBJ file"),
+        (
+            file("prose.obj", b"Just some words.\n"),
+            "line 1: not an OBJ file",
+        ),
+        (
+            file("nan.obj", tet.replace("v 0 1 0", "v 0 1 NaN").as_bytes()),
+            "line 3:",
+        ),
+        (file("faces.off", off.as_bytes()), "line 11: content after"),
+        (file("nan.ply", ply.as_bytes()), "vertex 2: coordinate NaN"),
+        (
+            file("tail.ply", ply.replace("nan", "0 7").as_bytes()),
+            "after the last element",
+        ),
+    ];
+    for (path, expected) in &cases {
+        let line = assert_one_line(&tmc(&["check", s(path)]), 1);
+        assert!(line.contains(&path.display().to_string()), "{line}");
+        assert!(line.contains(expected), "{line} lacks '{expected}'");
+    }
+    // The same tetrahedron is fine.
+    let out = tmc(&["check", s(&file("tet.obj", tet.as_bytes()))]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
 }
 
 #[test]

@@ -3,7 +3,11 @@
 //! The readers keep exactly the connectivity that the file states: vertices
 //! are never welded, polygons are fan-triangulated (`v0 vi vi+1`). Every
 //! malformed input is reported as one line, [`Error::Format`], prefixed with
-//! the file name. `.tmesh` files are read with [`TmeshReader`], which
+//! the file name. Malformed includes content that the format does not allow:
+//! an OBJ line that is not an OBJ statement (or not UTF-8 text), anything
+//! but blank lines and comments after the faces an OFF header declares,
+//! anything after the last element a PLY header declares, and vertex
+//! coordinates that are not finite `f32` numbers. `.tmesh` files are read with [`TmeshReader`], which
 //! verifies every checksum and names a damaged chunk.
 
 use std::fs::File;
@@ -23,9 +27,12 @@ const MAX_RESERVE: usize = 1 << 22;
 /// Reads a mesh from a PLY (ASCII or binary), OBJ, OFF or `.tmesh` file,
 /// chosen by the extension or, failing that, by the first bytes of the file.
 ///
-/// STL files are refused: STL repeats the corners of every triangle instead
-/// of sharing vertices, so it carries no connectivity to check. A `.tmesh`
-/// file must fit a [`Mesh`] (at most `u32::MAX` vertices).
+/// Content that the format does not allow is refused: an OBJ line that is
+/// not an OBJ statement, data after what an OFF or PLY header declares, a
+/// vertex coordinate that is not a finite `f32` number. So are STL files:
+/// STL repeats the corners of every triangle instead of sharing vertices,
+/// so it carries no connectivity to check. A `.tmesh` file must fit a
+/// [`Mesh`] (at most `u32::MAX` vertices).
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
     let ext = path
         .extension()
@@ -178,14 +185,20 @@ impl Source<'_> {
     /// false at the end of the file.
     fn next_content_line(&mut self) -> Result<bool> {
         while self.next_line()? {
-            if let Some(hash) = self.buf.iter().position(|&b| b == b'#') {
-                self.buf.truncate(hash);
-            }
-            if self.buf.iter().any(|b| !b.is_ascii_whitespace()) {
+            if self.strip_comment() {
                 return Ok(true);
             }
         }
         Ok(false)
+    }
+
+    /// Removes a `#` comment from the current line; true when anything but
+    /// whitespace remains.
+    fn strip_comment(&mut self) -> bool {
+        if let Some(hash) = self.buf.iter().position(|&b| b == b'#') {
+            self.buf.truncate(hash);
+        }
+        self.buf.iter().any(|b| !b.is_ascii_whitespace())
     }
 
     /// The whitespace-separated words of the current line.
@@ -693,23 +706,51 @@ fn read_ascii_record(
 
 // ---------------------------------------------------------------- OBJ ----
 
+/// The statement keywords of OBJ: every line with content must start with
+/// one. Only `v` and `f` are read; the others (texture coordinates, normals,
+/// groups, materials, free-form geometry...) are skipped.
+const OBJ_KEYWORDS: &str = "v vt vn vp f l p g o s mg mtllib usemtl maplib usemap \
+    cstype deg bmat step curv curv2 surf parm trim hole scrv sp end con bevel c_interp d_interp \
+    lod shadow_obj trace_obj ctech stech call csh";
+
 fn read_obj(src: &mut Source) -> Result<Mesh> {
     let mut mesh = Mesh::default();
     let mut polygon: Vec<u32> = Vec::new();
     // The largest positive index seen and its line, checked at the end
     // (positive indices may refer to vertices defined later).
     let mut max_index: Option<(u32, usize)> = None;
-    while src.next_content_line()? {
+    // Whether the previous line ended with a backslash: this one continues it.
+    let mut continued = false;
+    while src.next_line()? {
+        if src.buf.contains(&0) || std::str::from_utf8(&src.buf).is_err() {
+            return Err(src.err_line("not an OBJ file: NUL or non-UTF-8 bytes"));
+        }
+        let has_content = src.strip_comment();
+        let continuation = continued;
+        continued = src.buf.trim_ascii_end().ends_with(b"\\");
+        if continuation || !has_content {
+            continue;
+        }
         let mut words = src.words();
-        match words.next() {
-            Some(b"v") => {
+        let keyword = words.next().unwrap_or_default();
+        if !OBJ_KEYWORDS
+            .split_ascii_whitespace()
+            .any(|k| k.as_bytes() == keyword)
+        {
+            let keyword: String = String::from_utf8_lossy(keyword).chars().take(40).collect();
+            return Err(src.err_line(format!(
+                "not an OBJ file: '{keyword}' is not an OBJ statement"
+            )));
+        }
+        match keyword {
+            b"v" => {
                 let p = point(src, 1)?;
                 if mesh.vertices.len() >= u32::MAX as usize {
                     return Err(src.err("too many vertices"));
                 }
                 mesh.vertices.push(p);
             }
-            Some(b"f") => {
+            b"f" => {
                 polygon.clear();
                 for word in words {
                     let first = word.split(|&b| b == b'/').next().unwrap_or(word);

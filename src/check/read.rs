@@ -7,8 +7,9 @@
 //! an OBJ line that is not an OBJ statement (or not UTF-8 text), anything
 //! but blank lines and comments after the faces an OFF header declares,
 //! anything after the last element a PLY header declares, and vertex
-//! coordinates that are not finite `f32` numbers. `.tmesh` files are read with [`TmeshReader`], which
-//! verifies every checksum and names a damaged chunk.
+//! coordinates that are not finite `f32` numbers. `.tmesh` files are read
+//! with [`TmeshReader`], which verifies every checksum and names a damaged
+//! chunk.
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read};

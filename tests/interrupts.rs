@@ -503,3 +503,54 @@ fn a_fifo_manifest_or_report_waits_but_signals_stop_it() {
         assert_eq!(names(d), ["manifest", "report"]);
     }
 }
+
+/// A batch stopped by SIGTERM during its second input keeps the first
+/// input's finished output, writes nothing of the second, and its line says
+/// so (not "no output was written").
+#[cfg(unix)]
+#[test]
+fn a_batch_interrupted_after_an_input_keeps_that_output_and_says_so() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let (dir, _) = out_dir("unused");
+    let d = dir.path();
+    let input = volume().join("noise.raw");
+    let second = d.join("again.raw");
+    std::os::unix::fs::symlink(&input, &second).unwrap();
+    let dims = format!("{N},{N},{N}");
+    let template = d.join("{stem}.tmesh");
+    let mut child = spawn(&[
+        "extract",
+        s(&input),
+        s(&second),
+        "--dims",
+        &dims,
+        "--dtype",
+        "u8",
+        "--iso",
+        "127.5",
+        "--threads",
+        "1",
+        "-o",
+        s(&template),
+    ]);
+    let first = d.join("noise.tmesh");
+    let started = Instant::now();
+    while !first.exists() {
+        assert!(child.try_wait().unwrap().is_none(), "the batch ended early");
+        assert!(
+            started.elapsed().as_secs() < 120,
+            "the first input never finished"
+        );
+        sleep(Duration::from_millis(20));
+    }
+    still_running_after(&mut child, 0.3);
+    signal(&child, "TERM");
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(143), "{stderr}");
+    assert_eq!(
+        stderr.trim_end(),
+        "tmc: error: interrupted by SIGTERM; the outputs of the 1 input(s) that finished before it are kept, nothing else was written"
+    );
+    assert_eq!(names(d), ["again.raw", "noise.tmesh"]);
+}

@@ -11,7 +11,11 @@ use std::cell::Cell;
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// Inputs of the batch whose outputs were written before a signal stopped
+/// it: they are kept, and the interrupted line says so.
+pub(crate) static FINISHED_BEFORE_INTERRUPT: AtomicUsize = AtomicUsize::new(0);
 use std::time::Instant;
 use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 
@@ -122,7 +126,11 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         }
         match result {
             Ok(_) => {}
-            Err(Error::Interrupted) => return Err(Error::Interrupted),
+            Err(Error::Interrupted) => {
+                let finished = attempted - 1 - failed.len();
+                FINISHED_BEFORE_INTERRUPT.store(finished, Ordering::SeqCst);
+                return Err(Error::Interrupted);
+            }
             Err(e) => {
                 if items.len() > 1 {
                     // Most messages name the input already.

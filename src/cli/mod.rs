@@ -163,7 +163,12 @@ pub fn main() -> ExitCode {
                 .as_ref()
                 .and_then(|i| i.received())
                 .unwrap_or(("a signal", 130));
-            eprintln!("tmc: error: interrupted by {name}; no output was written");
+            match batch::FINISHED_BEFORE_INTERRUPT.load(std::sync::atomic::Ordering::SeqCst) {
+                0 => eprintln!("tmc: error: interrupted by {name}; no output was written"),
+                n => eprintln!(
+                    "tmc: error: interrupted by {name}; the outputs of the {n} input(s) that finished before it are kept, nothing else was written"
+                ),
+            }
             ExitCode::from(code)
         }
         Ok(Err(e)) => {

@@ -403,3 +403,20 @@ fn sample_type_and_file_bytes_of_every_reader() {
         }
     }
 }
+
+/// A file whose name holds `*` or `?` is read as itself when it exists; a
+/// name that no file has is a TIFF glob.
+#[test]
+fn a_file_named_like_a_glob_is_read_as_itself() {
+    let dir = tempfile::tempdir().unwrap();
+    let bundled = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/headsq_quarter.nrrd");
+    let starred = dir.path().join("b*.nrrd");
+    fs::copy(&bundled, &starred).unwrap();
+    let info = info_json(&starred, &[]);
+    assert_eq!(info["format"], "NRRD", "{info}");
+    let missing = dir.path().join("c*.tif");
+    let out = tmc(&["info", missing.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("c*.tif"), "{stderr}");
+}

@@ -138,11 +138,14 @@ fn glob_match(pattern: &[char], name: &[char]) -> bool {
     }
 }
 
-/// Whether `path` is a glob pattern (its file name holds `*` or `?`).
+/// Whether `path` is a glob pattern: its file name holds `*` or `?`, and
+/// no file or directory has that very name (a file named `b*.nrrd` is
+/// read as itself).
 pub fn is_pattern(path: &Path) -> bool {
     path.file_name()
         .and_then(|n| n.to_str())
         .is_some_and(|n| n.contains(['*', '?']))
+        && std::fs::symlink_metadata(path).is_err()
 }
 
 /// Opens a TIFF stack: a multi-page file, a directory of single-page TIFFs

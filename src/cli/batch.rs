@@ -12,12 +12,12 @@ use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
+use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 
 /// Inputs of the batch whose outputs were written before a signal stopped
 /// it: they are kept, and the interrupted line says so.
 pub(crate) static FINISHED_BEFORE_INTERRUPT: AtomicUsize = AtomicUsize::new(0);
-use std::time::Instant;
-use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 
 /// The batch options of `tmc extract`.
 #[derive(Debug, Args)]

@@ -24,6 +24,9 @@
 //!   toward lower values (`Inside::Low` flips the roles of high and low).
 //! * Coordinates are physical: `origin + index * spacing`, x fastest.
 
+#![warn(missing_docs)]
+#![deny(unsafe_op_in_unsafe_fn)]
+
 pub mod budget;
 pub mod check;
 pub mod error;

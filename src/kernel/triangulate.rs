@@ -86,7 +86,7 @@ fn ring_starts<const STEP: usize>(cost: &[[f64; 3]]) -> [[(f64, u16); 2]; 3] {
 }
 
 /// For the start K0 of vertex 0, the vertex after s steps sits at
-/// `K0 + s STEP`: so d[s], the best cost so far with the current vertex
+/// `K0 + s STEP`: so `d[s]`, the best cost so far with the current vertex
 /// after s steps, says where that vertex is. Each entry takes the better of
 /// two candidates, stay (s steps before) or step (s - 1); a tie goes to the
 /// candidate whose previous vertex is at the smaller k, as if the candidates

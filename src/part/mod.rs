@@ -1,5 +1,5 @@
 //! Split and merge: `tmc extract --part I/N` writes the chunks of one z-range
-//! of cell layers to a part file; [`merge`] stitches the parts into the mesh
+//! of cell layers to a part file; [`merge()`] stitches the parts into the mesh
 //! a single run writes, byte for byte.
 //!
 //! The seam between two parts needs no vertex matching: a chunk's vertices

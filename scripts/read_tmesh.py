@@ -75,7 +75,51 @@ def _header(h):
     }
 
 
-def _index(f, length):
+def _plane_bounds(info):
+    """The most vertices and triangles one chunk (a grid plane) can hold.
+
+    As tmc's reader computes them (plane_bounds in src/meshfile/reader.rs):
+    11 vertices (3 edges, 8 interior) and 32 triangles per sample of the
+    plane, padded by 2 along x and y with close.
+    """
+    pad = 2 if info["close"] else 0
+    samples = (info["dims"][0] + pad) * (info["dims"][1] + pad)
+    return 11 * samples, 32 * samples
+
+
+def _check_entries(entries, info):
+    """Refuses, before any chunk is inflated, a chunk claiming more than one
+    plane of the grid can have, on a plane beyond the grid or out of plane
+    order (so the counts a file can claim are bounded by its grid)."""
+    most_v, most_t = _plane_bounds(info)
+    # Counts are u32, planes u64: a bound beyond their range admits any.
+    most = [np.uint64(min(m, (1 << 32) - 1)) for m in (most_v, most_t)]
+    over = np.flatnonzero((entries["nv"] > most[0]) | (entries["nt"] > most[1]))
+    if len(over):
+        i = int(over[0])
+        raise TmeshError(
+            f"chunk {i} claims {int(entries[i]['nv'])} vertices and "
+            f"{int(entries[i]['nt'])} triangles, more than one plane of the grid "
+            f"can have ({most_v} and {most_t})"
+        )
+    planes = info["dims"][2] + (2 if info["close"] else 0)
+    plane = entries["plane"]
+    beyond = np.flatnonzero(plane >= np.uint64(planes)) if planes < 1 << 64 else []
+    if len(beyond):
+        i = int(beyond[0])
+        raise TmeshError(
+            f"chunk {i} is on plane {int(plane[i])}, beyond the grid's {planes} planes"
+        )
+    back = np.flatnonzero(plane[1:] <= plane[:-1])
+    if len(back):
+        i = int(back[0]) + 1
+        raise TmeshError(
+            f"chunk {i} is on plane {int(plane[i])}, not after the previous "
+            f"chunk's plane {int(plane[i - 1])}"
+        )
+
+
+def _index(f, length, info):
     """Reads the trailer and the chunk index; returns (totals, entries)."""
     trailer = _read_at(f, length - TRAILER_BYTES, TRAILER_BYTES, "trailer")
     if trailer[24:32] != END_MAGIC:
@@ -97,6 +141,7 @@ def _index(f, length):
             [("offset", "<u8"), ("base", "<u8"), ("nv", "<u4"), ("nt", "<u4"), ("plane", "<u8")]
         ),
     )
+    _check_entries(entries, info)
     bases = np.concatenate((np.zeros(1, np.uint64), np.cumsum(entries["nv"], dtype=np.uint64)))
     if (
         not np.array_equal(entries["base"], bases[:-1])
@@ -149,7 +194,7 @@ def read_tmesh(path):
         if length < HEADER_BYTES + TRAILER_BYTES:
             raise TmeshError(f"{length} bytes is too short for a .tmesh file")
         info = _header(_read_at(f, 0, HEADER_BYTES, "header"))
-        (nv, nt), entries = _index(f, length)
+        (nv, nt), entries = _index(f, length, info)
         vertices = np.empty((nv, 3), dtype=np.float32)
         triangles = np.empty((nt, 3), dtype=np.uint64)
         decompressor = zstandard.ZstdDecompressor()

@@ -5,9 +5,9 @@
 
 mod common;
 
-use common::cli::names;
+use common::cli::{names, python_ready, read_tmesh_py_error, read_tmesh_script};
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use tmc::export::{create_sink, replay, write_mesh};
 use tmc::meshfile::TmeshReader;
@@ -251,27 +251,9 @@ fn sinks_check_the_numbering_and_commit_nothing_when_it_is_wrong() {
     }
 }
 
-/// The repository's `scripts/read_tmesh.py`.
-fn script() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/read_tmesh.py")
-}
-
-/// Whether `python3` with numpy and zstandard is available.
-fn python_ready() -> bool {
-    Command::new("python3")
-        .args(["-c", "import numpy, zstandard"])
-        .output()
-        .map(|out| out.status.success())
-        .unwrap_or(false)
-}
-
 #[test]
 fn the_python_reader_agrees_with_tmc() {
     if !python_ready() {
-        println!(
-            "SKIPPED: python3 with numpy and zstandard is not available \
-             (python3 -m pip install numpy zstandard)"
-        );
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -283,7 +265,7 @@ fn the_python_reader_agrees_with_tmc() {
 
     let off = dir.path().join("noise.off");
     let out = Command::new("python3")
-        .arg(script())
+        .arg(read_tmesh_script())
         .arg(&tmesh)
         .arg("--off")
         .arg(&off)
@@ -312,14 +294,7 @@ fn the_python_reader_agrees_with_tmc() {
     let mut bytes = fs::read(&tmesh).unwrap();
     bytes[target.offset as usize + 48 + 10] ^= 0x55;
     fs::write(&tmesh, &bytes).unwrap();
-    let out = Command::new("python3")
-        .arg(script())
-        .arg(&tmesh)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    let stderr = read_tmesh_py_error(&tmesh);
     assert!(
         stderr.contains("chunk 5") && stderr.contains("checksum"),
         "{stderr}"

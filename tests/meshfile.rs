@@ -209,10 +209,12 @@ fn unchecked_fields_are_refused() {
 
 /// A chunk claiming more vertices than one plane of the grid can have (a
 /// small file inflating to gigabytes) is refused from the index, before
-/// any chunk is inflated, by the reader, `tmc check` and `tmc convert`.
+/// any chunk is inflated, by the reader, `tmc check`, `tmc convert` and
+/// `scripts/read_tmesh.py` (when python3 has numpy and zstandard).
 #[test]
 fn a_chunk_larger_than_a_plane_is_refused() {
-    use common::cli::{assert_one_line, s, tmc};
+    use common::cli::{assert_one_line, python_ready, read_tmesh_py, read_tmesh_py_error, s, tmc};
+    let python = python_ready();
     let dir = tempfile::tempdir().expect("tempdir");
     let path = dir.path().join("m.tmesh");
     write(&path, 1, 0);
@@ -238,6 +240,11 @@ fn a_chunk_larger_than_a_plane_is_refused() {
         let opened = TmeshReader::open(&path);
         if count == most {
             opened.expect("as many as a plane can have");
+            if python {
+                let out = read_tmesh_py(&path);
+                let stderr = String::from_utf8_lossy(&out.stderr);
+                assert!(out.status.success(), "read_tmesh.py: {stderr}");
+            }
             continue;
         }
         let err = opened.err().expect("refused").to_string();
@@ -254,5 +261,13 @@ fn a_chunk_larger_than_a_plane_is_refused() {
             assert!(line.contains("chunk 0 claims"), "{args:?}: {line}");
         }
         assert!(!ply.exists());
+        if python {
+            let stderr = read_tmesh_py_error(&path);
+            let bound = format!(
+                "chunk 0 claims {count} vertices and 1 triangles, more than one plane of the grid can have ({most} and {})",
+                most / 11 * 32
+            );
+            assert!(stderr.contains(&bound), "{stderr}");
+        }
     }
 }

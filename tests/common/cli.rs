@@ -99,6 +99,46 @@ pub fn s(path: &Path) -> &str {
     path.to_str().unwrap()
 }
 
+/// The repository's `scripts/read_tmesh.py`.
+pub fn read_tmesh_script() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/read_tmesh.py")
+}
+
+/// Whether `python3` with numpy and zstandard is available; prints a
+/// SKIPPED line when it is not.
+pub fn python_ready() -> bool {
+    let ready = Command::new("python3")
+        .args(["-c", "import numpy, zstandard"])
+        .output()
+        .is_ok_and(|out| out.status.success());
+    if !ready {
+        println!(
+            "SKIPPED: python3 with numpy and zstandard is not available \
+             (python3 -m pip install numpy zstandard)"
+        );
+    }
+    ready
+}
+
+/// Runs `python3 scripts/read_tmesh.py MESH`.
+pub fn read_tmesh_py(mesh: &Path) -> Output {
+    Command::new("python3")
+        .arg(read_tmesh_script())
+        .arg(mesh)
+        .output()
+        .expect("run python3")
+}
+
+/// Runs `scripts/read_tmesh.py` on `mesh`, asserts exit status 1 and one
+/// line on stderr, and returns that line.
+pub fn read_tmesh_py_error(mesh: &Path) -> String {
+    let out = read_tmesh_py(mesh);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "read_tmesh.py: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "read_tmesh.py: {stderr}");
+    stderr
+}
+
 /// The built `tmc` binary.
 pub fn tmc_path() -> &'static str {
     env!("CARGO_BIN_EXE_tmc")

@@ -166,7 +166,13 @@ def _chunk(f, i, e, next_nv, decompressor):
     if _crc(payload) != crc:
         raise TmeshError(f"{name}: payload checksum mismatch (the data is damaged)")
     expect = 12 * (nv + nt)
+    # The frame must state exactly that size before it is inflated: when a
+    # frame states its size, zstandard allocates that much and ignores
+    # max_output_size (which bounds frames that do not).
     try:
+        stated = zstandard.frame_content_size(payload)
+        if stated != expect:
+            raise TmeshError(f"{name}: payload frame size disagrees with the counts")
         raw = decompressor.decompress(payload, max_output_size=expect)
     except zstandard.ZstdError as err:
         raise TmeshError(f"{name}: {err}") from None

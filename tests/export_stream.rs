@@ -300,3 +300,51 @@ fn the_python_reader_agrees_with_tmc() {
         "{stderr}"
     );
 }
+
+/// A chunk whose zstd frame states a larger size than the chunk's counts
+/// (a crafted file: checksums recomputed) is refused by both readers before
+/// it is inflated; python-zstandard would allocate the stated size, which
+/// its `max_output_size` does not bound.
+#[test]
+fn a_frame_larger_than_its_counts_is_refused() {
+    use common::cli::{assert_one_line, s, tmc};
+    let dir = tempfile::tempdir().unwrap();
+    let tmesh = dir.path().join("noise.tmesh");
+    stream(&synth::noise(24, 3, 1), &tmesh, &params(2, true), 4).unwrap();
+    let reader = TmeshReader::open(&tmesh).unwrap();
+    let last = reader.entries().len() - 1;
+    let e = reader.entries()[last];
+    let good = fs::read(&tmesh).unwrap();
+    let n = good.len();
+    let at = e.offset as usize;
+    let index = u64::from_le_bytes(good[n - 32..n - 24].try_into().unwrap()) as usize;
+    // The last chunk's payload, replaced by a frame of 1 MiB more zeros.
+    let expect = 12 * (e.vertex_count + e.triangle_count) as usize;
+    let frame = zstd::bulk::compress(&vec![0u8; expect + (1 << 20)], 1).unwrap();
+    let mut bad = good[..at + 48].to_vec();
+    bad[at + 4..at + 8].copy_from_slice(&crc32fast::hash(&frame).to_le_bytes());
+    bad[at + 32..at + 40].copy_from_slice(&(frame.len() as u64).to_le_bytes());
+    let crc = crc32fast::hash(&bad[at..at + 40]);
+    bad[at + 40..at + 44].copy_from_slice(&crc.to_le_bytes());
+    bad.extend_from_slice(&frame);
+    let new_index = bad.len() as u64;
+    bad.extend_from_slice(&good[index..]);
+    let m = bad.len();
+    bad[m - 32..m - 24].copy_from_slice(&new_index.to_le_bytes());
+    fs::write(&tmesh, &bad).unwrap();
+    let refusal = format!("chunk {last} (plane {}", e.plane);
+    let line = assert_one_line(&tmc(&["check", s(&tmesh)]), 1);
+    assert!(
+        line.contains(&refusal) && line.contains("payload frame size disagrees with the counts"),
+        "{line}"
+    );
+    if !python_ready() {
+        return;
+    }
+    let stderr = read_tmesh_py_error(&tmesh);
+    assert!(
+        stderr.contains(&refusal)
+            && stderr.contains("payload frame size disagrees with the counts"),
+        "{stderr}"
+    );
+}

@@ -1,9 +1,11 @@
 //! Inputs the fuzzers (`scripts/fuzz`, `fuzz/`) found to crash a reader,
-//! kept in `tests/data/fuzz/`: each must now give one clear error line.
+//! kept in `tests/data/fuzz/`, and a deflate bomb made here: each must now
+//! give one clear error line.
 
 mod common;
 
 use common::formats::{data_dir, open_err};
+use std::path::Path;
 
 /// A TIFF tag claiming 2^31 values in a 3 KB file made the decoder reserve
 /// 32 GiB (the reader had lifted the decoder's limits) and abort.
@@ -21,7 +23,8 @@ fn tiff_tag_with_a_huge_count_is_an_error() {
 /// allocation aborted).
 #[test]
 fn dicom_element_longer_than_the_file_fails_fast() {
-    dicom_fails_fast("dicom_huge_element_length.dcm", "(0028,1052)", "4294967280");
+    let fuzz = data_dir().join("fuzz/dicom_huge_element_length.dcm");
+    dicom_fails_fast(&fuzz, &["(0028,1052)", "4294967280"]);
 }
 
 /// A 539-byte slice whose meta group (by its group length) holds a foreign
@@ -31,19 +34,20 @@ fn dicom_element_longer_than_the_file_fails_fast() {
 /// does.
 #[test]
 fn dicom_meta_element_with_an_unknown_vr_fails_fast() {
-    dicom_fails_fast("dicom_meta_unknown_vr.dcm", "(0002,0013)", "4284043264");
+    let fuzz = data_dir().join("fuzz/dicom_meta_unknown_vr.dcm");
+    dicom_fails_fast(&fuzz, &["(0002,0013)", "4284043264"]);
 }
 
-/// `tmc extract` of `tests/data/fuzz/NAME` fails at once, under a 1 GiB
-/// address-space limit, with one line naming element `tag` and its claimed
-/// length `claimed`, and writes nothing.
-fn dicom_fails_fast(name: &str, tag: &str, claimed: &str) {
+/// `tmc extract` of a copy of `source` fails at once, under a 1 GiB
+/// address-space limit, with one line naming the file and holding each of
+/// `expected`, and writes nothing.
+fn dicom_fails_fast(source: &Path, expected: &[&str]) {
     use common::cli::{assert_one_line, s, tmc_path};
     use std::process::Command;
     use std::time::{Duration, Instant};
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("slice.dcm");
-    std::fs::copy(data_dir().join("fuzz").join(name), &input).unwrap();
+    std::fs::copy(source, &input).unwrap();
     let out_path = dir.path().join("out.ply");
     let args = [
         tmc_path(),
@@ -69,11 +73,60 @@ fn dicom_fails_fast(name: &str, tag: &str, claimed: &str) {
     let elapsed = start.elapsed();
     let e = assert_one_line(&out, 1);
     assert!(
-        e.contains("slice.dcm") && e.contains(tag) && e.contains(claimed),
+        e.contains("slice.dcm") && expected.iter().all(|x| e.contains(x)),
         "{e}"
     );
     assert!(elapsed < Duration::from_secs(2), "took {elapsed:?}");
     assert!(!out_path.exists());
+}
+
+/// A deflated DICOM data set (transfer syntax 1.2.840.10008.1.2.1.99) of
+/// 1.25 GiB in a 1.3 MB file: the length walk inflated it twice and the
+/// parser then held it in memory. It is now refused once it inflates past
+/// `inflate_cap` (256 MiB for a small file), in one streaming pass.
+#[test]
+fn a_deflate_bomb_fails_fast() {
+    let dir = tempfile::tempdir().unwrap();
+    let bomb = dir.path().join("bomb.dcm");
+    std::fs::write(&bomb, deflate_bomb(80 << 24)).unwrap();
+    dicom_fails_fast(
+        &bomb,
+        &["deflated data set inflates to more than 268435456 bytes"],
+    );
+}
+
+/// A deflated DICOM file whose data set is one (0042,0011) OB element of
+/// `zeros` zero bytes (a multiple of 16 MiB), deflated to about 1/1000.
+fn deflate_bomb(zeros: usize) -> Vec<u8> {
+    use flate2::{Compress, Compression, FlushCompress};
+    // Deflate blocks ending with a full flush: self-contained and byte
+    // aligned, so that copies of them can follow each other.
+    let flushed = |bytes: &[u8]| {
+        let mut c = Compress::new(Compression::best(), false);
+        let mut out = Vec::with_capacity(bytes.len() / 100 + 1024);
+        c.compress_vec(bytes, &mut out, FlushCompress::Full)
+            .unwrap();
+        assert_eq!(c.total_in(), bytes.len() as u64);
+        out
+    };
+    let syntax = b"1.2.840.10008.1.2.1.99\0";
+    let mut file = vec![0u8; 128];
+    file.extend_from_slice(b"DICM");
+    file.extend_from_slice(&[0x02, 0x00, 0x00, 0x00, b'U', b'L', 4, 0]);
+    file.extend_from_slice(&(8 + syntax.len() as u32).to_le_bytes());
+    file.extend_from_slice(&[0x02, 0x00, 0x10, 0x00, b'U', b'I']);
+    file.extend_from_slice(&(syntax.len() as u16).to_le_bytes());
+    file.extend_from_slice(syntax);
+    let mut head = vec![0x42, 0x00, 0x11, 0x00, b'O', b'B', 0, 0];
+    head.extend_from_slice(&(zeros as u32).to_le_bytes());
+    file.extend(flushed(&head));
+    let block = flushed(&vec![0u8; 1 << 24]);
+    for _ in 0..zeros >> 24 {
+        file.extend_from_slice(&block);
+    }
+    // A final, empty block (fixed Huffman codes: the end-of-block code).
+    file.extend_from_slice(&[0x03, 0x00]);
+    file
 }
 
 /// A slice of a fuzzed 3-slice series with RLE pixel data made the RLE

@@ -13,7 +13,8 @@
 //! so that the header's image size can be checked against it.
 //!
 //! A deflated data set is inflated twice, without being kept: once to learn
-//! its size, once to walk it against that size. What it does not check is
+//! its size (refusing one that inflates beyond [`inflate_cap`]), once to
+//! walk it against that size. What it does not check is
 //! left to the parser: a file without the `DICM` magic, a data set it cannot
 //! inflate and a header cut short by the end of the file.
 
@@ -39,6 +40,31 @@ const EXPLICIT_VR_BE: &str = "1.2.840.10008.1.2.2";
 const DEFLATED: &str = "1.2.840.10008.1.2.1.99";
 /// Deflated frames in an explicit VR little endian data set; not walked.
 const DEFLATED_FRAMES: &str = "1.2.840.10008.1.2.8.1";
+
+/// The least [`inflate_cap`] allows a deflated data set, whatever the file
+/// size: 256 MiB.
+pub const INFLATE_FLOOR: u64 = 256 << 20;
+
+/// The most bytes [`inflate_cap`] allows a deflated data set per byte of
+/// its file, above [`INFLATE_FLOOR`].
+pub const INFLATE_RATIO: u64 = 64;
+
+/// The most bytes the deflated data set of a file of `file_size` bytes may
+/// inflate to: the larger of [`INFLATE_FLOOR`] and [`INFLATE_RATIO`] times
+/// the file size.
+///
+/// Deflate inflates up to 1032 bytes per byte, so the file size alone lets
+/// a 4 MB file claim a 4 GB data set, which the parser would hold in memory
+/// (it keeps every value it reads) after this walk inflated it twice. Image
+/// data deflates about 2-4:1 (CT, MR); only constant regions deflate much
+/// better, so 64:1 leaves a wide margin for a real series, and the floor
+/// admits any single slice however uniform (a 4096x4096 slice of 32-bit
+/// samples is 64 MiB) and a multi-frame file of 256 MiB. A file beyond the
+/// cap is refused after inflating the cap plus one byte, in one streaming
+/// pass that keeps nothing, before the parser sees it.
+pub fn inflate_cap(file_size: u64) -> u64 {
+    INFLATE_FLOOR.max(file_size.saturating_mul(INFLATE_RATIO))
+}
 
 /// The deepest nesting of sequences and items (each counts one level)
 /// that is walked. Real files nest a few levels; the parser recurses once
@@ -215,16 +241,28 @@ fn check_reader<R: Read + Seek>(input: R, size: u64) -> Result<Option<PixelData>
     match meta_group(&mut w)? {
         None => Ok(None),
         Some(Stored::Plain(encoding)) => data_set(&mut w, encoding),
-        Some(Stored::Deflated) => deflated_data_set(w),
+        Some(Stored::Deflated) => deflated_data_set(w, inflate_cap(size)),
     }
 }
 
-/// Walks a deflated data set, which starts at the walker's position.
-fn deflated_data_set<R: Read + Seek>(mut w: Walker<R>) -> Result<Option<PixelData>, String> {
+/// Walks a deflated data set, which starts at the walker's position, if it
+/// inflates to `cap` bytes at most.
+fn deflated_data_set<R: Read + Seek>(
+    mut w: Walker<R>,
+    cap: u64,
+) -> Result<Option<PixelData>, String> {
     let start = w.pos;
-    // A stream that does not inflate is the parser's to report.
-    let size =
-        inflate_from(&mut w.input, start).and_then(|mut d| io::copy(&mut d, &mut io::sink()));
+    // A stream that does not inflate is the parser's to report, unless it
+    // inflates beyond the cap before it fails: the parser would too.
+    let size = inflate_from(&mut w.input, start)
+        .and_then(|d| io::copy(&mut d.take(cap.saturating_add(1)), &mut io::sink()));
+    if size.as_ref().is_ok_and(|&n| n > cap) {
+        return Err(format!(
+            "not a readable DICOM file: its deflated data set inflates to more than {cap} bytes, the most tmc inflates from a file of {} bytes (the larger of {} MiB and {INFLATE_RATIO} times the file size; a decompression bomb or damaged: store it uncompressed to read it)",
+            w.size,
+            INFLATE_FLOOR >> 20
+        ));
+    }
     let (Ok(size), Ok(decoder)) = (size, inflate_from(&mut w.input, start)) else {
         return Ok(None);
     };
@@ -633,5 +671,28 @@ mod tests {
             e.contains("(0008,0119)") && e.contains("inflated data set"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_deflated_data_set_beyond_the_cap_is_refused() {
+        // (0042,0011) OB of 4000 zero bytes: 4012 bytes inflated.
+        let mut body = vec![0x42, 0x00, 0x11, 0x00, b'O', b'B', 0, 0];
+        body.extend_from_slice(&4000u32.to_le_bytes());
+        body.resize(body.len() + 4000, 0);
+        let stream = deflate(&body);
+        let walk = |cap| {
+            let w = Walker {
+                input: Cursor::new(&stream),
+                pos: 0,
+                size: stream.len() as u64,
+                what: "the file",
+            };
+            deflated_data_set(w, cap)
+        };
+        assert_eq!(walk(4012), Ok(None));
+        let e = walk(4011).unwrap_err();
+        assert!(e.contains("inflates to more than 4011 bytes"), "{e}");
+        assert_eq!(inflate_cap(1000), INFLATE_FLOOR);
+        assert_eq!(inflate_cap(1 << 30), INFLATE_RATIO << 30);
     }
 }

@@ -641,6 +641,76 @@ fn check_fails_on_a_mesh_that_is_not_a_manifold() {
     assert!(out.stderr.is_empty());
 }
 
+/// `tmc check` on a PLY, OBJ or OFF file without triangles (none declared,
+/// an empty file, vertices only) says so: the verdict reads `yes (empty)`
+/// and a note on stderr gives the counts; exit 0, or 1 with
+/// `--require-surface` (after the report). A mesh with triangles is not
+/// affected by the option.
+#[test]
+fn check_says_plainly_that_a_mesh_is_empty() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let ply = b"ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\n\
+                property float z\nelement face 0\nproperty list uchar int vertex_indices\n\
+                end_header\n";
+    let empty = [
+        (file(d, "none.off", b"OFF\n0 0 0\n"), 0),
+        (file(d, "none.ply", ply), 0),
+        (file(d, "none.obj", b""), 0),
+        (
+            file(d, "points.off", b"OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"),
+            3,
+        ),
+    ];
+    for (mesh, vertices) in &empty {
+        let note = format!(
+            "tmc: note: {}: the mesh is empty ({vertices} vertices, 0 triangles)",
+            s(mesh)
+        );
+        for json in [false, true] {
+            let args = if json {
+                vec!["check", s(mesh), "--json"]
+            } else {
+                vec!["check", s(mesh)]
+            };
+            let out = tmc(&args);
+            let (stdout, stderr) = (
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr),
+            );
+            assert_eq!(out.status.code(), Some(0), "{args:?}: {stderr}");
+            assert_eq!(stderr.lines().count(), 1, "{stderr}");
+            assert!(stderr.starts_with(&note), "{stderr}");
+            if json {
+                assert!(stdout.contains("\"triangles\":0,"), "{stdout}");
+            } else {
+                assert!(verdict(&stdout, " yes (empty)"), "{stdout}");
+            }
+        }
+        let out = tmc(&["check", s(mesh), "--require-surface"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        let error = note.replace("note", "error");
+        assert!(stderr.starts_with(&error), "{stderr}");
+        assert!(stderr.contains("--require-surface"), "{stderr}");
+        assert!(!out.stdout.is_empty(), "no report");
+    }
+    let open = file(d, "open.off", b"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    let out = tmc(&["check", s(&open), "--require-surface"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(out.stderr.is_empty(), "{out:?}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(verdict(&stdout, " no"), "{stdout}");
+}
+
+/// Whether the text report `stdout` has the verdict line ending in `end`.
+fn verdict(stdout: &str, end: &str) -> bool {
+    stdout
+        .lines()
+        .any(|l| l.starts_with("closed manifold ") && l.ends_with(end))
+}
+
 /// A FIFO as the `.tmesh` input of `convert`, `merge` or `check` is refused
 /// with one line (a `.tmesh` is read by seeking; opening a FIFO would wait
 /// for a writer, past SIGINT and SIGTERM).

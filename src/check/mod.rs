@@ -176,6 +176,8 @@ impl MeshReport {
     }
 
     /// Writes a human-readable, aligned summary (at most 20 component rows).
+    /// The verdict of a mesh without triangles reads `yes (empty)`: it is
+    /// closed only vacuously.
     pub fn print_text(&self, w: &mut impl Write) -> std::io::Result<()> {
         const MAX_ROWS: usize = 20;
         let yes_no = |b: bool| if b { "yes" } else { "no" };
@@ -206,7 +208,14 @@ impl MeshReport {
                 self.total_genus()
                     .map_or_else(|| "-".to_string(), |g| g.to_string()),
             ),
-            ("closed manifold", yes_no(self.is_closed_manifold()).into()),
+            (
+                "closed manifold",
+                if self.triangles == 0 {
+                    "yes (empty)".into()
+                } else {
+                    yes_no(self.is_closed_manifold()).into()
+                },
+            ),
         ];
         for (label, value) in &rows {
             writeln!(w, "{label:<22} {value:>12}")?;

@@ -16,6 +16,10 @@ use tmc::{Error, Result};
 /// checksum verified; a damaged chunk is named. STL cannot share vertices,
 /// so topology checks on STL files are not meaningful; check a .ply, .obj,
 /// .off or .tmesh file instead.
+///
+/// An empty mesh (no triangles) is a manifold only vacuously: the report
+/// says "closed manifold: yes (empty)" and a note on stderr gives its
+/// counts; the exit status is 0, or 1 with --require-surface.
 #[derive(Debug, Args)]
 pub(crate) struct CheckArgs {
     /// The mesh to check (format from the extension or, failing that, the
@@ -26,6 +30,11 @@ pub(crate) struct CheckArgs {
     /// Print the report as one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+
+    /// Fail (exit 1, after the report) when the mesh is empty: no
+    /// triangles. Without it an empty mesh passes with a note on stderr.
+    #[arg(long)]
+    pub require_surface: bool,
 }
 
 /// Runs `tmc check`.
@@ -40,6 +49,19 @@ pub(crate) fn run(args: &CheckArgs) -> Result<()> {
             report.print_text(out)
         }
     })?;
+    if report.triangles == 0 {
+        let empty = format!(
+            "{}: the mesh is empty ({} vertices, 0 triangles)",
+            args.mesh.display(),
+            report.vertices
+        );
+        if args.require_surface {
+            return Err(Error::Invalid(format!(
+                "{empty}, and --require-surface asks for a surface"
+            )));
+        }
+        eprintln!("tmc: note: {empty}: closed only vacuously, there is no surface");
+    }
     if report.is_oriented_manifold() {
         Ok(())
     } else {

@@ -86,7 +86,8 @@ Exit status:
   1    failure (unreadable, malformed or changing input, unwritable output,
        disk full, --max-memory too small, ...; one line 'tmc: error: ...');
        'tmc check' also exits 1 when the mesh is not a consistently oriented
-       manifold (non-manifold edges or vertices, inconsistent orientation);
+       manifold (non-manifold edges or vertices, inconsistent orientation)
+       or, with --require-surface, when it is empty (no triangles);
        a batch ('tmc extract' with several inputs, isovalues or --manifest)
        exits 1 when any item failed, after naming each on stderr
   2    usage error (unknown option, missing or malformed value)

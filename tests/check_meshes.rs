@@ -482,3 +482,76 @@ fn data_after_the_declared_faces_or_elements_is_refused() {
         assert_refused(d, "tail.ply", &cube, &["after the last element"]);
     }
 }
+
+/// OFF vertex lines hold the columns the header keyword declares
+/// (`[ST][C][N]OFF`: x y z, then a normal, an RGB or RGBA colour, texture
+/// coordinates); any other column count, a column that is not a number
+/// and an unknown keyword are refused, naming the line.
+#[test]
+fn off_vertex_columns_follow_the_header_keyword() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The tetrahedron under `keyword`, with `extra` after each vertex line.
+    let tet = |keyword: &str, extra: &str| -> String {
+        OFF_TET
+            .lines()
+            .enumerate()
+            .map(|(i, l)| match i {
+                0 => format!("{keyword}\n"),
+                2..=5 => format!("{l}{extra}\n"),
+                _ => format!("{l}\n"),
+            })
+            .collect()
+    };
+    for (i, (keyword, extra)) in [
+        ("OFF", ""),
+        ("COFF", " 255 0 0"),
+        ("COFF", " 1 0 0 0.5"),
+        ("NOFF", " 0 0 1"),
+        ("STOFF", " 0.5 0.5"),
+        ("STCNOFF", " 0.5 0.5 1 0 0 1 0 0 1"),
+        ("NCOFF", " 0 0 1 1 0 0"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let path = write(d, &format!("good{i}.off"), tet(keyword, extra).as_bytes());
+        assert_sphere(&read_ok(&path).1);
+    }
+    for (i, (keyword, extra, expected)) in [
+        (
+            "OFF",
+            " 255 0 0",
+            "line 3: vertex has 6 columns; the header 'OFF' declares 3 (x y z)",
+        ),
+        ("OFF", " 1", "line 3: vertex has 4 columns"),
+        (
+            "COFF",
+            "",
+            "line 3: vertex has 3 columns; the header 'COFF' declares 6 or 7 (x y z r g b [a])",
+        ),
+        ("COFF", " 1 0 0 1 1", "line 3: vertex has 8 columns"),
+        (
+            "NOFF",
+            " 0 0",
+            "the header 'NOFF' declares 6 (x y z nx ny nz)",
+        ),
+        (
+            "COFF",
+            " red 0 0",
+            "line 3: vertex column 4 'red' is not a number",
+        ),
+        ("XOFF", "", "line 1: unknown OFF header keyword 'XOFF'"),
+        (
+            "CCOFF",
+            " 1 0 0",
+            "line 1: unknown OFF header keyword 'CCOFF'",
+        ),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let name = format!("bad{i}.off");
+        assert_refused(d, &name, tet(keyword, extra).as_bytes(), &[expected]);
+    }
+}

@@ -4,12 +4,13 @@
 //! are never welded, polygons are fan-triangulated (`v0 vi vi+1`). Every
 //! malformed input is reported as one line, [`Error::Format`], prefixed with
 //! the file name. Malformed includes content that the format does not allow:
-//! an OBJ line that is not an OBJ statement (or not UTF-8 text), anything
-//! but blank lines and comments after the faces an OFF header declares,
-//! anything after the last element a PLY header declares, and vertex
-//! coordinates that are not finite `f32` numbers. `.tmesh` files are read
-//! with [`TmeshReader`], which verifies every checksum and names a damaged
-//! chunk.
+//! an OBJ line that is not an OBJ statement (or not UTF-8 text), an OFF
+//! vertex line with other columns than its header keyword declares (see
+//! [`OffLayout`]), anything but blank lines and comments after the faces an
+//! OFF header declares, anything after the last element a PLY header
+//! declares, and vertex coordinates that are not finite `f32` numbers.
+//! `.tmesh` files are read with [`TmeshReader`], which verifies every
+//! checksum and names a damaged chunk.
 
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read};
@@ -806,6 +807,93 @@ fn read_obj(src: &mut Source) -> Result<Mesh> {
 
 // ---------------------------------------------------------------- OFF ----
 
+/// The columns of an OFF vertex line, which the header keyword
+/// `[ST][C][N]OFF` declares (Geomview's OFF; the prefixes in any order,
+/// each at most once): `x y z`, then with `N` a normal `nx ny nz`, with `C`
+/// a colour `r g b` or `r g b a`, with `ST` texture coordinates `s t`.
+/// Every column must be a number; a line with fewer or more columns is
+/// refused (so that a colour, say, is never taken for part of the next
+/// vertex or silently dropped).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct OffLayout {
+    normal: bool,
+    colour: bool,
+    texture: bool,
+}
+
+impl OffLayout {
+    /// The layout the prefix of `OFF` declares; `None` for an unknown or
+    /// repeated prefix.
+    fn parse(mut prefix: &str) -> Option<OffLayout> {
+        let mut layout = OffLayout::default();
+        while !prefix.is_empty() {
+            let (flag, len) = match prefix.as_bytes()[0] {
+                b'S' if prefix.starts_with("ST") => (&mut layout.texture, 2),
+                b'C' => (&mut layout.colour, 1),
+                b'N' => (&mut layout.normal, 1),
+                _ => return None,
+            };
+            if std::mem::replace(flag, true) {
+                return None;
+            }
+            prefix = &prefix[len..];
+        }
+        Some(layout)
+    }
+
+    /// The fewest and most columns of a vertex line.
+    fn columns(self) -> (usize, usize) {
+        let least = 3
+            + 3 * usize::from(self.normal)
+            + 3 * usize::from(self.colour)
+            + 2 * usize::from(self.texture);
+        (least, least + usize::from(self.colour))
+    }
+
+    /// The columns, for messages: `x y z nx ny nz r g b [a] s t`.
+    fn describe(self) -> String {
+        let mut s = String::from("x y z");
+        for (on, what) in [
+            (self.normal, " nx ny nz"),
+            (self.colour, " r g b [a]"),
+            (self.texture, " s t"),
+        ] {
+            if on {
+                s += what;
+            }
+        }
+        s
+    }
+
+    /// Checks the columns of the vertex line in `src` against the layout.
+    fn check(self, src: &Source, keyword: &str) -> Result<()> {
+        let (least, most) = self.columns();
+        let mut n = 0;
+        for word in src.words() {
+            n += 1;
+            if n > 3 && n <= most && parse::<f64>(word).is_none() {
+                return Err(src.err_line(format!(
+                    "vertex column {n} '{}' is not a number",
+                    String::from_utf8_lossy(word)
+                )));
+            }
+        }
+        // Fewer than three: `point` names the missing coordinate.
+        if n >= 3 && !(least..=most).contains(&n) {
+            let count = if least == most {
+                least.to_string()
+            } else {
+                format!("{least} or {most}")
+            };
+            return Err(src.err_line(format!(
+                "vertex has {n} columns; the header '{keyword}' declares {count} ({})",
+                self.describe()
+            )));
+        }
+        Ok(())
+    }
+}
+
 fn read_off(src: &mut Source) -> Result<Mesh> {
     if !src.next_content_line()? {
         return Err(src.err("empty OFF file"));
@@ -818,6 +906,11 @@ fn read_off(src: &mut Source) -> Result<Mesh> {
     if prefix.contains('4') || prefix.contains('n') {
         return Err(src.err_line(format!("{keyword} files (not 3-D) are not supported")));
     }
+    let layout = OffLayout::parse(prefix).ok_or_else(|| {
+        src.err_line(format!(
+            "unknown OFF header keyword '{keyword}' (expected OFF with prefixes ST, C or N)"
+        ))
+    })?;
     let mut counts: Vec<Vec<u8>> = words[1..].to_vec();
     if counts.first().is_some_and(|w| w == b"BINARY") {
         return Err(src.err_line("binary OFF files are not supported"));
@@ -846,6 +939,7 @@ fn read_off(src: &mut Source) -> Result<Mesh> {
         if !src.next_content_line()? {
             return Err(src.err(format!("truncated OFF file: {i} of {nv} vertices")));
         }
+        layout.check(src, &keyword)?;
         mesh.vertices.push(point(src, 0)?);
     }
     let mut polygon: Vec<u32> = Vec::new();

@@ -96,17 +96,6 @@ fn a_deflate_bomb_fails_fast() {
 /// A deflated DICOM file whose data set is one (0042,0011) OB element of
 /// `zeros` zero bytes (a multiple of 16 MiB), deflated to about 1/1000.
 fn deflate_bomb(zeros: usize) -> Vec<u8> {
-    use flate2::{Compress, Compression, FlushCompress};
-    // Deflate blocks ending with a full flush: self-contained and byte
-    // aligned, so that copies of them can follow each other.
-    let flushed = |bytes: &[u8]| {
-        let mut c = Compress::new(Compression::best(), false);
-        let mut out = Vec::with_capacity(bytes.len() / 100 + 1024);
-        c.compress_vec(bytes, &mut out, FlushCompress::Full)
-            .unwrap();
-        assert_eq!(c.total_in(), bytes.len() as u64);
-        out
-    };
     let syntax = b"1.2.840.10008.1.2.1.99\0";
     let mut file = vec![0u8; 128];
     file.extend_from_slice(b"DICM");
@@ -118,13 +107,69 @@ fn deflate_bomb(zeros: usize) -> Vec<u8> {
     let mut head = vec![0x42, 0x00, 0x11, 0x00, b'O', b'B', 0, 0];
     head.extend_from_slice(&(zeros as u32).to_le_bytes());
     file.extend(flushed(&head));
+    file.extend(zeros_deflated(zeros));
+    file
+}
+
+/// A raw deflate stream of `zeros` zero bytes (a multiple of 16 MiB), about
+/// 1/1000 of that.
+fn zeros_deflated(zeros: usize) -> Vec<u8> {
     let block = flushed(&vec![0u8; 1 << 24]);
+    let mut stream = Vec::with_capacity(block.len() * (zeros >> 24) + 2);
     for _ in 0..zeros >> 24 {
-        file.extend_from_slice(&block);
+        stream.extend_from_slice(&block);
     }
     // A final, empty block (fixed Huffman codes: the end-of-block code).
-    file.extend_from_slice(&[0x03, 0x00]);
-    file
+    stream.extend_from_slice(&[0x03, 0x00]);
+    stream
+}
+
+/// `bytes` as deflate blocks ending with a full flush: self-contained and
+/// byte aligned, so that copies of them can follow each other (the stream
+/// is not final).
+fn flushed(bytes: &[u8]) -> Vec<u8> {
+    use flate2::{Compress, Compression, FlushCompress};
+    let mut c = Compress::new(Compression::best(), false);
+    let mut out = Vec::with_capacity(bytes.len() / 100 + 1024);
+    c.compress_vec(bytes, &mut out, FlushCompress::Full)
+        .unwrap();
+    assert_eq!(c.total_in(), bytes.len() as u64);
+    out
+}
+
+/// A multi-frame file in Deflated Image Frame Compression
+/// (1.2.840.10008.1.2.8.1) whose first frame, 9x7 samples of 16 bits (126
+/// bytes), is a 1 MB fragment inflating to 1 GiB: the decoder of
+/// dicom-transfer-syntax-registry inflates a frame without limit, so it
+/// ran out of the 1 GiB address space (an abort). Each frame is now
+/// refused once it inflates past its 126 bytes, before the decoder.
+#[test]
+fn a_deflated_frame_beyond_its_size_fails_fast() {
+    use dicom_core::value::{PixelFragmentSequence, Value};
+    use dicom_core::{DataElement, VR};
+    use dicom_dictionary_std::tags;
+    let dir = tempfile::tempdir().unwrap();
+    let bomb = dir.path().join("frames.dcm");
+    let mut obj = dicom_object::open_file(data_dir().join("dicom_multiframe.dcm")).unwrap();
+    let frames: usize = obj
+        .element(tags::NUMBER_OF_FRAMES)
+        .unwrap()
+        .to_int()
+        .unwrap();
+    let mut fragments = vec![zeros_deflated(1 << 30)];
+    let mut small = flushed(&[0; 126]);
+    small.extend_from_slice(&[0x03, 0x00]);
+    fragments.resize(frames, small);
+    let pixels = Value::PixelSequence(PixelFragmentSequence::new_fragments(fragments));
+    obj.put(DataElement::new(tags::PIXEL_DATA, VR::OB, pixels));
+    let meta = obj.meta_mut();
+    meta.transfer_syntax = "1.2.840.10008.1.2.8.1".to_string();
+    meta.update_information_group_length();
+    obj.write_to_file(&bomb).unwrap();
+    dicom_fails_fast(
+        &bomb,
+        &["frame 1 of its deflated pixel data inflates to more than the 126 bytes of a 9x7 frame at 16 bits"],
+    );
 }
 
 /// A slice of a fuzzed 3-slice series with RLE pixel data made the RLE

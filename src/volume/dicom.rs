@@ -745,12 +745,45 @@ impl DicomSeries {
         let obj = OpenFileOptions::new()
             .open_file(&plane.path)
             .map_err(|e| format_err(&plane.path, format!("not a readable DICOM file: {e}")))?;
+        let syntax = obj.meta().transfer_syntax();
+        if syntax.trim_end_matches(['\0', ' ']) == dicom_lengths::DEFLATED_FRAMES {
+            self.check_deflated_frame(&obj, plane)?;
+        }
         let cannot =
             |e: String| format_err(&plane.path, format!("cannot decode the pixel data: {e}"));
         let decoded = super::guarded::guarded(|| obj.decode_pixel_data_frame(plane.frame))
             .map_err(|panic| cannot(format!("the decoder failed ({panic})")))?
             .map_err(|e| cannot(e.to_string()))?;
         Ok(decoded.data().to_vec())
+    }
+
+    /// Refuses a frame of deflated pixel data ([`dicom_lengths::DEFLATED_FRAMES`])
+    /// that inflates beyond the size of a frame (`Columns x Rows x
+    /// BitsAllocated / 8`; one sample per pixel), inflating it in one
+    /// streaming pass before the decoder, which inflates a frame without
+    /// limit (a small file could claim gigabytes). A missing fragment or a
+    /// stream that does not inflate is left to the decoder's error.
+    fn check_deflated_frame(&self, obj: &InMemDicomObject, plane: &Plane) -> Result<()> {
+        let f = self.format;
+        let frame_bytes = (f.columns * f.rows) as u64 * u64::from(f.bits_allocated / 8);
+        let fragment = element(obj, tags::PIXEL_DATA)
+            .and_then(|e| e.value().fragments())
+            .and_then(|fragments| fragments.get(plane.frame as usize));
+        match fragment {
+            Some(fragment) if dicom_lengths::inflates_beyond(fragment, frame_bytes) => {
+                Err(format_err(
+                    &plane.path,
+                    format!(
+                        "not a readable DICOM file: frame {} of its deflated pixel data inflates to more than the {frame_bytes} bytes of a {}x{} frame at {} bits (a decompression bomb or damaged)",
+                        plane.frame + 1,
+                        f.columns,
+                        f.rows,
+                        f.bits_allocated
+                    ),
+                ))
+            }
+            _ => Ok(()),
+        }
     }
 }
 

@@ -14,7 +14,9 @@
 //!
 //! A deflated data set is inflated twice, without being kept: once to learn
 //! its size (refusing one that inflates beyond [`inflate_cap`]), once to
-//! walk it against that size. What it does not check is
+//! walk it against that size. (Deflated frames, [`DEFLATED_FRAMES`], are
+//! fragments of an ordinary data set; [`inflates_beyond`] bounds each one.)
+//! What it does not check is
 //! left to the parser: a file without the `DICM` magic, a data set it cannot
 //! inflate and a header cut short by the end of the file.
 
@@ -38,8 +40,11 @@ const IMPLICIT_VR_LE: &str = "1.2.840.10008.1.2";
 const EXPLICIT_VR_BE: &str = "1.2.840.10008.1.2.2";
 /// Deflated explicit VR little endian: the data set is a raw deflate stream.
 const DEFLATED: &str = "1.2.840.10008.1.2.1.99";
-/// Deflated frames in an explicit VR little endian data set; not walked.
-const DEFLATED_FRAMES: &str = "1.2.840.10008.1.2.8.1";
+/// Deflated Image Frame Compression: an explicit VR little endian data set
+/// whose encapsulated pixel data holds one raw deflate stream per frame.
+/// The data set is walked like any explicit VR little endian one; each
+/// frame is checked with [`inflates_beyond`] before it is decoded.
+pub const DEFLATED_FRAMES: &str = "1.2.840.10008.1.2.8.1";
 
 /// The least [`inflate_cap`] allows a deflated data set, whatever the file
 /// size: 256 MiB.
@@ -254,8 +259,7 @@ fn deflated_data_set<R: Read + Seek>(
     let start = w.pos;
     // A stream that does not inflate is the parser's to report, unless it
     // inflates beyond the cap before it fails: the parser would too.
-    let size = inflate_from(&mut w.input, start)
-        .and_then(|d| io::copy(&mut d.take(cap.saturating_add(1)), &mut io::sink()));
+    let size = inflate_from(&mut w.input, start).and_then(|d| count_up_to(d, cap));
     if size.as_ref().is_ok_and(|&n| n > cap) {
         return Err(format!(
             "not a readable DICOM file: its deflated data set inflates to more than {cap} bytes, the most tmc inflates from a file of {} bytes (the larger of {} MiB and {INFLATE_RATIO} times the file size; a decompression bomb or damaged: store it uncompressed to read it)",
@@ -277,6 +281,20 @@ fn deflated_data_set<R: Read + Seek>(
         big_endian: false,
     };
     data_set(&mut inflated, explicit_le)
+}
+
+/// The bytes `input` yields, counted (and dropped) up to `cap + 1`: more
+/// than `cap` means beyond the cap, whatever follows.
+fn count_up_to(input: impl Read, cap: u64) -> io::Result<u64> {
+    io::copy(&mut input.take(cap.saturating_add(1)), &mut io::sink())
+}
+
+/// Does the raw deflate stream `compressed` inflate to more than `cap`
+/// bytes? Inflated in one streaming pass that keeps nothing and stops one
+/// byte past the cap. A stream that fails to inflate before the cap is not
+/// beyond it (`false`): its error is the decoder's to report.
+pub fn inflates_beyond(compressed: &[u8], cap: u64) -> bool {
+    count_up_to(DeflateDecoder::new(compressed), cap).is_ok_and(|n| n > cap)
 }
 
 /// A raw deflate decoder of `input` from byte `start` on.
@@ -355,7 +373,6 @@ fn meta_group<R: Read + Seek>(w: &mut Walker<R>) -> Result<Option<Stored>, Strin
     };
     match syntax.as_str() {
         DEFLATED => Ok(Some(Stored::Deflated)),
-        DEFLATED_FRAMES => Ok(None),
         _ => Ok(Some(Stored::Plain(Encoding {
             explicit_vr: syntax != IMPLICIT_VR_LE,
             big_endian: syntax == EXPLICIT_VR_BE,
@@ -630,6 +647,30 @@ mod tests {
     }
 
     #[test]
+    fn a_data_set_with_deflated_frames_is_walked() {
+        // Explicit VR little endian like any other: the RescaleIntercept
+        // below, read as DS with a 2-byte length, fits; a UT past the end
+        // does not.
+        let body = [
+            0x28, 0x00, 0x52, 0x10, b'D', b'S', 4, 0, b'1', b'.', b'0', b' ',
+        ];
+        assert_eq!(run(&file(DEFLATED_FRAMES, &body)), Ok(()));
+        let mut body = vec![0x08, 0x00, 0x19, 0x01, b'U', b'T', 0, 0];
+        body.extend_from_slice(&0x4000_0000u32.to_le_bytes());
+        let e = run(&file(DEFLATED_FRAMES, &body)).unwrap_err();
+        assert!(e.contains("(0008,0119)") && e.contains("1073741824"), "{e}");
+    }
+
+    #[test]
+    fn a_deflated_frame_is_measured_against_its_cap() {
+        let frame = deflate(&[7; 126]);
+        assert!(!inflates_beyond(&frame, 126));
+        assert!(inflates_beyond(&frame, 125));
+        // Not a deflate stream: left to the decoder.
+        assert!(!inflates_beyond(&[0xFF; 16], 0));
+    }
+
+    #[test]
     fn big_endian_lengths_are_read_big_endian() {
         // (0010,0010) PN, 4 bytes, big endian: a little-endian reading
         // would claim 1024 bytes.
@@ -642,8 +683,6 @@ mod tests {
     #[test]
     fn files_it_cannot_follow_are_left_to_the_parser() {
         assert_eq!(run(b"not dicom"), Ok(()));
-        let body = implicit(0x0028, 0x1052, 0xFFFF_FFF0, &[]);
-        assert_eq!(run(&file(DEFLATED_FRAMES, &body)), Ok(()));
         // Not a deflate stream.
         assert_eq!(run(&file(DEFLATED, &[0xFF; 16])), Ok(()));
     }

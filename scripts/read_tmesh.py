@@ -19,10 +19,11 @@ As a command:
     read_tmesh.py MESH.tmesh --ply OUT.ply   # also write an ASCII PLY
 
 The command exits with status 1 and one line on stderr if the file cannot
-be read. Needs: python3 -m pip install numpy zstandard
+be read (also when it does not fit in memory). Needs: python3 -m pip install numpy zstandard
 """
 
 import argparse
+import math
 import struct
 import sys
 import zlib
@@ -64,11 +65,24 @@ def _header(h):
         raise TmeshError(f".tmesh version {version} is not supported (this reads {VERSION})")
     if size != HEADER_BYTES or struct.unpack_from("<I", h, 124)[0] != _crc(h[:124]):
         raise TmeshError("header checksum mismatch")
+    # Fields no checksum vouches for (a writer could get them wrong), as
+    # decode_header in src/meshfile/mod.rs refuses them.
+    dims = list(struct.unpack_from("<3Q", h, 16))
+    if 0 in dims:
+        raise TmeshError("not a valid .tmesh file: a grid dimension is 0")
+    iso = struct.unpack_from("<d", h, 88)[0]
+    if not math.isfinite(iso):
+        raise TmeshError(f"not a valid .tmesh file: the isovalue {iso} is not a finite number")
+    for at, field in enumerate(("method", "inside", "close"), start=96):
+        if h[at] > 1:
+            raise TmeshError(f"not a valid .tmesh file: unknown {field} byte {h[at]}")
+    if any(h[99:124]):
+        raise TmeshError("not a valid .tmesh file: reserved header bytes 99..124 are not zero")
     return {
-        "dims": list(struct.unpack_from("<3Q", h, 16)),
+        "dims": dims,
         "spacing": list(struct.unpack_from("<3d", h, 40)),
         "origin": list(struct.unpack_from("<3d", h, 64)),
-        "iso": struct.unpack_from("<d", h, 88)[0],
+        "iso": iso,
         "method": "mc" if h[96] == 1 else "tmc",
         "inside": "low" if h[97] == 1 else "high",
         "close": h[98] == 1,
@@ -120,7 +134,8 @@ def _check_entries(entries, info):
 
 
 def _index(f, length, info):
-    """Reads the trailer and the chunk index; returns (totals, entries)."""
+    """Reads the trailer and the chunk index; returns (totals, entries,
+    index offset)."""
     trailer = _read_at(f, length - TRAILER_BYTES, TRAILER_BYTES, "trailer")
     if trailer[24:32] != END_MAGIC:
         raise TmeshError("truncated: the end marker is missing (the writer did not finish)")
@@ -150,18 +165,27 @@ def _index(f, length, info):
         or int(entries["nt"].sum(dtype=np.uint64)) != triangles
     ):
         raise TmeshError("the index does not add up to the totals")
-    return (vertices, triangles), entries
+    return (vertices, triangles), entries, index_offset
 
 
-def _chunk(f, i, e, next_nv, decompressor):
-    """Reads chunk i; returns (vertices float32 (n, 3), relative triangles uint32 (m, 3))."""
+def _chunk(f, i, e, next_nv, limit, decompressor):
+    """Reads chunk i, whose payload must end by byte limit (where the next
+    chunk or the index starts); returns (vertices float32 (n, 3), relative
+    triangles uint32 (m, 3))."""
     name = f"chunk {i} (plane {int(e['plane'])}, byte {int(e['offset'])})"
     h = _read_at(f, int(e["offset"]), CHUNK_HEADER_BYTES, name)
     if h[0:4] != b"CHNK" or struct.unpack_from("<I", h, 40)[0] != _crc(h[:40]):
         raise TmeshError(f"{name}: chunk header damaged")
-    crc, _plane, base, nv, nt, size = struct.unpack_from("<IQQIIQ", h, 4)
-    if (base, nv, nt) != (int(e["base"]), int(e["nv"]), int(e["nt"])):
+    if any(h[44:48]):
+        raise TmeshError(f"{name}: chunk header bytes 44..48 are not zero")
+    crc, plane, base, nv, nt, size = struct.unpack_from("<IQQIIQ", h, 4)
+    if (plane, base, nv, nt) != (int(e["plane"]), int(e["base"]), int(e["nv"]), int(e["nt"])):
         raise TmeshError(f"{name}: chunk header disagrees with the index")
+    # Before anything of that size is read (Python allocates what is asked).
+    if int(e["offset"]) + CHUNK_HEADER_BYTES + size > limit:
+        raise TmeshError(
+            f"{name}: payload of {size} bytes runs past the chunk's room (byte {limit})"
+        )
     payload = _read_at(f, int(e["offset"]) + CHUNK_HEADER_BYTES, size, name)
     if _crc(payload) != crc:
         raise TmeshError(f"{name}: payload checksum mismatch (the data is damaged)")
@@ -179,6 +203,11 @@ def _chunk(f, i, e, next_nv, decompressor):
     if len(raw) != expect:
         raise TmeshError(f"{name}: payload has the wrong size")
     vertices = np.frombuffer(raw, dtype="<f4", count=3 * nv).reshape(nv, 3)
+    bad = np.flatnonzero(~np.isfinite(vertices).all(axis=1))
+    if len(bad):
+        raise TmeshError(
+            f"{name}: vertex {int(bad[0])} has a coordinate that is not a finite number"
+        )
     triangles = np.frombuffer(raw, dtype="<u4", offset=12 * nv).reshape(nt, 3)
     if nt and int(triangles.max()) >= nv + next_nv:
         raise TmeshError(f"{name}: a triangle points beyond the next chunk")
@@ -200,14 +229,16 @@ def read_tmesh(path):
         if length < HEADER_BYTES + TRAILER_BYTES:
             raise TmeshError(f"{length} bytes is too short for a .tmesh file")
         info = _header(_read_at(f, 0, HEADER_BYTES, "header"))
-        (nv, nt), entries = _index(f, length, info)
+        (nv, nt), entries, index_offset = _index(f, length, info)
         vertices = np.empty((nv, 3), dtype=np.float32)
         triangles = np.empty((nt, 3), dtype=np.uint64)
         decompressor = zstandard.ZstdDecompressor()
         t = 0
         for i, e in enumerate(entries):
-            next_nv = int(entries[i + 1]["nv"]) if i + 1 < len(entries) else 0
-            v, tri = _chunk(f, i, e, next_nv, decompressor)
+            last = i + 1 == len(entries)
+            next_nv = 0 if last else int(entries[i + 1]["nv"])
+            limit = index_offset if last else int(entries[i + 1]["offset"])
+            v, tri = _chunk(f, i, e, next_nv, limit, decompressor)
             base = int(e["base"])
             vertices[base : base + len(v)] = v
             triangles[t : t + len(tri)] = tri.astype(np.uint64) + np.uint64(base)
@@ -252,6 +283,11 @@ def main(argv=None):
             write_ply(args.ply, vertices, triangles)
     except (TmeshError, OSError) as err:
         print(f"read_tmesh: {args.mesh}: {err}", file=sys.stderr)
+        return 1
+    except MemoryError as err:
+        # numpy says how much it could not allocate; Python may say nothing.
+        what = f": {err}" if str(err) else ""
+        print(f"read_tmesh: {args.mesh}: out of memory{what}", file=sys.stderr)
         return 1
     dims = "x".join(str(d) for d in info["dims"])
     print(

@@ -95,10 +95,13 @@ fn damage_is_detected_and_located() {
 /// claiming a payload far past the chunk's room: the last chunk (bounded
 /// by the index offset) and a size whose sum with the offset overflows.
 /// `tmc check` and `tmc convert` give one line naming the chunk, no panic,
-/// no huge allocation, nothing at the output path.
+/// no huge allocation, nothing at the output path; so does
+/// `scripts/read_tmesh.py` (when python3 has numpy and zstandard), which
+/// asked Python for that many bytes.
 #[test]
 fn a_chunk_size_past_its_room_is_a_clean_error() {
-    use common::cli::{assert_one_line, s, tmc};
+    use common::cli::{assert_one_line, python_ready, read_tmesh_py_error, s, tmc};
+    let python = python_ready();
     let dir = tempfile::tempdir().expect("tempdir");
     let path = dir.path().join("m.tmesh");
     write(&path, 1, 0);
@@ -126,17 +129,25 @@ fn a_chunk_size_past_its_room_is_a_clean_error() {
         let line = assert_one_line(&tmc(&["convert", s(&path), "-o", s(&ply)]), 1);
         assert!(line.contains(&name) && line.contains("runs past"), "{line}");
         assert!(!ply.exists());
+        if python {
+            let line = read_tmesh_py_error(&path);
+            let room = format!("payload of {size} bytes runs past the chunk's room");
+            assert!(line.contains(&name) && line.contains(&room), "{line}");
+        }
     }
 }
 
 /// Fields that checksums do not vouch for (or that a writer could get
 /// wrong) are refused with one line by the reader, `tmc check` and `tmc
-/// convert`: a zero dimension, a NaN isovalue, an unknown method byte,
-/// nonzero reserved chunk header bytes, a repeated plane, a plane far beyond
-/// the grid, and non-finite vertex coordinates.
+/// convert`, and by `scripts/read_tmesh.py` (when python3 has numpy and
+/// zstandard) with the same words: a zero dimension, a NaN or infinite
+/// isovalue, unknown method, inside and close bytes, nonzero reserved
+/// header and chunk header bytes, a repeated plane, a plane far beyond the
+/// grid, and non-finite vertex coordinates.
 #[test]
 fn unchecked_fields_are_refused() {
-    use common::cli::{assert_one_line, s, tmc};
+    use common::cli::{assert_one_line, python_ready, read_tmesh_py_error, s, tmc};
+    let python = python_ready();
     let dir = tempfile::tempdir().expect("tempdir");
     let path = dir.path().join("m.tmesh");
     write(&path, 1, 0);
@@ -168,7 +179,14 @@ fn unchecked_fields_are_refused() {
             header(&|b| b[88..96].copy_from_slice(&f64::NAN.to_le_bytes())),
             "not a finite",
         ),
+        (
+            header(&|b| b[88..96].copy_from_slice(&f64::NEG_INFINITY.to_le_bytes())),
+            "not a finite",
+        ),
         (header(&|b| b[96] = 7), "unknown method byte 7"),
+        (header(&|b| b[97] = 2), "unknown inside byte 2"),
+        (header(&|b| b[98] = 255), "unknown close byte 255"),
+        (header(&|b| b[123] = 1), "reserved header bytes 99..124"),
         (plane(4, entries[3].plane), "not after the previous"),
         (plane(entries.len() - 1, 1 << 63), "beyond the grid"),
         (reserved, "bytes 44..48 are not zero"),
@@ -183,6 +201,13 @@ fn unchecked_fields_are_refused() {
             let line = assert_one_line(&tmc(&args), 1);
             assert!(line.contains(needle), "{args:?}: {line:?} lacks {needle:?}");
             assert!(!ply.exists());
+        }
+        if python {
+            let line = read_tmesh_py_error(&path);
+            assert!(
+                line.contains(needle),
+                "read_tmesh.py: {line:?} lacks {needle:?}"
+            );
         }
     }
     // A NaN or infinite coordinate, written as it comes (the pipeline never
@@ -204,7 +229,58 @@ fn unchecked_fields_are_refused() {
         writer.finish(&totals).expect("finish");
         let line = assert_one_line(&tmc(&["check", s(&path)]), 1);
         assert!(line.contains("not a finite number"), "{line}");
+        if python {
+            let line = read_tmesh_py_error(&path);
+            let needle = "chunk 0 (plane 1, byte 128): vertex 0 has a coordinate that is not a finite number";
+            assert!(line.contains(needle), "read_tmesh.py: {line}");
+        }
     }
+}
+
+/// A file claiming more vertices in all than any address space holds (3000
+/// chunks of 2^32 - 1 vertices each on a 65536 x 65536 grid: 144 TB of
+/// coordinates, in a 96 kB index that passes every check made before the
+/// chunks are read) makes `scripts/read_tmesh.py` run out of memory when
+/// it allocates the mesh: one line on stderr and exit 1, not a traceback.
+#[test]
+fn read_tmesh_py_out_of_memory_is_one_line() {
+    use common::cli::{python_ready, read_tmesh_py_error};
+    if !python_ready() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let mut bytes = std::fs::read(&path).expect("read")[..128].to_vec();
+    let chunks = 3000u64;
+    let count = u32::MAX;
+    bytes[16..40].copy_from_slice(&[[0, 0, 1, 0, 0, 0, 0, 0]; 3].concat());
+    bytes[32..40].copy_from_slice(&chunks.to_le_bytes());
+    bytes[98] = 0; // no close: the grid as it is
+    let crc = crc32fast::hash(&bytes[..124]);
+    bytes[124..128].copy_from_slice(&crc.to_le_bytes());
+    // Room for a chunk header at byte 128, which nothing reads.
+    bytes.resize(128 + 48, 0);
+    let mut entries = Vec::new();
+    for i in 0..chunks {
+        entries.extend_from_slice(&128u64.to_le_bytes()); // offset
+        entries.extend_from_slice(&(i * u64::from(count)).to_le_bytes()); // base
+        entries.extend_from_slice(&count.to_le_bytes());
+        entries.extend_from_slice(&0u32.to_le_bytes()); // triangles
+        entries.extend_from_slice(&i.to_le_bytes()); // plane
+    }
+    let index = bytes.len() as u64;
+    bytes.extend_from_slice(b"INDX");
+    bytes.extend_from_slice(&crc32fast::hash(&entries).to_le_bytes());
+    bytes.extend_from_slice(&chunks.to_le_bytes());
+    bytes.extend_from_slice(&entries);
+    bytes.extend_from_slice(&index.to_le_bytes());
+    bytes.extend_from_slice(&(chunks * u64::from(count)).to_le_bytes());
+    bytes.extend_from_slice(&0u64.to_le_bytes());
+    bytes.extend_from_slice(b"TMESHEND");
+    std::fs::write(&path, &bytes).expect("write");
+    let line = read_tmesh_py_error(&path);
+    assert!(line.contains("m.tmesh: out of memory"), "{line}");
 }
 
 /// A chunk claiming more vertices than one plane of the grid can have (a

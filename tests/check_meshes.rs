@@ -480,6 +480,61 @@ fn data_after_the_declared_faces_or_elements_is_refused() {
     }
 }
 
+/// The OFF tetrahedron under header `keyword`, with `vertex` after each
+/// vertex line and `face` after each face line.
+fn off_tet(keyword: &str, vertex: &str, face: &str) -> String {
+    OFF_TET
+        .lines()
+        .enumerate()
+        .map(|(i, l)| match i {
+            0 => format!("{keyword}\n"),
+            2..=5 => format!("{l}{vertex}\n"),
+            6.. => format!("{l}{face}\n"),
+            _ => format!("{l}\n"),
+        })
+        .collect()
+}
+
+/// OFF face lines may follow their vertex indices with a colour: nothing,
+/// a colour index, RGB or RGBA, all numbers. Any other count of columns
+/// (a face with more indices than its count, two lines run together) and a
+/// column that is not a number are refused, naming the line (all were read
+/// before, the extra columns dropped).
+#[test]
+fn off_face_colours_are_0_1_3_or_4_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (i, extra) in ["", " 5", " 255 0 0", " 1 0 0 0.5", " 0.5\t0.5 0.5 "]
+        .iter()
+        .enumerate()
+    {
+        let path = write(
+            d,
+            &format!("good{i}.off"),
+            off_tet("OFF", "", extra).as_bytes(),
+        );
+        assert_sphere(&read_ok(&path).1);
+    }
+    let for_3 = "numbers after its 3 vertex indices; OFF allows 0, 1 (a colour index), 3 (r g b) or 4 (r g b a)";
+    for (i, (extra, expected)) in [
+        (" 1 2", format!("line 7: face has 2 {for_3}")),
+        (" 1 0 0 1 1", format!("line 7: face has 5 {for_3}")),
+        (" 3 0 2 1 3 0 1 3", format!("line 7: face has 8 {for_3}")),
+        (
+            " red",
+            "line 7: face column 5 'red' is not a number (a face's colour follows its 3 vertex indices)".to_string(),
+        ),
+        (" 1 0 0 x", "line 7: face column 8 'x' is not a number".to_string()),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let name = format!("bad{i}.off");
+        let text = off_tet("OFF", "", extra);
+        assert_refused(d, &name, text.as_bytes(), &[expected]);
+    }
+}
+
 /// OFF vertex lines hold the columns the header keyword declares
 /// (`[ST][C][N]OFF`: x y z, then a normal, an RGB or RGBA colour, texture
 /// coordinates); any other column count, a column that is not a number
@@ -488,18 +543,7 @@ fn data_after_the_declared_faces_or_elements_is_refused() {
 fn off_vertex_columns_follow_the_header_keyword() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    // The tetrahedron under `keyword`, with `extra` after each vertex line.
-    let tet = |keyword: &str, extra: &str| -> String {
-        OFF_TET
-            .lines()
-            .enumerate()
-            .map(|(i, l)| match i {
-                0 => format!("{keyword}\n"),
-                2..=5 => format!("{l}{extra}\n"),
-                _ => format!("{l}\n"),
-            })
-            .collect()
-    };
+    let tet = |keyword: &str, extra: &str| off_tet(keyword, extra, "");
     for (i, (keyword, extra)) in [
         ("OFF", ""),
         ("COFF", " 255 0 0"),

@@ -6,7 +6,9 @@
 //! the file name. Malformed includes content that the format does not allow:
 //! an OBJ line that is not an OBJ statement (or not UTF-8 text), an OFF
 //! vertex line with other columns than its header keyword declares (see
-//! [`OffLayout`]), anything but blank lines and comments after the faces an
+//! [`OffLayout`]), an OFF face line with anything but 0, 1, 3 or 4 numbers
+//! (a colour) after its vertex indices, anything but blank lines and
+//! comments after the faces an
 //! OFF header declares, anything after the last element a PLY header
 //! declares, and vertex coordinates that are not finite `f32` numbers.
 //! `.tmesh` files are read with [`TmeshReader`], which verifies every
@@ -894,6 +896,35 @@ impl OffLayout {
     }
 }
 
+/// Checks what follows the `n` vertex indices of an OFF face line: nothing,
+/// a colour index (as some writers emit), or an RGB or RGBA colour, every
+/// column a number. Anything else is refused, so that a face with more
+/// indices than its count says, or a line run together with the next, is
+/// never read as a smaller face with a "colour".
+fn check_face_colour<'a>(
+    src: &Source,
+    rest: impl Iterator<Item = &'a [u8]>,
+    n: usize,
+) -> Result<()> {
+    let mut extra = 0;
+    for word in rest {
+        extra += 1;
+        if parse::<f64>(word).is_none() {
+            return Err(src.err_line(format!(
+                "face column {} '{}' is not a number (a face's colour follows its {n} vertex indices)",
+                1 + n + extra,
+                String::from_utf8_lossy(word)
+            )));
+        }
+    }
+    if matches!(extra, 0 | 1 | 3 | 4) {
+        return Ok(());
+    }
+    Err(src.err_line(format!(
+        "face has {extra} numbers after its {n} vertex indices; OFF allows 0, 1 (a colour index), 3 (r g b) or 4 (r g b a)"
+    )))
+}
+
 fn read_off(src: &mut Source) -> Result<Mesh> {
     if !src.next_content_line()? {
         return Err(src.err("empty OFF file"));
@@ -968,6 +999,7 @@ fn read_off(src: &mut Source) -> Result<Mesh> {
                 })?;
             polygon.push(index);
         }
+        check_face_colour(src, words, n)?;
         push_fan(&mut mesh.triangles, &polygon);
         if mesh.triangles.len() > MAX_TRIANGLES {
             return Err(src.err("too many triangles"));

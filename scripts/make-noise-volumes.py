@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the noise volumes of README's Performance section (needs numpy).
+"""Writes the noise volumes of docs/performance-log.md (needs numpy).
 
 Usage: scripts/make-noise-volumes.py DIR
 

@@ -83,6 +83,14 @@ struct Format {
     signed: bool,
 }
 
+impl Format {
+    /// The bytes of one frame: `Columns x Rows x BitsAllocated / 8` (one
+    /// sample per pixel), in `u128` so that no header overflows it.
+    fn frame_bytes(&self) -> u128 {
+        self.columns as u128 * self.rows as u128 * u128::from(self.bits_allocated / 8)
+    }
+}
+
 /// Where one plane is stored and how its values are scaled.
 #[derive(Debug, Clone)]
 struct Plane {
@@ -404,7 +412,7 @@ impl Header {
         };
         let series_uid = element(&obj, tags::SERIES_INSTANCE_UID)
             .and_then(|e| e.to_str().ok())
-            .map(|s| s.trim_end_matches(['\0', ' ']).to_string())
+            .map(|s| dicom_lengths::unpadded(&s).to_string())
             .unwrap_or_default();
         let frames = element(&obj, tags::NUMBER_OF_FRAMES)
             .and_then(|e| e.to_int::<u32>().ok())
@@ -565,9 +573,7 @@ fn check_pixel_data(
     let size = std::fs::metadata(path)
         .map_err(|e| Error::io(path, e))?
         .len();
-    let frame_bytes =
-        format.columns as u128 * format.rows as u128 * (format.bits_allocated / 8) as u128;
-    let need = frame_bytes * u128::from(frames);
+    let need = format.frame_bytes() * u128::from(frames);
     let problem = match pixels {
         Some(dicom_lengths::PixelData::Native(len)) if need > u128::from(len) => Some(format!(
             "{len} bytes of pixel data, but {frames} frame(s) of {}x{} at {} bits need {need}",
@@ -746,7 +752,7 @@ impl DicomSeries {
             .open_file(&plane.path)
             .map_err(|e| format_err(&plane.path, format!("not a readable DICOM file: {e}")))?;
         let syntax = obj.meta().transfer_syntax();
-        if syntax.trim_end_matches(['\0', ' ']) == dicom_lengths::DEFLATED_FRAMES {
+        if dicom_lengths::unpadded(syntax) == dicom_lengths::DEFLATED_FRAMES {
             self.check_deflated_frame(&obj, plane)?;
         }
         let cannot =
@@ -758,14 +764,14 @@ impl DicomSeries {
     }
 
     /// Refuses a frame of deflated pixel data ([`dicom_lengths::DEFLATED_FRAMES`])
-    /// that inflates beyond the size of a frame (`Columns x Rows x
-    /// BitsAllocated / 8`; one sample per pixel), inflating it in one
+    /// that inflates beyond the size of a frame ([`Format::frame_bytes`]),
+    /// inflating it in one
     /// streaming pass before the decoder, which inflates a frame without
     /// limit (a small file could claim gigabytes). A missing fragment or a
     /// stream that does not inflate is left to the decoder's error.
     fn check_deflated_frame(&self, obj: &InMemDicomObject, plane: &Plane) -> Result<()> {
         let f = self.format;
-        let frame_bytes = (f.columns * f.rows) as u64 * u64::from(f.bits_allocated / 8);
+        let frame_bytes = u64::try_from(f.frame_bytes()).unwrap_or(u64::MAX);
         let fragment = element(obj, tags::PIXEL_DATA)
             .and_then(|e| e.value().fragments())
             .and_then(|fragments| fragments.get(plane.frame as usize));

@@ -46,6 +46,12 @@ const DEFLATED: &str = "1.2.840.10008.1.2.1.99";
 /// frame is checked with [`inflates_beyond`] before it is decoded.
 pub const DEFLATED_FRAMES: &str = "1.2.840.10008.1.2.8.1";
 
+/// A UID or code string without the padding DICOM adds to reach an even
+/// length (a NUL or a space).
+pub fn unpadded(value: &str) -> &str {
+    value.trim_end_matches(['\0', ' '])
+}
+
 /// The least [`inflate_cap`] allows a deflated data set, whatever the file
 /// size: 256 MiB.
 pub const INFLATE_FLOOR: u64 = 256 << 20;
@@ -363,7 +369,7 @@ fn meta_group<R: Read + Seek>(w: &mut Walker<R>) -> Result<Option<Stored>, Strin
             }
             w.pos += u64::from(len);
             let uid = String::from_utf8_lossy(&uid);
-            syntax = Some(uid.trim_end_matches(['\0', ' ']).to_string());
+            syntax = Some(unpadded(&uid).to_string());
         } else if w.skip(len).is_none() {
             return Ok(None);
         }

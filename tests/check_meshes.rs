@@ -498,8 +498,8 @@ fn off_tet(keyword: &str, vertex: &str, face: &str) -> String {
 /// OFF face lines may follow their vertex indices with a colour: nothing,
 /// a colour index, RGB or RGBA, all numbers. Any other count of columns
 /// (a face with more indices than its count, two lines run together) and a
-/// column that is not a number are refused, naming the line (all were read
-/// before, the extra columns dropped).
+/// column that is not a finite number are refused, naming the line (all
+/// were read before, the extra columns dropped).
 #[test]
 fn off_face_colours_are_0_1_3_or_4_numbers() {
     let dir = tempfile::tempdir().unwrap();
@@ -522,9 +522,11 @@ fn off_face_colours_are_0_1_3_or_4_numbers() {
         (" 3 0 2 1 3 0 1 3", format!("line 7: face has 8 {for_3}")),
         (
             " red",
-            "line 7: face column 5 'red' is not a number (a face's colour follows its 3 vertex indices)".to_string(),
+            "line 7: face column 5 'red' is not a finite number (a face's colour follows its 3 vertex indices)".to_string(),
         ),
-        (" 1 0 0 x", "line 7: face column 8 'x' is not a number".to_string()),
+        (" 1 0 0 x", "line 7: face column 8 'x' is not a finite number".to_string()),
+        (" nan", "line 7: face column 5 'nan' is not a finite number".to_string()),
+        (" 1 inf 0", "line 7: face column 6 'inf' is not a finite number".to_string()),
     ]
     .iter()
     .enumerate()
@@ -537,8 +539,8 @@ fn off_face_colours_are_0_1_3_or_4_numbers() {
 
 /// OFF vertex lines hold the columns the header keyword declares
 /// (`[ST][C][N]OFF`: x y z, then a normal, an RGB or RGBA colour, texture
-/// coordinates); any other column count, a column that is not a number
-/// and an unknown keyword are refused, naming the line.
+/// coordinates); any other column count, a column that is not a finite
+/// number and an unknown keyword are refused, naming the line.
 #[test]
 fn off_vertex_columns_follow_the_header_keyword() {
     let dir = tempfile::tempdir().unwrap();
@@ -580,7 +582,17 @@ fn off_vertex_columns_follow_the_header_keyword() {
         (
             "COFF",
             " red 0 0",
-            "line 3: vertex column 4 'red' is not a number",
+            "line 3: vertex column 4 'red' is not a finite number",
+        ),
+        (
+            "NOFF",
+            " 0 NaN 1",
+            "line 3: vertex column 5 'NaN' is not a finite number",
+        ),
+        (
+            "STOFF",
+            " 0.5 -inf",
+            "line 3: vertex column 5 '-inf' is not a finite number",
         ),
         ("XOFF", "", "line 1: unknown OFF header keyword 'XOFF'"),
         (

@@ -237,6 +237,12 @@ fn parse<T: std::str::FromStr>(word: &[u8]) -> Option<T> {
     std::str::from_utf8(word).ok()?.parse().ok()
 }
 
+/// `word` as a finite number (`nan` and `inf` parse as `f64`, but are no
+/// normal, colour or texture coordinate).
+fn finite(word: &[u8]) -> Option<f64> {
+    parse::<f64>(word).filter(|v| v.is_finite())
+}
+
 /// The three coordinates that follow the first `skip` words of the current
 /// line (of an OBJ or OFF file), which must be finite `f32` numbers.
 fn point(src: &Source, skip: usize) -> Result<[f32; 3]> {
@@ -873,9 +879,9 @@ impl OffLayout {
         let mut n = 0;
         for word in src.words() {
             n += 1;
-            if n > 3 && n <= most && parse::<f64>(word).is_none() {
+            if n > 3 && n <= most && finite(word).is_none() {
                 return Err(src.err_line(format!(
-                    "vertex column {n} '{}' is not a number",
+                    "vertex column {n} '{}' is not a finite number",
                     String::from_utf8_lossy(word)
                 )));
             }
@@ -909,9 +915,9 @@ fn check_face_colour<'a>(
     let mut extra = 0;
     for word in rest {
         extra += 1;
-        if parse::<f64>(word).is_none() {
+        if finite(word).is_none() {
             return Err(src.err_line(format!(
-                "face column {} '{}' is not a number (a face's colour follows its {n} vertex indices)",
+                "face column {} '{}' is not a finite number (a face's colour follows its {n} vertex indices)",
                 1 + n + extra,
                 String::from_utf8_lossy(word)
             )));

@@ -33,8 +33,10 @@
 //!   one `ImagePositionPatient` stepped along the normal by
 //!   `SpacingBetweenSlices` (or `SliceThickness`).
 //! * Only the headers are read at open. A plane is decoded when it is asked
-//!   for, by parsing its file again: nothing of the volume is kept (a
-//!   multi-frame file is parsed whole for each of its planes).
+//!   for, by parsing its file again. The last file parsed is kept, so the
+//!   frames of a multi-frame file come from one parse of it (parsed for
+//!   each frame, a 256-frame file of 33 MB took 6 s to read, in 8.6 GB of
+//!   reads); nothing else of the volume is kept.
 //! * Transfer syntaxes: implicit/explicit VR little endian, explicit VR big
 //!   endian, deflate, RLE lossless and JPEG baseline/extended/lossless. JPEG
 //!   2000, JPEG-LS and JPEG XL need codecs tmc leaves out and are refused at
@@ -46,7 +48,7 @@ use crate::{Error, Result};
 use dicom_dictionary_std::tags;
 use dicom_encoding::TransferSyntaxIndex;
 use dicom_object::mem::InMemElement;
-use dicom_object::{InMemDicomObject, OpenFileOptions, Tag};
+use dicom_object::{DefaultDicomObject, InMemDicomObject, OpenFileOptions, Tag};
 use dicom_pixeldata::PixelDecoder;
 use dicom_transfer_syntax_registry::TransferSyntaxRegistry;
 use std::collections::BTreeMap;
@@ -54,6 +56,7 @@ use std::fmt::Display;
 use std::fs::File;
 use std::io::Read;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 /// The SOP class of a DICOMDIR, which indexes files but holds no image.
 const MEDIA_STORAGE_DIRECTORY: &str = "1.2.840.10008.1.3.10";
@@ -71,6 +74,8 @@ pub struct DicomSeries {
     format: Format,
     /// The planes in order of increasing position along the normal.
     planes: Vec<Plane>,
+    /// The file a plane was last decoded from, parsed.
+    last_file: Mutex<Option<(PathBuf, Arc<DefaultDicomObject>)>>,
 }
 
 /// Sample layout, which every slice of a series must share.
@@ -732,6 +737,7 @@ fn assemble(dir: &Path, series_uid: String, headers: Vec<Header>) -> Result<Dico
         series_uid,
         format,
         planes,
+        last_file: Mutex::new(None),
     })
 }
 
@@ -746,11 +752,7 @@ fn describe(p: &Plane) -> String {
 impl DicomSeries {
     /// Decodes plane `z` into stored (unscaled) sample bytes, native order.
     fn decode(&self, plane: &Plane) -> Result<Vec<u8>> {
-        // Checked again: the file may have changed since the header.
-        dicom_lengths::check(&plane.path).map_err(|e| format_err(&plane.path, e))?;
-        let obj = OpenFileOptions::new()
-            .open_file(&plane.path)
-            .map_err(|e| format_err(&plane.path, format!("not a readable DICOM file: {e}")))?;
+        let obj = self.parsed(&plane.path)?;
         let syntax = obj.meta().transfer_syntax();
         if dicom_lengths::unpadded(syntax) == dicom_lengths::DEFLATED_FRAMES {
             self.check_deflated_frame(&obj, plane)?;
@@ -761,6 +763,25 @@ impl DicomSeries {
             .map_err(|panic| cannot(format!("the decoder failed ({panic})")))?
             .map_err(|e| cannot(e.to_string()))?;
         Ok(decoded.data().to_vec())
+    }
+
+    /// The file at `path`, parsed whole: the last file parsed if it is the
+    /// same, else parsed now (and kept in its place).
+    fn parsed(&self, path: &Path) -> Result<Arc<DefaultDicomObject>> {
+        let last = || self.last_file.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some((p, obj)) = last().as_ref() {
+            if p == path {
+                return Ok(Arc::clone(obj));
+            }
+        }
+        // Checked again: the file may have changed since the header.
+        dicom_lengths::check(path).map_err(|e| format_err(path, e))?;
+        let obj = OpenFileOptions::new()
+            .open_file(path)
+            .map_err(|e| format_err(path, format!("not a readable DICOM file: {e}")))?;
+        let obj = Arc::new(obj);
+        *last() = Some((path.to_path_buf(), Arc::clone(&obj)));
+        Ok(obj)
     }
 
     /// Refuses a frame of deflated pixel data ([`dicom_lengths::DEFLATED_FRAMES`])

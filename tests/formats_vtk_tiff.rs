@@ -154,6 +154,28 @@ fn tiff_multi_page_bigtiff_directory_and_glob() {
     check(&data("vt_tiff_dir/slice_*.tif"), false);
 }
 
+/// A multi-page TIFF keeps one decoder, which finds each page from the
+/// page list it has walked (a decoder per page walked the list from the
+/// start each time: quadratic in the pages). The kept decoder reads the file
+/// it opened, so the planes still read right after another file is renamed
+/// over its name; a decoder per page would open the new file.
+#[test]
+fn multi_page_tiff_keeps_its_decoder() {
+    for name in ["vt_multi_u16.tif", "vt_big_f32.tif"] {
+        let tmp = tempfile::tempdir().unwrap();
+        let path = tmp.path().join(name);
+        std::fs::copy(data(name), &path).unwrap();
+        let src = volume::open(&path, None).unwrap();
+        let mut plane = vec![0.0; src.grid().plane_len()];
+        src.read_plane(0, &mut plane).unwrap();
+        let other = tmp.path().join("other.tif");
+        std::fs::write(&other, b"not a TIFF").unwrap();
+        std::fs::rename(&other, &path).unwrap();
+        let twin = volume::open(&data("vt_twin.npy"), None).unwrap();
+        assert_eq!(planes(&*src), planes(&*twin), "{name}");
+    }
+}
+
 fn expect_err(path: &Path, needle: &str) {
     match volume::open(path, None) {
         Ok(_) => panic!(

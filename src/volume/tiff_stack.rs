@@ -9,7 +9,10 @@
 //! or 64-bit floats are read, classic TIFF or BigTIFF; every page must have
 //! the same size and type. At open only the page directories are read; a
 //! page is decoded when its plane is asked for, and only the last decoded
-//! page is kept. The grid has unit spacing and zero origin.
+//! page is kept, with the decoder of its file: the decoder remembers where
+//! the pages it has passed start, so the pages of a multi-page file are
+//! found in one walk of its page list, not one walk each (4,096 pages of
+//! 64x64 took 19 s that way). The grid has unit spacing and zero origin.
 
 use super::{Grid, SampleSource, ScalarType};
 use crate::{Error, Result};
@@ -29,8 +32,17 @@ pub struct TiffStack {
     scalar: ScalarType,
     /// The file and page index of each plane.
     pages: Vec<(PathBuf, usize)>,
-    /// The last decoded plane.
-    cache: Mutex<Option<(usize, Vec<f64>)>>,
+    /// The last decoded plane, and the decoder of its file.
+    cache: Mutex<Cache>,
+}
+
+/// What a [`TiffStack`] keeps between planes.
+#[derive(Debug, Default)]
+struct Cache {
+    /// The last decoded plane and its samples.
+    plane: Option<(usize, Vec<f64>)>,
+    /// The decoder of the last file read, and that file.
+    decoder: Option<(PathBuf, Decoder<BufReader<File>>)>,
 }
 
 impl TiffStack {
@@ -244,18 +256,29 @@ pub fn open(path: &Path) -> Result<TiffStack> {
         grid,
         scalar,
         pages,
-        cache: Mutex::new(None),
+        cache: Mutex::new(Cache::default()),
     })
 }
 
 impl TiffStack {
-    /// Decodes the page of plane `z` into `out`.
-    fn decode(&self, z: usize, out: &mut [f64]) -> Result<()> {
+    /// Decodes the page of plane `z` into `out`, with the decoder in `kept`
+    /// if it is that of the page's file (else with a new one, kept in its
+    /// place; nothing is kept after an error).
+    fn decode(
+        &self,
+        z: usize,
+        out: &mut [f64],
+        kept: &mut Option<(PathBuf, Decoder<BufReader<File>>)>,
+    ) -> Result<()> {
         let (file, index) = &self.pages[z];
         let err = |e: String| Error::Format(format!("{} page {index}: {e}", file.display()));
-        let mut dec = decoder(file)?;
+        let mut dec = match kept.take() {
+            Some((path, dec)) if path == *file => dec,
+            _ => decoder(file)?,
+        };
         dec.seek_to_image(*index).map_err(|e| err(e.to_string()))?;
         let image = dec.read_image().map_err(|e| err(e.to_string()))?;
+        *kept = Some((file.clone(), dec));
         macro_rules! copy {
             ($v:expr) => {{
                 if $v.len() < out.len() {
@@ -305,19 +328,20 @@ impl SampleSource for TiffStack {
             )));
         }
         let mut cache = self.cache.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some((cz, plane)) = cache.as_ref() {
+        let Cache { plane, decoder } = &mut *cache;
+        if let Some((cz, samples)) = plane.as_ref() {
             if *cz == z {
-                out.copy_from_slice(plane);
+                out.copy_from_slice(samples);
                 return Ok(());
             }
         }
-        self.decode(z, out)?;
-        match cache.as_mut() {
-            Some((cz, plane)) => {
+        self.decode(z, out, decoder)?;
+        match plane.as_mut() {
+            Some((cz, samples)) => {
                 *cz = z;
-                plane.copy_from_slice(out);
+                samples.copy_from_slice(out);
             }
-            None => *cache = Some((z, out.to_vec())),
+            None => *plane = Some((z, out.to_vec())),
         }
         Ok(())
     }

@@ -64,6 +64,44 @@ fn round_trip_and_determinism() {
     }
 }
 
+/// The writer holds up to 1 MiB before it writes: a file of many MiB,
+/// with chunks larger than that and thousands of small ones, reads back as
+/// the mesh made in memory.
+#[test]
+fn large_and_many_chunks_round_trip() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let cases = [
+        (
+            "noise",
+            tmc::volume::ArrayVolume::from_fn([220, 220, 3], |x, y, z| {
+                let h = ((x * 73_856_093) ^ (y * 19_349_663) ^ (z * 83_492_791)) % 1_000_003;
+                h as f64 / 1_000_003.0 - 0.5
+            }),
+        ),
+        (
+            "tall",
+            tmc::volume::ArrayVolume::from_fn([3, 2, 4000], |x, y, z| {
+                ((x * 7 + y * 13 + z * 29) % 11) as f64 - 5.0
+            }),
+        ),
+    ];
+    for (name, vol) in cases {
+        let path = dir.path().join(format!("{name}.tmesh"));
+        let mut writer = TmeshWriter::create(&path).expect("create");
+        let p = params(2);
+        extract_to(&vol, &p, &PipelineOptions::default(), &mut writer).expect("extract");
+        let (expected, _) = extract(&vol, &p).expect("in memory");
+        assert!(read_all(&path) == expected, "{name}");
+        let reader = TmeshReader::open(&path).expect("open");
+        let offsets: Vec<u64> = reader.entries().iter().map(|e| e.offset).collect();
+        let largest = offsets.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
+        match name {
+            "noise" => assert!(largest > 1 << 20, "{name}: largest chunk {largest} bytes"),
+            _ => assert!(offsets.len() > 3000, "{name}: {} chunks", offsets.len()),
+        }
+    }
+}
+
 #[test]
 fn damage_is_detected_and_located() {
     let dir = tempfile::tempdir().expect("tempdir");

@@ -21,6 +21,8 @@ pub struct TmeshReader {
     index_offset: u64,
     vertices: u64,
     triangles: u64,
+    /// One decompression context for every chunk.
+    decompressor: zstd::bulk::Decompressor<'static>,
 }
 
 /// The most vertices and triangles one chunk (a grid plane) can hold: the
@@ -130,7 +132,10 @@ impl TmeshReader {
         if next_base != vertices || sum_t != triangles {
             return Err(bad("the index does not add up to the totals".into()));
         }
+        let decompressor = zstd::bulk::Decompressor::new()
+            .map_err(|e| Error::Invalid(format!("zstd decompression failed: {e}")))?;
         Ok(TmeshReader {
+            decompressor,
             file,
             path: path.to_path_buf(),
             info,
@@ -227,8 +232,8 @@ impl TmeshReader {
             _ => return Err(bad("payload frame size disagrees with the counts")),
         }
         let mut raw = crate::error::try_vec::<u8>("a .tmesh chunk's payload", expect)?;
-        zstd::bulk::Decompressor::new()
-            .and_then(|mut d| d.decompress_to_buffer(&payload, &mut raw))
+        self.decompressor
+            .decompress_to_buffer(&payload, &mut raw)
             .map_err(|err| bad(&err.to_string()))?;
         if raw.len() != expect {
             return Err(bad("payload has the wrong size"));

@@ -285,7 +285,7 @@ impl Monitor {
         if let Some(bar) = &self.bar {
             bar.set_fraction(p.layers_done as f64 / p.layers_total.max(1) as f64);
         }
-        self.peak_anon.sample();
+        self.peak_anon.sample_soon();
     }
 
     /// Clears the bar; returns the peak anonymous memory sampled (one last

@@ -367,3 +367,52 @@ fn the_report_may_not_be_the_manifest_or_an_output() {
     assert!(line.contains("the report is an output"), "{line}");
     assert!(!ply.exists());
 }
+
+/// `--progress lines` prints plain progress lines on stderr (not a
+/// terminal here), naming each input of a batch, up to 100%; without it
+/// a run whose stderr is not a terminal prints no progress; `--quiet`
+/// with it is a usage error.
+#[test]
+fn progress_lines_name_each_input_and_reach_100_percent() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let a = synth(d, "sphere", "24,20,40", "f32", "a.npy");
+    let b = synth(d, "gyroid", "16,16,48", "f32", "b.npy");
+    let out = d.join("{stem}.ply");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["extract", s(&a), s(&b), "--iso", "0", "-o", s(&out)];
+        args.extend_from_slice(extra);
+        tmc(&args)
+    };
+    let lines = run(&["--progress", "lines", "--threads", "2", "--slab-depth", "4"]);
+    assert!(lines.status.success(), "{lines:?}");
+    let stderr = String::from_utf8_lossy(&lines.stderr);
+    for (input, layers) in [(&a, 39), (&b, 47)] {
+        let mine: Vec<f64> = stderr
+            .lines()
+            .filter_map(|l| l.strip_prefix(&format!("tmc: {}: ", input.display())))
+            .map(|rest| {
+                let (percent, tail) = rest.split_once("% of ").expect(rest);
+                assert!(
+                    tail.starts_with(&format!("{layers} cell layers, ")),
+                    "{rest}"
+                );
+                percent.parse().expect(rest)
+            })
+            .collect();
+        assert!(mine.len() >= 3, "{}: {stderr}", input.display());
+        assert!(mine.windows(2).all(|w| w[0] < w[1]), "{mine:?}");
+        assert_eq!(mine.last(), Some(&100.0), "{stderr}");
+    }
+    for extra in [&[][..], &["--progress", "never"], &["--progress", "auto"]] {
+        let quiet = run(extra);
+        assert!(quiet.status.success(), "{quiet:?}");
+        let stderr = String::from_utf8_lossy(&quiet.stderr);
+        assert!(!stderr.contains("% of"), "{extra:?}: {stderr}");
+    }
+    let e = assert_one_line(&run(&["--progress", "lines", "--quiet"]), 2);
+    assert!(
+        e.contains("'--progress <WHEN>' cannot be used with '--quiet'"),
+        "{e}"
+    );
+}

@@ -253,7 +253,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
         tmc::export::check_output_path(output)?;
     }
     let params: Vec<_> = item.isos.iter().map(|&iso| args.params(iso)).collect();
-    let mut monitor = Monitor::new(&grid, args.quiet);
+    let mut monitor = Monitor::new(&grid, args, &item.input);
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
     let options = args.pipeline_options(&on_progress, cancel);
     let no_surface = |iso: f64| {

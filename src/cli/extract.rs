@@ -102,6 +102,18 @@ pub(crate) struct ExtractArgs {
     #[arg(short, long, conflicts_with = "stats")]
     pub quiet: bool,
 
+    /// Progress on stderr: 'auto' a bar when stderr is a terminal; 'lines'
+    /// a line at every 10% of the cell layers and at least every 30 s, with
+    /// the time taken and the ETA (for the log of a batch job); 'never'.
+    #[arg(
+        long,
+        value_name = "WHEN",
+        value_enum,
+        default_value_t,
+        conflicts_with = "quiet"
+    )]
+    pub progress: progress::ProgressMode,
+
     /// Batch: --manifest, --report, --keep-going.
     #[command(flatten)]
     pub batch: BatchArgs,
@@ -180,7 +192,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     tmc::export::check_output_path(output)?;
 
     let params = args.params(iso);
-    let mut monitor = Monitor::new(&grid, args.quiet);
+    let mut monitor = Monitor::new(&grid, args, input);
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
     let options = args.pipeline_options(&on_progress, cancel);
     let mut sink: Box<dyn tmc::MeshSink> = match args.part {
@@ -270,12 +282,21 @@ pub(super) struct Monitor {
 }
 
 impl Monitor {
-    /// A bar over the grid's voxels (none when `quiet` or stderr is not a
-    /// terminal, as [`progress::Bar`] decides).
-    pub(super) fn new(grid: &Grid, quiet: bool) -> Self {
+    /// Progress over the grid's voxels of `input`, as `--quiet` and
+    /// `--progress` say (see [`progress::Bar`]).
+    pub(super) fn new(grid: &Grid, args: &ExtractArgs, input: &Path) -> Self {
         let voxels = grid.dims.iter().map(|&n| n as u64).product();
+        let mode = if args.quiet {
+            progress::ProgressMode::Never
+        } else {
+            args.progress
+        };
+        let label = match args.part {
+            Some(p) => format!("{} part {}/{}", input.display(), p.index, p.count),
+            None => input.display().to_string(),
+        };
         Monitor {
-            bar: Some(progress::Bar::new(voxels, "voxels", quiet)),
+            bar: Some(progress::Bar::with_mode(voxels, "voxels", mode, &label)),
             peak_anon: memory::PeakAnon::default(),
         }
     }
@@ -283,7 +304,8 @@ impl Monitor {
     /// After each slab.
     pub(super) fn slab_done(&self, p: &tmc::Progress) {
         if let Some(bar) = &self.bar {
-            bar.set_fraction(p.layers_done as f64 / p.layers_total.max(1) as f64);
+            let (done, total) = (p.layers_done as u64, p.layers_total as u64);
+            bar.set_done(done, total, "cell layers");
         }
         self.peak_anon.sample_soon();
     }

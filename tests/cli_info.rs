@@ -220,6 +220,33 @@ fn json_of_every_nifti_and_metaimage_fixture() {
                 );
             }
         }
+        // The affine's column c is direction column c times spacing c, its
+        // last column the origin (oblique and mirrored fixtures included).
+        let (spacing, origin) = (f64s(&fixture["spacing"]), f64s(&fixture["origin"]));
+        let affine: Vec<Vec<f64>> = json["affine"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(f64s)
+            .collect();
+        for r in 0..3 {
+            let direction = f64s(&fixture["direction"][r]);
+            let want = [0, 1, 2, 3].map(|c| {
+                if c < 3 {
+                    direction[c] * spacing[c]
+                } else {
+                    origin[r]
+                }
+            });
+            for (got, want) in affine[r].iter().zip(want) {
+                assert!(
+                    (got - want).abs() <= 1e-5 * want.abs().max(1.0),
+                    "{name} affine row {r}: {:?} vs {want:?}",
+                    affine[r]
+                );
+            }
+        }
+        assert_eq!(affine[3], [0.0, 0.0, 0.0, 1.0], "{name}");
 
         let twin = data_dir().join(format!("{name}.expected.npy"));
         let twin = tmc::volume::open(&twin, None).unwrap();

@@ -258,3 +258,45 @@ fn rotations_and_reflections_map_vertices_and_keep_normals_outward() {
         assert!(check_mesh(&mesh).is_closed_manifold());
     }
 }
+
+#[test]
+fn inside_low_on_a_mirrored_grid_keeps_normals_outward() {
+    // An off-centre ball, so that a wrong reflection moves the vertices.
+    let ball = ArrayVolume::from_fn([11, 9, 8], |x, y, z| {
+        9.0 - ((x as f64 - 4.3).powi(2) + (y as f64 - 3.6).powi(2) + (z as f64 - 3.2).powi(2))
+    });
+    let sdf =
+        ArrayVolume::new(*ball.grid(), ball.data().iter().map(|v| -v).collect()).expect("sdf");
+    // A rotation about z composed with a reflection of y: determinant -1.
+    let (c, s) = (0.6f64, 0.8f64);
+    let grid = Grid {
+        dims: [11, 9, 8],
+        spacing: [0.5, 2.0, 3.0],
+        origin: [10.0, -5.0, 1.0],
+        direction: [[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, 1.0]],
+    };
+    assert!(grid.is_mirrored());
+    let mut low = params(true);
+    low.inside = Inside::Low;
+    let unit = extract(&sdf, &low).expect("unit").0;
+    let mirrored = ArrayVolume::new(grid, sdf.data().to_vec()).expect("volume");
+    let mesh = extract(&mirrored, &low).expect("mirrored").0;
+    // The two flips (low values inside, a mirroring map) do not cancel:
+    // the mirror reverses every triangle, --inside low keeps normals outward.
+    let reversed: Vec<[u32; 3]> = unit.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect();
+    assert_eq!(mesh.triangles, reversed);
+    for (u, p) in unit.vertices.iter().zip(&mesh.vertices) {
+        let w = grid.world(u.map(f64::from));
+        for k in 0..3 {
+            assert!(
+                (f64::from(p[k]) - w[k]).abs() < 1e-4,
+                "{u:?} -> {p:?} vs {w:?}"
+            );
+        }
+    }
+    assert!(signed_volume(&unit) > 0.0 && signed_volume(&mesh) > 0.0);
+    assert!(check_mesh(&mesh).is_closed_manifold());
+    // The same surface as the high values of the ball on that grid.
+    let high = ArrayVolume::new(grid, ball.data().to_vec()).expect("high");
+    assert!(extract(&high, &params(true)).expect("high").0 == mesh);
+}

@@ -83,6 +83,18 @@ fn more_parts_than_layers_merge_too() {
     assert_equivalent(&thin, &["--iso", "128"]);
 }
 
+/// A mirroring index-to-world map (NRRD `space directions` with a negative
+/// axis) reverses every triangle; the parts must reverse the triangles of
+/// their seams alike, and place the --close caps where a single run does.
+#[test]
+fn merged_mirrored_volume_equals_a_single_run() {
+    let path = common::formats::data_dir().join("nrrd_gzip_be_i16.nrrd");
+    let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+    assert!(text.contains("space directions: (0.5,0,0) (0,-1,0) (0,0,2)"));
+    assert_equivalent(&path, &["--iso", "550.5"]);
+    assert_equivalent(&path, &["--iso", "550.5", "--close", "--inside", "low"]);
+}
+
 #[test]
 fn merged_real_volume_equals_a_single_run() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/fuel.nrrd");

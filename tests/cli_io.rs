@@ -972,3 +972,82 @@ fn a_report_that_cannot_be_written_fails_the_run_and_takes_the_mesh_back() {
     }
     assert_eq!(names(dir.path()), vec!["in.npy".to_string()]);
 }
+
+/// Runs `tmc args` with its stderr on `/dev/full`, where every write fails
+/// with ENOSPC; `None` where there is no `/dev/full`.
+fn tmc_with_full_stderr(args: &[&str]) -> Option<std::process::Output> {
+    let full = fs::OpenOptions::new().write(true).open("/dev/full").ok()?;
+    let out = std::process::Command::new(common::cli::tmc_path())
+        .args(args)
+        .stderr(full)
+        .output()
+        .unwrap();
+    Some(out)
+}
+
+#[test]
+fn a_full_stderr_loses_lines_but_not_the_exit_status() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere_npy(dir.path(), "in.npy", [8, 8, 8]);
+    let (i, missing) = (s(&input), dir.path().join("missing.npy"));
+    let (mesh, empty, stats, volume) = (
+        dir.path().join("m.ply"),
+        dir.path().join("e.ply"),
+        dir.path().join("s.ply"),
+        dir.path().join("v.nrrd"),
+    );
+    // (arguments, exit status, the file that must exist afterwards)
+    let cases: [(Vec<&str>, i32, Option<&Path>); 6] = [
+        // An error line that cannot be written: still status 1.
+        (
+            vec!["extract", s(&missing), "--iso", "0", "-o", s(&mesh)],
+            1,
+            None,
+        ),
+        // A usage error: still status 2.
+        (vec!["extract", i, "--iso", "x", "-o", s(&mesh)], 2, None),
+        // The note of an empty mesh is lost; the mesh stays.
+        (
+            vec!["extract", i, "--iso", "1e9", "-o", s(&empty)],
+            0,
+            Some(&empty),
+        ),
+        // The summary of synth is lost; the volume stays.
+        (
+            vec![
+                "synth",
+                "sphere",
+                "--dims",
+                "4,4,4",
+                "--dtype",
+                "u8",
+                "-o",
+                s(&volume),
+            ],
+            0,
+            Some(&volume),
+        ),
+        // --stats is a report: it fails the run and takes the mesh back.
+        (
+            vec!["extract", i, "--iso", "0", "--stats", "-o", s(&stats)],
+            1,
+            None,
+        ),
+        // The note of tmc check on an empty mesh is lost.
+        (vec!["check", s(&empty)], 0, None),
+    ];
+    for (args, code, stays) in cases {
+        let Some(out) = tmc_with_full_stderr(&args) else {
+            eprintln!("skipped: no /dev/full on this system");
+            return;
+        };
+        assert_eq!(out.status.code(), Some(code), "{args:?}");
+        if let Some(path) = stays {
+            assert!(path.exists(), "{args:?}: {} is missing", path.display());
+        }
+    }
+    assert!(!stats.exists(), "the --stats run left its mesh");
+    let mut left = names(dir.path());
+    left.sort();
+    assert_eq!(left, ["e.ply", "in.npy", "v.nrrd"]);
+}

@@ -141,7 +141,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
                     } else {
                         format!("{input}: {message}")
                     };
-                    eprintln!("tmc: error: {}", super::one_line(&message));
+                    say!("tmc: error: {}", super::one_line(&message));
                 }
                 failed.push(item.input.display().to_string());
                 first_error.get_or_insert(e);
@@ -292,7 +292,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     let peak_anon = monitor.finish();
     for ((s, output), p) in stats.iter().zip(&item.outputs).zip(&params) {
         if s.triangles == 0 && !args.quiet {
-            eprintln!(
+            say!(
                 "tmc: note: {}; wrote an empty mesh to {}",
                 no_surface(p.iso),
                 output.display()

@@ -60,7 +60,7 @@ pub(crate) fn run(args: &CheckArgs) -> Result<()> {
                 "{empty}, and --require-surface asks for a surface"
             )));
         }
-        eprintln!("tmc: note: {empty}: closed only vacuously, there is no surface");
+        say!("tmc: note: {empty}: closed only vacuously, there is no surface");
     }
     if report.is_oriented_manifold() {
         Ok(())

@@ -221,7 +221,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     };
     let peak_anon = monitor.finish();
     if stats.triangles == 0 && !args.quiet && args.part.is_none() {
-        eprintln!(
+        say!(
             "tmc: note: {no_surface}; wrote an empty mesh to {}",
             output.display()
         );

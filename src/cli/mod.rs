@@ -2,8 +2,11 @@
 //!
 //! Every failure is reported as exactly one line `tmc: error: <message>` on
 //! stderr; the exit status is 0 on success, 1 on failure, 2 on a usage error
-//! and 130 or 143 when SIGINT or SIGTERM interrupted an extraction or a
-//! conversion.
+//! and 130, 143 or 129 when SIGINT, SIGTERM or SIGHUP interrupted a command
+//! that writes a file.
+
+#[macro_use]
+mod stderr;
 
 mod batch;
 mod check;
@@ -134,7 +137,7 @@ pub fn main() -> ExitCode {
     };
     install_panic_hook();
     if let Err(e) = signals::install_sigbus() {
-        eprintln!("tmc: error: cannot install the SIGBUS handler: {e}");
+        say!("tmc: error: cannot install the SIGBUS handler: {e}");
         return ExitCode::FAILURE;
     }
     let interrupts = match cli.command {
@@ -142,7 +145,7 @@ pub fn main() -> ExitCode {
             match signals::Interrupts::install() {
                 Ok(i) => Some(i),
                 Err(e) => {
-                    eprintln!("tmc: error: cannot install the SIGINT/SIGTERM/SIGHUP handlers: {e}");
+                    say!("tmc: error: cannot install the SIGINT/SIGTERM/SIGHUP handlers: {e}");
                     return ExitCode::FAILURE;
                 }
             }
@@ -165,15 +168,15 @@ pub fn main() -> ExitCode {
                 .and_then(|i| i.received())
                 .unwrap_or(("a signal", 130));
             match batch::FINISHED_BEFORE_INTERRUPT.load(std::sync::atomic::Ordering::SeqCst) {
-                0 => eprintln!("tmc: error: interrupted by {name}; no output was written"),
-                n => eprintln!(
+                0 => say!("tmc: error: interrupted by {name}; no output was written"),
+                n => say!(
                     "tmc: error: interrupted by {name}; the outputs of the {n} input(s) that finished before it are kept, nothing else was written"
                 ),
             }
             ExitCode::from(code)
         }
         Ok(Err(e)) => {
-            eprintln!("tmc: error: {}", one_line(&e.to_string()));
+            say!("tmc: error: {}", one_line(&e.to_string()));
             ExitCode::FAILURE
         }
         // The panic hook has printed the message.
@@ -192,7 +195,7 @@ fn usage_error(e: &clap::Error) -> ExitCode {
             // write; a closed pipe (`tmc --help | head`) is not.
             match e.print().and_then(|()| std::io::stdout().flush()) {
                 Err(write) if write.kind() != std::io::ErrorKind::BrokenPipe => {
-                    eprintln!("tmc: error: cannot write to standard output: {write}");
+                    say!("tmc: error: cannot write to standard output: {write}");
                     return ExitCode::FAILURE;
                 }
                 _ => {}
@@ -216,7 +219,7 @@ fn usage_error(e: &clap::Error) -> ExitCode {
                     tips.push(format!(" (tip: {})", tip.trim()));
                 }
             }
-            eprintln!(
+            say!(
                 "tmc: error: {}{}; see 'tmc --help'",
                 head.join(" "),
                 tips.concat()
@@ -248,7 +251,7 @@ fn install_panic_hook() {
             .location()
             .map(|l| format!(" at {}:{}", l.file(), l.line()))
             .unwrap_or_default();
-        eprintln!("tmc: internal error: {}{place}", one_line(&message));
+        say!("tmc: internal error: {}{place}", one_line(&message));
     }));
 }
 

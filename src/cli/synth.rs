@@ -139,7 +139,7 @@ pub(crate) fn run(args: &SynthArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     let seconds = started.elapsed().as_secs_f64();
     let [x, y, z] = grid.dims;
     let t = args.dtype;
-    eprintln!(
+    say!(
         "wrote {}: {kind} {x}x{y}x{z} {t}, {} bytes in {seconds:.2} s ({} samples/s)",
         args.output.display(),
         bytes,
@@ -164,7 +164,7 @@ pub(crate) fn run(args: &SynthArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     } else {
         String::new()
     };
-    eprintln!(
+    say!(
         "extract it with: tmc extract {}{raw} --iso {iso} -o OUTPUT.ply{note}",
         args.output.display()
     );

@@ -447,3 +447,29 @@ fn a_file_named_like_a_glob_is_read_as_itself() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("c*.tif"), "{stderr}");
 }
+
+/// A mask (two values) has one threshold, not two: the two-level pair
+/// would put both isovalues into the one gap, an empty middle class.
+#[test]
+fn a_mask_gets_one_isovalue_not_a_pair() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mask.npy");
+    let dims = [8, 8, 8];
+    let values: Vec<f64> = (0..dims.iter().product::<usize>())
+        .map(|i| if i % 3 == 0 { 200.0 } else { 0.0 })
+        .collect();
+    write_npy(&path, "<u2", dims, &values);
+    let json = info_json(&path, &[]);
+    assert_eq!(f64s(&json["suggested_iso"]), Vec::<f64>::new(), "{json}");
+    let single = json["suggested_iso_single"].as_f64().unwrap();
+    assert!(0.0 < single && single < 200.0, "{json}");
+    let out = tmc(&["info", path.to_str().unwrap()]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("suggested iso"))
+        .unwrap();
+    assert!(!line.contains("3 classes"), "{text}");
+    let single_line = text.lines().find(|l| l.starts_with("single iso")).unwrap();
+    assert!(single_line.contains(&single.to_string()), "{text}");
+}

@@ -56,6 +56,7 @@ JSON keys (--json; one object on one line):
   histogram_bins         bins used; null for fewer than 2 distinct values
   histogram_plane_step   k: the histogram counted planes 0, k, 2k, ...
   suggested_iso          [low, high] from two-level Otsu, or [] if none
+                         (also for data of two values, e.g. a mask)
   suggested_iso_single   single-level Otsu, or null";
 
 /// Describe a volume: format, grid, value range and suggested isovalues.
@@ -306,6 +307,9 @@ fn write_text(w: &mut impl Write, info: &Info) -> io::Result<()> {
         "suggested iso",
         match info.suggested_iso[..] {
             [a, b] => format!("{a}  {b}  (two-level Otsu, 3 classes)"),
+            _ if info.suggested_iso_single.is_some() => {
+                "none (the values form only two classes)".to_string()
+            }
             _ => "none (fewer than two distinct values)".to_string(),
         },
     ));

@@ -228,7 +228,8 @@ impl Summary {
     /// no sample ties with the isovalue (ties are legal, a sample equal to
     /// the isovalue is outside, but a half-integer makes the choice
     /// obvious); otherwise the threshold rounded to a power of ten no
-    /// larger than the bin width.
+    /// larger than the bin width. The pair is two distinct values, so
+    /// data with two values (a mask) get only the single isovalue.
     pub fn suggestions(&self) -> Suggestions {
         let (Some(h), Some(min), Some(max)) = (&self.histogram, self.min, self.max) else {
             return Suggestions {
@@ -240,7 +241,11 @@ impl Summary {
             |t: usize| nice_value(h.cut_value(t), h.bin_width(), min, max, self.integer_valued);
         Suggestions {
             single: otsu(&h.counts).map(nice),
-            pair: otsu2(&h.counts).map(|(a, b)| [nice(a), nice(b)]),
+            // With two distinct values (a mask) both cuts fall into the one
+            // gap: the middle class is empty, and there is no pair.
+            pair: otsu2(&h.counts)
+                .map(|(a, b)| [nice(a), nice(b)])
+                .filter(|[a, b]| a < b),
         }
     }
 }

@@ -18,7 +18,7 @@ use tmc::{Error, Result};
 /// .off or .tmesh file instead.
 ///
 /// An empty mesh (no triangles) is a manifold only vacuously: the report
-/// says "closed manifold: yes (empty)" and a note on stderr gives its
+/// says "closed manifold  yes (empty)" and a note on stderr gives its
 /// counts; the exit status is 0, or 1 with --require-surface.
 #[derive(Debug, Args)]
 pub(crate) struct CheckArgs {

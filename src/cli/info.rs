@@ -39,7 +39,7 @@ Cost:
 JSON keys (--json; one object on one line):
   input, format          the path and the reader (NRRD, NIfTI-1, NIfTI-2,
                          MetaImage, VTK legacy, VTK ImageData, TIFF stack,
-                         NumPy, raw)
+                         DICOM, NumPy, raw)
   file_bytes             size of the input file and the data files it names
                          (all files of a directory, the files of a glob)
   data_bytes             samples * stored sample size; null if unknown

@@ -64,7 +64,8 @@ Input formats:
          one slice file (its series in its directory) or a multi-frame .dcm;
          slices sorted by position along the normal, RescaleSlope/Intercept
          applied per slice (CT in HU), patient (LPS) coordinates; one series
-         per directory; uncompressed, RLE and JPEG (not JPEG 2000/JPEG-LS)
+         per directory; uncompressed, deflate, RLE and JPEG baseline and
+         lossless (not JPEG 2000/JPEG-LS)
   raw    headerless samples, x fastest: give --dims and --dtype
   Vertices are in the file's world frame (spacing, origin and direction
   cosines applied; a mirroring map flips the winding). Uncompressed data is

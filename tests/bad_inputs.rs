@@ -180,6 +180,12 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
             2,
         ),
         (
+            "raw with a negative spacing as its own argument",
+            |d| raw4(d, &["--spacing", "-1,1,1", "--iso", "0"]),
+            "spacing must be positive",
+            2,
+        ),
+        (
             "raw with a NaN spacing",
             |d| raw4(d, &["--spacing", "nan,1,1", "--iso", "0"]),
             "'nan,1,1' is not three comma-separated finite numbers",

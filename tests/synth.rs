@@ -324,7 +324,7 @@ fn cli_synth_fails_cleanly() {
     let bad_ext = dir.path().join("v.vtk");
     let sub = dir.path().join("sub.nrrd");
     fs::create_dir(&sub).unwrap();
-    let cases: [(Vec<&str>, i32, &str); 9] = [
+    let cases: [(Vec<&str>, i32, &str); 10] = [
         (
             vec![
                 "cube",
@@ -425,6 +425,21 @@ fn cli_synth_fails_cleanly() {
             vec!["sphere", "--dims", "4,4,4", "--dtype", "u8", "-o", s(&sub)],
             1,
             "directory",
+        ),
+        (
+            vec![
+                "sphere",
+                "--dims",
+                "4,4,4",
+                "--dtype",
+                "u8",
+                "--spacing",
+                "-1,1,1",
+                "-o",
+                s(&out_nrrd),
+            ],
+            2,
+            "spacing must be positive",
         ),
     ];
     for (args, code, needle) in cases {

@@ -41,7 +41,7 @@ pub(crate) struct RawArgs {
 
     /// Raw input: distance between samples along x, y, z, finite and positive
     /// [default: 1,1,1].
-    #[arg(long, value_name = "X,Y,Z", value_parser = values::spacing, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::spacing, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
     pub spacing: Option<[f64; 3]>,
 
     /// Raw input: position of the first sample [default: 0,0,0].

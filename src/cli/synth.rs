@@ -75,7 +75,7 @@ pub(crate) struct SynthArgs {
 
     /// Distance between samples along x, y, z, finite and positive; written
     /// to the .nrrd header [default: 1,1,1].
-    #[arg(long, value_name = "X,Y,Z", value_parser = values::spacing)]
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::spacing)]
     pub spacing: Option<[f64; 3]>,
 
     /// Print nothing on stderr but errors (no progress bar, no summary).

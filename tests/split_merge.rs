@@ -316,6 +316,36 @@ fn part_messages_name_the_real_problem() {
     merge(&[p[0].clone(), minus], &dir.path().join("m.tmesh"));
 }
 
+/// A part whose layers hold no surface says nothing about the volume, so
+/// --part refuses --require-surface (it used to fail such a part with "every
+/// sample is on the same side of the isovalue", which was false).
+#[test]
+fn a_part_takes_no_require_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    // A ball in the middle: the bottom cell layer holds no surface.
+    let ball = synth(dir.path(), "sphere", "12,12,12", "f32", "ball.npy");
+    let whole = dir.path().join("whole.tmesh");
+    extract(&ball, &whole, &["--iso", "0", "--require-surface"], None);
+    let part = dir.path().join("p.tmesh");
+    let args = [
+        "extract",
+        s(&ball),
+        "--iso",
+        "0",
+        "--require-surface",
+        "--part",
+        "1/11",
+        "-o",
+        s(&part),
+    ];
+    let line = assert_one_line(&tmc(&args), 2);
+    assert!(
+        line.contains("--require-surface") && line.contains("--part"),
+        "{line}"
+    );
+    assert!(!part.exists());
+}
+
 /// The merge holds one part file open at a time: 40 parts merge under a
 /// limit of 16 open files.
 #[test]

@@ -93,8 +93,10 @@ pub(crate) struct ExtractArgs {
 
     /// Fail (exit 1, no output) when there is no surface, i.e. every
     /// sample is on the same side of the isovalue. Without it such a run
-    /// writes an empty mesh, prints a note and exits 0.
-    #[arg(long)]
+    /// writes an empty mesh, prints a note and exits 0. Not with --part: a
+    /// part may hold no surface when the volume has one; check the merged
+    /// mesh with 'tmc check --require-surface'.
+    #[arg(long, conflicts_with = "part")]
     pub require_surface: bool,
 
     /// Print nothing on stderr but errors (no progress bar). A progress bar

@@ -997,7 +997,8 @@ fn a_full_stderr_loses_lines_but_not_the_exit_status() {
         dir.path().join("v.nrrd"),
     );
     // (arguments, exit status, the file that must exist afterwards)
-    let cases: [(Vec<&str>, i32, Option<&Path>); 6] = [
+    let lines = dir.path().join("l.ply");
+    let cases: [(Vec<&str>, i32, Option<&Path>); 7] = [
         // An error line that cannot be written: still status 1.
         (
             vec!["extract", s(&missing), "--iso", "0", "-o", s(&mesh)],
@@ -1035,6 +1036,21 @@ fn a_full_stderr_loses_lines_but_not_the_exit_status() {
         ),
         // The note of tmc check on an empty mesh is lost.
         (vec!["check", s(&empty)], 0, None),
+        // Progress lines are lost; the mesh stays.
+        (
+            vec![
+                "extract",
+                i,
+                "--iso",
+                "0",
+                "--progress",
+                "lines",
+                "-o",
+                s(&lines),
+            ],
+            0,
+            Some(&lines),
+        ),
     ];
     for (args, code, stays) in cases {
         let Some(out) = tmc_with_full_stderr(&args) else {
@@ -1049,5 +1065,5 @@ fn a_full_stderr_loses_lines_but_not_the_exit_status() {
     assert!(!stats.exists(), "the --stats run left its mesh");
     let mut left = names(dir.path());
     left.sort();
-    assert_eq!(left, ["e.ply", "in.npy", "v.nrrd"]);
+    assert_eq!(left, ["e.ply", "in.npy", "l.ply", "v.nrrd"]);
 }

@@ -130,7 +130,7 @@ impl Lines {
         } else {
             format!("{}: ", self.label)
         };
-        eprintln!(
+        say!(
             "tmc: {label}{:.0}% of {total}, {elapsed:.1} s{eta}",
             fraction * 100.0
         );

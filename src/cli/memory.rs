@@ -8,6 +8,7 @@
 //! the end) and the largest sample kept.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// The least time between two samples after slabs. Reading
@@ -16,41 +17,27 @@ use std::time::{Duration, Instant};
 const SAMPLE_INTERVAL: Duration = Duration::from_millis(1);
 
 /// The largest `RssAnon` seen so far.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub(crate) struct PeakAnon {
     /// Bytes; 0 until a sample succeeds.
     peak: AtomicU64,
-    /// When this started; the last sample's time counts from it.
-    start: Instant,
-    /// Nanoseconds from `start` to the last sample (0: none yet).
-    last: AtomicU64,
-}
-
-impl Default for PeakAnon {
-    fn default() -> Self {
-        PeakAnon {
-            peak: AtomicU64::new(0),
-            start: Instant::now(),
-            last: AtomicU64::new(0),
-        }
-    }
+    /// When [`sample_soon`](Self::sample_soon) last sampled.
+    last: Mutex<Option<Instant>>,
 }
 
 impl PeakAnon {
-    /// Samples `RssAnon` unless a sample was taken less than
-    /// [`SAMPLE_INTERVAL`] ago (the first one always is).
+    /// Samples `RssAnon` unless this sampled less than [`SAMPLE_INTERVAL`]
+    /// ago.
     pub(crate) fn sample_soon(&self) {
-        let now = self.start.elapsed().as_nanos().max(1) as u64;
-        let last = self.last.load(Ordering::Relaxed);
-        let due = last == 0 || now.saturating_sub(last) >= SAMPLE_INTERVAL.as_nanos() as u64;
-        if due
-            && self
-                .last
-                .compare_exchange(last, now, Ordering::Relaxed, Ordering::Relaxed)
-                .is_ok()
+        let now = Instant::now();
         {
-            self.sample();
+            let mut last = self.last.lock().unwrap_or_else(|p| p.into_inner());
+            if last.is_some_and(|t| now - t < SAMPLE_INTERVAL) {
+                return;
+            }
+            *last = Some(now);
         }
+        self.sample();
     }
 
     /// Samples `RssAnon` now and keeps the maximum.

@@ -125,13 +125,9 @@ impl Lines {
         } else {
             ", ETA unknown".to_string()
         };
-        let label = if self.label.is_empty() {
-            String::new()
-        } else {
-            format!("{}: ", self.label)
-        };
         say!(
-            "tmc: {label}{:.0}% of {total}, {elapsed:.1} s{eta}",
+            "tmc: {}: {:.0}% of {total}, {elapsed:.1} s{eta}",
+            self.label,
             fraction * 100.0
         );
     }

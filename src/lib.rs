@@ -7,10 +7,14 @@
 //! from contours built with the asymptotic decider and classified by the
 //! three quadratic equations of the paper.
 //!
-//! The pipeline, one module per stage:
-//! `volume` (sample sources) -> `slab` (layers of cells, per-row edge numbers) ->
-//! `kernel` (one cell) -> `seam` (global vertex numbering across slabs) ->
-//! `mesh` -> `export` (PLY, OBJ, OFF, STL); `check` validates meshes.
+//! The pipeline, one folder per stage (see ARCHITECTURE.md for the map):
+//! [`volume`] (sample sources) -> [`stream`] (slabs scheduled, in flight and
+//! stitched) -> [`slab`] (layers of cells, per-row edge numbers) ->
+//! [`kernel`] (one cell) -> [`mesh`] (chunks into a sink) -> [`meshfile`]
+//! (`.tmesh`) and [`export`] (PLY, OBJ, OFF, STL); [`part`] splits and
+//! merges runs, [`check`] validates meshes, [`synth`] makes test volumes.
+//! Beneath them all: [`params`], [`grid`], [`stats`], [`error`] and
+//! [`files`], which import nothing above them.
 //!
 //! ## Conventions (invariants every module keeps)
 //! * A sample is **inside** iff `value > iso`; a sample equal to the isovalue
@@ -27,31 +31,26 @@
 #![warn(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
 
-pub mod budget;
 pub mod check;
 pub mod error;
 pub mod export;
-pub mod histogram;
+pub mod files;
+pub mod grid;
 pub mod kernel;
 pub mod mesh;
 pub mod meshfile;
-pub mod multi;
+pub mod params;
 pub mod part;
-pub mod pipeline;
-pub mod schedule;
-pub mod seam;
-pub mod sink;
 pub mod slab;
 pub mod stats;
+pub mod stream;
 pub mod synth;
 pub mod volume;
 
 pub use error::{Error, Result};
-pub use mesh::Mesh;
-pub use multi::extract_many_to;
-pub use pipeline::{
-    extract, extract_part_to, extract_to, ExtractParams, Inside, Method, PipelineOptions, Progress,
-};
-pub use sink::{Chunk, MeshBuilder, MeshInfo, MeshSink, Totals};
+pub use grid::Grid;
+pub use mesh::{Chunk, Mesh, MeshBuilder, MeshInfo, MeshSink, Totals};
+pub use params::{ExtractParams, Inside, Method, PipelineOptions, Progress};
 pub use stats::Stats;
-pub use volume::{ArrayVolume, Grid, SampleSource};
+pub use stream::{extract, extract_many_to, extract_part_to, extract_to};
+pub use volume::{ArrayVolume, SampleSource};

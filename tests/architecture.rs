@@ -92,7 +92,11 @@ fn impl_item_attrs(item: &syn::ImplItem) -> &[syn::Attribute] {
 }
 
 /// Flattens a use tree into (path, bound name; `None` for a glob).
-fn flatten(tree: &syn::UseTree, prefix: &mut Vec<String>, out: &mut Vec<(Vec<String>, Option<String>)>) {
+fn flatten(
+    tree: &syn::UseTree,
+    prefix: &mut Vec<String>,
+    out: &mut Vec<(Vec<String>, Option<String>)>,
+) {
     match tree {
         syn::UseTree::Path(p) => {
             prefix.push(p.ident.to_string());
@@ -171,7 +175,9 @@ impl<'ast> Visit<'ast> for Collector<'_> {
         // them (a lone identifier there is most often a local variable).
         let mut runs = Vec::new();
         scan_tokens(mac.tokens.clone(), &mut runs);
-        self.module.code_paths.extend(runs.into_iter().filter(|r| r.len() > 1));
+        self.module
+            .code_paths
+            .extend(runs.into_iter().filter(|r| r.len() > 1));
         syn::visit::visit_macro(self, mac);
     }
 }
@@ -190,8 +196,11 @@ fn scan_tokens(tokens: proc_macro2::TokenStream, out: &mut Vec<Vec<String>>) {
             TokenTree::Ident(first) => {
                 let mut path = vec![first.to_string()];
                 let mut j = i + 1;
-                while let (Some(TokenTree::Punct(a)), Some(TokenTree::Punct(b)), Some(TokenTree::Ident(next))) =
-                    (trees.get(j), trees.get(j + 1), trees.get(j + 2))
+                while let (
+                    Some(TokenTree::Punct(a)),
+                    Some(TokenTree::Punct(b)),
+                    Some(TokenTree::Ident(next)),
+                ) = (trees.get(j), trees.get(j + 1), trees.get(j + 2))
                 {
                     if a.as_char() != ':' || b.as_char() != ':' {
                         break;
@@ -209,7 +218,9 @@ fn scan_tokens(tokens: proc_macro2::TokenStream, out: &mut Vec<Vec<String>>) {
 
 impl Crate {
     fn load() -> Crate {
-        let mut krate = Crate { modules: BTreeMap::new() };
+        let mut krate = Crate {
+            modules: BTreeMap::new(),
+        };
         krate.load_module(vec!["crate".into()], &src().join("lib.rs"), true);
         krate.load_module(vec!["main".into()], &src().join("main.rs"), true);
         krate
@@ -219,9 +230,13 @@ impl Crate {
     /// `owns_dir`: the file is `lib.rs`, `main.rs` or `mod.rs`, whose
     /// children live beside it (else in a folder named after the file).
     fn load_module(&mut self, path: ModPath, file: &Path, owns_dir: bool) {
-        let text = std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let text =
+            std::fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         let ast = syn::parse_file(&text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-        let mut module = Module { file: file.to_path_buf(), ..Module::default() };
+        let mut module = Module {
+            file: file.to_path_buf(),
+            ..Module::default()
+        };
         let dir = if owns_dir {
             file.parent().unwrap().to_path_buf()
         } else {
@@ -230,7 +245,10 @@ impl Crate {
         let mut children = Vec::new();
         let mut uses = Vec::new();
         {
-            let mut collector = Collector { module: &mut module, nested_uses: Vec::new() };
+            let mut collector = Collector {
+                module: &mut module,
+                nested_uses: Vec::new(),
+            };
             for item in &ast.items {
                 if is_test(item_attrs(item)) {
                     continue;
@@ -276,7 +294,9 @@ impl Crate {
     fn resolve(&self, abs: &[String]) -> Option<ModPath> {
         let mut abs = abs.to_vec();
         for _ in 0..32 {
-            let len = (1..=abs.len()).rev().find(|&n| self.modules.contains_key(&abs[..n]))?;
+            let len = (1..=abs.len())
+                .rev()
+                .find(|&n| self.modules.contains_key(&abs[..n]))?;
             let module = &self.modules[&abs[..len]];
             let Some(target) = abs.get(len).and_then(|name| module.exports.get(name)) else {
                 return Some(abs[..len].to_vec());
@@ -298,14 +318,17 @@ impl Crate {
             let is_bin = path[0] == "main";
             let out = edges.entry(path.clone()).or_default();
             for (abs, public) in &module.uses {
-                let Some(target) = self.resolve(abs) else { continue };
+                let Some(target) = self.resolve(abs) else {
+                    continue;
+                };
                 let table_of_contents = *public && target.starts_with(path);
                 if !table_of_contents {
                     out.insert(target);
                 }
             }
             for raw in &module.code_paths {
-                let Some(abs) = absolute(path, raw, &module.children, &module.aliases, is_bin) else {
+                let Some(abs) = absolute(path, raw, &module.children, &module.aliases, is_bin)
+                else {
                     continue;
                 };
                 if let Some(target) = self.resolve(&abs) {
@@ -329,7 +352,10 @@ fn absolute(
 ) -> Option<ModPath> {
     let first = raw.first()?;
     let (mut base, rest): (ModPath, &[String]) = match first.as_str() {
-        "crate" => (vec![if is_bin { "main" } else { "crate" }.into()], &raw[1..]),
+        "crate" => (
+            vec![if is_bin { "main" } else { "crate" }.into()],
+            &raw[1..],
+        ),
         "tmc" if is_bin => (vec!["crate".into()], &raw[1..]),
         "self" => (at.clone(), &raw[1..]),
         "super" => {
@@ -443,7 +469,12 @@ fn code_map() -> BTreeMap<String, BTreeSet<String>> {
     let mut map = BTreeMap::new();
     let mut in_table = false;
     for line in text.lines() {
-        let cells: Vec<&str> = line.trim().trim_matches('|').split('|').map(str::trim).collect();
+        let cells: Vec<&str> = line
+            .trim()
+            .trim_matches('|')
+            .split('|')
+            .map(str::trim)
+            .collect();
         if line.trim_start().starts_with("| module | owns | may use") {
             in_table = true;
             continue;
@@ -454,15 +485,25 @@ fn code_map() -> BTreeMap<String, BTreeSet<String>> {
         if !line.trim_start().starts_with('|') {
             break;
         }
-        if cells.iter().all(|c| c.chars().all(|ch| ch == '-' || ch == ':')) {
+        if cells
+            .iter()
+            .all(|c| c.chars().all(|ch| ch == '-' || ch == ':'))
+        {
             continue;
         }
         let module = names(cells[0]);
-        assert_eq!(module.len(), 1, "ARCHITECTURE.md code map row names one module: {line}");
+        assert_eq!(
+            module.len(),
+            1,
+            "ARCHITECTURE.md code map row names one module: {line}"
+        );
         let allowed: BTreeSet<String> = names(cells.last().unwrap()).into_iter().collect();
         map.insert(module[0].clone(), allowed);
     }
-    assert!(!map.is_empty(), "ARCHITECTURE.md has no '| module | owns | may use |' table");
+    assert!(
+        !map.is_empty(),
+        "ARCHITECTURE.md has no '| module | owns | may use |' table"
+    );
     map
 }
 
@@ -483,7 +524,10 @@ fn print_graph(krate: &Crate, edges: &BTreeMap<ModPath, BTreeSet<ModPath>>) {
     }
     println!("# top-level modules");
     for (a, targets) in units {
-        println!("{a} -> {}", targets.into_iter().collect::<Vec<_>>().join(", "));
+        println!(
+            "{a} -> {}",
+            targets.into_iter().collect::<Vec<_>>().join(", ")
+        );
     }
 }
 
@@ -492,7 +536,11 @@ fn the_import_graph_has_no_cycle() {
     let krate = Crate::load();
     let edges = krate.edges();
     print_graph(&krate, &edges);
-    assert!(krate.modules.len() > 50, "found only {} modules", krate.modules.len());
+    assert!(
+        krate.modules.len() > 50,
+        "found only {} modules",
+        krate.modules.len()
+    );
     let found = cycles(&edges);
     let text: Vec<String> = found
         .iter()
@@ -500,12 +548,23 @@ fn the_import_graph_has_no_cycle() {
             let names: Vec<String> = c.iter().map(show).collect();
             let files: Vec<String> = c
                 .iter()
-                .map(|m| krate.modules[m].file.strip_prefix(src()).unwrap().display().to_string())
+                .map(|m| {
+                    krate.modules[m]
+                        .file
+                        .strip_prefix(src())
+                        .unwrap()
+                        .display()
+                        .to_string()
+                })
                 .collect();
             format!("  {{{}}} ({})", names.join(", "), files.join(", "))
         })
         .collect();
-    assert!(found.is_empty(), "modules that use each other in a circle:\n{}", text.join("\n"));
+    assert!(
+        found.is_empty(),
+        "modules that use each other in a circle:\n{}",
+        text.join("\n")
+    );
 }
 
 #[test]
@@ -522,11 +581,15 @@ fn top_level_modules_use_only_what_the_code_map_allows() {
     }
     for (u, allowed) in &map {
         if !units.contains(u) {
-            problems.push(format!("ARCHITECTURE.md's code map names `{u}`, which src/ does not have"));
+            problems.push(format!(
+                "ARCHITECTURE.md's code map names `{u}`, which src/ does not have"
+            ));
         }
         for a in allowed {
             if !units.contains(a) {
-                problems.push(format!("ARCHITECTURE.md lets `{u}` use `{a}`, which src/ does not have"));
+                problems.push(format!(
+                    "ARCHITECTURE.md lets `{u}` use `{a}`, which src/ does not have"
+                ));
             }
         }
     }
@@ -554,18 +617,57 @@ fn top_level_modules_use_only_what_the_code_map_allows() {
 fn the_checker_finds_a_planted_cycle() {
     let p = |s: &str| -> ModPath { s.split("::").map(String::from).collect() };
     let mut edges: BTreeMap<ModPath, BTreeSet<ModPath>> = BTreeMap::new();
-    edges.entry(p("crate::a")).or_default().insert(p("crate::b"));
-    edges.entry(p("crate::b")).or_default().insert(p("crate::c"));
-    edges.entry(p("crate::c")).or_default().insert(p("crate::d"));
+    edges
+        .entry(p("crate::a"))
+        .or_default()
+        .insert(p("crate::b"));
+    edges
+        .entry(p("crate::b"))
+        .or_default()
+        .insert(p("crate::c"));
+    edges
+        .entry(p("crate::c"))
+        .or_default()
+        .insert(p("crate::d"));
     assert!(cycles(&edges).is_empty());
-    edges.entry(p("crate::c")).or_default().insert(p("crate::a"));
-    assert_eq!(cycles(&edges), vec![vec![p("crate::a"), p("crate::b"), p("crate::c")]]);
+    edges
+        .entry(p("crate::c"))
+        .or_default()
+        .insert(p("crate::a"));
+    assert_eq!(
+        cycles(&edges),
+        vec![vec![p("crate::a"), p("crate::b"), p("crate::c")]]
+    );
     // Resolution through a re-export and `super`.
     let children = BTreeSet::from(["x".to_string()]);
     let aliases = BTreeMap::from([("E".to_string(), p("crate::error::E"))]);
     let at = p("crate::kernel::cell");
-    assert_eq!(absolute(&at, &["super".into(), "cube".into()], &children, &aliases, false), Some(p("crate::kernel::cube")));
-    assert_eq!(absolute(&at, &["E".into(), "new".into()], &children, &aliases, false), Some(p("crate::error::E::new")));
-    assert_eq!(absolute(&at, &["tmc".into(), "x".into()], &children, &aliases, true), Some(p("crate::x")));
-    assert_eq!(absolute(&at, &["std".into(), "io".into()], &children, &aliases, false), None);
+    assert_eq!(
+        absolute(
+            &at,
+            &["super".into(), "cube".into()],
+            &children,
+            &aliases,
+            false
+        ),
+        Some(p("crate::kernel::cube"))
+    );
+    assert_eq!(
+        absolute(&at, &["E".into(), "new".into()], &children, &aliases, false),
+        Some(p("crate::error::E::new"))
+    );
+    assert_eq!(
+        absolute(&at, &["tmc".into(), "x".into()], &children, &aliases, true),
+        Some(p("crate::x"))
+    );
+    assert_eq!(
+        absolute(
+            &at,
+            &["std".into(), "io".into()],
+            &children,
+            &aliases,
+            false
+        ),
+        None
+    );
 }

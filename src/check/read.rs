@@ -19,8 +19,8 @@ use std::io::{self, BufRead, BufReader, Read};
 use std::path::Path;
 
 use crate::export::replay;
+use crate::mesh::MeshBuilder;
 use crate::meshfile::{TmeshReader, MAGIC};
-use crate::sink::MeshBuilder;
 use crate::{Error, Mesh, Result};
 
 /// Most triangles a mesh may have (indices of triangles are `u32`).

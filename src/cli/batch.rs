@@ -2,10 +2,12 @@
 //! isovalues per input, one pass over each input, one JSON-lines report line
 //! per input.
 
-use super::extract::{check_distinct, check_grid, effective_threads, ExtractArgs, Monitor};
+use super::extract_args::ExtractArgs;
 use super::manifest::{self, Item};
+use super::monitor::Monitor;
+use super::output::{one_line, to_stdout, withdraw};
+use super::preflight::{check_distinct, check_grid, effective_threads};
 use super::{memory, report};
-use clap::Args;
 use serde::Serialize;
 use std::cell::Cell;
 use std::fs::File;
@@ -18,36 +20,6 @@ use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 /// Inputs of the batch whose outputs were written before a signal stopped
 /// it: they are kept, and the interrupted line says so.
 pub(crate) static FINISHED_BEFORE_INTERRUPT: AtomicUsize = AtomicUsize::new(0);
-
-/// The batch options of `tmc extract`.
-#[derive(Debug, Args)]
-pub(crate) struct BatchArgs {
-    /// Read the inputs from FILE, one per line: 'INPUT ISO[,ISO...] OUTPUT'
-    /// separated by whitespace, or by tabs when the line has one (paths with
-    /// spaces); '#' starts a comment line. OUTPUT may use {stem} and {iso}.
-    /// Relative paths are relative to the current directory.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["input", "iso", "output"])]
-    pub manifest: Option<PathBuf>,
-
-    /// Append one JSON line per input to FILE (as --json does on stdout):
-    /// input, outputs, isos, status ("ok" or "failed"), error, triangles and
-    /// vertices per output, seconds, manifest line.
-    #[arg(long, value_name = "FILE")]
-    pub report: Option<PathBuf>,
-
-    /// In a batch, go on with the next input after a failure (without it,
-    /// the batch stops at the first failed input). Either way the exit
-    /// status is 1 when any input failed, and each is named on stderr.
-    #[arg(long)]
-    pub keep_going: bool,
-}
-
-impl BatchArgs {
-    /// Whether a batch option was given (a batch even with one input).
-    pub(crate) fn given(&self) -> bool {
-        self.manifest.is_some() || self.report.is_some()
-    }
-}
 
 /// One report line.
 #[derive(Serialize)]
@@ -113,7 +85,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         // The item's meshes are committed; if its report line cannot be
         // written, the run fails and takes them back.
         let withdraw = |e| match result {
-            Ok(_) => super::withdraw(item.outputs.iter().map(PathBuf::as_path), e),
+            Ok(_) => withdraw(item.outputs.iter().map(PathBuf::as_path), e),
             Err(_) => e,
         };
         if let Some((file, path)) = &mut report {
@@ -122,7 +94,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
                 .map_err(|e| withdraw(Error::io(path.as_path(), e)))?;
         }
         if args.json {
-            super::to_stdout(|out| out.write_all(line.as_bytes())).map_err(withdraw)?;
+            to_stdout(|out| out.write_all(line.as_bytes())).map_err(withdraw)?;
         }
         match result {
             Ok(_) => {}
@@ -141,7 +113,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
                     } else {
                         format!("{input}: {message}")
                     };
-                    say!("tmc: error: {}", super::one_line(&message));
+                    say!("tmc: error: {}", one_line(&message));
                 }
                 failed.push(item.input.display().to_string());
                 first_error.get_or_insert(e);
@@ -209,7 +181,7 @@ fn same_path(a: &Path, b: &Path) -> bool {
 fn report_line(item: &Item, result: &Result<Vec<Stats>>, seconds: f64) -> String {
     let (status, error, stats) = match result {
         Ok(stats) => ("ok", None, &stats[..]),
-        Err(e) => ("failed", Some(super::one_line(&e.to_string())), &[][..]),
+        Err(e) => ("failed", Some(one_line(&e.to_string())), &[][..]),
     };
     let line = Line {
         input: item.input.display().to_string(),

@@ -41,7 +41,7 @@ pub(crate) struct CheckArgs {
 pub(crate) fn run(args: &CheckArgs) -> Result<()> {
     let mesh = tmc::check::read_mesh(&args.mesh)?;
     let report = tmc::check::check_mesh(&mesh);
-    super::to_stdout(|out| {
+    super::output::to_stdout(|out| {
         if args.json {
             serde_json::to_writer(&mut *out, &report)?;
             writeln!(out)

@@ -139,7 +139,7 @@ pub(crate) fn run(args: &InfoArgs) -> Result<()> {
     };
     let summary = summarize(source.as_ref(), &options)?;
     let info = describe(&args.input, raw.as_ref(), source.as_ref(), &grid, &summary);
-    super::to_stdout(|out| {
+    super::output::to_stdout(|out| {
         if args.json {
             serde_json::to_writer(&mut *out, &info)?;
             writeln!(out)

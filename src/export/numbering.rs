@@ -7,7 +7,7 @@
 //! chunk (or to the end of the stream); it still happens before the output
 //! is committed.
 
-use crate::sink::{Chunk, Totals};
+use crate::mesh::{Chunk, Totals};
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 

@@ -2,7 +2,7 @@
 //! ([`write_obj`]) or streamed chunks ([`ObjSink`]).
 
 use super::spooled::{write_whole, Layout, SpooledSink};
-use crate::Mesh;
+use crate::mesh::Mesh;
 use std::io::{self, Write};
 
 /// The OBJ layout: a comment, `v x y z` lines, then `f a b c` lines.

@@ -2,7 +2,7 @@
 //! streamed chunks ([`OffSink`]).
 
 use super::spooled::{write_whole, Layout, SpooledSink};
-use crate::Mesh;
+use crate::mesh::Mesh;
 use std::io::{self, Write};
 
 /// The OFF layout: `OFF`, the counts, vertices, then `3 a b c` faces.

@@ -2,7 +2,7 @@
 //! lists; whole meshes ([`write_ply`]) or streamed chunks ([`PlySink`]).
 
 use super::spooled::{write_whole, Layout, SpooledSink};
-use crate::Mesh;
+use crate::mesh::Mesh;
 use std::io::{self, Write};
 
 /// The PLY layout: binary little-endian, float x, y, z, `uchar uint` faces.

@@ -1,8 +1,8 @@
 //! Replays a `.tmesh` file into any sink, chunk by chunk, as the pipeline
 //! sent it: `tmc convert` and `tmc check` read `.tmesh` files this way.
 
+use crate::mesh::{MeshSink, Totals};
 use crate::meshfile::TmeshReader;
-use crate::sink::{MeshSink, Totals};
 use crate::{Error, Result};
 use std::sync::atomic::{AtomicBool, Ordering};
 

@@ -10,11 +10,11 @@
 //! use peaks at about twice the output's size. Anonymous spools vanish with
 //! the process, even if it is killed.
 
-use super::atomic::without_temp_path;
 use super::numbering::Numbering;
-use super::AtomicFile;
-use crate::sink::{Chunk, MeshInfo, MeshSink, Totals};
-use crate::{Error, Mesh, Result};
+use crate::files::{without_temp_path, AtomicFile};
+use crate::mesh::Mesh;
+use crate::mesh::{used_after_finish, Chunk, MeshInfo, MeshSink, Totals};
+use crate::{Error, Result};
 use std::fs::File;
 use std::io::{self, BufWriter, Read, Seek, SeekFrom, Write};
 use std::marker::PhantomData;
@@ -72,7 +72,7 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
-        let body = self.body.as_mut().ok_or_else(super::finished)?;
+        let body = self.body.as_mut().ok_or_else(used_after_finish)?;
         if base + chunk.vertices.len() as u64 > L::MAX_VERTICES {
             return Err(body.numbering().error(format!(
                 "the mesh has more than {} vertices, {}",
@@ -98,7 +98,7 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
     /// Looks at `cancel` before the header and every `COPY_STEP` (8 MiB) of
     /// the spools copied into the output.
     fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
-        let body = self.body.take().ok_or_else(super::finished)?;
+        let body = self.body.take().ok_or_else(used_after_finish)?;
         body.finish(totals, cancel, |w, vertices, faces| {
             L::header(w, vertices, faces)
         })

@@ -2,10 +2,11 @@
 //! ([`StlSink`]). STL has no shared vertices: each facet stores its own
 //! three corners and a unit normal computed from them (zero if degenerate).
 
-use super::atomic::AtomicFile;
 use super::numbering::Numbering;
-use crate::sink::{Chunk, MeshInfo, MeshSink, Totals};
-use crate::{Error, Mesh, Result};
+use crate::files::AtomicFile;
+use crate::mesh::Mesh;
+use crate::mesh::{used_after_finish, Chunk, MeshInfo, MeshSink, Totals};
+use crate::{Error, Result};
 use std::io::{self, BufWriter, Seek, SeekFrom, Write};
 use std::path::Path;
 
@@ -64,7 +65,7 @@ impl StlSink {
     /// Writes the facets of the held chunk, whose triangles may reach into
     /// `next` (the following chunk's vertices).
     fn write_held(&mut self, next: &[[f32; 3]]) -> Result<()> {
-        let out = self.out.as_mut().ok_or_else(super::finished)?;
+        let out = self.out.as_mut().ok_or_else(used_after_finish)?;
         let own = &self.held.vertices;
         for t in &self.held.triangles {
             let corner = |i: u32| {
@@ -111,7 +112,7 @@ impl MeshSink for StlSink {
     fn finish(&mut self, totals: &Totals) -> Result<()> {
         self.numbering.finish(totals)?;
         self.write_held(&[])?;
-        let out = self.out.take().ok_or_else(super::finished)?;
+        let out = self.out.take().ok_or_else(used_after_finish)?;
         let path = out.get_ref().path().to_path_buf();
         let count = self.numbering.triangles() as u32;
         let mut file = out

@@ -1,5 +1,6 @@
 //! One ambiguous cell, from its eight values to triangles (Algorithm 1).
 
+use super::cell_mesh::{CellMesh, Triangles, VertexRef};
 use super::contour::ContourSet;
 use super::cube::{EDGE_CORNERS, FACE_CORNERS};
 use super::decider::{inside_joined, residual_det2_sign};
@@ -11,55 +12,6 @@ use super::tunnel::labelled_joins;
 use crate::Stats;
 use glam::DVec3;
 use std::cmp::Ordering::{Greater, Less};
-
-/// A vertex of a cell's triangles: `0..12` is the vertex on that cell edge,
-/// `INTERIOR + i` is interior vertex `i` of the cell.
-pub type VertexRef = u8;
-
-/// First [`VertexRef`] of the interior vertices.
-pub const INTERIOR: u8 = 12;
-
-/// Triangles of one cell, with the positions of its interior vertices in
-/// local coordinates (the unit cube).
-#[derive(Debug, Clone)]
-pub struct CellMesh {
-    /// Triangles as vertex refs, counter-clockwise seen from outside.
-    pub triangles: Vec<[VertexRef; 3]>,
-    /// Interior vertices, local coordinates in [0, 1]^3.
-    pub interior: Vec<DVec3>,
-}
-
-impl CellMesh {
-    /// An empty cell mesh with room for the largest case.
-    pub fn new() -> Self {
-        CellMesh {
-            triangles: Vec::with_capacity(48),
-            interior: Vec::with_capacity(8),
-        }
-    }
-
-    /// Appends a triangle.
-    pub fn push_triangle(&mut self, t: [VertexRef; 3]) {
-        self.triangles.push(t);
-    }
-
-    fn push_interior(&mut self, p: DVec3) -> VertexRef {
-        self.interior.push(p.clamp(DVec3::ZERO, DVec3::ONE));
-        INTERIOR + (self.interior.len() - 1) as u8
-    }
-
-    /// Empties the mesh for reuse.
-    pub fn clear(&mut self) {
-        self.triangles.clear();
-        self.interior.clear();
-    }
-}
-
-impl Default for CellMesh {
-    fn default() -> Self {
-        Self::new()
-    }
-}
 
 /// Position of the vertex on edge `e` in local coordinates (linear
 /// interpolation; the same formula the slab loop uses).
@@ -189,22 +141,6 @@ fn face_scaled(v: [f64; 4]) -> [f64; 4] {
     let v = v.map(|x| x.clamp(-f64::MAX / 4.0, f64::MAX / 4.0));
     let n = normalized(&[v[0], v[1], v[2], v[3], 0.0, 0.0, 0.0, 0.0]);
     [n[0], n[1], n[2], n[3]]
-}
-
-/// Where [`triangulate_ambiguous`] left a cell's triangles.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Triangles {
-    /// Fans over the cell's edge vertices, straight from the tables (flat
-    /// contours and no tunnel); the cell mesh is left as it was, so the
-    /// caller copies them as it copies MC triangles.
-    Table(&'static [[VertexRef; 3]]),
-    /// Fans from the tables, one of them round the one interior vertex
-    /// [`INTERIOR`], at the given local coordinates (a contour that meets a
-    /// face twice, the others flat, no tunnel); the cell mesh is left as it
-    /// was.
-    Centred(&'static [[VertexRef; 3]], DVec3),
-    /// Appended to the cell mesh, with the interior vertices they use.
-    Mesh,
 }
 
 /// Triangulates an ambiguous cell (Definition 1) with values `g` (inside iff

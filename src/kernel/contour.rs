@@ -11,6 +11,7 @@
 //! along cell edges and across faces). The tunnel test needs these labels.
 
 use super::cube::{face_edges, EDGE_CORNERS, FACE_CORNERS};
+use super::sweep_pairs::may_join;
 
 /// The contours of one cell configuration under one set of face decisions.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -31,7 +32,7 @@ pub struct ContourSet {
     /// Surface component label of each corner (the smallest corner in it).
     pub corner_comp: [u8; 8],
     /// Which sweeps of the tunnel test could join two surface components
-    /// (see [`super::tunnel::may_join`]); 0: the test is skipped.
+    /// (see [`may_join`]); 0: the test is skipped.
     pub tunnel_pairs: u8,
 }
 
@@ -87,7 +88,7 @@ pub fn build(config: u8, joined: u8) -> ContourSet {
     let comp = surface_components(config, joined);
     let mut set = ContourSet {
         corner_comp: comp,
-        tunnel_pairs: super::tunnel::may_join(config, &comp),
+        tunnel_pairs: may_join(config, &comp),
         ..ContourSet::default()
     };
     let mut used = [false; 12];

@@ -6,6 +6,8 @@
 //! * [`contour`]: closed contours from edge intersections and face decisions;
 //! * [`tables`]: the standard MC table and the contour table, built once
 //!   from [`contour`] for all 256 sign configurations;
+//! * [`sweep_pairs`]: which pairs of surface components a tunnel could
+//!   join, from the configuration alone (held in the tables);
 //! * [`tunnel`]: does the level set join two contours through the cell (a
 //!   tunnel)? Decided exactly, ties included;
 //! * [`scale`]: a cell's values scaled by a power of two, out of overflow;
@@ -14,6 +16,8 @@
 //! * [`quadratic`]: the three quadratic equations, their roots, the saddle
 //!   points and the inner hexagon;
 //! * [`triangulate`]: the triangulation rules of Section 5;
+//! * [`cell_mesh`]: what a cell hands back (triangles over edge and
+//!   interior vertices);
 //! * [`cell`]: puts them together for one ambiguous cell.
 //!
 //! Values given to the kernel are `g = value - iso` (or `iso - value` for
@@ -23,17 +27,20 @@
 //! decides on the exact differences.
 
 pub mod cell;
+pub mod cell_mesh;
 pub mod contour;
 pub mod cube;
 pub mod decider;
 pub mod quadratic;
 pub mod scale;
+pub mod sweep_pairs;
 pub mod tables;
 pub mod triangulate;
 pub mod tunnel;
 pub mod wide;
 
-pub use cell::{triangulate_ambiguous, CellMesh, Triangles, VertexRef};
+pub use cell::triangulate_ambiguous;
+pub use cell_mesh::{CellMesh, Triangles, VertexRef, INTERIOR};
 
 /// A xorshift generator for the kernel's randomised tests (`seed` nonzero).
 #[cfg(test)]

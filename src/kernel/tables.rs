@@ -20,7 +20,7 @@
 //!   "inside corners of an ambiguous face are separated". For unambiguous
 //!   configurations this is the MC table both methods use.
 
-use super::cell::INTERIOR;
+use super::cell_mesh::INTERIOR;
 use super::contour::{self, face_is_ambiguous, ContourSet};
 use super::cube::{edge_faces, EDGE_CORNERS};
 use super::triangulate::{fan, fan_around};

@@ -13,7 +13,7 @@
 //!   collapsed), the two strips winding round it in opposite directions;
 //! * the 12-vertex contour: one such strip, closed by the inner triangle.
 
-use super::cell::{CellMesh, VertexRef};
+use super::cell_mesh::{CellMesh, VertexRef};
 use glam::DVec3;
 
 /// A fan over `contour` (edge indices), from its first vertex.

@@ -62,8 +62,8 @@ mod writer;
 pub use reader::TmeshReader;
 pub use writer::TmeshWriter;
 
-use crate::pipeline::{Inside, Method};
-use crate::sink::MeshInfo;
+use crate::mesh::MeshInfo;
+use crate::params::{Inside, Method};
 use crate::{Error, Grid, Result};
 
 /// The first 8 bytes of every `.tmesh` file.

@@ -5,7 +5,7 @@ use super::{
     decode_header, le_u32, le_u64, ChunkEntry, CHUNK_HEADER_BYTES, END_MAGIC, HEADER_BYTES,
     INDEX_ENTRY_BYTES, TRAILER_BYTES,
 };
-use crate::sink::{Chunk, MeshInfo};
+use crate::mesh::{Chunk, MeshInfo};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::{Read, Seek, SeekFrom};
@@ -46,7 +46,7 @@ impl TmeshReader {
         let io = |e| Error::io(path, e);
         let bad = |what: String| Error::Format(format!("{}: {what}", path.display()));
         // A FIFO would block the open below, and cannot seek.
-        crate::volume::check_input_kind(path)?;
+        crate::files::check_input_kind(path)?;
         let mut file = File::open(path).map_err(io)?;
         let len = file.metadata().map_err(io)?.len();
         let mut header = [0u8; HEADER_BYTES];

@@ -3,8 +3,8 @@
 //! then replaces its target atomically.
 
 use super::{encode_header, ChunkEntry, CHUNK_HEADER_BYTES, END_MAGIC, HEADER_BYTES, ZSTD_LEVEL};
-use crate::export::AtomicFile;
-use crate::sink::{Chunk, MeshInfo, MeshSink, Totals};
+use crate::files::AtomicFile;
+use crate::mesh::{Chunk, MeshInfo, MeshSink, Totals};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::{BufWriter, Write};

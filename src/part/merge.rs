@@ -2,9 +2,9 @@
 //! any output format, one chunk in memory and one part file open at a time.
 
 use super::PartRecord;
+use crate::mesh::{MeshInfo, Totals};
 use crate::meshfile::{ChunkEntry, TmeshReader};
-use crate::pipeline::Method;
-use crate::sink::{MeshInfo, Totals};
+use crate::params::Method;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -164,7 +164,7 @@ impl PartRecord {
             ))
         };
         // A FIFO would block the open below, and cannot seek.
-        crate::volume::check_input_kind(path)?;
+        crate::files::check_input_kind(path)?;
         let mut file = std::fs::File::open(path).map_err(io)?;
         let mut magic = [0u8; 8];
         if file.read_exact(&mut magic).is_err() || magic != crate::meshfile::MAGIC {

@@ -2,8 +2,8 @@
 //! [`PartRecord`] between the last chunk and the index.
 
 use super::PartRecord;
+use crate::mesh::{Chunk, MeshInfo, MeshSink, Totals};
 use crate::meshfile::TmeshWriter;
-use crate::sink::{Chunk, MeshInfo, MeshSink, Totals};
 use crate::Result;
 use std::path::Path;
 

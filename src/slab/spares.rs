@@ -11,7 +11,7 @@
 
 use super::bits::SignBits;
 use super::edges::EdgeRows;
-use crate::sink::Chunk;
+use crate::mesh::Chunk;
 use crossbeam::queue::ArrayQueue;
 use std::sync::atomic::{AtomicU64, Ordering};
 

@@ -1,7 +1,7 @@
 //! The analytic unit fields: sphere, torus and gyroid, evaluated a row at a
 //! time from per-axis tables (no transcendental function per sample).
 
-use super::source::RowField;
+use super::row_field::RowField;
 use crate::Grid;
 
 /// Signed distances are divided by this many samples (of the finest

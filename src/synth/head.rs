@@ -19,7 +19,7 @@
 //! and 1500 HU. Finally uniform white noise of ±15 HU, hashed from the seed
 //! and the sample index, is added everywhere.
 
-use super::source::RowField;
+use super::row_field::RowField;
 use super::value_noise::hash3;
 use crate::Grid;
 

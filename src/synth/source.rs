@@ -4,6 +4,7 @@ use super::fields::{Gyroid, Sphere, Torus};
 use super::head::{Head, HEAD_SKULL_ISO_HU};
 use super::kind::Kind;
 use super::levels::{hounsfield_to_stored, to_stored, unit_to_stored, Units};
+use super::row_field::RowField;
 use super::value_noise::ValueNoise;
 use crate::volume::ScalarType;
 use crate::{Error, Grid, Result, SampleSource};
@@ -11,18 +12,6 @@ use rayon::prelude::*;
 
 /// Largest plane accepted, in samples (a plane of `f64` is held in memory).
 const MAX_PLANE: usize = 1 << 31;
-
-/// A field evaluated one row (fixed y and z, x varying) at a time.
-pub(crate) trait RowField: Send + Sync {
-    /// Data shared by the rows of plane `z`, computed once per plane
-    /// (nothing by default).
-    fn plane(&self, _z: usize) -> Vec<f64> {
-        Vec::new()
-    }
-    /// Writes the field at `(0.., y, z)` into `out` (length `dims[0]`);
-    /// `plane` is what [`RowField::plane`] returned for `z`.
-    fn row(&self, plane: &[f64], y: usize, z: usize, out: &mut [f64]);
-}
 
 /// A synthetic volume of one [`Kind`]: a [`SampleSource`] that computes
 /// each plane when it is read (rows in parallel on rayon's pool), so a

@@ -2,7 +2,7 @@
 //! with a quintic fade, summed over octaves; and the hash itself, also used
 //! for white noise.
 
-use super::source::RowField;
+use super::row_field::RowField;
 use crate::Grid;
 
 /// Lattice periods (in samples) and weights of the octaves.

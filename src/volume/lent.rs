@@ -25,22 +25,6 @@ pub enum LentPlane<'a> {
 }
 
 impl LentPlane<'_> {
-    /// Is `get(i) - iso` exact in `f64` for every sample the type can hold
-    /// (see [`Sample::subtracts_exactly`](super::Sample::subtracts_exactly))?
-    pub fn subtracts_exactly(&self, iso: f64) -> bool {
-        use super::Sample;
-        match self {
-            LentPlane::U8(_) => u8::subtracts_exactly(iso),
-            LentPlane::I8(_) => i8::subtracts_exactly(iso),
-            LentPlane::U16(_) => u16::subtracts_exactly(iso),
-            LentPlane::I16(_) => i16::subtracts_exactly(iso),
-            LentPlane::U32(_) => u32::subtracts_exactly(iso),
-            LentPlane::I32(_) => i32::subtracts_exactly(iso),
-            LentPlane::F32(_) => f32::subtracts_exactly(iso),
-            LentPlane::F64(_) => f64::subtracts_exactly(iso),
-        }
-    }
-
     /// Are the samples integers (not floats)?
     pub fn is_integer(&self) -> bool {
         !matches!(self, LentPlane::F32(_) | LentPlane::F64(_))

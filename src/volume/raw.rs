@@ -6,13 +6,30 @@
 //! [`RawVolume`] over the data that follows.
 
 use super::scalar::{decode_samples, decode_strided};
-use super::{Access, Endian, Grid, LentPlane, RawOptions, SampleSource, ScalarType};
+use super::{Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
 use crate::{Error, Result};
 use memmap2::{Advice, Mmap, UncheckedAdvice};
 use std::fmt;
 use std::fs::File;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
+
+/// Options for raw input, which carries no header of its own.
+#[derive(Debug, Clone)]
+pub struct RawOptions {
+    /// Samples along x, y, z.
+    pub dims: [usize; 3],
+    /// Sample type.
+    pub scalar: ScalarType,
+    /// Byte order of multi-byte samples.
+    pub endian: Endian,
+    /// Bytes to skip before the first sample.
+    pub header_bytes: u64,
+    /// Distance between samples.
+    pub spacing: [f64; 3],
+    /// Position of the first sample.
+    pub origin: [f64; 3],
+}
 
 /// Memory order of the samples of a [`RawVolume`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

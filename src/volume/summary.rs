@@ -10,9 +10,9 @@
 //! bound the time spent on huge volumes; the range, counts and mean are
 //! always exact.
 
+use super::histogram::{otsu, otsu2, Histogram};
 use super::{Access, SampleSource};
 use crate::error::try_filled;
-use crate::histogram::{otsu, otsu2, Histogram};
 use crate::Result;
 use rayon::prelude::*;
 

@@ -9,7 +9,7 @@
 use super::raw::{data_bytes, dims_text};
 use super::{encode_samples, Grid, SampleSource, ScalarType};
 use crate::error::try_filled;
-use crate::export::AtomicFile;
+use crate::files::AtomicFile;
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::io::{self, Write};

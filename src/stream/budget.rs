@@ -6,7 +6,7 @@
 //! which the kernel reclaims). The plan assumes the mesh of a slab takes
 //! [`OUTPUT_BYTES_PER_CELL`] per cell, about what dense value noise takes
 //! (sparse surfaces such as CT skin or bone take far less); the surface
-//! decides, so [`crate::schedule`] measures the mesh as it is made and
+//! decides, so [`super::schedule`] measures the mesh as it is made and
 //! starts slabs only as far as the budget allows.
 
 use crate::{Error, Result};

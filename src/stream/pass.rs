@@ -1,4 +1,10 @@
-//! Several isosurfaces of one volume in one pass over its samples.
+//! The pass: one walk over the volume's cell layers, slab by slab, for one
+//! or several isosurfaces.
+//!
+//! The writing thread cuts the layers into slabs ([`Schedule`], within the
+//! [`budget`](super::budget)), workers triangulate them
+//! ([`process_slab`]), and each isovalue's [`Seam`] puts the finished slabs
+//! back in plane order for its sink.
 //!
 //! Reading a large volume is the expensive part of an extraction, so each
 //! slab is triangulated for every isovalue in turn while its planes are
@@ -7,16 +13,19 @@
 //! Each isovalue has its own seam and sink, so every output is exactly what
 //! a separate run at that isovalue writes.
 
-use crate::pipeline::{
-    default_depth, thread_pool, worker_threads, ExtractParams, PipelineOptions, Progress,
-};
-use crate::schedule::Schedule;
-use crate::seam::Seam;
-use crate::sink::{Chunk, MeshInfo, MeshSink};
+use super::budget;
+use super::parts::layer_range;
+use super::schedule::Schedule;
+use super::seam::Seam;
+use super::threads::{default_depth, thread_pool, worker_threads};
+use crate::grid::Grid;
+use crate::mesh::{Chunk, MeshInfo, MeshSink};
+use crate::params::{ExtractParams, PipelineOptions, Progress};
 use crate::slab::{chunk_bytes, process_slab, Spares};
-use crate::volume::{Access, LentPlane, Padded, ScalarType};
-use crate::{Error, Grid, Result, SampleSource, Stats};
+use crate::volume::{Access, LentPlane, Padded, SampleSource, ScalarType};
+use crate::{Error, Result, Stats};
 use std::ops::Range;
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 /// Extracts one isosurface per entry of `params` from `source` in one pass,
@@ -25,7 +34,7 @@ use std::time::Instant;
 ///
 /// The entries may differ in isovalue, method and inside side, but must
 /// agree on `close` and `threads` (they share the padded source and the
-/// workers). Slabs are scheduled as in [`crate::extract_to`]; a slab in
+/// workers). Slabs are scheduled as in [`extract_to`](super::extract_to); a slab in
 /// flight holds the meshes of all isovalues. Every sink has had all its
 /// chunks before the first is finished (so a sink can still refuse to
 /// finish, and then none is). Any error fails the whole extraction; sinks
@@ -40,7 +49,7 @@ pub fn extract_many_to(
 }
 
 /// [`extract_many_to`] restricted to part `i` of `n` (1-based, see
-/// [`crate::part::layer_range`]) when `part` is given: only the chunks of
+/// [`layer_range`]) when `part` is given: only the chunks of
 /// that part's cell layers reach the sinks, numbered from 0, exactly as a
 /// whole run writes them.
 pub(crate) fn extract_many_part_to(
@@ -104,16 +113,16 @@ pub(crate) fn extract_many_part_to(
     } else {
         default_depth(source.grid().plane_len(), layers, threads)
     };
-    let plan = crate::budget::plan(
+    let plan = budget::plan(
         source.grid().plane_len(),
         threads,
         depth,
         options.max_memory,
     )?;
     let depth = plan.depth;
-    options.check_cancel()?;
+    check_cancel(options)?;
     let range = match part {
-        Some((i, n)) => crate::part::layer_range(layers, i, n)?,
+        Some((i, n)) => layer_range(layers, i, n)?,
         None => 0..layers,
     };
     let mut schedule = Schedule::new(
@@ -148,7 +157,7 @@ pub(crate) fn extract_many_part_to(
         }
     };
     let run = |layers: Range<usize>| {
-        options.check_cancel()?;
+        check_cancel(options)?;
         source.check_unchanged()?;
         slab_for_each(source, params, layers, &spares)
     };
@@ -204,7 +213,7 @@ pub(crate) fn extract_many_part_to(
             Ok(())
         })?;
     }
-    options.check_cancel()?;
+    check_cancel(options)?;
     let mut all = Vec::with_capacity(seams.len());
     for seam in seams {
         let (mut stats, totals) = seam.finish()?;
@@ -215,6 +224,15 @@ pub(crate) fn extract_many_part_to(
         all.push(stats);
     }
     Ok(all)
+}
+
+/// Fails with [`Error::Interrupted`] once the cancel flag of `options` is
+/// set (one relaxed load).
+fn check_cancel(options: &PipelineOptions) -> Result<()> {
+    match options.cancel {
+        Some(flag) if flag.load(Ordering::Relaxed) => Err(Error::Interrupted),
+        _ => Ok(()),
+    }
 }
 
 /// Bytes of the meshes of one slab, all isovalues (capacities: what they

@@ -12,6 +12,7 @@ mod fields;
 mod head;
 mod kind;
 mod levels;
+mod row_field;
 mod source;
 mod value_noise;
 
@@ -20,7 +21,7 @@ pub use kind::Kind;
 pub use levels::{hounsfield_to_stored, unit_to_stored};
 pub use source::Synthetic;
 
-use crate::ArrayVolume;
+use crate::volume::ArrayVolume;
 
 /// Signed distance to a sphere of `radius` around the grid centre, positive inside.
 pub fn sphere(n: usize, radius: f64) -> ArrayVolume {

@@ -23,7 +23,7 @@ const SLOTS: usize = 8;
 static ENABLED: AtomicBool = AtomicBool::new(false);
 static PATHS: [AtomicPtr<c_char>; SLOTS] = [const { AtomicPtr::new(null_mut()) }; SLOTS];
 
-/// Makes [`crate::export::AtomicFile`] register its temporary file for
+/// Makes [`AtomicFile`](super::AtomicFile) register its temporary file for
 /// [`unlink_registered`] from now on.
 pub fn enable() {
     ENABLED.store(true, Ordering::SeqCst);

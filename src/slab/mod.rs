@@ -14,7 +14,6 @@
 //! offsets. Inside a slab no hashing is needed: an edge vertex's number
 //! follows from the sign bits of its row (module `slab::edges`).
 
-use crate::kernel::cell::INTERIOR;
 mod bits;
 mod edges;
 mod spares;
@@ -24,9 +23,9 @@ pub use spares::{chunk_bytes, Spares};
 use crate::error::make_room;
 use crate::kernel::tables::{tables, Tables};
 use crate::kernel::wide::subtraction_residual;
-use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles};
-use crate::pipeline::{ExtractParams, Inside, Method};
-use crate::sink::Chunk;
+use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles, INTERIOR};
+use crate::mesh::Chunk;
+use crate::params::{ExtractParams, Inside, Method};
 use crate::volume::{Access, LentPlane, IDENTITY};
 use crate::{Error, Grid, Result, SampleSource, Stats};
 use bits::{below, each_bit, next, uniform_alike, x_crossings, RowKind, SignBits};

@@ -7,7 +7,7 @@
 //! construction: nothing is matched by position, and no hash map is needed
 //! inside one process (part files of `tmc merge` carry their seam keys).
 
-use crate::sink::{Chunk, MeshSink, Totals};
+use crate::mesh::{Chunk, MeshSink, Totals};
 use crate::slab::Spares;
 use crate::{Error, Result, Stats};
 use std::collections::BTreeMap;

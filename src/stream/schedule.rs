@@ -15,7 +15,7 @@
 //! hold). The output does
 //! not depend on how the layers are cut.
 
-use crate::budget::{estimate, Plan, OUTPUT_BYTES_PER_CELL};
+use super::budget::{estimate, Plan, OUTPUT_BYTES_PER_CELL};
 use std::collections::BTreeMap;
 use std::ops::Range;
 

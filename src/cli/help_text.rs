@@ -1,0 +1,71 @@
+//! Text shared by several `--help` pages.
+
+/// Shared text at the end of `tmc --help` and `tmc extract --help`.
+pub(crate) const CONVENTIONS: &str = "\
+Sign convention:
+  A sample is inside iff its value > ISO; a sample equal to ISO is outside, and
+  NaN samples are outside. With --inside low the roles flip (inside iff value < ISO,
+  for signed distance fields). Triangles are counter-clockwise seen from outside,
+  so normals point toward the outside.
+
+Input formats:
+  .npy   numpy array, 3-D of shape (nz, ny, nx), C or Fortran order,
+         dtype u1 i1 u2 i2 u4 i4 f4 f8 in either byte order; unit spacing
+  .nrrd  NRRD, dimension 3, attached data or (also .nhdr) 'data file': one
+  .nhdr  file, 'LIST [subdim]' (names on the following lines) or a printf
+         pattern 'slice%03d.raw MIN MAX STEP [subdim]', one slice (subdim 2)
+         or a block of slices (subdim 3) per file; encoding raw (mapped),
+         gzip, bzip2 or ascii; any 8/16/32-bit integer type, float or double
+         (not 64-bit integers); 'line skip' and 'byte skip' (-1: data at the
+         end) apply to each data file; grid from 'space directions' (rotation
+         and mirroring applied) or 'spacings', origin from 'space origin'
+  .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types up to
+         32 bits, float, double; scl_slope/scl_inter applied (ISO in physical
+         units); grid from the sform, else the qform, else pixdim
+  .mhd   MetaImage, also .mha; ElementDataFile LOCAL, a file or LIST; zlib
+         (CompressedData); HeaderSize; TransformMatrix, Offset, ElementSpacing
+  .vtk   legacy VTK STRUCTURED_POINTS, binary (big-endian) or ASCII
+  .vti   VTK XML ImageData: ascii, binary or appended, raw or base64, zlib;
+         Origin, Spacing, Direction
+  .tif   a multi-page TIFF (or BigTIFF), or a directory or glob ('dir/*.tif')
+         of single-page TIFFs in natural name order; 8/16/32-bit; unit spacing
+  DICOM  a directory of slice files (DICM magic or .dcm; other files skipped),
+         one slice file (its series in its directory) or a multi-frame .dcm;
+         slices sorted by position along the normal, RescaleSlope/Intercept
+         applied per slice (CT in HU), patient (LPS) coordinates; one series
+         per directory; uncompressed, deflate, RLE and JPEG baseline and
+         lossless (not JPEG 2000/JPEG-LS)
+  raw    headerless samples, x fastest: give --dims and --dtype
+  Vertices are in the file's world frame (spacing, origin and direction
+  cosines applied; a mirroring map flips the winding). Uncompressed data is
+  memory-mapped; gzip, bzip2 and zlib data is decompressed once into a
+  temporary file in TMPDIR and mapped. 'tmc info' shows how a file is read.
+
+Output formats (chosen by the extension of -o):
+  .ply   binary little-endian, shared vertices
+  .obj   text, shared vertices
+  .off   text, shared vertices
+  .stl   binary; STL cannot share vertices (each facet stores its own corners),
+         so 'tmc check' on an STL file is not meaningful
+  .tmesh tmc's chunked, compressed mesh (64-bit vertex numbers, checksums);
+         'tmc convert' turns it into any format above, 'tmc check' reads it,
+         scripts/read_tmesh.py reads it with numpy
+  Meshes are streamed to the output as they are extracted, never held whole.
+  The output is written atomically: on failure nothing is left at the path.
+
+Exit status:
+  0    success (also when the isovalue is outside the data range: a note on
+       stderr and an empty mesh, unless --require-surface is given)
+  1    failure (unreadable, malformed or changing input, unwritable output,
+       disk full, --max-memory too small, ...; one line 'tmc: error: ...');
+       'tmc check' also exits 1 when the mesh is not a consistently oriented
+       manifold (non-manifold edges or vertices, inconsistent orientation)
+       or, with --require-surface, when it is empty (no triangles);
+       a batch ('tmc extract' with several inputs, isovalues or --manifest)
+       exits 1 when any item failed, after naming each on stderr
+  2    usage error (unknown option, missing or malformed value)
+  130  interrupted by SIGINT, 143 by SIGTERM, 129 by SIGHUP: extract, convert,
+       merge and synth stop at the next slab, chunk or plane (also while
+       decompressing the input or assembling the output) and no output is
+       left; a signal inherited as ignored (nohup, a background job of a
+       script) stays ignored";

@@ -1,0 +1,44 @@
+//! What the commands write besides their files: standard output that
+//! tolerates a closed pipe, one-line error messages, and outputs taken
+//! back when their report cannot be written.
+
+use std::io::Write;
+
+/// Writes to standard output through `write`, then flushes it. A closed
+/// pipe (EPIPE: the reader, `head` say, has all it wanted) is not an error:
+/// the rest of the output is dropped and the run ends as it would have
+/// (the common convention, as ripgrep does); any other failure is.
+pub(crate) fn to_stdout(
+    write: impl FnOnce(&mut std::io::StdoutLock<'static>) -> std::io::Result<()>,
+) -> tmc::Result<()> {
+    let mut out = std::io::stdout().lock();
+    match write(&mut out).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other.map_err(|e| tmc::Error::io("standard output", e)),
+    }
+}
+
+/// The error of a run whose outputs were committed but whose report (the
+/// JSON on stdout, the --stats table, a --report line) could not be
+/// written: the outputs are removed again, so that a run that exits 1
+/// leaves no new output (a file that was at an output path before the run
+/// was replaced when the mesh was committed and is not restored).
+pub(crate) fn withdraw<'a>(
+    outputs: impl IntoIterator<Item = &'a std::path::Path>,
+    e: tmc::Error,
+) -> tmc::Error {
+    let removed: Vec<String> = outputs
+        .into_iter()
+        .filter(|o| std::fs::remove_file(o).is_ok())
+        .map(|o| o.display().to_string())
+        .collect();
+    if removed.is_empty() {
+        return e;
+    }
+    tmc::Error::Invalid(format!("{e}; removed the output {}", removed.join(", ")))
+}
+
+/// Joins the lines of `text` into one.
+pub(crate) fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}

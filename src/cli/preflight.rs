@@ -1,0 +1,88 @@
+//! Checks made before any work is done, shared by the commands that write
+//! files: a grid that has cells and fits f32 coordinates, an output that is
+//! not the input, and the thread count reported.
+
+use std::path::Path;
+use tmc::{Error, Grid, Result};
+
+/// Rejects grids with fewer than 2 samples along an axis (no cells), unless
+/// `close` pads the volume with an outside border, which gives every grid
+/// cells (a single inside sample then has a closed surface around it).
+///
+/// Also rejects grids whose corners (one sample beyond with `close`) lie
+/// outside the range of the mesh's f32 coordinates.
+pub(super) fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
+    let pad = if close { 1.0 } else { 0.0 };
+    for corner in 0..8 {
+        let index: [f64; 3] = std::array::from_fn(|a| {
+            if corner >> a & 1 == 1 {
+                grid.dims[a] as f64 - 1.0 + pad
+            } else {
+                -pad
+            }
+        });
+        if grid
+            .world(index)
+            .iter()
+            .any(|c| c.is_nan() || c.abs() > f64::from(f32::MAX))
+        {
+            return Err(Error::Invalid(format!(
+                "{}: the grid's corners (origin + index * spacing) lie beyond the range of 32-bit float coordinates; check the spacing and origin",
+                input.display()
+            )));
+        }
+    }
+    if close {
+        return Ok(());
+    }
+    for (axis, &n) in ["x", "y", "z"].iter().zip(&grid.dims) {
+        if n < 2 {
+            return Err(Error::Invalid(format!(
+                "{}: grid {}x{}x{} has {n} sample along {axis}; need at least 2 on every axis (or --close)",
+                input.display(),
+                grid.dims[0],
+                grid.dims[1],
+                grid.dims[2]
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses to write the output over the input (also through a symbolic or
+/// hard link): the input is read while the output is written.
+pub(super) fn check_distinct(input: &Path, output: &Path) -> Result<()> {
+    let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(output)) else {
+        return Ok(());
+    };
+    #[cfg(unix)]
+    let same = {
+        use std::os::unix::fs::MetadataExt;
+        a.dev() == b.dev() && a.ino() == b.ino()
+    };
+    #[cfg(not(unix))]
+    let same = {
+        let _ = (a, b);
+        matches!(
+            (std::fs::canonicalize(input), std::fs::canonicalize(output)),
+            (Ok(x), Ok(y)) if x == y
+        )
+    };
+    if same {
+        return Err(Error::Invalid(format!(
+            "{}: the output is the input file {}; choose another output path",
+            output.display(),
+            input.display()
+        )));
+    }
+    Ok(())
+}
+
+/// The number of worker threads `threads` (0 = all cores) stands for.
+pub(super) fn effective_threads(threads: usize) -> usize {
+    if threads > 0 {
+        threads
+    } else {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    }
+}

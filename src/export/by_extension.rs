@@ -1,0 +1,118 @@
+//! The output format named by a path's extension, and the writer for it.
+
+use super::{write_obj, write_off, write_ply, write_stl, ObjSink, OffSink, PlySink, StlSink};
+use crate::files::{check_output_file, write_atomically};
+use crate::mesh::{Mesh, MeshSink};
+use crate::meshfile::TmeshWriter;
+use crate::{Error, Result};
+use std::path::Path;
+
+/// An output mesh format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Stanford PLY, binary little-endian, shared vertices.
+    Ply,
+    /// Wavefront OBJ (text), shared vertices.
+    Obj,
+    /// Object File Format (text), shared vertices.
+    Off,
+    /// STL, binary, three unshared vertices per facet.
+    Stl,
+    /// tmc's chunked, compressed mesh file ([`crate::meshfile`]).
+    Tmesh,
+}
+
+impl Format {
+    /// The format named by `path`'s extension (case-insensitive).
+    pub fn from_path(path: &Path) -> Result<Format> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(|e| e.to_ascii_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "ply" => Ok(Format::Ply),
+            "obj" => Ok(Format::Obj),
+            "off" => Ok(Format::Off),
+            "stl" => Ok(Format::Stl),
+            "tmesh" => Ok(Format::Tmesh),
+            _ => Err(Error::Invalid(format!(
+                "{}: unknown output format (expected .ply, .obj, .off, .stl or .tmesh)",
+                path.display()
+            ))),
+        }
+    }
+}
+
+/// A streaming writer for `path`, in the format named by its extension:
+/// [`PlySink`], [`ObjSink`], [`OffSink`], [`StlSink`] or [`TmeshWriter`].
+///
+/// The file appears at `path` when the sink finishes; if anything fails
+/// first, dropping the sink leaves nothing there (an existing file is kept).
+pub fn create_sink(path: &Path) -> Result<Box<dyn MeshSink>> {
+    Ok(match Format::from_path(path)? {
+        Format::Ply => Box::new(PlySink::create(path)?),
+        Format::Obj => Box::new(ObjSink::create(path)?),
+        Format::Off => Box::new(OffSink::create(path)?),
+        Format::Stl => Box::new(StlSink::create(path)?),
+        Format::Tmesh => Box::new(TmeshWriter::create(path)?),
+    })
+}
+
+/// Writes `mesh` to `path` in the format named by its extension (`.ply`,
+/// `.obj`, `.off` or `.stl`), atomically: on error nothing is left at `path`
+/// (an existing file there is kept).
+///
+/// A `.tmesh` file records the extraction that made it, which a [`Mesh`]
+/// does not know: stream the extraction into [`create_sink`] instead.
+pub fn write_mesh(path: &Path, mesh: &Mesh) -> Result<()> {
+    let format = Format::from_path(path)?;
+    if format == Format::Tmesh {
+        return Err(Error::Invalid(format!(
+            "{}: a .tmesh file records the extraction that made it; stream the extraction into tmc::export::create_sink instead",
+            path.display()
+        )));
+    }
+    check_mesh_indices(path, mesh)?;
+    write_atomically(path, |w| match format {
+        Format::Ply => write_ply(w, mesh),
+        Format::Obj => write_obj(w, mesh),
+        Format::Off => write_off(w, mesh),
+        Format::Stl => write_stl(w, mesh),
+        Format::Tmesh => unreachable!("refused above"),
+    })
+}
+
+/// Checks, before any work is done, that a mesh could be written to `path`:
+/// the extension is a known format, `path` is not a directory, and its parent
+/// directory exists and accepts new files.
+pub fn check_output_path(path: &Path) -> Result<()> {
+    Format::from_path(path)?;
+    check_output_file(path)
+}
+
+/// Rejects triangles that name a vertex the mesh does not have.
+fn check_mesh_indices(path: &Path, mesh: &Mesh) -> Result<()> {
+    let n = mesh.vertices.len();
+    if u32::try_from(n).is_err() || u32::try_from(mesh.triangles.len()).is_err() {
+        return Err(Error::Invalid(format!(
+            "{}: mesh too large ({} vertices, {} triangles; at most {} each)",
+            path.display(),
+            n,
+            mesh.triangles.len(),
+            u32::MAX
+        )));
+    }
+    if let Some((i, t)) = mesh
+        .triangles
+        .iter()
+        .enumerate()
+        .find(|(_, t)| t.iter().any(|&v| v as usize >= n))
+    {
+        return Err(Error::Invalid(format!(
+            "{}: triangle {i} {t:?} refers to a vertex past the {n} vertices",
+            path.display()
+        )));
+    }
+    Ok(())
+}

@@ -1,0 +1,84 @@
+//! Checks of input and output paths, made before any work is done, so that
+//! a run fails at once with a clear line instead of after the extraction.
+
+use super::atomic::{parent_dir, without_temp_path};
+use crate::{Error, Result};
+use std::fs;
+use std::path::Path;
+
+/// Refuses an input that is neither a regular file nor a directory (a FIFO,
+/// a socket, a device) before anything opens it: opening a FIFO for reading
+/// blocks until a writer comes. A path that cannot be looked up passes, for
+/// the reader to report.
+pub fn check_input_kind(path: &Path) -> Result<()> {
+    let Ok(meta) = std::fs::metadata(path) else {
+        return Ok(());
+    };
+    let kind = meta.file_type();
+    if kind.is_file() || kind.is_dir() {
+        return Ok(());
+    }
+    #[cfg(unix)]
+    let what = {
+        use std::os::unix::fs::FileTypeExt;
+        if kind.is_fifo() {
+            "a FIFO (named pipe)"
+        } else if kind.is_socket() {
+            "a socket"
+        } else if kind.is_char_device() || kind.is_block_device() {
+            "a device"
+        } else {
+            "a special file"
+        }
+    };
+    #[cfg(not(unix))]
+    let what = "a special file";
+    Err(Error::Format(format!(
+        "{}: is {what}, not a regular file or directory; inputs are memory-mapped or read by seeking and must be files",
+        path.display()
+    )))
+}
+
+/// Checks, before any work is done, that a file of any kind could be
+/// written to `path`: it is not a directory, and its parent directory exists
+/// and accepts new files.
+pub fn check_output_file(path: &Path) -> Result<()> {
+    if path.is_dir() {
+        return Err(Error::Invalid(format!(
+            "{}: is a directory, not an output file",
+            path.display()
+        )));
+    }
+    let dir = parent_dir(path);
+    match fs::metadata(dir) {
+        Ok(meta) if meta.is_dir() => {}
+        Ok(_) => {
+            return Err(Error::Invalid(format!(
+                "{}: output directory {} is not a directory",
+                path.display(),
+                dir.display()
+            )))
+        }
+        Err(_) => {
+            return Err(Error::Invalid(format!(
+                "{}: output directory {} does not exist",
+                path.display(),
+                dir.display()
+            )))
+        }
+    }
+    // The only reliable test of writability is to create a file there.
+    tempfile::Builder::new()
+        .prefix(".tmc-probe-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map(drop)
+        .map_err(|e| {
+            Error::Invalid(format!(
+                "{}: cannot write in directory {}: {}",
+                path.display(),
+                dir.display(),
+                without_temp_path(e)
+            ))
+        })
+}

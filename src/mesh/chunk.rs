@@ -1,0 +1,19 @@
+//! [`Chunk`]: the unit the pipeline streams, one grid plane's vertices and
+//! the triangles of the cell layer above it.
+
+/// The vertices owned by one grid plane and the triangles of the cell layer
+/// above it.
+///
+/// Triangle indices are relative to the chunk's first vertex. They may point
+/// past the chunk's own vertices, into the vertices of the *next* chunk
+/// (the vertices on the next plane's edges, which come first there), but
+/// never further.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Chunk {
+    /// Grid plane (z index) that owns the vertices.
+    pub plane: u64,
+    /// Vertex positions, physical coordinates.
+    pub vertices: Vec<[f32; 3]>,
+    /// Triangles, counter-clockwise seen from outside, relative indices.
+    pub triangles: Vec<[u32; 3]>,
+}

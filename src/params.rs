@@ -1,0 +1,89 @@
+//! The parameter vocabulary: what an extraction computes ([`ExtractParams`])
+//! and how it runs ([`PipelineOptions`]).
+//!
+//! Every stage reads these types, so this module imports nothing of the
+//! crate: it sits at the bottom of the dependency graph.
+
+use std::sync::atomic::AtomicBool;
+
+/// Which algorithm triangulates the cells.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Grosso's topologically correct and manifold hybrid marching cubes.
+    #[default]
+    Tmc,
+    /// Standard marching cubes with one consistent face rule (inside corners
+    /// of an ambiguous face are always separated).
+    Mc,
+}
+
+/// Which side of the isovalue is the object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Inside {
+    /// Values above the isovalue are inside (CT, MRI, densities).
+    #[default]
+    High,
+    /// Values below the isovalue are inside (signed distance fields).
+    Low,
+}
+
+/// Options of one extraction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExtractParams {
+    /// The isovalue (finite).
+    pub iso: f64,
+    /// The cell algorithm.
+    pub method: Method,
+    /// Which side is the object.
+    pub inside: Inside,
+    /// Treat everything outside the volume as outside the object, so that
+    /// every surface is closed.
+    pub close: bool,
+    /// Worker threads (0 = all cores).
+    pub threads: usize,
+}
+
+impl Default for ExtractParams {
+    fn default() -> Self {
+        ExtractParams {
+            iso: 0.0,
+            method: Method::Tmc,
+            inside: Inside::High,
+            close: false,
+            threads: 0,
+        }
+    }
+}
+
+/// How the pipeline runs (not what it computes: the output does not depend
+/// on these).
+#[derive(Clone, Copy, Default)]
+pub struct PipelineOptions<'a> {
+    /// Cell layers per slab; 0 chooses from the plane size.
+    pub slab_depth: usize,
+    /// Called on the writing thread after each slab is written.
+    pub progress: Option<&'a (dyn Fn(&Progress) + Sync)>,
+    /// Set to `true` (from any thread or a signal handler) to stop the
+    /// extraction: it is looked at before each slab starts, before each
+    /// chunk is written and before the output is finished (one relaxed
+    /// atomic load each), and the extraction then returns
+    /// [`Error::Interrupted`](crate::Error::Interrupted) without finishing
+    /// the sink.
+    pub cancel: Option<&'a AtomicBool>,
+    /// A memory budget in bytes: the workers' buffers are planned to fit it
+    /// (see [`crate::stream::budget`]; the extraction fails with
+    /// [`Error::OutOfMemory`](crate::Error::OutOfMemory) if even the thinnest slabs do not fit), and
+    /// slabs start only as far as the measured mesh in flight allows (see
+    /// [`crate::stream::schedule`]).
+    /// `None`: no budget.
+    pub max_memory: Option<u64>,
+}
+
+/// How far an extraction has got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Progress {
+    /// Cell layers written.
+    pub layers_done: usize,
+    /// Cell layers in all.
+    pub layers_total: usize,
+}

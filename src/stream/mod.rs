@@ -1,0 +1,31 @@
+//! The streaming machinery: a volume of any size becomes a stream of mesh
+//! chunks in plane order, with memory set by the slab, not the volume.
+//!
+//! One extraction is one [`pass`] over the cell layers, told as its steps:
+//! 1. **plan** ([`budget`], [`threads`]): the slab depth and how many slabs
+//!    may be in flight, from the plane size, the threads and `--max-memory`;
+//! 2. **schedule** ([`schedule`]): the writing thread cuts the next slab as
+//!    soon as the window and the measured mesh in flight allow, only within
+//!    the layers of the part asked for ([`parts`]);
+//! 3. **triangulate** ([`crate::slab`]): a worker turns the slab's layers
+//!    into one chunk per grid plane, for each isovalue while the planes are
+//!    resident;
+//! 4. **stitch** ([`seam`]): finished slabs, in any order, are put back in
+//!    plane order and handed to each isovalue's sink with global vertex
+//!    numbers; nothing is matched by position.
+//!
+//! The output does not depend on the threads, the slab depth or the parts:
+//! a chunk's content depends on its two planes only (see [`crate::slab`]).
+
+pub mod budget;
+mod extract;
+mod parts;
+mod pass;
+pub mod schedule;
+mod seam;
+mod threads;
+
+pub use extract::{extract, extract_part_to, extract_to};
+pub use parts::layer_range;
+pub use pass::extract_many_to;
+pub use seam::Seam;

@@ -1,0 +1,75 @@
+//! [`SampleSource`]: the one interface between the readers and the pipeline.
+
+use super::{LentPlane, ScalarType};
+use crate::grid::Grid;
+use crate::Result;
+use std::ops::Range;
+use std::path::Path;
+
+/// A source of samples, read plane by plane (`z` = slowest axis).
+///
+/// Implementations must be deterministic: reading the same plane twice gives
+/// the same values. Values are converted to `f64` (exact for every supported
+/// integer type).
+pub trait SampleSource: Sync {
+    /// The grid the samples live on.
+    fn grid(&self) -> &Grid;
+    /// Writes the samples of plane `z` (x fastest) into `out`, whose length
+    /// is `grid().plane_len()`.
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()>;
+
+    /// Plane `z` as stored, when the source holds it in memory in native
+    /// byte order and without scaling, so that no `f64` copy is needed;
+    /// `None` (the default) makes the caller use [`SampleSource::read_plane`].
+    /// Both must give the same values.
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        let _ = z;
+        None
+    }
+
+    /// A hint about planes `planes`: they will be read soon, or this reader
+    /// of them is done. A memory-mapped source passes it to the kernel, so
+    /// that the page cache, not the process, holds the data. Never changes
+    /// what is read.
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        let _ = (planes, access);
+    }
+
+    /// Checks that the storage behind the samples is still whole: a
+    /// memory-mapped file must not have shrunk below the mapped length (a
+    /// read from the missing part would raise SIGBUS). The pipeline calls
+    /// it before each slab; it must be cheap (one `fstat`). `Ok` by default.
+    fn check_unchanged(&self) -> Result<()> {
+        Ok(())
+    }
+
+    /// The files the samples are read from during the extraction (mapped
+    /// data files, DICOM slices), which the output must not overwrite;
+    /// empty (the default) for sources that read nothing after opening.
+    fn data_files(&self) -> Vec<&Path> {
+        Vec::new()
+    }
+
+    /// Bytes one sample takes where it is stored (the file's sample size for
+    /// a file reader), for reporting the bytes read; 8 (an `f64`) unless a
+    /// source says otherwise.
+    fn sample_bytes(&self) -> usize {
+        8
+    }
+
+    /// The sample type as stored in the file (before any scaling), if the
+    /// source knows it; `None` (the default) for computed or in-memory
+    /// sources. Only reported, never used to read.
+    fn stored_type(&self) -> Option<ScalarType> {
+        None
+    }
+}
+
+/// What the pipeline is about to do with some planes (see [`SampleSource::advise`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    /// They will be read soon: read ahead.
+    Soon,
+    /// This slab has read them for the last time: release the pages.
+    Done,
+}

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the inputs of README "Inputs of unusual shape" (needs numpy,
+"""Writes the inputs of docs/formats.md "Inputs of unusual shape" (needs numpy,
 pydicom and tifffile from PyPI).
 
 Usage: scripts/make-shape-volumes.py DIR

@@ -27,7 +27,7 @@ README isovalues, plus the bundled data/headsq_quarter.nrrd):
      there);
    * winding: trimesh's is_winding_consistent;
    * orientation: tmc's convention is that normals point toward lower
-     values (README "Orientation"; toward higher values with --inside
+     values (docs/conventions.md "Orientation"; toward higher values with --inside
      low), so the object is on the back side of each triangle. With
      --close the signed volume (divergence theorem over the triangles) must
      be positive. And the volume is sampled (trilinear, scipy) a little in

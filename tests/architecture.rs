@@ -671,3 +671,45 @@ fn the_checker_finds_a_planted_cycle() {
         None
     );
 }
+
+/// No file of the repository names a path that exists on one machine only
+/// (a home directory, a build machine's work tree): the scripts, docs and
+/// tests must work from any checkout.
+#[test]
+fn no_file_names_a_path_of_one_machine() {
+    // Built from pieces, so that this file does not match itself.
+    let patterns: Vec<String> = [["/wo", "rk/"], ["/ro", "ot/"], ["/ho", "me/"], ["/Us", "ers/"]]
+        .iter()
+        .map(|p| p.concat())
+        .collect();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut found = Vec::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().to_string();
+            if path.is_dir() {
+                // Build output, version control and local virtual environments.
+                let skip = name == "target" || name.starts_with('.') || name == "__pycache__";
+                if !skip || name == ".ci" {
+                    stack.push(path);
+                }
+                continue;
+            }
+            let Ok(text) = std::fs::read_to_string(&path) else {
+                continue; // not UTF-8 text: volumes, images
+            };
+            if name == "Cargo.lock" {
+                continue;
+            }
+            for (n, line) in text.lines().enumerate() {
+                if patterns.iter().any(|p| line.contains(p.as_str())) {
+                    let rel = path.strip_prefix(root).unwrap().display().to_string();
+                    found.push(format!("{rel}:{}: {}", n + 1, line.trim()));
+                }
+            }
+        }
+    }
+    assert!(found.is_empty(), "machine-specific paths:\n{}", found.join("\n"));
+}

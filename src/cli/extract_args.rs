@@ -116,7 +116,7 @@ pub(crate) struct ExtractArgs {
     pub batch: BatchArgs,
 
     /// Extract only part I of N (e.g. 3/7): the I-th of N z-ranges of cell
-    /// layers, written as a part file for 'tmc merge' (see README, HPC).
+    /// layers, written as a part file for 'tmc merge' (see docs/hpc.md).
     /// One input and one isovalue only.
     #[arg(long, value_name = "I/N", value_parser = tmc::part::PartSpec::parse)]
     pub part: Option<tmc::part::PartSpec>,

@@ -678,10 +678,15 @@ fn the_checker_finds_a_planted_cycle() {
 #[test]
 fn no_file_names_a_path_of_one_machine() {
     // Built from pieces, so that this file does not match itself.
-    let patterns: Vec<String> = [["/wo", "rk/"], ["/ro", "ot/"], ["/ho", "me/"], ["/Us", "ers/"]]
-        .iter()
-        .map(|p| p.concat())
-        .collect();
+    let patterns: Vec<String> = [
+        ["/wo", "rk/"],
+        ["/ro", "ot/"],
+        ["/ho", "me/"],
+        ["/Us", "ers/"],
+    ]
+    .iter()
+    .map(|p| p.concat())
+    .collect();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut found = Vec::new();
     let mut stack = vec![root.to_path_buf()];
@@ -711,5 +716,9 @@ fn no_file_names_a_path_of_one_machine() {
             }
         }
     }
-    assert!(found.is_empty(), "machine-specific paths:\n{}", found.join("\n"));
+    assert!(
+        found.is_empty(),
+        "machine-specific paths:\n{}",
+        found.join("\n")
+    );
 }

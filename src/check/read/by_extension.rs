@@ -1,0 +1,72 @@
+//! [`read_mesh`]: the reader for a path, by its extension or first bytes.
+
+use super::obj::read_obj;
+use super::off::read_off;
+use super::ply::read_ply;
+use super::source::{stl_error, Format, Source, MAX_TRIANGLES};
+use crate::export::replay;
+use crate::mesh::{Mesh, MeshBuilder};
+use crate::meshfile::TmeshReader;
+use crate::{Error, Result};
+use std::fs::File;
+use std::io::BufReader;
+use std::path::Path;
+
+/// Reads a mesh from a PLY (ASCII or binary), OBJ, OFF or `.tmesh` file,
+/// chosen by the extension or, failing that, by the first bytes of the file.
+///
+/// Content that the format does not allow is refused: an OBJ line that is
+/// not an OBJ statement, data after what an OFF or PLY header declares, a
+/// vertex coordinate that is not a finite `f32` number. So are STL files:
+/// STL repeats the corners of every triangle instead of sharing vertices,
+/// so it carries no connectivity to check. A `.tmesh` file must fit a
+/// [`Mesh`] (at most `u32::MAX` vertices).
+pub fn read_mesh(path: &Path) -> Result<Mesh> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("stl") => return Err(stl_error(path)),
+        Some("tmesh") => return read_tmesh(path),
+        _ => {}
+    }
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut src = Source {
+        path,
+        reader: BufReader::with_capacity(1 << 20, file),
+        buf: Vec::new(),
+        pos: 0,
+        line: 0,
+        complete: false,
+    };
+    let format = match ext.as_deref() {
+        Some("ply") => Format::Ply,
+        Some("obj") => Format::Obj,
+        Some("off") => Format::Off,
+        _ => src.sniff()?,
+    };
+    match format {
+        Format::Ply => read_ply(&mut src),
+        Format::Obj => read_obj(&mut src),
+        Format::Off => read_off(&mut src),
+        Format::Tmesh => read_tmesh(path),
+    }
+}
+
+/// Reads a whole `.tmesh` file, chunk by chunk, into a [`Mesh`].
+fn read_tmesh(path: &Path) -> Result<Mesh> {
+    crate::part::PartRecord::refuse_part(path)?;
+    let mut reader = TmeshReader::open(path)?;
+    let (vertices, triangles) = (reader.vertices(), reader.triangles());
+    if vertices > u64::from(u32::MAX) || triangles > MAX_TRIANGLES as u64 {
+        return Err(Error::Format(format!(
+            "{}: {vertices} vertices and {triangles} triangles are more than a mesh in memory holds (at most {} vertices and {MAX_TRIANGLES} triangles)",
+            path.display(),
+            u32::MAX
+        )));
+    }
+    let mut builder = MeshBuilder::with_room(vertices as usize, triangles as usize)?;
+    replay(&mut reader, &mut builder)?;
+    Ok(builder.into_mesh())
+}

@@ -1,8 +1,9 @@
 //! The geometry of a regular grid: sample counts and the map from sample
 //! indices to world coordinates.
 //!
-//! Readers fill it in, the slab loop places vertices with it, and the mesh
-//! files record it, so it imports nothing of the crate.
+//! Readers fill it in, the slab loop places vertices with it, and `.tmesh`
+//! files record its dims, spacing and origin (vertices are already in world
+//! coordinates), so it imports nothing of the crate.
 
 /// Geometry of a regular grid: sample counts and the index-to-world map
 /// `world = origin + direction * (index * spacing)` (x varies fastest in

@@ -21,15 +21,17 @@
 //!   is outside, and NaN samples are outside. The mesh has the topology of
 //!   `{T > iso + ε}` for an infinitesimal `ε > 0`, `T` the trilinear
 //!   interpolant; face and body saddle ties follow from the same rule.
-//! * Vertices are shared by topology: an edge vertex is keyed by its global
-//!   grid edge, an interior vertex belongs to its cell; nothing is welded by
+//! * Vertices are shared by topology: an edge vertex is numbered by the
+//!   plane that owns its grid edge, an interior vertex belongs to its cell; nothing is welded by
 //!   distance.
 //! * Triangles are counter-clockwise seen from outside, so normals point
 //!   toward lower values (`Inside::Low` flips the roles of high and low).
-//! * Coordinates are physical: `origin + index * spacing`, x fastest.
+//! * Coordinates are physical: `origin + direction * (index * spacing)` (see
+//!   [`Grid::world`]), x fastest.
 
 #![warn(missing_docs)]
 #![deny(unsafe_op_in_unsafe_fn)]
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 pub mod check;
 pub mod error;

@@ -2,6 +2,8 @@
 //!
 //! Everything lives in the binary-only [`cli`] module; see `tmc --help`.
 
+#![deny(clippy::undocumented_unsafe_blocks)]
+
 mod cli;
 
 fn main() -> std::process::ExitCode {

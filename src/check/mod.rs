@@ -1,6 +1,6 @@
 //! An independent, purely combinatorial mesh checker.
 //!
-//! [`check_mesh`] looks only at the triangle indices of a [`Mesh`] (positions
+//! [`check_mesh`] looks only at the triangle indices of a [`Mesh`](crate::Mesh) (positions
 //! are never used) and reports whether the mesh is a closed, consistently
 //! oriented 2-manifold, together with its Euler characteristic, connected
 //! components and their genus. [`read_mesh`] loads PLY, OBJ, OFF and `.tmesh`
@@ -41,11 +41,11 @@
 //! vertices, orientability a union-find with parity over triangles. Memory is
 //! a few words per vertex and per triangle.
 
-mod check_mesh;
+mod checker;
 mod read;
 mod report;
 mod union_find;
 
-pub use check_mesh::check_mesh;
+pub use checker::check_mesh;
 pub use read::read_mesh;
 pub use report::{ComponentReport, MeshReport};

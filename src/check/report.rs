@@ -46,8 +46,8 @@ impl ComponentReport {
     }
 }
 
-/// The result of [`check_mesh`]; see the module documentation for the
-/// definitions.
+/// The result of [`check_mesh`](super::check_mesh); see [the
+/// definitions](crate::check#definitions).
 #[derive(Debug, Clone, PartialEq, Eq, Default, Serialize)]
 pub struct MeshReport {
     /// Vertices in the mesh (referenced or not).

@@ -133,12 +133,12 @@ it was truncated or rewritten by another program during the run; no output was w
 /// another program truncates raises SIGBUS on the next read of a lost page;
 /// the pipeline's check of the file size before each slab catches most such
 /// cases with a clean error, this catches the rest. The temporary output
-/// files are registered in [`tmc::export::fatal_cleanup`], whose removal is
+/// files are registered in [`tmc::files::fatal_cleanup`], whose removal is
 /// async-signal-safe; nothing appears at the output path.
 pub(crate) fn install_sigbus() -> std::io::Result<()> {
-    tmc::export::fatal_cleanup::enable();
+    tmc::files::fatal_cleanup::enable();
     let action = || {
-        tmc::export::fatal_cleanup::unlink_registered();
+        tmc::files::fatal_cleanup::unlink_registered();
         // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is
         // a static byte string, valid for the whole call. A short or failed
         // write changes nothing: the process exits either way.

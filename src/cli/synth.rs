@@ -119,11 +119,11 @@ pub(crate) fn run(args: &SynthArgs, cancel: Option<&AtomicBool>) -> Result<()> {
         dims: args.dims,
         spacing: args.spacing.unwrap_or([1.0; 3]),
         origin: [0.0; 3],
-        direction: tmc::volume::IDENTITY,
+        direction: tmc::grid::IDENTITY,
     };
     let kind = args.kind.kind();
     let format = VolumeFormat::from_path(&args.output)?;
-    tmc::export::check_output_file(&args.output)?;
+    tmc::files::check_output_file(&args.output)?;
     let source = Synthetic::new(kind, grid, args.dtype, args.seed)?;
     let samples: u64 = grid.dims.iter().map(|&n| n as u64).product();
     let bytes = {

@@ -1,8 +1,8 @@
 //! Mesh writers: PLY (binary little-endian), OBJ, OFF and STL (binary),
-//! for whole meshes and as streaming [`MeshSink`]s.
+//! for whole meshes and as streaming [`MeshSink`](crate::MeshSink)s.
 //!
 //! [`create_sink`] picks a sink by the output extension (`.tmesh` too); the
-//! pipeline streams chunks into it and it never holds the whole mesh. PLY
+//! pipeline ([`crate::stream`]) streams chunks into it and it never holds the whole mesh. PLY
 //! and OFF state their counts before the data, and all three shared-vertex
 //! formats put every vertex before every face, so their sinks append
 //! vertices and faces to two anonymous temporary files in the output's
@@ -25,6 +25,8 @@ mod replay;
 mod spooled;
 mod stl;
 
+// Their home is `crate::files`; these paths are kept for the callers that
+// used them when they lived here.
 pub use crate::files::{check_output_file, fatal_cleanup, write_atomically, AtomicFile};
 pub use by_extension::{check_output_path, create_sink, write_mesh, Format};
 pub use obj::{write_obj, Obj, ObjSink};

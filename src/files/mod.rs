@@ -2,9 +2,10 @@
 //! temporary files removed even on a fatal signal, and paths checked before
 //! any work is done.
 //!
-//! Every writer (volumes, `.tmesh`, PLY/OBJ/OFF/STL, reports) goes through
-//! [`AtomicFile`], so a failed or interrupted run never leaves a partial
-//! file at the output path.
+//! Every mesh and volume writer (volumes, `.tmesh`, PLY/OBJ/OFF/STL) goes
+//! through [`AtomicFile`], so a failed or interrupted run never leaves a
+//! partial file at the output path. (The one file written otherwise is the
+//! `--report` JSON-lines file of a batch, appended to line by line.)
 
 mod atomic;
 pub mod fatal_cleanup;

@@ -1,4 +1,4 @@
-//! [`Chunk`]: the unit the pipeline streams, one grid plane's vertices and
+//! [`Chunk`]: the unit the pipeline ([`crate::stream`]) streams, one grid plane's vertices and
 //! the triangles of the cell layer above it.
 
 /// The vertices owned by one grid plane and the triangles of the cell layer

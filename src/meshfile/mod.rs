@@ -165,7 +165,7 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
             dims: [dim(0), dim(1), dim(2)],
             spacing: [0, 1, 2].map(|i| le_f64(&h[40 + 8 * i..])),
             origin: [0, 1, 2].map(|i| le_f64(&h[64 + 8 * i..])),
-            direction: crate::volume::IDENTITY,
+            direction: crate::grid::IDENTITY,
         },
         iso,
         method: if h[96] == 1 { Method::Mc } else { Method::Tmc },

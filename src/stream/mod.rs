@@ -18,14 +18,14 @@
 //! a chunk's content depends on its two planes only (see [`crate::slab`]).
 
 pub mod budget;
-mod extract;
-mod parts;
-mod pass;
+pub mod entry;
+pub mod parts;
+pub mod pass;
 pub mod schedule;
-mod seam;
-mod threads;
+pub mod seam;
+pub mod threads;
 
-pub use extract::{extract, extract_part_to, extract_to};
+pub use entry::{extract, extract_part_to, extract_to};
 pub use parts::layer_range;
 pub use pass::extract_many_to;
 pub use seam::Seam;

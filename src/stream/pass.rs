@@ -2,7 +2,7 @@
 //! or several isosurfaces.
 //!
 //! The writing thread cuts the layers into slabs ([`Schedule`], within the
-//! [`budget`](super::budget)), workers triangulate them
+//! [`budget`]), workers triangulate them
 //! ([`process_slab`]), and each isovalue's [`Seam`] puts the finished slabs
 //! back in plane order for its sink.
 //!

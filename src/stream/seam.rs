@@ -5,7 +5,8 @@
 //! vertex on a slab seam is computed by both slabs but owned by the chunk of
 //! its plane, and both slabs number it the same way, so the seam is exact by
 //! construction: nothing is matched by position, and no hash map is needed
-//! inside one process (part files of `tmc merge` carry their seam keys).
+//! across slabs or across part files (`tmc merge` only adds the vertex
+//! counts of the parts before).
 
 use crate::mesh::{Chunk, MeshSink, Totals};
 use crate::slab::Spares;

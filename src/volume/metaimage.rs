@@ -42,7 +42,7 @@ pub struct MetaImageVolume {
 /// Where the samples of a [`MetaImageVolume`] are.
 #[derive(Debug)]
 enum Data {
-    /// One data file (or the attached data, or decompressed bytes).
+    /// One data file (or the attached data, or text samples parsed into memory).
     Volume(RawVolume),
     /// One single-plane volume per z slice (`ElementDataFile = LIST`).
     Slices(Vec<RawVolume>),

@@ -4,8 +4,9 @@
 //! Understood fields: `type` (every NRRD name of 8-, 16- and 32-bit
 //! integers, `float`, `double`; 64-bit integers are refused, since samples
 //! become `f64`), `dimension` (must be 3), `sizes`, `endian`, `encoding`
-//! (`raw`, memory-mapped; `gzip`/`gz` and `bzip2`/`bz2`, decompressed into
-//! memory; `ascii`/`text`/`txt`), `spacings` or `space directions`, `space
+//! (`raw`, memory-mapped; `gzip`/`gz` and `bzip2`/`bz2`, decompressed once
+//! into a mapped temporary file, see `spill`; `ascii`/`text`/`txt`, parsed
+//! into memory), `spacings` or `space directions`, `space
 //! origin`, `space` (recorded, see [`NrrdVolume::space`]), `line skip` and
 //! `byte skip` (`-1` for raw data at the end of the file), and `data file`
 //! (or `datafile`): one file name (relative to the header's directory, or

@@ -58,7 +58,7 @@ pub(crate) struct Layout {
 enum Storage {
     /// A read-only memory map of the whole file.
     Mapped(Mmap),
-    /// Bytes held in memory (decompressed data).
+    /// Bytes held in memory (parsed text samples, decoded `.vti` arrays).
     Owned(Vec<u8>),
 }
 

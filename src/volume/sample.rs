@@ -4,7 +4,7 @@
 
 use super::LentPlane;
 
-/// A sample type an [`ArrayVolume`] can hold; every one converts to `f64`
+/// A sample type an [`ArrayVolume`](super::ArrayVolume) can hold; every one converts to `f64`
 /// exactly.
 pub trait Sample: Copy + PartialOrd + Send + Sync + 'static {
     /// The value as an `f64`.

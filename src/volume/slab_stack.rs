@@ -2,8 +2,8 @@
 //! slab of the same number of consecutive planes (a NRRD `data file: LIST`
 //! or printf pattern, one file per slice or per block of slices).
 //!
-//! Each file stays its own [`RawVolume`] (memory-mapped, or decompressed
-//! bytes), so nothing is read before the slab loop asks for a plane;
+//! Each file stays its own [`RawVolume`] (memory-mapped, or parsed text
+//! data held in memory), so nothing is read before the slab loop asks for a plane;
 //! plane `z` lives in file `z / depth` at plane `z % depth`.
 
 use super::{Access, Grid, LentPlane, RawVolume, SampleSource};

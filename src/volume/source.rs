@@ -1,4 +1,5 @@
-//! [`SampleSource`]: the one interface between the readers and the pipeline.
+//! [`SampleSource`]: the one interface between the readers and the pipeline
+//! ([`crate::stream`], [`crate::slab`]).
 
 use super::{LentPlane, ScalarType};
 use crate::grid::Grid;

@@ -1,6 +1,6 @@
 //! Compressed samples spilled to a temporary file, then memory-mapped.
 //!
-//! gzip and zlib streams cannot be read at random, but the slab loop reads
+//! gzip, bzip2 and zlib streams cannot be read at random, but the slab loop reads
 //! planes in any order and from several threads. Rather than holding the
 //! decompressed volume in memory, a reader streams it once into an unnamed
 //! temporary file (in `TMPDIR`, removed by the system when it is closed,

@@ -13,7 +13,7 @@ use crate::Result;
 /// refused (so that a colour, say, is never taken for part of the next
 /// vertex or silently dropped).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct OffLayout {
+pub(super) struct OffLayout {
     normal: bool,
     colour: bool,
     texture: bool,

@@ -19,8 +19,7 @@ struct Counters {
     non_orientable: bool,
 }
 
-/// Checks the combinatorial topology of `mesh`; see the module
-/// documentation for the definitions.
+/// Checks the combinatorial topology of `mesh`; see [the definitions](crate::check#definitions).
 ///
 /// # Panics
 /// If the mesh has `u32::MAX` triangles or more (a `Mesh` that large cannot

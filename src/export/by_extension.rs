@@ -1,7 +1,7 @@
 //! The output format named by a path's extension, and the writer for it.
 
 use super::{write_obj, write_off, write_ply, write_stl, ObjSink, OffSink, PlySink, StlSink};
-use crate::files::{check_output_file, write_atomically};
+use crate::files::{check_output_file, lowercase_extension, write_atomically};
 use crate::mesh::{Mesh, MeshSink};
 use crate::meshfile::TmeshWriter;
 use crate::{Error, Result};
@@ -25,11 +25,7 @@ pub enum Format {
 impl Format {
     /// The format named by `path`'s extension (case-insensitive).
     pub fn from_path(path: &Path) -> Result<Format> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase())
-            .unwrap_or_default();
+        let ext = lowercase_extension(path);
         match ext.as_str() {
             "ply" => Ok(Format::Ply),
             "obj" => Ok(Format::Obj),

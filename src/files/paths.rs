@@ -82,3 +82,12 @@ pub fn check_output_file(path: &Path) -> Result<()> {
             ))
         })
 }
+
+/// The extension of `path` in lower case, the way every format is chosen
+/// (`scan.NRRD` is NRRD); empty when there is none or it is not UTF-8.
+pub fn lowercase_extension(path: &Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default()
+}

@@ -3,7 +3,7 @@
 
 use super::{dicom, metaimage, nifti, npy, nrrd, raw, tiff_stack, vti, vtk_legacy};
 use super::{RawOptions, SampleSource};
-use crate::files::check_input_kind;
+use crate::files::{check_input_kind, lowercase_extension};
 use crate::Result;
 use std::path::Path;
 use std::sync::atomic::AtomicBool;
@@ -49,11 +49,7 @@ impl Format {
             return Some(Format::TiffStack);
         }
         let name = path.to_string_lossy().to_ascii_lowercase();
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase())
-            .unwrap_or_default();
+        let ext = lowercase_extension(path);
         match ext.as_str() {
             "npy" => Some(Format::Npy),
             "nrrd" | "nhdr" => Some(Format::Nrrd),

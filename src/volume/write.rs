@@ -9,7 +9,7 @@
 use super::raw::{data_bytes, dims_text};
 use super::{encode_samples, Grid, SampleSource, ScalarType};
 use crate::error::try_filled;
-use crate::files::AtomicFile;
+use crate::files::{lowercase_extension, AtomicFile};
 use crate::{Error, Result};
 use rayon::prelude::*;
 use std::io::{self, Write};
@@ -35,11 +35,7 @@ impl VolumeFormat {
     /// The format named by `path`'s extension (`.nrrd`, `.npy`, `.raw`;
     /// case-insensitive).
     pub fn from_path(path: &Path) -> Result<VolumeFormat> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase())
-            .unwrap_or_default();
+        let ext = lowercase_extension(path);
         match ext.as_str() {
             "nrrd" => Ok(VolumeFormat::Nrrd),
             "npy" => Ok(VolumeFormat::Npy),

@@ -5,6 +5,7 @@ use super::off::read_off;
 use super::ply::read_ply;
 use super::source::{stl_error, Format, Source, MAX_TRIANGLES};
 use crate::export::replay;
+use crate::files::lowercase_extension;
 use crate::mesh::{Mesh, MeshBuilder};
 use crate::meshfile::TmeshReader;
 use crate::{Error, Result};
@@ -22,13 +23,10 @@ use std::path::Path;
 /// so it carries no connectivity to check. A `.tmesh` file must fit a
 /// [`Mesh`] (at most `u32::MAX` vertices).
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
-    let ext = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
-        Some("stl") => return Err(stl_error(path)),
-        Some("tmesh") => return read_tmesh(path),
+    let ext = lowercase_extension(path);
+    match ext.as_str() {
+        "stl" => return Err(stl_error(path)),
+        "tmesh" => return read_tmesh(path),
         _ => {}
     }
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
@@ -40,10 +38,10 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
         line: 0,
         complete: false,
     };
-    let format = match ext.as_deref() {
-        Some("ply") => Format::Ply,
-        Some("obj") => Format::Obj,
-        Some("off") => Format::Off,
+    let format = match ext.as_str() {
+        "ply" => Format::Ply,
+        "obj" => Format::Obj,
+        "off" => Format::Off,
         _ => src.sniff()?,
     };
     match format {

@@ -13,6 +13,23 @@
 //! indices relative to its first vertex, and the seam step only adds
 //! offsets. Inside a slab no hashing is needed: an edge vertex's number
 //! follows from the sign bits of its row (module `slab::edges`).
+//!
+//! [`process_slab`] runs four passes per cell layer `z`, each over whole
+//! rows, as Flying Edges does:
+//! 1. **load** plane `z + 1` (`Plane::load`): its samples relative to the
+//!    isovalue, one inside bit per sample (compared in the samples' own type
+//!    when the source lends its plane, module `bits`), and the vertices of its crossed x- and
+//!    y-edges in raster order, keeping only each row's first number;
+//! 2. **z-edges**: the vertices on the edges between planes `z` and
+//!    `z + 1`, found where the two planes' bits differ;
+//! 3. **cells** (`layer_cells`): each row's cells from the bits of its four
+//!    corner rows: a run of 64 cells with all corners on one side costs one
+//!    word operation, an unambiguous cell copies its triangles from the MC table, and the
+//!    ambiguous cells of a row go to the [`kernel`](crate::kernel) after the
+//!    others; every triangle corner is an edge number from module `edges` or an
+//!    interior vertex of its cell;
+//! 4. **emit**: block `z` becomes a [`Chunk`] (`Block::into_chunk`), and
+//!    plane `z + 1` becomes the bottom plane of the next layer.
 
 mod bits;
 mod edges;

@@ -1,0 +1,214 @@
+//! The cells of one layer (pass 3 of the slab loop): standard MC's table
+//! for every cell whose corners are not all on one side, the kernel for the
+//! ambiguous ones, triangle corners from the edge numbers of [`super::edges`].
+
+use super::bits::{below, each_bit, next, uniform_alike};
+use super::block::{local_index, Block, TRIANGLES, VERTICES};
+use super::edges::{CellEdges, EdgeRows, LayerNumbers};
+use super::placement::Placement;
+use super::plane::Plane;
+use crate::error::make_room;
+use crate::kernel::tables::Tables;
+use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles, INTERIOR};
+use crate::params::{ExtractParams, Method};
+use crate::{Result, Stats};
+use glam::DVec3;
+
+/// What the cells of one layer are triangulated from.
+pub(super) struct Layer<'a> {
+    pub(super) place: &'a Placement,
+    pub(super) params: &'a ExtractParams,
+    pub(super) tables: &'a Tables,
+    pub(super) bottom: &'a Plane<'a>,
+    pub(super) top: &'a Plane<'a>,
+    /// Where the numbers of the layer's edge vertices come from.
+    pub(super) numbers: LayerNumbers<'a>,
+}
+
+/// The ambiguous cells of a row that wait for the kernel, and its scratch.
+pub(super) struct Ambiguous<'a> {
+    /// `(x, config)` of each, in row order (room for a row).
+    pub(super) waiting: &'a mut Vec<(usize, u8)>,
+    pub(super) cell: &'a mut CellMesh,
+}
+
+/// Triangulates the cells between planes `bottom` and `top`, visiting only
+/// the cells whose corners are not all on one side. With `Method::Tmc`, a
+/// row's ambiguous cells are set aside and triangulated after its other
+/// cells (their triangles follow the row's): the loop over a row then holds
+/// only the table look-ups of standard MC, and its code does not change
+/// with the kernel's.
+pub(super) fn layer_cells(
+    layer: &Layer,
+    rows: &mut EdgeRows,
+    block: &mut Block,
+    ambiguous: &mut Ambiguous,
+    stats: &mut Stats,
+) -> Result<()> {
+    let [nx, ny, _] = layer.place.grid.dims;
+    let kernel = layer.params.method == Method::Tmc;
+    let (bottom, top) = (layer.bottom, layer.top);
+    let words = bottom.inside.words() - 1;
+    for y in 0..ny - 1 {
+        let kinds = [
+            bottom.inside.kind(y),
+            bottom.inside.kind(y + 1),
+            top.inside.kind(y),
+            top.inside.kind(y + 1),
+        ];
+        if uniform_alike(kinds) {
+            continue;
+        }
+        // Room for the MC triangles of every cell of the row, so that they
+        // are pushed without a check (an ambiguous cell keeps this room).
+        make_room(
+            &mut block.triangles,
+            layer.tables.mc_most * (nx - 1),
+            TRIANGLES,
+        )?;
+        let edges = rows.cell_row(y, &layer.numbers);
+        let rows = [
+            bottom.inside.row(y),
+            bottom.inside.row(y + 1),
+            top.inside.row(y),
+            top.inside.row(y + 1),
+        ];
+        for k in 0..words {
+            // Corner c (cube numbering, c = x + 2y + 4z) of cell x is bit x
+            // of rows[c / 2], shifted by one sample when c is odd.
+            let corners: [u64; 8] = std::array::from_fn(|c| {
+                let row = rows[c / 2];
+                if c % 2 == 0 {
+                    row[k]
+                } else {
+                    next(row, k)
+                }
+            });
+            let any = corners.iter().fold(0, |m, w| m | w);
+            let all = corners.iter().fold(u64::MAX, |m, w| m & w);
+            let mixed = any & !all & below(nx - 1, k);
+            each_bit(mixed, k, |x| {
+                let j = x % 64;
+                let config = corners
+                    .iter()
+                    .enumerate()
+                    .fold(0u8, |m, (c, w)| m | (((w >> j) & 1) as u8) << c);
+                let t = layer.tables;
+                if t.is_ambiguous[config as usize] {
+                    stats.ambiguous_cells += 1;
+                    if kernel {
+                        ambiguous.waiting.push((x, config));
+                        return Ok(());
+                    }
+                }
+                // No reallocation: the row made room for `mc_most` per cell.
+                let range =
+                    t.mc_start[config as usize] as usize..t.mc_start[config as usize + 1] as usize;
+                let edges = edges.cell(x);
+                let refs = t.mc_tris[range].iter().map(|tri| tri.map(|e| edges.get(e)));
+                block.triangles.extend(refs);
+                Ok(())
+            })?;
+        }
+        for &(x, config) in ambiguous.waiting.iter() {
+            ambiguous_cell(
+                layer,
+                edges.cell(x),
+                block,
+                ambiguous.cell,
+                stats,
+                [x, y],
+                config,
+            )?;
+        }
+        ambiguous.waiting.clear();
+    }
+    Ok(())
+}
+
+/// Triangulates ambiguous cell `(x, y)` of the layer, of configuration
+/// `config`, with the kernel.
+#[inline(never)]
+pub(super) fn ambiguous_cell(
+    layer: &Layer,
+    edges: CellEdges,
+    block: &mut Block,
+    cell: &mut CellMesh,
+    stats: &mut Stats,
+    [x, y]: [usize; 2],
+    config: u8,
+) -> Result<()> {
+    let Layer {
+        place,
+        tables: t,
+        bottom,
+        top,
+        ..
+    } = *layer;
+    let nx = place.grid.dims[0];
+    let i = y * nx + x;
+    t.touch_sets(config);
+    let corners = [i, i + 1, i + nx, i + nx + 1];
+    let (low, high) = (bottom.values(corners), top.values(corners));
+    let values: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
+    // Both planes were read with the same level.
+    let level = bottom.level;
+    let g = if bottom.plain && top.plain {
+        level.plain_all(values)
+    } else {
+        level.rel_all(values)
+    };
+    let rest;
+    let residual = if bottom.exact && top.exact {
+        None
+    } else {
+        rest = level.residuals(values);
+        (rest != [0.0; 8]).then_some(&rest)
+    };
+    cell.clear();
+    let origin = DVec3::new(x as f64, y as f64, bottom.z as f64);
+    match triangulate_ambiguous(&g, residual, config, stats, cell) {
+        Triangles::Table(fans) => {
+            // Edge vertices only, as MC.
+            make_room(&mut block.triangles, fans.len(), TRIANGLES)?;
+            let refs = fans.iter().map(|tri| tri.map(|e| edges.get(e)));
+            block.triangles.extend(refs);
+            Ok(())
+        }
+        Triangles::Centred(fans, centre) => push_cell(block, place, edges, fans, [origin + centre]),
+        Triangles::Mesh => {
+            let interior = cell.interior.iter().map(|p| origin + *p);
+            push_cell(block, place, edges, &cell.triangles, interior)
+        }
+    }
+}
+
+/// Appends a cell's interior vertices (grid index coordinates) and its
+/// triangles, whose refs from [`INTERIOR`] on point at those vertices, to
+/// the block.
+pub(super) fn push_cell(
+    block: &mut Block,
+    place: &Placement,
+    edges: CellEdges,
+    triangles: &[[u8; 3]],
+    interior: impl IntoIterator<Item = DVec3, IntoIter: ExactSizeIterator>,
+) -> Result<()> {
+    let interior = interior.into_iter();
+    let first_interior = local_index(block)?;
+    make_room(&mut block.vertices, interior.len(), VERTICES)?;
+    make_room(&mut block.triangles, triangles.len(), TRIANGLES)?;
+    for p in interior {
+        block.vertices.push(place.at(p.to_array()));
+    }
+    let refs = triangles.iter().map(|tri| {
+        tri.map(|r| {
+            if r < INTERIOR {
+                edges.get(r)
+            } else {
+                first_interior + (r - INTERIOR) as u32
+            }
+        })
+    });
+    block.triangles.extend(refs);
+    Ok(())
+}

@@ -1,0 +1,211 @@
+//! [`Plane`]: one plane of samples relative to the isovalue, classified
+//! into inside bits, with the numbers of its edge vertices (pass 1 of the
+//! slab loop).
+
+use super::bits::{each_bit, uniform_alike, x_crossings, RowKind, SignBits};
+use super::block::{check_local_indices, VERTICES};
+use super::edges::EdgeRows;
+use super::level::Level;
+use super::placement::Placement;
+use super::spares::{PlaneBuffers, Scratch};
+use crate::error::make_room;
+use crate::grid::Grid;
+use crate::params::ExtractParams;
+use crate::volume::{LentPlane, SampleSource};
+use crate::{Error, Result, Stats};
+use std::time::Instant;
+
+/// One plane of values relative to the isovalue, with the numbers of its
+/// edge vertices; two of them are reused, plane after plane, by a slab.
+///
+/// The vertices of a plane's crossed edges are numbered in raster order,
+/// x-edges first; only the number of each row's first vertex is kept (see
+/// [`edges`](super::edges)).
+pub(super) struct Plane<'s> {
+    pub(super) z: usize,
+    /// The samples as the source lends them, if it does; else `read`.
+    pub(super) lent: Option<LentPlane<'s>>,
+    /// The samples as read, when the source lends none.
+    pub(super) read: Vec<f64>,
+    pub(super) level: Level,
+    /// Every sample's `rel` is exact (the sample type and the isovalue
+    /// say so), so no cell needs residuals.
+    pub(super) exact: bool,
+    /// Every sample's `rel` is also the plain `(value - iso) * sign`:
+    /// integer samples, so never NaN, and `exact`, so never clamped.
+    pub(super) plain: bool,
+    /// `rel(sample) > 0` per sample.
+    pub(super) inside: SignBits,
+    /// Local index of the first x-edge vertex of each row.
+    pub(super) x_first: Vec<u32>,
+    /// Local index of the first vertex on the y-edges between rows `y` and
+    /// `y + 1`.
+    pub(super) y_first: Vec<u32>,
+}
+
+impl PlaneBuffers {
+    /// New buffers for planes of `grid`.
+    pub(super) fn new(grid: &Grid) -> Self {
+        let [nx, ny, _] = grid.dims;
+        PlaneBuffers {
+            read: Vec::new(),
+            inside: SignBits::new(nx, ny),
+            x_first: vec![0; ny],
+            y_first: vec![0; ny],
+        }
+    }
+}
+
+impl Scratch {
+    /// New buffers for a slab of `grid`.
+    pub(super) fn new(grid: &Grid) -> Self {
+        Scratch {
+            planes: [PlaneBuffers::new(grid), PlaneBuffers::new(grid)],
+            z_first: vec![0; grid.dims[1]],
+            rows: EdgeRows::new(grid.dims[0]),
+        }
+    }
+}
+
+impl<'s> Plane<'s> {
+    /// A plane working in `buffers` (sized for the grid; stale entries are
+    /// never read).
+    pub(super) fn new(buffers: PlaneBuffers) -> Self {
+        let PlaneBuffers {
+            read,
+            inside,
+            x_first,
+            y_first,
+        } = buffers;
+        Plane {
+            z: 0,
+            lent: None,
+            read,
+            level: Level {
+                iso: 0.0,
+                sign: 1.0,
+            },
+            exact: true,
+            plain: false,
+            inside,
+            x_first,
+            y_first,
+        }
+    }
+
+    /// The plane's buffers, for the next slab.
+    pub(super) fn into_buffers(self) -> PlaneBuffers {
+        PlaneBuffers {
+            read: self.read,
+            inside: self.inside,
+            x_first: self.x_first,
+            y_first: self.y_first,
+        }
+    }
+
+    /// The kernel's value of sample `i` (see [`Level::rel`]).
+    #[inline]
+    pub(super) fn rel(&self, i: usize) -> f64 {
+        rel_at(self.lent, &self.read, self.level, i)
+    }
+
+    /// The samples `at`, as `f64`s.
+    #[inline(always)]
+    pub(super) fn values<const N: usize>(&self, at: [usize; N]) -> [f64; N] {
+        match &self.lent {
+            Some(samples) => samples.get_many(at),
+            None => at.map(|i| self.read[i]),
+        }
+    }
+
+    /// Reads and classifies plane `z`; appends the positions of its edge
+    /// vertices to `owned`.
+    pub(super) fn load(
+        &mut self,
+        source: &'s dyn SampleSource,
+        params: &ExtractParams,
+        z: usize,
+        owned: &mut Vec<[f32; 3]>,
+        stats: &mut Stats,
+    ) -> Result<()> {
+        let place = Placement::new(source.grid());
+        let [nx, ny, _] = place.grid.dims;
+        self.z = z;
+        let start = Instant::now();
+        self.lent = source.lend_plane(z).filter(|p| p.len() == nx * ny);
+        if self.lent.is_none() {
+            let missing = (nx * ny).saturating_sub(self.read.len());
+            make_room(&mut self.read, missing, "a plane of samples")?;
+            self.read.resize(nx * ny, 0.0);
+            source.read_plane(z, &mut self.read)?;
+        }
+        stats.planes_read += 1;
+        stats.read_seconds += start.elapsed().as_secs_f64();
+        let level = Level::new(params);
+        self.level = level;
+        self.exact = match self.lent {
+            Some(samples) => samples.subtracts_exactly(level.iso),
+            None => level.iso == 0.0,
+        };
+        self.plain = self.exact && self.lent.is_some_and(|s| s.is_integer());
+        match self.lent {
+            None => self
+                .inside
+                .classify(&self.read, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U8(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I8(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U16(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I16(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::F32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::F64(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+        }
+        let (lent, read) = (self.lent, &self.read);
+        let rel = |i: usize| rel_at(lent, read, level, i);
+        let words = self.inside.words() - 1;
+        // The plane's vertices open their block: local numbers start at 0.
+        debug_assert!(owned.is_empty());
+        for y in 0..ny {
+            self.x_first[y] = owned.len() as u32;
+            if self.inside.kind(y) != RowKind::Mixed {
+                continue;
+            }
+            let row = self.inside.row(y);
+            make_room(owned, nx, VERTICES)?;
+            for k in 0..words {
+                each_bit(x_crossings(row, k, nx), k, |x| {
+                    let (a, b) = (rel(y * nx + x), rel(y * nx + x + 1));
+                    owned.push(place.at([x as f64 + a / (a - b), y as f64, z as f64]));
+                    Ok::<(), Error>(())
+                })?;
+            }
+        }
+        for y in 0..ny - 1 {
+            self.y_first[y] = owned.len() as u32;
+            if uniform_alike([self.inside.kind(y), self.inside.kind(y + 1)]) {
+                continue;
+            }
+            let (lower, upper) = (self.inside.row(y), self.inside.row(y + 1));
+            make_room(owned, nx, VERTICES)?;
+            for k in 0..words {
+                each_bit(lower[k] ^ upper[k], k, |x| {
+                    let (a, b) = (rel(y * nx + x), rel((y + 1) * nx + x));
+                    owned.push(place.at([x as f64, y as f64 + a / (a - b), z as f64]));
+                    Ok::<(), Error>(())
+                })?;
+            }
+        }
+        check_local_indices(owned.len())
+    }
+}
+
+/// The kernel's value of sample `i` of a plane, lent or read.
+#[inline(always)]
+pub(super) fn rel_at(lent: Option<LentPlane>, read: &[f64], level: Level, i: usize) -> f64 {
+    let value = match lent {
+        Some(samples) => samples.get(i),
+        None => read[i],
+    };
+    level.rel(value)
+}

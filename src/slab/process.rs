@@ -1,0 +1,136 @@
+//! [`process_slab`]: the slab loop, one cell layer after the other through
+//! the four passes of the module documentation.
+
+use super::bits::{each_bit, uniform_alike};
+use super::block::{check_local_indices, Block, NEXT_BLOCK, VERTICES};
+use super::cells::{layer_cells, Ambiguous, Layer};
+use super::edges::LayerNumbers;
+use super::placement::Placement;
+use super::plane::Plane;
+use super::spares::{Scratch, Spares};
+use crate::error::make_room;
+use crate::kernel::tables::tables;
+use crate::kernel::CellMesh;
+use crate::mesh::Chunk;
+use crate::params::ExtractParams;
+use crate::volume::{Access, SampleSource};
+use crate::{Error, Result, Stats};
+use std::ops::Range;
+use std::time::Instant;
+
+/// Processes cell layers `layers` and returns one chunk per layer (plus the
+/// chunk of the last plane when the range ends at the top of the grid) and
+/// the counts. Buffers come from `spares` when it has some, and the slab's
+/// work buffers go back there (the chunks' vectors are handed back by
+/// whoever writes them).
+pub fn process_slab(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    layers: Range<usize>,
+    spares: &Spares,
+) -> Result<(Vec<Chunk>, Stats)> {
+    let grid = *source.grid();
+    let [nx, ny, nz] = grid.dims;
+    let start = Instant::now();
+    let mirrored = grid.is_mirrored();
+    let place = Placement::new(&grid);
+    let mut stats = Stats::default();
+    let mut chunks = Vec::with_capacity(layers.len() + 1);
+    let tables = tables();
+    // What the loops make room for per row: a vertex per sample, the most
+    // MC triangles per cell.
+    let row = (nx, tables.mc_most * (nx - 1));
+    let mut block = Block::sized_like((0, 0), row, spares)?;
+    source.advise(layers.start..layers.end + 1, Access::Soon);
+    let Scratch {
+        planes: [lower, upper],
+        mut z_first,
+        mut rows,
+    } = spares
+        .take_scratch()
+        .filter(|s| s.z_first.len() == ny)
+        .unwrap_or_else(|| Scratch::new(&grid));
+    let mut bottom = Plane::new(lower);
+    let mut top = Plane::new(upper);
+    // The slab's first plane may belong to the slab below; its vertices are
+    // numbered the same way here and there, and kept by the block of that plane.
+    bottom.load(
+        source,
+        params,
+        layers.start,
+        &mut block.vertices,
+        &mut stats,
+    )?;
+    let mut cell = CellMesh::new();
+    let mut waiting = Vec::with_capacity(nx);
+    // The sizes of the last finished block (none yet).
+    let mut finished = (0, 0);
+    for z in layers.clone() {
+        let mut next = Block::sized_like(finished, row, spares)?;
+        top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
+        // z-edges between the two planes.
+        let words = bottom.inside.words() - 1;
+        for (y, first) in z_first.iter_mut().enumerate() {
+            *first = block.vertices.len() as u32;
+            if uniform_alike([bottom.inside.kind(y), top.inside.kind(y)]) {
+                continue;
+            }
+            let (lower, upper) = (bottom.inside.row(y), top.inside.row(y));
+            make_room(&mut block.vertices, nx, VERTICES)?;
+            for k in 0..words {
+                each_bit(lower[k] ^ upper[k], k, |x| {
+                    let i = y * nx + x;
+                    let (a, b) = (bottom.rel(i), top.rel(i));
+                    block
+                        .vertices
+                        .push(place.at([x as f64, y as f64, z as f64 + a / (a - b)]));
+                    Ok::<(), Error>(())
+                })?;
+            }
+        }
+        check_local_indices(block.vertices.len())?;
+        let layer = Layer {
+            place: &place,
+            params,
+            tables,
+            bottom: &bottom,
+            top: &top,
+            numbers: LayerNumbers {
+                nx,
+                top_tag: NEXT_BLOCK,
+                bottom: &bottom.inside,
+                top: &top.inside,
+                bottom_x: &bottom.x_first,
+                bottom_y: &bottom.y_first,
+                top_x: &top.x_first,
+                top_y: &top.y_first,
+                z: &z_first,
+            },
+        };
+        rows.new_layer();
+        let mut ambiguous = Ambiguous {
+            waiting: &mut waiting,
+            cell: &mut cell,
+        };
+        layer_cells(&layer, &mut rows, &mut block, &mut ambiguous, &mut stats)?;
+        finished = (block.vertices.len(), block.triangles.len());
+        chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
+        std::mem::swap(&mut bottom, &mut top);
+    }
+    if layers.end == nz - 1 {
+        chunks.push(block.into_chunk(nz - 1, mirrored));
+    } else {
+        spares.give_chunk(block.into_chunk(layers.end, mirrored));
+    }
+    spares.give_scratch(Scratch {
+        planes: [bottom.into_buffers(), top.into_buffers()],
+        z_first,
+        rows,
+    });
+    // Release this slab's planes (its last plane is released by the slab
+    // above, whose first plane it is). Should the slab below still be reading
+    // the first one, its pages come back from the page cache.
+    source.advise(layers.start..layers.end, Access::Done);
+    stats.cell_seconds = start.elapsed().as_secs_f64() - stats.read_seconds;
+    Ok((chunks, stats))
+}

@@ -6,7 +6,7 @@ use super::extract_args::ExtractArgs;
 use super::manifest::{self, Item};
 use super::monitor::Monitor;
 use super::output::{one_line, to_stdout, withdraw};
-use super::preflight::{check_distinct, check_grid, effective_threads};
+use super::preflight::{check_distinct, check_grid};
 use super::{memory, report};
 use serde::Serialize;
 use std::cell::Cell;
@@ -15,6 +15,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
+use tmc::stream::threads::worker_threads;
 use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 
 /// Inputs of the batch whose outputs were written before a signal stopped
@@ -283,7 +284,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
                 input: &item.input,
                 output,
                 params: p,
-                threads: effective_threads(p.threads),
+                threads: worker_threads(p.threads),
                 grid: &grid,
                 stats: s,
                 resources: &resources,

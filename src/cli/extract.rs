@@ -4,11 +4,12 @@
 use super::extract_args::ExtractArgs;
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
-use super::preflight::{check_distinct, check_grid, effective_threads};
+use super::preflight::{check_distinct, check_grid};
 use super::require_surface::RequireSurface;
 use super::{memory, report};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
+use tmc::stream::threads::worker_threads;
 use tmc::{Error, Result};
 
 /// Runs `tmc extract`; setting `cancel` stops it with [`Error::Interrupted`].
@@ -83,7 +84,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         input,
         output,
         params: &params,
-        threads: effective_threads(params.threads),
+        threads: worker_threads(params.threads),
         grid: &grid,
         stats: &stats,
         resources: &resources,

@@ -1,6 +1,6 @@
 //! Checks made before any work is done, shared by the commands that write
-//! files: a grid that has cells and fits f32 coordinates, an output that is
-//! not the input, and the thread count reported.
+//! files: a grid that has cells and fits f32 coordinates, and an output
+//! that is not the input.
 
 use std::path::Path;
 use tmc::{Error, Grid, Result};
@@ -76,13 +76,4 @@ pub(super) fn check_distinct(input: &Path, output: &Path) -> Result<()> {
         )));
     }
     Ok(())
-}
-
-/// The number of worker threads `threads` (0 = all cores) stands for.
-pub(super) fn effective_threads(threads: usize) -> usize {
-    if threads > 0 {
-        threads
-    } else {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    }
 }

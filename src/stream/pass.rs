@@ -107,7 +107,7 @@ pub(crate) fn extract_many_part_to(
     }
     let layers = dims[2] - 1;
     // No more threads than layers: more would find no slab to work on.
-    let threads = worker_threads(first).min(layers.max(1));
+    let threads = worker_threads(first.threads).min(layers.max(1));
     let depth = if options.slab_depth > 0 {
         options.slab_depth.min(64)
     } else {

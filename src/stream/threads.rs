@@ -1,14 +1,15 @@
 //! How many workers, and how deep their slabs are when nobody says.
 
-use crate::params::ExtractParams;
 use crate::{Error, Result};
 
-/// The number of worker threads `params` asks for (0: one per core).
-pub(crate) fn worker_threads(params: &ExtractParams) -> usize {
-    if params.threads == 0 {
+/// The number of worker threads that `threads` (`ExtractParams::threads`)
+/// asks for: 0 is one per core. (An extraction uses no more than it has
+/// cell layers.)
+pub fn worker_threads(threads: usize) -> usize {
+    if threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
-        params.threads
+        threads
     }
 }
 

@@ -672,6 +672,24 @@ fn the_checker_finds_a_planted_cycle() {
     );
 }
 
+/// Every file below `root`, leaving out the folders whose name `skip` picks
+/// (every file in them, even a stray one no module declares).
+fn files_under(root: &Path, skip: impl Fn(&str) -> bool) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut stack = vec![root.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if !path.is_dir() {
+                files.push(path);
+            } else if !skip(&path.file_name().unwrap().to_string_lossy()) {
+                stack.push(path);
+            }
+        }
+    }
+    files
+}
+
 /// No file of the repository names a path that exists on one machine only
 /// (a home directory, a build machine's work tree): the scripts, docs and
 /// tests must work from any checkout.
@@ -688,31 +706,23 @@ fn no_file_names_a_path_of_one_machine() {
     .map(|p| p.concat())
     .collect();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // Build output, version control and local virtual environments are
+    // not the repository's (but `.ci` is).
+    let skip = |name: &str| {
+        name != ".ci" && (name == "target" || name.starts_with('.') || name == "__pycache__")
+    };
     let mut found = Vec::new();
-    let mut stack = vec![root.to_path_buf()];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            let name = path.file_name().unwrap().to_string_lossy().to_string();
-            if path.is_dir() {
-                // Build output, version control and local virtual environments.
-                let skip = name == "target" || name.starts_with('.') || name == "__pycache__";
-                if !skip || name == ".ci" {
-                    stack.push(path);
-                }
-                continue;
-            }
-            let Ok(text) = std::fs::read_to_string(&path) else {
-                continue; // not UTF-8 text: volumes, images
-            };
-            if name == "Cargo.lock" {
-                continue;
-            }
-            for (n, line) in text.lines().enumerate() {
-                if patterns.iter().any(|p| line.contains(p.as_str())) {
-                    let rel = path.strip_prefix(root).unwrap().display().to_string();
-                    found.push(format!("{rel}:{}: {}", n + 1, line.trim()));
-                }
+    for path in files_under(root, skip) {
+        if path.file_name().is_some_and(|n| n == "Cargo.lock") {
+            continue;
+        }
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            continue; // not UTF-8 text: volumes, images
+        };
+        for (n, line) in text.lines().enumerate() {
+            if patterns.iter().any(|p| line.contains(p.as_str())) {
+                let rel = path.strip_prefix(root).unwrap().display().to_string();
+                found.push(format!("{rel}:{}: {}", n + 1, line.trim()));
             }
         }
     }
@@ -758,20 +768,12 @@ impl<'ast> Visit<'ast> for UnsafeFinder {
 #[test]
 fn unsafe_code_is_only_where_mapping_and_signals_need_it() {
     const ALLOWED: [&str; 3] = ["volume/raw.rs", "cli/signals.rs", "files/fatal_cleanup.rs"];
-    let mut files = Vec::new();
-    let mut stack = vec![src()];
-    while let Some(dir) = stack.pop() {
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                stack.push(path);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                files.push(path);
-            }
-        }
-    }
+    let files = files_under(&src(), |_| false);
     let mut with_unsafe = BTreeSet::new();
-    for file in &files {
+    for file in files
+        .iter()
+        .filter(|f| f.extension().is_some_and(|e| e == "rs"))
+    {
         let text = std::fs::read_to_string(file).unwrap();
         let ast = syn::parse_file(&text).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
         let mut finder = UnsafeFinder::default();

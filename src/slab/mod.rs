@@ -23,13 +23,16 @@
 //! 2. **z-edges**: the vertices on the edges between planes `z` and
 //!    `z + 1`, found where the two planes' bits differ;
 //! 3. **cells** (`layer_cells`): each row's cells from the bits of its four
-//!    corner rows: a run of 64 cells with all corners on one side costs one
-//!    word operation, an unambiguous cell copies its triangles from the MC table, and the
-//!    ambiguous cells of a row go to the [`kernel`](crate::kernel) after the
-//!    others; every triangle corner is an edge number from module `edges` or an
-//!    interior vertex of its cell;
-//! 4. **emit**: block `z` becomes a [`Chunk`](crate::Chunk) (`Block::into_chunk`), and
-//!    plane `z + 1` becomes the bottom plane of the next layer.
+//!    corner rows: a row whose corner rows all lie on one side is skipped
+//!    whole, and 64 cells of a row are sorted out with a few word
+//!    operations on their corner bits; an unambiguous cell copies its
+//!    triangles from the MC table, and the ambiguous cells of a row go to
+//!    the [`kernel`](crate::kernel) after the others; every triangle corner
+//!    is an edge number from module `edges` or an interior vertex of its
+//!    cell;
+//! 4. **emit**: block `z` becomes a [`Chunk`](crate::Chunk)
+//!    (`Block::into_chunk`), and plane `z + 1` becomes the bottom plane of
+//!    the next layer.
 
 mod bits;
 mod block;

@@ -3,6 +3,8 @@
 //! which then compares them with the isovalue in their own type and turns
 //! into `f64` only the few samples next to the surface.
 
+use super::ScalarType;
+
 /// The samples of one plane, x fastest, in the type they are stored in.
 #[derive(Debug, Clone, Copy)]
 pub enum LentPlane<'a> {
@@ -24,7 +26,23 @@ pub enum LentPlane<'a> {
     F64(&'a [f64]),
 }
 
-impl LentPlane<'_> {
+impl<'a> LentPlane<'a> {
+    /// Native-endian samples of `scalar` packed in `bytes`, or `None` when
+    /// the bytes are not aligned for the type (those must be decoded).
+    pub fn from_bytes(scalar: ScalarType, bytes: &'a [u8]) -> Option<Self> {
+        use bytemuck::try_cast_slice as cast;
+        Some(match scalar {
+            ScalarType::U8 => LentPlane::U8(bytes),
+            ScalarType::I8 => LentPlane::I8(cast(bytes).ok()?),
+            ScalarType::U16 => LentPlane::U16(cast(bytes).ok()?),
+            ScalarType::I16 => LentPlane::I16(cast(bytes).ok()?),
+            ScalarType::U32 => LentPlane::U32(cast(bytes).ok()?),
+            ScalarType::I32 => LentPlane::I32(cast(bytes).ok()?),
+            ScalarType::F32 => LentPlane::F32(cast(bytes).ok()?),
+            ScalarType::F64 => LentPlane::F64(cast(bytes).ok()?),
+        })
+    }
+
     /// Are the samples integers (not floats)?
     pub fn is_integer(&self) -> bool {
         !matches!(self, LentPlane::F32(_) | LentPlane::F64(_))

@@ -43,7 +43,7 @@ pub struct MetaImageVolume {
 #[derive(Debug)]
 enum Data {
     /// One data file (or the attached data, or text samples parsed into memory).
-    Volume(RawVolume),
+    Volume(Box<RawVolume>),
     /// One single-plane volume per z slice (`ElementDataFile = LIST`).
     Slices(Vec<RawVolume>),
 }
@@ -218,9 +218,14 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
                 file.seek(SeekFrom::Start(consumed))
                     .map_err(|e| Error::io(path, e))?;
                 let samples = inflate(path, file, data_len, cancel)?;
-                Data::Volume(RawVolume::map_file(path, &samples, layout(0))?)
+                Data::Volume(Box::new(RawVolume::map_file(path, &samples, layout(0))?))
             } else {
-                Data::Volume(samples(path, &file, layout(consumed), header.ascii)?)
+                Data::Volume(Box::new(samples(
+                    path,
+                    &file,
+                    layout(consumed),
+                    header.ascii,
+                )?))
             }
         }
         ["LIST"] | ["LIST", "2D" | "2d"] => {
@@ -279,10 +284,19 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
             let file = File::open(&data_path).map_err(|e| Error::io(&data_path, e))?;
             if header.compressed {
                 let samples = inflate(&data_path, file, data_len, cancel)?;
-                Data::Volume(RawVolume::map_file(&data_path, &samples, layout(0))?)
+                Data::Volume(Box::new(RawVolume::map_file(
+                    &data_path,
+                    &samples,
+                    layout(0),
+                )?))
             } else {
                 let offset = data_offset(&data_path, &file, header.header_size, data_len)?;
-                Data::Volume(samples(&data_path, &file, layout(offset), header.ascii)?)
+                Data::Volume(Box::new(samples(
+                    &data_path,
+                    &file,
+                    layout(offset),
+                    header.ascii,
+                )?))
             }
         }
     };

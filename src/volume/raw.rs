@@ -5,10 +5,10 @@
 //! the `.npy` and `.nrrd` readers parse their headers and then build the same
 //! [`RawVolume`] over the data that follows.
 
+use super::mapped::MappedFile;
 use super::scalar::{decode_samples, decode_strided};
 use super::{Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
 use crate::{Error, Result};
-use memmap2::{Advice, Mmap, UncheckedAdvice};
 use std::fmt;
 use std::fs::File;
 use std::ops::Range;
@@ -57,7 +57,7 @@ pub(crate) struct Layout {
 /// The bytes behind a [`RawVolume`].
 enum Storage {
     /// A read-only memory map of the whole file.
-    Mapped(Mmap),
+    Mapped(MappedFile),
     /// Bytes held in memory (parsed text samples, decoded `.vti` arrays).
     Owned(Vec<u8>),
 }
@@ -65,31 +65,9 @@ enum Storage {
 impl Storage {
     fn bytes(&self) -> &[u8] {
         match self {
-            Storage::Mapped(map) => map,
+            Storage::Mapped(map) => map.bytes(),
             Storage::Owned(bytes) => bytes,
         }
-    }
-
-    /// Read-ahead or release advice for bytes `range` of a mapped file.
-    fn advise(&self, range: Range<usize>, access: Access) {
-        let Storage::Mapped(map) = self else {
-            return;
-        };
-        let end = range.end.min(map.len());
-        if range.start >= end {
-            return;
-        }
-        let len = end - range.start;
-        // Advice is a hint: a kernel that refuses it changes nothing.
-        let _ = match access {
-            Access::Soon => map.advise_range(Advice::WillNeed, range.start, len),
-            // SAFETY: the map is a read-only mapping of a file; dropping its
-            // pages only makes the next access read them again from the file
-            // (or the page cache), so no data the program sees can change.
-            Access::Done => unsafe {
-                map.unchecked_advise_range(UncheckedAdvice::DontNeed, range.start, len)
-            },
-        };
     }
 }
 
@@ -103,9 +81,6 @@ pub struct RawVolume {
     order: Order,
     offset: usize,
     storage: Storage,
-    /// The mapped file (the spilled samples, for compressed data), to notice
-    /// when it shrinks under the map.
-    mapped: Option<File>,
     /// The file the samples come from (mapped, decompressed or parsed).
     data_file: PathBuf,
 }
@@ -152,26 +127,14 @@ impl RawVolume {
     pub(crate) fn map_file(path: &Path, file: &File, layout: Layout) -> Result<RawVolume> {
         check_grid(path, &layout.grid)?;
         let meta = file.metadata().map_err(|e| Error::io(path, e))?;
-        if !meta.is_file() {
-            return Err(Error::Format(format!(
-                "{}: not a regular file",
-                path.display()
-            )));
+        if meta.is_file() {
+            check_length(path, meta.len(), &layout)?;
         }
-        check_length(path, meta.len(), &layout)?;
-        // SAFETY: the map is read-only and private to this volume. Memory
-        // mapping is sound as long as no other process truncates or rewrites
-        // the file while it is mapped; like every mmap-based reader we accept
-        // that an input file must not change during an extraction. The length
-        // was checked above, so every access stays inside the mapping.
-        let map = unsafe { Mmap::map(file) }.map_err(|e| Error::io(path, e))?;
+        let map = MappedFile::map(path, file)?;
         // The map may be shorter than the metadata said if the file shrank
         // in between: check again against what was actually mapped.
-        check_length(path, map.len() as u64, &layout)?;
-        let watch = file.try_clone().map_err(|e| Error::io(path, e))?;
-        let mut volume = RawVolume::with_storage(path, layout, Storage::Mapped(map))?;
-        volume.mapped = Some(watch);
-        Ok(volume)
+        check_length(path, map.bytes().len() as u64, &layout)?;
+        RawVolume::with_storage(path, layout, Storage::Mapped(map))
     }
 
     /// Wraps samples already in memory (for example, decompressed data).
@@ -196,7 +159,6 @@ impl RawVolume {
             order: layout.order,
             offset,
             storage,
-            mapped: None,
             data_file: path.to_path_buf(),
         })
     }
@@ -247,10 +209,12 @@ impl SampleSource for RawVolume {
         if self.order != Order::XFastest {
             return;
         }
+        let Storage::Mapped(map) = &self.storage else {
+            return;
+        };
         let plane = self.grid.plane_len() * self.scalar.size();
         let start = self.offset + planes.start * plane;
-        self.storage
-            .advise(start..self.offset + planes.end * plane, access);
+        map.advise(start..self.offset + planes.end * plane, access);
     }
 
     fn data_files(&self) -> Vec<&Path> {
@@ -258,19 +222,10 @@ impl SampleSource for RawVolume {
     }
 
     fn check_unchanged(&self) -> Result<()> {
-        let (Some(file), Storage::Mapped(map)) = (&self.mapped, &self.storage) else {
-            return Ok(());
-        };
-        let path = &self.data_file;
-        let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
-        if len < map.len() as u64 {
-            return Err(Error::Format(format!(
-                "{}: the input file changed during the extraction: it shrank from {} to {len} bytes (truncated by another program?)",
-                path.display(),
-                map.len()
-            )));
+        match &self.storage {
+            Storage::Mapped(map) => map.check_unchanged(),
+            Storage::Owned(_) => Ok(()),
         }
-        Ok(())
     }
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
@@ -321,17 +276,7 @@ impl SampleSource for RawVolume {
         let plane = self.grid.plane_len() * self.scalar.size();
         let start = self.offset + z.checked_mul(plane)?;
         let bytes = self.storage.bytes().get(start..start.checked_add(plane)?)?;
-        let lent = match self.scalar {
-            ScalarType::U8 => LentPlane::U8(bytes),
-            ScalarType::I8 => LentPlane::I8(bytemuck::try_cast_slice(bytes).ok()?),
-            ScalarType::U16 => LentPlane::U16(bytemuck::try_cast_slice(bytes).ok()?),
-            ScalarType::I16 => LentPlane::I16(bytemuck::try_cast_slice(bytes).ok()?),
-            ScalarType::U32 => LentPlane::U32(bytemuck::try_cast_slice(bytes).ok()?),
-            ScalarType::I32 => LentPlane::I32(bytemuck::try_cast_slice(bytes).ok()?),
-            ScalarType::F32 => LentPlane::F32(bytemuck::try_cast_slice(bytes).ok()?),
-            ScalarType::F64 => LentPlane::F64(bytemuck::try_cast_slice(bytes).ok()?),
-        };
-        Some(lent)
+        LentPlane::from_bytes(self.scalar, bytes)
     }
 
     fn sample_bytes(&self) -> usize {

@@ -1,0 +1,392 @@
+//! [`StridedVolume`]: samples at any byte strides, in memory or in a mapped
+//! file, read without a copy of the volume.
+//!
+//! This is how an array that a program already holds reaches the pipeline:
+//! a numpy array in C or Fortran order, a sliced or reversed view (negative
+//! strides), a broadcast one (zero strides), or a `numpy.memmap` of a file
+//! larger than memory. Plane `z` is gathered row by row into the `f64`
+//! plane the slab loop asks for; a plane stored contiguously in native byte
+//! order is lent as it is (see [`LentPlane`]), as [`super::RawVolume`] does.
+
+use super::mapped::MappedFile;
+use super::scalar::decode_strided;
+use super::{Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
+use crate::{Error, Result};
+use std::ops::Range;
+use std::path::Path;
+
+/// Where the samples of a [`StridedVolume`] lie in its bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StridedLayout {
+    /// Stored sample type.
+    pub scalar: ScalarType,
+    /// Byte order of the stored samples.
+    pub endian: Endian,
+    /// Byte offset of sample `(0, 0, 0)`.
+    pub first: usize,
+    /// Bytes from a sample to its neighbour along x, y and z: any value,
+    /// negative (a reversed view) or zero (a broadcast axis) included.
+    pub strides: [isize; 3],
+}
+
+/// The bytes behind a [`StridedVolume`].
+enum Bytes<'a> {
+    /// Memory the caller owns and keeps unchanged while the volume lives.
+    Borrowed(&'a [u8]),
+    /// A file mapped by the volume itself.
+    Mapped(MappedFile),
+}
+
+/// Samples of one scalar type at arbitrary byte strides (see the module
+/// docs). Invariant: every sample of the grid lies inside the bytes,
+/// checked once at construction.
+pub struct StridedVolume<'a> {
+    grid: Grid,
+    layout: StridedLayout,
+    bytes: Bytes<'a>,
+}
+
+impl<'a> StridedVolume<'a> {
+    /// Samples of `grid` in memory the caller owns, laid out as `layout`
+    /// says. Fails if a sample would lie outside `bytes`.
+    pub fn borrowed(grid: Grid, layout: StridedLayout, bytes: &'a [u8]) -> Result<Self> {
+        check_extent(&grid, &layout, bytes.len()).map_err(Error::Invalid)?;
+        Ok(StridedVolume {
+            grid,
+            layout,
+            bytes: Bytes::Borrowed(bytes),
+        })
+    }
+}
+
+impl StridedVolume<'static> {
+    /// Samples of `grid` in the file at `path`, which the volume maps
+    /// itself (`layout.first` is a byte offset into the file). Pages of
+    /// planes the slab loop is done with are dropped from the map, so that
+    /// resident memory stays bounded for files larger than memory when z is
+    /// the slowest axis in the file.
+    pub fn map_file(path: &Path, grid: Grid, layout: StridedLayout) -> Result<Self> {
+        let map = MappedFile::open(path)?;
+        check_extent(&grid, &layout, map.bytes().len())
+            .map_err(|e| Error::Format(format!("{}: {e}", path.display())))?;
+        Ok(StridedVolume {
+            grid,
+            layout,
+            bytes: Bytes::Mapped(map),
+        })
+    }
+}
+
+impl StridedVolume<'_> {
+    fn bytes(&self) -> &[u8] {
+        match &self.bytes {
+            Bytes::Borrowed(bytes) => bytes,
+            Bytes::Mapped(map) => map.bytes(),
+        }
+    }
+
+    /// Byte offset of sample `(x, y, z)`; in range by the construction check.
+    fn offset(&self, x: usize, y: usize, z: usize) -> usize {
+        let [sx, sy, sz] = self.layout.strides;
+        let at = self.layout.first as isize + x as isize * sx + y as isize * sy + z as isize * sz;
+        at as usize
+    }
+
+    /// Is plane `z` one run of packed samples, x fastest?
+    fn plane_is_packed(&self) -> bool {
+        let size = self.layout.scalar.size() as isize;
+        let [nx, ny, _] = self.grid.dims;
+        let [sx, sy, _] = self.layout.strides;
+        (sx == size || nx == 1) && (sy == size * nx as isize || ny == 1)
+    }
+}
+
+/// Checks that every sample of `grid` lies inside `len` bytes, without
+/// overflow; the error says which bytes the layout needs.
+fn check_extent(
+    grid: &Grid,
+    layout: &StridedLayout,
+    len: usize,
+) -> std::result::Result<(), String> {
+    if grid.dims.contains(&0) {
+        return Err(format!("dims {:?} contain a zero", grid.dims));
+    }
+    let size = layout.scalar.size() as i128;
+    let (mut low, mut high) = (layout.first as i128, layout.first as i128 + size);
+    for (n, s) in grid.dims.iter().zip(layout.strides) {
+        let span = (*n as i128 - 1) * s as i128;
+        if span < 0 {
+            low += span;
+        } else {
+            high += span;
+        }
+    }
+    if low < 0 || high > len as i128 {
+        return Err(format!(
+            "samples at strides {:?} from byte {} need bytes {low}..{high}, but there are {len}",
+            layout.strides, layout.first
+        ));
+    }
+    Ok(())
+}
+
+impl SampleSource for StridedVolume<'_> {
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        let [nx, ny, nz] = self.grid.dims;
+        if z >= nz || out.len() != nx * ny {
+            return Err(Error::Invalid(format!(
+                "plane {z} of {nz} into {} samples: a plane has {}",
+                out.len(),
+                nx * ny
+            )));
+        }
+        let StridedLayout {
+            scalar,
+            endian,
+            strides,
+            ..
+        } = self.layout;
+        let bytes = self.bytes();
+        for (y, row) in out.chunks_exact_mut(nx).enumerate() {
+            if strides[0] >= 0 {
+                let stride = strides[0] as usize;
+                decode_strided(scalar, endian, bytes, self.offset(0, y, z), stride, row);
+            } else {
+                // A reversed axis: read forward from the last sample, then
+                // put the row back in index order.
+                let stride = strides[0].unsigned_abs();
+                decode_strided(
+                    scalar,
+                    endian,
+                    bytes,
+                    self.offset(nx - 1, y, z),
+                    stride,
+                    row,
+                );
+                row.reverse();
+            }
+        }
+        Ok(())
+    }
+
+    /// Lends planes stored packed, x fastest, in native byte order and
+    /// aligned for their type; the others are gathered by `read_plane`.
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        if self.layout.endian != Endian::native() || !self.plane_is_packed() {
+            return None;
+        }
+        let start = self.offset(0, 0, z);
+        let len = self.grid.plane_len() * self.layout.scalar.size();
+        let bytes = self.bytes().get(start..start.checked_add(len)?)?;
+        LentPlane::from_bytes(self.layout.scalar, bytes)
+    }
+
+    /// Passes the advice to the map when z is the slowest axis in the file
+    /// (planes then occupy consecutive byte ranges).
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        let Bytes::Mapped(map) = &self.bytes else {
+            return;
+        };
+        let [sx, sy, sz] = self.layout.strides;
+        let [nx, ny, _] = self.grid.dims;
+        let plane_span = (nx as isize - 1) * sx + (ny as isize - 1) * sy;
+        if sx < 0 || sy < 0 || sz <= plane_span || planes.is_empty() {
+            return;
+        }
+        let start = self.offset(0, 0, planes.start);
+        let end = self.offset(0, 0, planes.end - 1) + plane_span as usize;
+        map.advise(start..end + self.layout.scalar.size(), access);
+    }
+
+    fn check_unchanged(&self) -> Result<()> {
+        match &self.bytes {
+            Bytes::Mapped(map) => map.check_unchanged(),
+            Bytes::Borrowed(_) => Ok(()),
+        }
+    }
+
+    fn data_files(&self) -> Vec<&Path> {
+        match &self.bytes {
+            Bytes::Mapped(map) => vec![map.path()],
+            Bytes::Borrowed(_) => Vec::new(),
+        }
+    }
+
+    fn sample_bytes(&self) -> usize {
+        self.layout.scalar.size()
+    }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        Some(self.layout.scalar)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::ArrayVolume;
+
+    /// A small volume with distinct values, as `u16` samples x fastest.
+    fn values(dims: [usize; 3]) -> Vec<u16> {
+        (0..dims.iter().product::<usize>())
+            .map(|i| (i * 37 % 1000) as u16)
+            .collect()
+    }
+
+    fn planes(source: &dyn SampleSource) -> Vec<Vec<f64>> {
+        let g = *source.grid();
+        (0..g.dims[2])
+            .map(|z| {
+                let mut out = vec![0.0; g.plane_len()];
+                source.read_plane(z, &mut out).unwrap();
+                out
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_layout_reads_the_same_samples() {
+        let dims = [5, 4, 3];
+        let [nx, ny, nz] = dims;
+        let grid = Grid::unit(dims);
+        let data = values(dims);
+        let expected = planes(&ArrayVolume::new(grid, data.clone()).unwrap());
+        let le = |v: &[u16]| v.iter().flat_map(|s| s.to_le_bytes()).collect::<Vec<u8>>();
+        let be = |v: &[u16]| v.iter().flat_map(|s| s.to_be_bytes()).collect::<Vec<u8>>();
+        // Fortran order: z fastest.
+        let mut fortran = vec![0u16; data.len()];
+        for z in 0..nz {
+            for y in 0..ny {
+                for x in 0..nx {
+                    fortran[z + nz * (y + ny * x)] = data[x + nx * (y + ny * z)];
+                }
+            }
+        }
+        let c = StridedLayout {
+            scalar: ScalarType::U16,
+            endian: Endian::Little,
+            first: 0,
+            strides: [2, 2 * nx as isize, 2 * (nx * ny) as isize],
+        };
+        let f = StridedLayout {
+            strides: [2 * (nz * ny) as isize, 2 * nz as isize, 2],
+            ..c
+        };
+        // Every axis reversed: the first sample is the last in memory.
+        let reversed = StridedLayout {
+            first: 2 * (data.len() - 1),
+            strides: c.strides.map(|s| -s),
+            ..c
+        };
+        let reversed_data: Vec<u16> = data.iter().rev().copied().collect();
+        let big = StridedLayout {
+            endian: Endian::Big,
+            ..c
+        };
+        for (layout, bytes) in [
+            (c, le(&data)),
+            (f, le(&fortran)),
+            (reversed, le(&reversed_data)),
+            (big, be(&data)),
+        ] {
+            let v = StridedVolume::borrowed(grid, layout, &bytes).unwrap();
+            assert_eq!(planes(&v), expected, "{layout:?}");
+        }
+        // The packed native layout is lent as stored; the others are not.
+        let bytes = le(&data);
+        let v = StridedVolume::borrowed(grid, c, &bytes).unwrap();
+        assert_eq!(v.lend_plane(1).is_some(), cfg!(target_endian = "little"));
+        let fbytes = le(&fortran);
+        assert!(StridedVolume::borrowed(grid, f, &fbytes)
+            .unwrap()
+            .lend_plane(1)
+            .is_none());
+    }
+
+    #[test]
+    fn zero_strides_repeat_a_sample() {
+        let grid = Grid::unit([3, 2, 2]);
+        let layout = StridedLayout {
+            scalar: ScalarType::F32,
+            endian: Endian::native(),
+            first: 4,
+            strides: [0, 0, 0],
+        };
+        let bytes: Vec<u8> = [1.0f32, 2.5].iter().flat_map(|v| v.to_ne_bytes()).collect();
+        let v = StridedVolume::borrowed(grid, layout, &bytes).unwrap();
+        assert!(planes(&v).iter().flatten().all(|&s| s == 2.5));
+    }
+
+    #[test]
+    fn samples_outside_the_bytes_are_refused() {
+        let grid = Grid::unit([4, 4, 4]);
+        let layout = StridedLayout {
+            scalar: ScalarType::U8,
+            endian: Endian::Little,
+            first: 0,
+            strides: [1, 4, 16],
+        };
+        assert!(StridedVolume::borrowed(grid, layout, &[0; 64]).is_ok());
+        let err = StridedVolume::borrowed(grid, layout, &[0; 63])
+            .err()
+            .unwrap();
+        assert!(err.to_string().contains("need bytes 0..64"), "{err}");
+        let backwards = StridedLayout {
+            strides: [-1, 4, 16],
+            ..layout
+        };
+        assert!(StridedVolume::borrowed(grid, backwards, &[0; 64]).is_err());
+        let huge = StridedLayout {
+            strides: [isize::MAX, 4, 16],
+            ..layout
+        };
+        assert!(StridedVolume::borrowed(grid, huge, &[0; 64]).is_err());
+    }
+
+    #[test]
+    fn a_mapped_file_gives_the_mesh_of_the_array() {
+        let dims = [9, 8, 7];
+        let grid = Grid::unit(dims);
+        let data: Vec<f32> = (0..dims.iter().product::<usize>())
+            .map(|i| {
+                let (x, y, z) = (i % 9, i / 9 % 8, i / 72);
+                let d = |a: usize, c: f32| (a as f32 - c).powi(2);
+                d(x, 4.0) + d(y, 3.5) + d(z, 3.0)
+            })
+            .collect();
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        let header = [7u8; 12];
+        let mut bytes = header.to_vec();
+        bytes.extend(data.iter().flat_map(|v| v.to_le_bytes()));
+        std::io::Write::write_all(&mut file, &bytes).unwrap();
+        let layout = StridedLayout {
+            scalar: ScalarType::F32,
+            endian: Endian::Little,
+            first: 12,
+            strides: [4, 36, 288],
+        };
+        let mapped = StridedVolume::map_file(file.path(), grid, layout).unwrap();
+        assert_eq!(mapped.data_files(), vec![file.path()]);
+        let params = crate::ExtractParams {
+            iso: 6.0,
+            ..Default::default()
+        };
+        let (mesh, _) = crate::extract(&mapped, &params).unwrap();
+        let array = ArrayVolume::new(grid, data).unwrap();
+        let (expected, _) = crate::extract(&array, &params).unwrap();
+        assert!(!mesh.triangles.is_empty());
+        assert_eq!(mesh, expected);
+        let short = StridedLayout {
+            first: 13,
+            ..layout
+        };
+        let err = StridedVolume::map_file(file.path(), grid, short)
+            .err()
+            .unwrap();
+        assert!(err.to_string().contains("need bytes"), "{err}");
+    }
+}

@@ -6,7 +6,6 @@ use super::extract_args::ExtractArgs;
 use super::manifest::{self, Item};
 use super::monitor::Monitor;
 use super::output::{one_line, to_stdout, withdraw};
-use super::preflight::{check_distinct, check_grid};
 use super::{memory, report};
 use serde::Serialize;
 use std::cell::Cell;
@@ -15,6 +14,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
+use tmc::files::check_distinct;
+use tmc::stream::check_grid;
 use tmc::stream::threads::worker_threads;
 use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 

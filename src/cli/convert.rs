@@ -30,7 +30,7 @@ pub(crate) struct ConvertArgs {
 /// Runs `tmc convert`; setting `cancel` (SIGINT, SIGTERM) stops it before
 /// the next chunk with [`tmc::Error::Interrupted`], leaving no output.
 pub(crate) fn run(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()> {
-    super::preflight::check_distinct(&args.input, &args.output)?;
+    tmc::files::check_distinct(&args.input, &args.output)?;
     tmc::part::PartRecord::refuse_part(&args.input)?;
     let mut reader = TmeshReader::open(&args.input)?;
     tmc::export::check_output_path(&args.output)?;

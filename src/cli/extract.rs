@@ -4,11 +4,12 @@
 use super::extract_args::ExtractArgs;
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
-use super::preflight::{check_distinct, check_grid};
 use super::require_surface::RequireSurface;
 use super::{memory, report};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
+use tmc::files::check_distinct;
+use tmc::stream::check_grid;
 use tmc::stream::threads::worker_threads;
 use tmc::{Error, Result};
 

@@ -28,7 +28,7 @@ pub(crate) struct MergeArgs {
 /// the next chunk with [`tmc::Error::Interrupted`], leaving no output.
 pub(crate) fn run(args: &MergeArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     for part in &args.parts {
-        super::preflight::check_distinct(part, &args.output)?;
+        tmc::files::check_distinct(part, &args.output)?;
     }
     let never = AtomicBool::new(false);
     tmc::part::merge(&args.parts, &args.output, cancel.unwrap_or(&never)).map(|_| ())

@@ -20,7 +20,6 @@ mod memory;
 mod merge;
 mod monitor;
 mod output;
-mod preflight;
 mod progress;
 mod raw_input;
 mod report;

@@ -91,3 +91,32 @@ pub fn lowercase_extension(path: &Path) -> String {
         .map(|e| e.to_ascii_lowercase())
         .unwrap_or_default()
 }
+
+/// Refuses to write the output over the input (also through a symbolic or
+/// hard link): the input is read while the output is written.
+pub fn check_distinct(input: &Path, output: &Path) -> Result<()> {
+    let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(output)) else {
+        return Ok(());
+    };
+    #[cfg(unix)]
+    let same = {
+        use std::os::unix::fs::MetadataExt;
+        a.dev() == b.dev() && a.ino() == b.ino()
+    };
+    #[cfg(not(unix))]
+    let same = {
+        let _ = (a, b);
+        matches!(
+            (std::fs::canonicalize(input), std::fs::canonicalize(output)),
+            (Ok(x), Ok(y)) if x == y
+        )
+    };
+    if same {
+        return Err(Error::Invalid(format!(
+            "{}: the output is the input file {}; choose another output path",
+            output.display(),
+            input.display()
+        )));
+    }
+    Ok(())
+}

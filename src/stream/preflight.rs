@@ -1,9 +1,9 @@
-//! Checks made before any work is done, shared by the commands that write
-//! files: a grid that has cells and fits f32 coordinates, and an output
-//! that is not the input.
+//! The check made of a grid before any work is done, by every front end
+//! (the CLI, the Python package): a grid that has cells and fits the mesh's
+//! f32 coordinates.
 
+use crate::{Error, Grid, Result};
 use std::path::Path;
-use tmc::{Error, Grid, Result};
 
 /// Rejects grids with fewer than 2 samples along an axis (no cells), unless
 /// `close` pads the volume with an outside border, which gives every grid
@@ -11,7 +11,7 @@ use tmc::{Error, Grid, Result};
 ///
 /// Also rejects grids whose corners (one sample beyond with `close`) lie
 /// outside the range of the mesh's f32 coordinates.
-pub(super) fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
+pub fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
     let pad = if close { 1.0 } else { 0.0 };
     for corner in 0..8 {
         let index: [f64; 3] = std::array::from_fn(|a| {
@@ -45,35 +45,6 @@ pub(super) fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
                 grid.dims[2]
             )));
         }
-    }
-    Ok(())
-}
-
-/// Refuses to write the output over the input (also through a symbolic or
-/// hard link): the input is read while the output is written.
-pub(super) fn check_distinct(input: &Path, output: &Path) -> Result<()> {
-    let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(output)) else {
-        return Ok(());
-    };
-    #[cfg(unix)]
-    let same = {
-        use std::os::unix::fs::MetadataExt;
-        a.dev() == b.dev() && a.ino() == b.ino()
-    };
-    #[cfg(not(unix))]
-    let same = {
-        let _ = (a, b);
-        matches!(
-            (std::fs::canonicalize(input), std::fs::canonicalize(output)),
-            (Ok(x), Ok(y)) if x == y
-        )
-    };
-    if same {
-        return Err(Error::Invalid(format!(
-            "{}: the output is the input file {}; choose another output path",
-            output.display(),
-            input.display()
-        )));
     }
     Ok(())
 }

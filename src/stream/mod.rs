@@ -18,6 +18,7 @@
 //! a chunk's content depends on its two planes only (see [`crate::slab`]).
 
 pub mod budget;
+pub mod cancellable;
 pub mod entry;
 pub mod parts;
 pub mod pass;

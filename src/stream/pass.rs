@@ -14,6 +14,7 @@
 //! a separate run at that isovalue writes.
 
 use super::budget;
+use super::cancellable::Cancellable;
 use super::parts::layer_range;
 use super::schedule::Schedule;
 use super::seam::Seam;
@@ -97,6 +98,18 @@ pub(crate) fn extract_many_part_to(
         &padded
     } else {
         source
+    };
+    // A slab in progress stops at its next layer once cancelled.
+    let cancellable;
+    let source: &dyn SampleSource = match options.cancel {
+        Some(cancel) => {
+            cancellable = Cancellable {
+                inner: source,
+                cancel,
+            };
+            &cancellable
+        }
+        None => source,
     };
     let dims = source.grid().dims;
     if dims.iter().any(|&d| d < 2) {

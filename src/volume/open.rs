@@ -107,10 +107,11 @@ pub fn open_cancellable(
         return Ok(Box::new(raw::RawVolume::open(path, options)?));
     }
     if !path.exists() && !tiff_stack::is_pattern(path) {
-        return Err(crate::Error::Invalid(format!(
-            "{}: no such file or directory",
-            path.display()
-        )));
+        // An I/O error of kind NotFound (Python raises FileNotFoundError),
+        // with the same words as ever.
+        let missing =
+            std::io::Error::new(std::io::ErrorKind::NotFound, "no such file or directory");
+        return Err(crate::Error::io(path, missing));
     }
     let format = Format::detect(path, false).ok_or_else(|| {
         crate::Error::Invalid(format!(

@@ -1,0 +1,212 @@
+//! The extraction calls: into numpy arrays (`extract`) or streamed into a
+//! file of any output format (`extract_to`), from an array or a path.
+
+use crate::array::{self, MappedAt};
+use crate::interrupt;
+use crate::output::{mesh_arrays, Layout};
+use numpy::PyUntypedArray;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use tmc::{ExtractParams, Inside, Method, PipelineOptions, SampleSource};
+
+/// The volume argument: an array (with its grid) or a path to open.
+enum Input<'a> {
+    Array(tmc::volume::StridedVolume<'a>),
+    Path(PathBuf),
+}
+
+impl<'a> Input<'a> {
+    fn new(
+        input: &'a Bound<'_, PyAny>,
+        spacing: [f64; 3],
+        origin: [f64; 3],
+        mapped: MappedAt,
+    ) -> PyResult<Self> {
+        match input.cast::<PyUntypedArray>() {
+            Ok(array) => Ok(Input::Array(array::volume(array, spacing, origin, mapped)?)),
+            Err(_) => Ok(Input::Path(input.extract::<PathBuf>()?)),
+        }
+    }
+
+    /// Opens the volume (a path is opened by the CLI's readers) and runs
+    /// `work` on it, all with the GIL released and Ctrl-C watched.
+    fn run<T: Send>(
+        &self,
+        py: Python<'_>,
+        work: impl FnOnce(&dyn SampleSource, Option<&Path>, &AtomicBool) -> tmc::Result<T> + Send,
+    ) -> PyResult<T> {
+        interrupt::run(py, |cancel| match self {
+            Input::Array(volume) => work(volume, None, cancel),
+            Input::Path(path) => {
+                tmc::files::check_input_kind(path)?;
+                let source = tmc::volume::open_cancellable(path, None, cancel)?;
+                work(source.as_ref(), Some(path), cancel)
+            }
+        })
+    }
+}
+
+/// The extraction parameters from the package's names.
+fn params(
+    iso: f64,
+    method: &str,
+    inside: &str,
+    close: bool,
+    threads: usize,
+) -> PyResult<ExtractParams> {
+    let method = match method {
+        "tmc" => Method::Tmc,
+        "mc" => Method::Mc,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown method '{other}' (expected 'tmc' or 'mc')"
+            )))
+        }
+    };
+    let inside = match inside {
+        "high" => Inside::High,
+        "low" => Inside::Low,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "unknown inside '{other}' (expected 'high' or 'low')"
+            )))
+        }
+    };
+    Ok(ExtractParams {
+        iso,
+        method,
+        inside,
+        close,
+        threads,
+    })
+}
+
+/// The checks the CLI makes before it extracts: a grid with cells (unless
+/// closed) inside the range of f32 coordinates, and an output that is
+/// neither the input nor a file the input reads.
+fn preflight(
+    source: &dyn SampleSource,
+    input: Option<&Path>,
+    params: &ExtractParams,
+    output: Option<&Path>,
+) -> tmc::Result<()> {
+    let name = input.unwrap_or(Path::new("array"));
+    tmc::stream::check_grid(name, source.grid(), params.close)?;
+    if let Some(output) = output {
+        for data in input.into_iter().chain(source.data_files()) {
+            tmc::files::check_distinct(data, output)?;
+        }
+        tmc::export::check_output_path(output)?;
+    }
+    Ok(())
+}
+
+/// The run as `tmc extract --json` reports it (the keys that do not depend
+/// on the process: no memory or byte counts).
+fn report(
+    input: Option<&Path>,
+    output: Option<&Path>,
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    stats: &tmc::Stats,
+) -> String {
+    let _ = (params, source);
+    let summary = stats;
+    let mut json = serde_json::to_value(&summary).unwrap_or_default();
+    if let Some(map) = json.as_object_mut() {
+        let path = |p: Option<&Path>| p.map(|p| p.display().to_string());
+        map.insert("input".into(), path(input).into());
+        map.insert("output".into(), path(output).into());
+    }
+    json.to_string()
+}
+
+/// Extracts the isosurface of `input` (a 3-D numpy array indexed
+/// `[z][y][x]`, or a path) into memory. Returns `(vertices, triangles,
+/// normals or None, report JSON)`; `index_order` gives scikit-image's
+/// arrays (see `output::Layout::Index`).
+#[pyfunction]
+#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, index_order))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn extract<'py>(
+    py: Python<'py>,
+    input: &Bound<'py, PyAny>,
+    iso: f64,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    mapped: MappedAt,
+    method: &str,
+    inside: &str,
+    close: bool,
+    threads: usize,
+    normals: bool,
+    index_order: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = params(iso, method, inside, close, threads)?;
+    let input = Input::new(input, spacing, origin, mapped)?;
+    let (mesh, normals, report) = input.run(py, |source, path, cancel| {
+        preflight(source, path, &params, None)?;
+        let options = PipelineOptions {
+            cancel: Some(cancel),
+            ..Default::default()
+        };
+        let mut builder = tmc::MeshBuilder::default();
+        let stats = tmc::extract_to(source, &params, &options, &mut builder)?;
+        let mesh = builder.into_mesh();
+        let normals = if normals {
+            Some(vec![[0.0f32; 3]; mesh.vertices.len()])
+        } else {
+            None
+        };
+        let report = report(path, None, source, &params, &stats);
+        Ok((mesh, normals, report))
+    })?;
+    let layout = if index_order {
+        Layout::Index
+    } else {
+        Layout::Tmc
+    };
+    let (v, t, n) = mesh_arrays(py, mesh, normals, layout)?;
+    (v, t, n, report).into_pyobject(py).map(|t| t.into_any())
+}
+
+/// Streams the isosurface of `input` (array or path) into the file
+/// `output`, whose extension chooses the format, without holding the mesh;
+/// the file appears whole or not at all. Returns the report JSON.
+#[pyfunction]
+#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn extract_to(
+    py: Python<'_>,
+    input: &Bound<'_, PyAny>,
+    output: PathBuf,
+    iso: f64,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    mapped: MappedAt,
+    method: &str,
+    inside: &str,
+    close: bool,
+    threads: usize,
+) -> PyResult<String> {
+    let params = params(iso, method, inside, close, threads)?;
+    let input = Input::new(input, spacing, origin, mapped)?;
+    input.run(py, |source, path, cancel| {
+        preflight(source, path, &params, Some(&output))?;
+        let options = PipelineOptions {
+            cancel: Some(cancel),
+            ..Default::default()
+        };
+        let mut sink = tmc::export::create_sink(&output)?;
+        let stats = tmc::extract_to(source, &params, &options, sink.as_mut())?;
+        Ok(report(path, Some(&output), source, &params, &stats))
+    })
+}
+
+/// The worker threads `threads` means (0: one per core), as reported.
+#[pyfunction]
+pub(crate) fn worker_threads(threads: usize) -> usize {
+    tmc::stream::threads::worker_threads(threads)
+}

@@ -1,0 +1,33 @@
+//! `tmc._tmc`: the Rust side of the Python package `tmc`.
+//!
+//! A thin layer over the `tmc` library: numpy arrays become
+//! [`tmc::volume::StridedVolume`]s without a copy ([`array`]), paths open
+//! with the CLI's readers, every extraction runs with the GIL released and
+//! stops on Ctrl-C ([`interrupt`]), and meshes go back to numpy without a
+//! copy where the types allow ([`output`]). The Python API (argument
+//! handling, `Mesh`, `marching_cubes`) is in `python/tmc/__init__.py`.
+
+#![deny(clippy::undocumented_unsafe_blocks)]
+
+mod array;
+mod errors;
+mod extract;
+mod interrupt;
+mod mesh_io;
+mod output;
+
+use pyo3::prelude::*;
+
+/// The extension module, imported by the `tmc` package as `tmc._tmc`.
+#[pymodule]
+fn _tmc(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(extract::extract, m)?)?;
+    m.add_function(wrap_pyfunction!(extract::extract_to, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_io::read_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_io::write_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_io::check_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_io::info, m)?)?;
+    m.add_function(wrap_pyfunction!(extract::worker_threads, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,69 @@
+//! Meshes read from and written to files, checked, and volumes described:
+//! the library's readers, writers, checker and `tmc info`.
+
+use crate::errors::OrPyErr;
+use crate::interrupt;
+use crate::output::{mesh_arrays, rows_from, Layout};
+use pyo3::prelude::*;
+use std::path::PathBuf;
+
+/// Reads a `.tmesh`, PLY, OBJ or OFF mesh: `(vertices, triangles)` in
+/// tmc's layout (float64, uint32).
+#[pyfunction]
+pub(crate) fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyAny>> {
+    let mesh = py.detach(|| tmc::check::read_mesh(&path)).or_py()?;
+    let (v, t, _) = mesh_arrays(py, mesh, None, Layout::Tmc)?;
+    (v, t).into_pyobject(py).map(|t| t.into_any())
+}
+
+/// A mesh from `(N, 3)` float64 vertices and `(M, 3)` uint32 triangles.
+fn mesh_from(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyResult<tmc::Mesh> {
+    let vertices: Vec<[f64; 3]> = rows_from(vertices, "vertices")?;
+    Ok(tmc::Mesh {
+        vertices: vertices.iter().map(|v| v.map(|c| c as f32)).collect(),
+        triangles: rows_from(triangles, "triangles")?,
+    })
+}
+
+/// Writes a mesh to `path` in the format its extension names (`.tmesh`,
+/// `.ply`, `.obj`, `.off`, `.stl`); the file appears whole or not at all.
+#[pyfunction]
+pub(crate) fn write_mesh(
+    py: Python<'_>,
+    path: PathBuf,
+    vertices: &Bound<'_, PyAny>,
+    triangles: &Bound<'_, PyAny>,
+) -> PyResult<()> {
+    let mesh = mesh_from(vertices, triangles)?;
+    py.detach(|| tmc::export::write_mesh(&path, &mesh)).or_py()
+}
+
+/// The report of `tmc check --json` for a mesh, as JSON text.
+#[pyfunction]
+pub(crate) fn check_mesh(
+    py: Python<'_>,
+    vertices: &Bound<'_, PyAny>,
+    triangles: &Bound<'_, PyAny>,
+) -> PyResult<String> {
+    let mesh = mesh_from(vertices, triangles)?;
+    let report = py.detach(|| tmc::check::check_mesh(&mesh));
+    serde_json::to_string(&report)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+}
+
+/// What `tmc info --json` prints for the volume at `path`, as JSON text.
+#[pyfunction]
+#[pyo3(signature = (path, bins = 1024, plane_step = 0))]
+pub(crate) fn info(
+    py: Python<'_>,
+    path: PathBuf,
+    bins: usize,
+    plane_step: usize,
+) -> PyResult<String> {
+    interrupt::run(py, |cancel| {
+        tmc::files::check_input_kind(&path)?;
+        let source = tmc::volume::open_cancellable(&path, None, cancel)?;
+        let info = (bins, plane_step, source.grid().dims);
+        serde_json::to_string(&info).map_err(|e| tmc::Error::Invalid(e.to_string()))
+    })
+}

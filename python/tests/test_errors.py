@@ -1,0 +1,92 @@
+"""Bad input raises ValueError or TypeError with the CLI's words, and never
+leaves anything at an output path."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import tmc
+
+GOOD = np.zeros((4, 5, 6), dtype=np.float32)
+
+
+@pytest.mark.parametrize(
+    "volume, error, words",
+    [
+        (np.zeros((4, 5)), ValueError, "expected a 3-D array"),
+        (np.zeros((2, 3, 4, 5)), ValueError, "expected a 3-D array"),
+        (np.zeros((4, 5, 6), dtype=np.complex64), TypeError, "unsupported dtype"),
+        (np.zeros((4, 5, 6), dtype=object), TypeError, "unsupported dtype"),
+        (np.zeros((4, 5, 6), dtype="U3"), TypeError, "unsupported dtype"),
+        (np.full((2, 2, 2), 2**40, dtype=np.int64), TypeError, "unsupported dtype"),
+        (np.zeros((0, 5, 6), dtype=np.uint8), ValueError, "contain a zero"),
+        (np.zeros((1, 5, 6), dtype=np.uint8), ValueError, "need at least 2 on every axis"),
+    ],
+)
+def test_bad_volumes(tmp_path, volume, error, words):
+    with pytest.raises(error, match=words):
+        tmc.extract(volume, 0.5)
+    with pytest.raises(error, match=words):
+        tmc.extract_to(volume, 0.5, tmp_path / "out.ply")
+    assert list(tmp_path.iterdir()) == []
+    if volume.ndim != 3 or volume.dtype.kind in "cOU":
+        with pytest.raises(error):
+            tmc.marching_cubes(volume, 0.5)
+
+
+@pytest.mark.parametrize("iso", [float("nan"), float("inf"), -float("inf")])
+def test_non_finite_isovalue(tmp_path, iso):
+    with pytest.raises(ValueError, match="the isovalue must be a finite number"):
+        tmc.extract(GOOD, iso)
+    with pytest.raises(ValueError, match="the isovalue must be a finite number"):
+        tmc.extract_to(GOOD, iso, tmp_path / "out.ply")
+    with pytest.raises(ValueError, match="finite"):
+        tmc.marching_cubes(GOOD, iso)
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "spacing", [(float("nan"), 1, 1), (1, 0, 1), (1, -2, 1), (1, 1, float("inf"))]
+)
+def test_bad_spacing(spacing):
+    with pytest.raises(ValueError, match="spacing .* must be finite and positive"):
+        tmc.extract(GOOD, 0.5, spacing=spacing)
+    with pytest.raises(ValueError, match="spacing"):
+        tmc.marching_cubes(GOOD, 0.5, spacing=spacing[::-1])
+
+
+def test_bad_arguments(tmp_path):
+    with pytest.raises(ValueError, match="origin"):
+        tmc.extract(GOOD, 0.5, origin=(0, float("nan"), 0))
+    with pytest.raises(ValueError, match="three numbers"):
+        tmc.extract(GOOD, 0.5, spacing=(1, 1))
+    with pytest.raises(ValueError, match="unknown method"):
+        tmc.extract(GOOD, 0.5, method="flying-edges")
+    with pytest.raises(ValueError, match="unknown inside"):
+        tmc.extract(GOOD, 0.5, inside="middle")
+    with pytest.raises(ValueError, match="threads"):
+        tmc.extract(GOOD, 0.5, threads=-1)
+    with pytest.raises(ValueError, match="header"):
+        tmc.extract(tmp_path / "v.npy", 0.5, spacing=(1, 1, 1))
+
+
+def test_bad_files(tmp_path):
+    with pytest.raises(FileNotFoundError):
+        tmc.extract(tmp_path / "missing.nrrd", 0.5)
+    junk = tmp_path / "junk.npy"
+    junk.write_bytes(b"not numpy at all")
+    with pytest.raises(ValueError, match="not a .npy file"):
+        tmc.extract(junk, 0.5)
+    with pytest.raises(ValueError):
+        tmc.extract_to(GOOD, 0.5, tmp_path / "out.unknown")
+    with pytest.raises(ValueError, match="is the input"):
+        np.save(tmp_path / "v.npy", GOOD)
+        tmc.extract_to(tmp_path / "v.npy", 0.5, tmp_path / "v.npy")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["junk.npy", "v.npy"]
+    with pytest.raises(FileNotFoundError):
+        tmc.read_mesh(tmp_path / "missing.ply")
+    with pytest.raises(ValueError):
+        tmc.read_mesh(junk)
+    with pytest.raises(FileNotFoundError):
+        tmc.info(tmp_path / "missing.nrrd")

@@ -1,0 +1,134 @@
+"""tmc.extract gives, vertex for vertex and triangle for triangle, the mesh
+the CLI writes for the same .npy file: every dtype, both memory orders,
+--inside low, --close and --method mc; and extract_to writes the CLI's bytes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import tmc
+from conftest import read_ply, run_cli
+
+DTYPES = ["u1", "i1", "u2", "i2", "u4", "i4", "f4", "f8"]
+
+
+def noise_volume(dtype: str, shape=(9, 10, 11), seed=7) -> np.ndarray:
+    """Smooth-ish noise in each type's range, with many ties at the isovalue
+    for the integer types (values 0..6, isovalue 3)."""
+    rng = np.random.default_rng(seed)
+    values = rng.integers(0, 7, size=shape)
+    if dtype.startswith("f"):
+        values = values + rng.random(shape) * 0.5
+    if dtype.startswith("i"):
+        values = values - 3
+    return values.astype(dtype)
+
+
+def iso_for(dtype: str) -> float:
+    return 0.0 if dtype.startswith("i") else 3.0
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize("order", ["C", "F"])
+@pytest.mark.parametrize(
+    "options",
+    [{}, {"inside": "low"}, {"close": True}, {"method": "mc"}],
+    ids=["default", "inside-low", "close", "mc"],
+)
+def test_same_mesh_as_the_cli(tmp_path, dtype, order, options):
+    volume = np.asarray(noise_volume(dtype), order=order)
+    assert volume.flags.f_contiguous == (order == "F")
+    npy = tmp_path / "v.npy"
+    np.save(npy, volume)
+    iso = iso_for(dtype)
+    args = ["extract", str(npy), "--iso", repr(iso), "-o", str(tmp_path / "cli.ply"), "--quiet"]
+    if options.get("inside") == "low":
+        args += ["--inside", "low"]
+    if options.get("close"):
+        args += ["--close"]
+    if options.get("method") == "mc":
+        args += ["--method", "mc"]
+    run_cli(*args)
+    vertices, triangles = read_ply(tmp_path / "cli.ply")
+    assert len(triangles) > 0
+
+    for given in (volume, str(npy)):  # the array in memory, and the file by path
+        mesh = tmc.extract(given, iso, **options)
+        assert mesh.vertices.dtype == np.float64 and mesh.vertices.shape[1] == 3
+        assert mesh.triangles.dtype == np.uint32
+        np.testing.assert_array_equal(mesh.vertices, vertices)
+        np.testing.assert_array_equal(mesh.triangles, triangles)
+        assert mesh.stats["triangles"] == len(triangles)
+        assert mesh.stats["iso"] == iso
+        assert mesh.stats["method"] == options.get("method", "tmc")
+        assert mesh.stats["inside"] == options.get("inside", "high")
+
+
+def test_views_and_memmaps_read_in_place_give_the_same_mesh(tmp_path):
+    base = noise_volume("f4", shape=(12, 13, 14))
+    expected = tmc.extract(np.ascontiguousarray(base[::-1, 2:, ::2]), 3.0)
+    # A reversed, offset, strided view: read through its strides.
+    view = base[::-1, 2:, ::2]
+    assert not view.flags.c_contiguous
+    got = tmc.extract(view, 3.0)
+    np.testing.assert_array_equal(got.vertices, expected.vertices)
+    np.testing.assert_array_equal(got.triangles, expected.triangles)
+    # The same view of a memmap: tmc maps the file itself.
+    path = tmp_path / "v.npy"
+    np.save(path, base)
+    mapped = np.load(path, mmap_mode="r")
+    got = tmc.extract(mapped[::-1, 2:, ::2], 3.0)
+    np.testing.assert_array_equal(got.vertices, expected.vertices)
+    np.testing.assert_array_equal(got.triangles, expected.triangles)
+    # A big-endian array and a bool mask.
+    got = tmc.extract(view.astype(">f4"), 3.0)
+    np.testing.assert_array_equal(got.triangles, expected.triangles)
+    mask = base > 3.0
+    np.testing.assert_array_equal(
+        tmc.extract(mask, 0.5).triangles, tmc.extract(mask.astype(np.uint8), 0.5).triangles
+    )
+
+
+def test_spacing_and_origin_are_x_y_z(tmp_path):
+    volume = noise_volume("u1")
+    plain = tmc.extract(volume, 3.0)
+    placed = tmc.extract(volume, 3.0, spacing=(0.5, 2.0, 3.0), origin=(10.0, -1.0, 4.0))
+    np.testing.assert_allclose(
+        placed.vertices, plain.vertices * [0.5, 2.0, 3.0] + [10.0, -1.0, 4.0], rtol=1e-6
+    )
+    np.testing.assert_array_equal(placed.triangles, plain.triangles)
+
+
+@pytest.mark.parametrize("suffix", [".ply", ".tmesh", ".obj", ".off", ".stl"])
+def test_extract_to_writes_what_the_cli_writes(tmp_path, suffix):
+    volume = noise_volume("i2")
+    npy = tmp_path / "v.npy"
+    np.save(npy, volume)
+    run_cli("extract", str(npy), "--iso", "0", "--close", "-o", str(tmp_path / f"cli{suffix}"), "--quiet")
+    report = tmc.extract_to(npy, 0.0, tmp_path / f"py{suffix}", close=True)
+    assert (tmp_path / f"py{suffix}").read_bytes() == (tmp_path / f"cli{suffix}").read_bytes()
+    assert report["triangles"] > 0 and report["close"] is True
+    # From the array in memory too.
+    tmc.extract_to(volume, 0.0, tmp_path / f"array{suffix}", close=True)
+    assert (tmp_path / f"array{suffix}").read_bytes() == (tmp_path / f"cli{suffix}").read_bytes()
+
+
+def test_write_read_and_check_round_trip(tmp_path):
+    mesh = tmc.extract(noise_volume("u2"), 3.0, close=True)
+    for suffix in (".ply", ".tmesh", ".obj", ".off"):
+        mesh.write(tmp_path / f"m{suffix}")
+        back = tmc.read_mesh(tmp_path / f"m{suffix}")
+        np.testing.assert_array_equal(back.triangles, mesh.triangles)
+        np.testing.assert_allclose(back.vertices, mesh.vertices, rtol=1e-6)
+    report = mesh.check()
+    cli = __import__("json").loads(run_cli("check", str(tmp_path / "m.ply"), "--json").stdout)
+    assert report == cli
+    assert report["boundary_edges"] == 0 and report["non_manifold_edges"] == 0
+
+
+def test_info_is_the_cli_info(tmp_path):
+    npy = tmp_path / "v.npy"
+    np.save(npy, noise_volume("f4"))
+    cli = __import__("json").loads(run_cli("info", str(npy), "--json").stdout)
+    assert tmc.info(npy) == cli

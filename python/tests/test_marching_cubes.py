@@ -1,0 +1,171 @@
+"""tmc.marching_cubes against skimage.measure.marching_cubes: the same
+surface (vertex positions up to order), the same winding, normals that
+point the same way, and a closed manifold where scikit-image's is not."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import tmc
+from conftest import SHARED_DATA, edge_counts, gyroid, is_closed_manifold, sphere
+
+skimage_measure = pytest.importorskip("skimage.measure")
+spatial = pytest.importorskip("scipy.spatial")
+
+
+def nearest(points: np.ndarray, to: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance from each of `points` to the nearest of `to`, and its index."""
+    return spatial.cKDTree(to).query(points)
+
+
+def compare(volume, level, spacing=(1.0, 1.0, 1.0), method="lewiner", gradient_direction="descent"):
+    """Both libraries on the same array; returns what the tests look at."""
+    ours = tmc.marching_cubes(
+        volume, level, spacing=spacing, method=method, gradient_direction=gradient_direction
+    )
+    theirs = skimage_measure.marching_cubes(
+        volume, level, spacing=spacing, method=method, gradient_direction=gradient_direction
+    )
+    return ours, theirs
+
+
+def winding(verts, faces, normals):
+    """Mean sign of each face's right-hand normal against the vertex normals."""
+    t = verts[faces]
+    face_normal = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    return float(np.sign((face_normal * normals[faces].sum(axis=1)).sum(axis=1)).mean())
+
+
+def angles_degrees(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    cos = (a * b).sum(axis=1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1))
+    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def assert_same_surface(ours, theirs, exact_fraction=0.99):
+    (v, f, n, values), (sv, sf, sn, _) = ours, theirs
+    assert v.dtype == np.float32 and f.dtype == np.int32
+    assert n.dtype == np.float32 and values.shape == (len(v),)
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-5)
+    # Edge vertices are where both put them; TMC's extra interior vertices
+    # and Lewiner's are within a cell of the other's.
+    distance, index = nearest(v, sv)
+    assert (distance < 1e-4).mean() >= exact_fraction, (distance < 1e-4).mean()
+    assert distance.max() < 1.0
+    back, _ = nearest(sv, v)
+    assert (back < 1e-4).mean() >= exact_fraction
+    # Normals agree in direction where the vertices coincide.
+    same = distance < 1e-4
+    angle = angles_degrees(n[same], sn[index[same]])
+    assert np.median(angle) < 2.0 and np.percentile(angle, 99) < 30.0, (
+        np.median(angle),
+        np.percentile(angle, 99),
+    )
+    # The faces are wound the same way relative to the normals.
+    assert winding(v, f, n) == pytest.approx(winding(sv, sf, sn), abs=0.02)
+
+
+@pytest.mark.parametrize("gradient_direction", ["descent", "ascent"])
+def test_sphere(gradient_direction):
+    volume = sphere()
+    if gradient_direction == "ascent":
+        volume = -volume
+    ours, theirs = compare(volume, 0.0, gradient_direction=gradient_direction)
+    assert_same_surface(ours, theirs, exact_fraction=1.0)
+    assert is_closed_manifold(ours[1])
+
+
+def test_sphere_lorensen_is_plain_mc_and_spacing_scales_index_axes():
+    volume = sphere(dtype=np.float64)
+    ours, theirs = compare(volume, 0.0, spacing=(1.0, 1.0, 1.0), method="lorensen")
+    assert_same_surface(ours, theirs, exact_fraction=1.0)
+    scaled = tmc.marching_cubes(volume, 0.0, spacing=(0.5, 2.0, 3.0))[0]
+    np.testing.assert_allclose(scaled, ours[0] * [0.5, 2.0, 3.0], rtol=1e-6)
+
+
+def test_gyroid():
+    ours, theirs = compare(gyroid(), 0.0)
+    assert_same_surface(ours, theirs)
+    assert edge_counts(ours[1])["non_manifold"] == 0
+
+
+@pytest.mark.parametrize(
+    "name, level",
+    [("headsq_quarter.nrrd", 500.0), ("cthead.nrrd", 1600.0), ("engine.nrrd", 80.0)],
+)
+def test_real_ct(name, level):
+    nrrd = pytest.importorskip("nrrd")
+    path = SHARED_DATA / name
+    if not path.exists():
+        pytest.skip(f"{path} not present (../shared/data)")
+    data, _ = nrrd.read(str(path), index_order="C")  # [z][y][x]
+    ours, theirs = compare(data, level)
+    assert_same_surface(ours, theirs)
+    counts = edge_counts(ours[1])
+    assert counts["non_manifold"] == 0 and counts["inconsistent"] == 0
+
+
+def padded(interior: np.ndarray) -> np.ndarray:
+    """`interior` inside a border of zeros: every surface is closed."""
+    return np.pad(interior, 1)
+
+
+def test_closed_manifold_where_scikit_image_is_not():
+    """Ties on integer data (values 0, 1, 2 and level 1) and the case-4
+    tunnel: tmc's surface is a closed oriented manifold, scikit-image's
+    Lewiner surface of the same arrays is not."""
+    rng = np.random.default_rng(3)
+    ties = padded(rng.integers(0, 3, size=(14, 15, 16)).astype(np.int16))
+    # Two diagonal corners of one cell inside, with a body saddle joining
+    # them (the tunnel of MC case 4: the trilinear interpolant's surface is
+    # one tube).
+    tunnel = np.zeros((4, 4, 4), dtype=np.float32)
+    tunnel[1:3, 1:3, 1:3] = -1.0
+    tunnel[1, 1, 1] = tunnel[2, 2, 2] = 1.0
+    tunnel[1, 2, 2] = tunnel[2, 1, 1] = -0.02
+    skimage_failures = 0
+    for volume, level in [(ties, 1.0), (tunnel, 0.0)]:
+        v, f, n, _ = tmc.marching_cubes(volume, level)
+        assert is_closed_manifold(f), edge_counts(f)
+        _, sf, _, _ = skimage_measure.marching_cubes(volume, level)
+        skimage_failures += not is_closed_manifold(sf)
+    assert skimage_failures >= 1
+
+
+def test_step_size_is_a_strided_view():
+    volume = sphere()
+    v, f, _, _ = tmc.marching_cubes(volume, 0.0, step_size=2)
+    expected = tmc.marching_cubes(np.ascontiguousarray(volume[::2, ::2, ::2]), 0.0, spacing=(2, 2, 2))
+    np.testing.assert_array_equal(v, expected[0])
+    np.testing.assert_array_equal(f, expected[1])
+
+
+def test_allow_degenerate_false_drops_collapsed_triangles():
+    volume = np.zeros((6, 6, 6), dtype=np.uint8)
+    volume[2:4, 2:4, 2:4] = 2
+    volume[3, 3, 3] = 1  # ties at the level
+    v, f, n, values = tmc.marching_cubes(volume, 1.0, allow_degenerate=False)
+    t = v[f]
+    area = np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
+    assert len(f) > 0 and (area > 0).all()
+    assert len(np.unique(v, axis=0)) == len(v)
+    assert len(n) == len(v) == len(values)
+
+
+def test_level_defaults_to_mid_range_and_errors_match_scikit_image():
+    volume = sphere()
+    v, _, _, _ = tmc.marching_cubes(volume)
+    mid = 0.5 * (float(volume.min()) + float(volume.max()))
+    np.testing.assert_array_equal(v, tmc.marching_cubes(volume, mid)[0])
+    with pytest.raises(ValueError, match="within volume data range"):
+        tmc.marching_cubes(volume, 1e6)
+    with pytest.raises(RuntimeError, match="No surface found"):
+        tmc.marching_cubes(np.zeros((4, 4, 4)), 0.0)
+    with pytest.raises(ValueError, match="gradient_direction"):
+        tmc.marching_cubes(volume, 0.0, gradient_direction="up")
+    with pytest.raises(ValueError, match="step_size"):
+        tmc.marching_cubes(volume, 0.0, step_size=0)
+    with pytest.raises(ValueError, match="mask"):
+        tmc.marching_cubes(volume, 0.0, mask=volume > 5)
+    full = tmc.marching_cubes(volume, 0.0, mask=np.ones(volume.shape, bool))
+    np.testing.assert_array_equal(full[0], tmc.marching_cubes(volume, 0.0)[0])

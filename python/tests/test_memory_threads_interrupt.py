@@ -1,0 +1,150 @@
+"""What the package promises beyond the mesh: a memmap far larger than the
+memory it may use extracts in bounded memory, the GIL is released while it
+works, `threads` does not change the output, and Ctrl-C stops an extraction
+within half a second with KeyboardInterrupt and nothing written."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tmc
+from conftest import sphere
+
+
+def run_python(code: str, timeout: float = 600) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+
+
+def test_a_4_gib_memmap_extracts_in_bounded_memory(tmp_path):
+    """A 4 GiB uint8 memmap (2048 x 2048 x 1024, a ball in the middle): the
+    extraction's peak resident memory (VmHWM, which counts mapped file
+    pages too) stays far below the file's size."""
+    path = tmp_path / "big.u8"
+    shape = (1024, 2048, 2048)
+    volume = np.memmap(path, dtype=np.uint8, mode="w+", shape=shape)
+    z, y, x = np.ogrid[448:576, 960:1088, 960:1088]
+    volume[448:576, 960:1088, 960:1088] = (
+        ((z - 512.0) ** 2 + (y - 1024.0) ** 2 + (x - 1024.0) ** 2) < 60.0**2
+    ) * 200
+    volume.flush()
+    del volume
+    assert path.stat().st_size == 4 << 30
+    done = run_python(
+        f"""
+        import numpy as np, resource, tmc
+        volume = np.memmap({str(path)!r}, dtype=np.uint8, mode="r", shape={shape!r})
+        mesh = tmc.extract(volume, 100.0)
+        peak = int(open("/proc/self/status").read().split("VmHWM:")[1].split()[0]) * 1024
+        print(len(mesh.triangles), peak)
+        """
+    )
+    assert done.returncode == 0, done.stderr
+    triangles, peak = map(int, done.stdout.split())
+    assert triangles > 10_000
+    print(f"4 GiB memmap: {triangles} triangles, peak resident {peak / 2**20:.0f} MiB")
+    assert peak < 1 << 30, f"peak resident memory {peak / 2**20:.0f} MiB"
+
+
+def test_threads_do_not_change_the_mesh():
+    volume = sphere(shape=(60, 61, 62), radius=25.0)
+    one = tmc.extract(volume, 0.0, threads=1)
+    two = tmc.extract(volume, 0.0, threads=2)
+    np.testing.assert_array_equal(one.vertices, two.vertices)
+    np.testing.assert_array_equal(one.triangles, two.triangles)
+
+
+def test_the_gil_is_released_while_extracting():
+    """Python code in another thread keeps running during an extraction
+    (with the GIL held it could not run at all until the call returned)."""
+    rng = np.random.default_rng(0)
+    volume = rng.random((200, 200, 200), dtype=np.float32)
+    ticks = []
+    finished = threading.Event()
+
+    def count():
+        while not finished.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    time.sleep(0.05)
+    start = time.perf_counter()
+    tmc.extract(volume, 0.5, threads=1)
+    end = time.perf_counter()
+    finished.set()
+    counter.join()
+    during = [t for t in ticks if start < t < end]
+    assert end - start > 0.2, "the extraction was too short to tell"
+    # With the GIL held, no tick could fall inside the call.
+    assert len(during) > 10, (len(during), end - start)
+
+
+def test_two_threads_extract_at_once_and_agree():
+    volume = sphere(shape=(80, 81, 82), radius=35.0)
+    expected = tmc.extract(volume, 0.0, threads=1)
+    results = [None, None]
+
+    def work(i):
+        results[i] = tmc.extract(volume, 0.0, threads=1)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for mesh in results:
+        np.testing.assert_array_equal(mesh.triangles, expected.triangles)
+
+
+@pytest.mark.parametrize("call", ["extract", "extract_to"])
+def test_ctrl_c_stops_within_half_a_second(tmp_path, call):
+    out = tmp_path / "out.ply"
+    target = f"tmc.extract_to(volume, 0.5, {str(out)!r})" if call == "extract_to" else "tmc.extract(volume, 0.5)"
+    child = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            textwrap.dedent(
+                f"""
+                import sys, time, numpy as np, tmc
+                volume = np.random.default_rng(1).random((400, 400, 400), dtype=np.float32)
+                print("start", flush=True)
+                try:
+                    {target}
+                    print("finished", flush=True)
+                except KeyboardInterrupt:
+                    print("interrupted", time.time(), flush=True)
+                """
+            ),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    assert child.stdout.readline().strip() == "start"
+    time.sleep(1.0)
+    sent = time.time()
+    child.send_signal(signal.SIGINT)
+    out_text, err = child.communicate(timeout=60)
+    words = out_text.split()
+    assert words[0] == "interrupted", (out_text, err)
+    latency = float(words[1]) - sent
+    print(f"{call}: KeyboardInterrupt {latency * 1000:.0f} ms after SIGINT")
+    assert latency < 0.5
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,483 @@
+"""tmc: topologically correct and manifold isosurfaces from numpy arrays and volume files.
+
+tmc extracts isosurfaces with R. Grosso's hybrid marching cubes (2016): every
+surface has the topology of the trilinear interpolant and is a manifold, and
+an extraction streams a volume of any size slab by slab. This package is the
+``tmc`` Rust library in-process, with the GIL released while it works.
+
+Two conventions live side by side:
+
+* :func:`marching_cubes` is a drop-in for ``skimage.measure.marching_cubes``:
+  the same arguments and the same ``(verts, faces, normals, values)``, with
+  vertices in array index order (``volume[i, j, k]`` gives ``(i, j, k)``).
+* :func:`extract`, :func:`extract_to`, :func:`read_mesh` and :func:`info`
+  follow the ``tmc`` command line: a 3-D array is indexed ``[z][y][x]`` (the
+  last axis is x, as in a ``.npy`` file), vertices are ``[x, y, z]`` in
+  physical coordinates, and a sample is inside iff its value is above the
+  isovalue (``inside="low"`` flips that).
+"""
+
+from __future__ import annotations
+
+import json
+import mmap
+import os
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _tmc
+
+__all__ = [
+    "Mesh",
+    "marching_cubes",
+    "extract",
+    "extract_to",
+    "read_mesh",
+    "info",
+    "__version__",
+]
+
+__version__: str = _tmc.__version__
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+# The dtypes the library reads in place (the CLI's: u1 i1 u2 i2 u4 i4 f4 f8).
+_READ_IN_PLACE = {np.dtype(t).str[1:] for t in ("u1", "i1", "u2", "i2", "u4", "i4", "f4", "f8")}
+
+
+class Mesh:
+    """A triangle mesh made or read by tmc.
+
+    Attributes
+    ----------
+    vertices : (N, 3) float64 ndarray
+        Vertex positions ``[x, y, z]`` in physical coordinates.
+    triangles : (M, 3) uint32 ndarray
+        Vertex indices, counter-clockwise seen from outside (the right-hand
+        normal points out of the object).
+    normals : (N, 3) float32 ndarray or None
+        Unit outward normals from the field's gradient (``extract(...,
+        normals=True)``), else ``None``.
+    stats : dict
+        What ``tmc extract --json`` reports: the parameters, the grid, the
+        paper's Table 1 counts, sizes and timings; empty for a mesh read
+        from a file.
+    """
+
+    __slots__ = ("vertices", "triangles", "normals", "stats")
+
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        triangles: np.ndarray,
+        normals: Optional[np.ndarray] = None,
+        stats: Optional[Dict[str, Any]] = None,
+    ) -> None:
+        """Wraps vertex and triangle arrays (and optional normals and stats)."""
+        self.vertices = vertices
+        self.triangles = triangles
+        self.normals = normals
+        self.stats = {} if stats is None else stats
+
+    def __repr__(self) -> str:
+        return (
+            f"Mesh({len(self.vertices)} vertices, {len(self.triangles)} triangles"
+            f"{', normals' if self.normals is not None else ''})"
+        )
+
+    def write(self, path: PathLike) -> None:
+        """Writes the mesh to ``path`` in the format its extension names.
+
+        ``.tmesh`` (tmc's chunked format), ``.ply`` (binary), ``.obj``,
+        ``.off`` or ``.stl``. The file appears whole or not at all: a failed
+        write leaves nothing at ``path``. Normals are not written yet.
+        """
+        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
+        _tmc.write_mesh(os.fspath(path), vertices, triangles)
+
+    def check(self) -> Dict[str, Any]:
+        """The report of ``tmc check --json``: manifoldness, orientation,
+        boundary, components and genus, computed from the indices alone."""
+        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
+        return json.loads(_tmc.check_mesh(vertices, triangles))
+
+
+def _mapped_file(array: np.ndarray) -> Optional[Tuple[str, int]]:
+    """``(file, byte offset of array[0, 0, 0])`` when ``array`` views a
+    read-only or shared ``numpy.memmap``, so that tmc maps the file itself
+    (and can drop the pages of finished planes); ``None`` otherwise."""
+    root = array
+    while isinstance(root, np.ndarray) and not isinstance(root.base, mmap.mmap):
+        root = root.base
+    if not isinstance(root, np.memmap) or getattr(root, "filename", None) is None:
+        return None
+    # A copy-on-write map ("c") may hold changes that are not in the file.
+    if getattr(root, "mode", "c") not in ("r", "r+", "w+"):
+        return None
+    start = array.__array_interface__["data"][0]
+    root_start = root.__array_interface__["data"][0]
+    return os.fspath(root.filename), int(root.offset) + (start - root_start)
+
+
+def _as_samples(volume: Any) -> np.ndarray:
+    """``volume`` as an array the library reads in place: the same array
+    for the dtypes tmc reads (any order, any strides), a view for ``bool``,
+    an exact copy for wider integers that fit 32 bits and for float16;
+    ``TypeError`` for anything else."""
+    array = volume if isinstance(volume, np.ndarray) else np.asarray(volume)
+    dtype = array.dtype
+    if dtype.str[1:] in _READ_IN_PLACE:
+        return array
+    if dtype.kind == "b":
+        return array.view(np.uint8)
+    if dtype.kind in "iu" and array.size:
+        low, high = array.min(), array.max()
+        for narrow in (np.int32, np.uint32):
+            info = np.iinfo(narrow)
+            if info.min <= low and high <= info.max:
+                return array.astype(narrow)
+    if dtype.kind == "f" and dtype.itemsize < 4:
+        return array.astype(np.float32)
+    raise TypeError(
+        f"unsupported dtype '{dtype.str}' (expected u1, i1, u2, i2, u4, i4, f4 or f8"
+        "; 64-bit integers are taken when their values fit 32 bits)"
+    )
+
+
+def _volume_args(volume: Any, spacing: Any, origin: Any) -> Tuple[Any, Any, Any, Any]:
+    """The input, spacing, origin and mapped-file arguments of the library
+    calls for an array or a path."""
+    if isinstance(volume, (str, os.PathLike)):
+        if spacing is not None or origin is not None:
+            raise ValueError(
+                "spacing and origin of a volume file come from its header; "
+                "pass them only with an array"
+            )
+        return os.fspath(volume), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
+    array = _as_samples(volume)
+    spacing = _triple(spacing, "spacing", 1.0)
+    origin = _triple(origin, "origin", 0.0)
+    return array, spacing, origin, _mapped_file(array)
+
+
+def _triple(value: Any, name: str, default: float) -> Tuple[float, float, float]:
+    """Three floats (``[x, y, z]``), or ``ValueError``."""
+    if value is None:
+        return (default, default, default)
+    try:
+        values = tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be three numbers, not {value!r}") from None
+    if len(values) != 3:
+        raise ValueError(f"{name} must be three numbers, not {len(values)}")
+    return values  # type: ignore[return-value]
+
+
+def _method(method: str) -> str:
+    """The library's method name for tmc's or scikit-image's."""
+    names = {"tmc": "tmc", "lewiner": "tmc", "mc": "mc", "lorensen": "mc"}
+    if method not in names:
+        raise ValueError(
+            f"unknown method {method!r} (expected 'tmc' or 'mc'; "
+            "scikit-image's 'lewiner' means 'tmc' and 'lorensen' means 'mc')"
+        )
+    return names[method]
+
+
+def _threads(threads: int) -> int:
+    threads = int(threads)
+    if threads < 0:
+        raise ValueError(f"threads must be 0 (all cores) or more, not {threads}")
+    return threads
+
+
+def extract(
+    volume: Any,
+    iso: float,
+    *,
+    spacing: Optional[Sequence[float]] = None,
+    origin: Optional[Sequence[float]] = None,
+    method: str = "tmc",
+    inside: str = "high",
+    close: bool = False,
+    threads: int = 0,
+    normals: bool = False,
+) -> Mesh:
+    """Extracts the isosurface at ``iso`` into a :class:`Mesh`, with the
+    ``tmc extract`` conventions.
+
+    Parameters
+    ----------
+    volume : ndarray or path
+        A 3-D array indexed ``[z][y][x]`` (u8, i8, u16, i16, u32, i32, f32 or
+        f64; any order, any strides, a ``numpy.memmap``: read in place, not
+        copied), or the path of any volume file ``tmc extract`` reads.
+    iso : float
+        The isovalue (finite). A sample is inside iff its value is above it.
+    spacing, origin : 3 floats, optional
+        ``[x, y, z]`` sample spacing and first-sample position of an array
+        (default 1 and 0). A file's come from its header.
+    method : {"tmc", "mc"}
+        Grosso's topologically correct hybrid marching cubes, or standard
+        marching cubes.
+    inside : {"high", "low"}
+        Which side of ``iso`` is the object ("low" for distance fields).
+    close : bool
+        Treat everything outside the volume as outside the object, so that
+        every surface is closed.
+    threads : int
+        Worker threads; 0 uses every core.
+    normals : bool
+        Also compute unit outward vertex normals from the field's gradient.
+
+    Returns
+    -------
+    Mesh
+        Vertices ``[x, y, z]`` (float64, physical coordinates), triangles
+        (uint32), normals if asked for, and ``stats``.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Bad input or arguments, with the CLI's words. ``OSError`` for a file
+        that cannot be read; ``KeyboardInterrupt`` on Ctrl-C.
+    """
+    array, spacing_, origin_, mapped = _volume_args(volume, spacing, origin)
+    vertices, triangles, vertex_normals, report = _tmc.extract(
+        array,
+        float(iso),
+        spacing_,
+        origin_,
+        mapped,
+        _method(method),
+        inside,
+        bool(close),
+        _threads(threads),
+        bool(normals),
+        False,
+    )
+    return Mesh(vertices, triangles, vertex_normals, json.loads(report))
+
+
+def extract_to(
+    volume: Any,
+    iso: float,
+    output: PathLike,
+    *,
+    spacing: Optional[Sequence[float]] = None,
+    origin: Optional[Sequence[float]] = None,
+    method: str = "tmc",
+    inside: str = "high",
+    close: bool = False,
+    threads: int = 0,
+) -> Dict[str, Any]:
+    """Streams the isosurface at ``iso`` into the file ``output`` without
+    holding the mesh in memory (the CLI's memory bound, for volumes of any
+    size).
+
+    ``output``'s extension chooses the format: ``.tmesh``, ``.ply``,
+    ``.obj``, ``.off`` or ``.stl``. The file appears whole or not at all (an
+    error or Ctrl-C leaves nothing at ``output``). The other arguments are
+    those of :func:`extract`. Returns the run's report (``tmc extract
+    --json``'s keys that describe the run).
+    """
+    array, spacing_, origin_, mapped = _volume_args(volume, spacing, origin)
+    report = _tmc.extract_to(
+        array,
+        os.fspath(output),
+        float(iso),
+        spacing_,
+        origin_,
+        mapped,
+        _method(method),
+        inside,
+        bool(close),
+        _threads(threads),
+    )
+    return json.loads(report)
+
+
+def read_mesh(path: PathLike) -> Mesh:
+    """Reads a ``.tmesh``, PLY, OBJ or OFF file into a :class:`Mesh`
+    (vertices float64, triangles uint32; polygons are refused)."""
+    vertices, triangles = _tmc.read_mesh(os.fspath(path))
+    return Mesh(vertices, triangles)
+
+
+def info(path: PathLike, *, bins: int = 1024, plane_step: int = 0) -> Dict[str, Any]:
+    """What ``tmc info --json`` prints for a volume file: format, grid,
+    index-to-world affine, value range, NaN count, and Otsu's suggested
+    isovalues (``suggested_iso``, ``suggested_iso_single``)."""
+    return json.loads(_tmc.info(os.fspath(path), int(bins), int(plane_step)))
+
+
+def marching_cubes(
+    volume: Any,
+    level: Optional[float] = None,
+    *,
+    spacing: Sequence[float] = (1.0, 1.0, 1.0),
+    gradient_direction: str = "descent",
+    step_size: int = 1,
+    allow_degenerate: bool = True,
+    method: str = "tmc",
+    mask: Optional[np.ndarray] = None,
+    threads: int = 0,
+) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """scikit-image's ``marching_cubes``, with tmc's topology and speed.
+
+    ``from tmc import marching_cubes`` replaces ``from
+    skimage.measure import marching_cubes``: same arguments, same return
+    values, and a mesh with the topology of the trilinear interpolant that
+    is a manifold (closed where the surface does not leave the volume).
+
+    Parameters
+    ----------
+    volume : (M, N, P) ndarray
+        The samples; read in place for u8, i8, u16, i16, u32, i32, f32 and
+        f64 (any order or strides, ``numpy.memmap`` included).
+    level : float, optional
+        The isovalue; default the mean of the volume's minimum and maximum.
+    spacing : 3 floats
+        Sample spacing along the array's axes (M, N, P).
+    gradient_direction : {"descent", "ascent"}
+        "descent": the object has values above ``level``; "ascent": below.
+        Decides the faces' winding (as in scikit-image) and which side ties
+        and ambiguous cells join (tmc's inside).
+    step_size : int
+        Use every ``step_size``-th sample along each axis (a view, no copy).
+    allow_degenerate : bool
+        If False, merge vertices at equal positions and drop the triangles
+        that collapse (as scikit-image does).
+    method : {"tmc", "lewiner", "mc", "lorensen"}
+        "tmc" (alias "lewiner", scikit-image's default, which aims at the same
+        topology) or standard marching cubes ("mc", alias "lorensen").
+    mask : ndarray of bool, optional
+        Accepted only when it is all True: tmc cannot skip cells without
+        changing the surface, and says so rather than ignore the mask.
+    threads : int
+        Worker threads (tmc's own argument); 0 uses every core.
+
+    Returns
+    -------
+    verts : (V, 3) float32
+        Vertex positions in array index order, times ``spacing``.
+    faces : (F, 3) int32
+        Triangles, wound as scikit-image winds them for ``gradient_direction``.
+    normals : (V, 3) float32
+        Unit normals from the field's gradient, pointing toward lower values
+        (as scikit-image's, whatever ``gradient_direction``), in physical
+        space: with anisotropic spacing they are the true surface normals,
+        where scikit-image's ignore the spacing.
+    values : (V,) float32
+        The largest sample of the cell each vertex lies in (scikit-image's
+        "maximum value of the data in the local region near each vertex").
+
+    Raises
+    ------
+    ValueError
+        Bad arguments, a level outside the data range, a mask with False.
+    RuntimeError
+        No surface at ``level`` (as scikit-image).
+    """
+    array = _as_samples(volume)
+    if array.ndim != 3:
+        raise ValueError(
+            f"expected a 3-D array of shape (nz, ny, nx), found shape {list(array.shape)}"
+        )
+    if len(spacing) != 3:
+        raise ValueError("`spacing` must consist of three floats.")
+    step = int(step_size)
+    if step < 1:
+        raise ValueError("step_size must be at least one.")
+    if gradient_direction == "descent":
+        inside = "high"
+    elif gradient_direction == "ascent":
+        inside = "low"
+    else:
+        raise ValueError(
+            f"Incorrect input {gradient_direction} in `gradient_direction`, see docstring."
+        )
+    if mask is not None:
+        mask = np.asarray(mask)
+        if mask.shape != array.shape:
+            raise ValueError("volume and mask must have the same shape.")
+        if not mask.all():
+            raise ValueError(
+                "mask: tmc extracts whole volumes and cannot skip the masked cells "
+                "without changing the surface; crop the volume instead "
+                "(volume[z0:z1, y0:y1, x0:x1] is a view, not a copy)"
+            )
+    if level is None:
+        level = 0.5 * (float(array.min()) + float(array.max()))
+    spacing_ijk = tuple(float(s) * step for s in spacing)
+    if step > 1:
+        array = array[::step, ::step, ::step]
+    verts, faces, normals, _ = _tmc.extract(
+        array,
+        float(level),
+        spacing_ijk[::-1],
+        (0.0, 0.0, 0.0),
+        _mapped_file(array),
+        _method(method),
+        inside,
+        False,
+        _threads(threads),
+        True,
+        True,
+    )
+    if len(faces) == 0:
+        if not float(array.min()) <= float(level) <= float(array.max()):
+            raise ValueError("Surface level must be within volume data range.")
+        raise RuntimeError("No surface found at the given iso value.")
+    if inside == "low":
+        np.negative(normals, out=normals)
+    values = _cell_maxima(array, verts, spacing_ijk)
+    if not allow_degenerate:
+        verts, faces, normals, values = _without_degenerate(verts, faces, normals, values)
+    return verts, faces, normals, values
+
+
+def _cell_maxima(array: np.ndarray, verts: np.ndarray, spacing: Tuple[float, ...]) -> np.ndarray:
+    """The largest of the 8 samples of the cell each vertex lies in."""
+    shape = np.array(array.shape)
+    cell = np.floor(verts / np.asarray(spacing, dtype=np.float32)).astype(np.intp)
+    np.clip(cell, 0, np.maximum(shape - 2, 0), out=cell)
+    i, j, k = cell.T
+    values = None
+    for di in (0, 1):
+        for dj in (0, 1):
+            for dk in (0, 1):
+                corner = array[
+                    np.minimum(i + di, shape[0] - 1),
+                    np.minimum(j + dj, shape[1] - 1),
+                    np.minimum(k + dk, shape[2] - 1),
+                ]
+                values = corner if values is None else np.maximum(values, corner)
+    return np.asarray(values, dtype=np.float32)
+
+
+def _without_degenerate(
+    verts: np.ndarray, faces: np.ndarray, normals: np.ndarray, values: np.ndarray
+) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """scikit-image's ``allow_degenerate=False``: vertices at equal
+    positions merged, triangles with a repeated vertex dropped, unused
+    vertices removed (first occurrence kept, in order)."""
+    _, first, inverse = np.unique(verts, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    merged = first[inverse][faces]
+    keep = (merged[:, 0] != merged[:, 1]) & (merged[:, 1] != merged[:, 2]) & (
+        merged[:, 0] != merged[:, 2]
+    )
+    merged = merged[keep]
+    used = np.unique(merged)
+    renumber = np.full(len(verts), -1, dtype=np.int64)
+    renumber[used] = np.arange(len(used))
+    return (
+        verts[used],
+        renumber[merged].astype(np.int32),
+        normals[used],
+        values[used],
+    )

@@ -1,0 +1,67 @@
+//! [`Cancellable`]: a source that stops giving planes once the cancel flag
+//! is set, so that a slab in progress stops at its next cell layer rather
+//! than at its end (Ctrl-C must stop a run within half a second even when
+//! one slab of a noisy volume takes longer than that).
+
+use crate::volume::{Access, LentPlane, SampleSource, ScalarType};
+use crate::{Error, Grid, Result};
+use std::ops::Range;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Wraps a source: once `cancel` is set, [`SampleSource::read_plane`]
+/// fails with [`Error::Interrupted`] and no plane is lent (so the slab loop
+/// reads, and fails). Otherwise every call goes to the wrapped source, so
+/// the output is unchanged; the cost is one relaxed load per plane.
+pub struct Cancellable<'a> {
+    /// The wrapped source.
+    pub inner: &'a dyn SampleSource,
+    /// The flag that stops the reads.
+    pub cancel: &'a AtomicBool,
+}
+
+impl Cancellable<'_> {
+    fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+}
+
+impl SampleSource for Cancellable<'_> {
+    fn grid(&self) -> &Grid {
+        self.inner.grid()
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        if self.cancelled() {
+            return Err(Error::Interrupted);
+        }
+        self.inner.read_plane(z, out)
+    }
+
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        if self.cancelled() {
+            return None;
+        }
+        self.inner.lend_plane(z)
+    }
+
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        self.inner.advise(planes, access);
+    }
+
+    fn check_unchanged(&self) -> Result<()> {
+        self.inner.check_unchanged()
+    }
+
+    fn data_files(&self) -> Vec<&Path> {
+        self.inner.data_files()
+    }
+
+    fn sample_bytes(&self) -> usize {
+        self.inner.sample_bytes()
+    }
+
+    fn stored_type(&self) -> Option<ScalarType> {
+        self.inner.stored_type()
+    }
+}

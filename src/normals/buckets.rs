@@ -44,8 +44,10 @@ impl Locator {
             } else {
                 0.0
             };
-            // `p` is in [0, dims - 1], so the cast is exact and in range.
-            cell[a] = (p.floor() as usize).min(self.dims[a] - 2);
+            // `p` is in [0, dims - 1]: the cast truncates, which is the
+            // floor for a value that is not negative (and much cheaper
+            // than `f64::floor` without SSE4.1).
+            cell[a] = (p as usize).min(self.dims[a] - 2);
             t[a] = p - cell[a] as f64;
         }
         (cell, t)

@@ -139,7 +139,7 @@ impl Walk<'_> {
             Inside::High => -1.0,
             Inside::Low => 1.0,
         };
-        let mut window = Window::new(self.source, self.params.iso);
+        let mut window = Window::new(self.source);
         let mut out = Vec::with_capacity(starts[layers.end] - starts[layers.start]);
         for z in layers {
             let vertices = &self.buckets.order[starts[z]..starts[z + 1]];
@@ -152,6 +152,7 @@ impl Walk<'_> {
                 numbers,
                 nx: grid.dims[0],
                 ny: grid.dims[1],
+                tie: self.params.iso,
             };
             out.extend(vertices.iter().map(|&v| {
                 let (cell, t) = self.locator.locate(self.mesh.vertices[v as usize]);

@@ -61,6 +61,69 @@ impl Grid {
     pub fn plane_len(&self) -> usize {
         self.dims[0] * self.dims[1]
     }
+
+    /// The (fractional) grid index at world position `world`: the inverse
+    /// of [`Grid::world`]. Computing [`Grid::world_to_index`] once is
+    /// cheaper for many points.
+    pub fn index_of(&self, world: [f64; 3]) -> [f64; 3] {
+        self.world_to_index().index(world)
+    }
+
+    /// The inverse of the index-to-world map, computed once (the general
+    /// inverse of `direction`, not its transpose, so that a direction
+    /// matrix that is not orthogonal is inverted too).
+    pub fn world_to_index(&self) -> WorldToIndex {
+        let d = &self.direction;
+        // Cofactors: the adjugate divided by the determinant is the inverse.
+        let cof = |r0: usize, r1: usize, c0: usize, c1: usize| {
+            d[r0][c0] * d[r1][c1] - d[r0][c1] * d[r1][c0]
+        };
+        let adjugate = [
+            [cof(1, 2, 1, 2), -cof(0, 2, 1, 2), cof(0, 1, 1, 2)],
+            [-cof(1, 2, 0, 2), cof(0, 2, 0, 2), -cof(0, 1, 0, 2)],
+            [cof(1, 2, 0, 1), -cof(0, 2, 0, 1), cof(0, 1, 0, 1)],
+        ];
+        let det = (0..3).map(|k| d[0][k] * adjugate[k][0]).sum::<f64>();
+        let matrix = [0, 1, 2].map(|i| [0, 1, 2].map(|j| adjugate[i][j] / det / self.spacing[i]));
+        WorldToIndex {
+            origin: self.origin,
+            matrix,
+        }
+    }
+}
+
+/// The inverse of a [`Grid`]'s index-to-world map:
+/// `index = diag(1 / spacing) * direction^-1 * (world - origin)`.
+///
+/// Its entries are not finite when the grid cannot be inverted (a zero or
+/// non-finite spacing, a singular direction matrix); readers refuse such
+/// grids (see `set_direction`), but `Grid`'s fields are public, so callers
+/// check the results.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WorldToIndex {
+    /// The grid's origin.
+    origin: [f64; 3],
+    /// `diag(1 / spacing) * direction^-1`: row `i` gives index `i` from a
+    /// world offset.
+    matrix: [[f64; 3]; 3],
+}
+
+impl WorldToIndex {
+    /// The (fractional) grid index at world position `world`.
+    pub fn index(&self, world: [f64; 3]) -> [f64; 3] {
+        let offset = [0, 1, 2].map(|i| world[i] - self.origin[i]);
+        self.matrix
+            .map(|row| row[0] * offset[0] + row[1] * offset[1] + row[2] * offset[2])
+    }
+
+    /// A gradient taken with respect to grid indices, as a gradient with
+    /// respect to world coordinates (the chain rule: the transpose of the
+    /// index-from-world matrix applied to it, `direction^-T * diag(1 /
+    /// spacing) * gradient`).
+    pub fn gradient_to_world(&self, gradient: [f64; 3]) -> [f64; 3] {
+        let m = &self.matrix;
+        [0, 1, 2].map(|j| m[0][j] * gradient[0] + m[1][j] * gradient[1] + m[2][j] * gradient[2])
+    }
 }
 
 /// Puts an index-to-world matrix into `grid`: column `j` of `matrix` is the

@@ -12,7 +12,8 @@
 //! stitched) -> [`slab`] (layers of cells, per-row edge numbers) ->
 //! [`kernel`] (one cell) -> [`mesh`] (chunks into a sink) -> [`meshfile`]
 //! (`.tmesh`) and [`export`] (PLY, OBJ, OFF, STL); [`part`] splits and
-//! merges runs, [`check`] validates meshes, [`synth`] makes test volumes.
+//! merges runs, [`check`] validates meshes, [`normals`] gives a mesh's
+//! vertices normals from the field's gradient, [`synth`] makes test volumes.
 //! Beneath them all: [`params`], [`grid`], [`stats`], [`error`] and
 //! [`files`], which import nothing above them.
 //!
@@ -41,6 +42,7 @@ pub mod grid;
 pub mod kernel;
 pub mod mesh;
 pub mod meshfile;
+pub mod normals;
 pub mod params;
 pub mod part;
 pub mod slab;

@@ -156,7 +156,7 @@ pub(crate) fn extract<'py>(
         let stats = tmc::extract_to(source, &params, &options, &mut builder)?;
         let mesh = builder.into_mesh();
         let normals = if normals {
-            Some(vec![[0.0f32; 3]; mesh.vertices.len()])
+            Some(tmc::normals::vertex_normals(source, &params, &mesh)?)
         } else {
             None
         };

@@ -42,6 +42,33 @@ def angles_degrees(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
+def central_difference_normals(volume, verts, spacing=(1.0, 1.0, 1.0)):
+    """The definition of tmc's normals, computed here with numpy alone:
+    np.gradient (central differences, one-sided at the border) at the
+    samples, trilinearly interpolated to each vertex, in physical units,
+    pointing toward lower values."""
+    gradient = np.stack(np.gradient(volume.astype(np.float64), *spacing), axis=-1)
+    position = verts.astype(np.float64) / np.asarray(spacing)
+    shape = np.array(volume.shape)
+    cell = np.clip(np.floor(position).astype(np.intp), 0, shape - 2)
+    t = position - cell
+    result = np.zeros_like(position)
+    for corner in np.ndindex(2, 2, 2):
+        weight = np.prod(np.where(corner, t, 1.0 - t), axis=1)
+        index = tuple((cell + corner).T)
+        result += weight[:, None] * gradient[index]
+    return -result
+
+
+def assert_normals_are_central_differences(volume, ours, spacing=(1.0, 1.0, 1.0)):
+    v, _, n, _ = ours
+    expected = central_difference_normals(volume, v, spacing)
+    strong = np.linalg.norm(expected, axis=1) > 1e-3 * np.abs(expected).max()
+    angle = angles_degrees(n[strong], expected[strong])
+    assert strong.mean() > 0.99
+    assert np.percentile(angle, 99.9) < 1.0, np.percentile(angle, 99.9)
+
+
 def assert_same_surface(ours, theirs, exact_fraction=0.99):
     (v, f, n, values), (sv, sf, sn, _) = ours, theirs
     assert v.dtype == np.float32 and f.dtype == np.int32
@@ -54,15 +81,19 @@ def assert_same_surface(ours, theirs, exact_fraction=0.99):
     assert distance.max() < 1.0
     back, _ = nearest(sv, v)
     assert (back < 1e-4).mean() >= exact_fraction
-    # Normals agree in direction where the vertices coincide.
+    # Normals point the same way where the vertices coincide; they are not
+    # equal: scikit-image estimates the gradient inside each cube, tmc (as
+    # VTK) by central differences at the samples (checked exactly below).
     same = distance < 1e-4
     angle = angles_degrees(n[same], sn[index[same]])
-    assert np.median(angle) < 2.0 and np.percentile(angle, 99) < 30.0, (
+    assert np.median(angle) < 12.0 and (angle < 90.0).mean() > 0.99, (
         np.median(angle),
-        np.percentile(angle, 99),
+        (angle < 90.0).mean(),
     )
-    # The faces are wound the same way relative to the normals.
-    assert winding(v, f, n) == pytest.approx(winding(sv, sf, sn), abs=0.02)
+    # The faces are wound the same way relative to the normals (on noisy
+    # CT a few per cent of the triangles disagree with any vertex normals).
+    ours_winding, theirs_winding = winding(v, f, n), winding(sv, sf, sn)
+    assert abs(ours_winding) > 0.9 and np.sign(ours_winding) == np.sign(theirs_winding)
 
 
 @pytest.mark.parametrize("gradient_direction", ["descent", "ascent"])
@@ -72,6 +103,7 @@ def test_sphere(gradient_direction):
         volume = -volume
     ours, theirs = compare(volume, 0.0, gradient_direction=gradient_direction)
     assert_same_surface(ours, theirs, exact_fraction=1.0)
+    assert_normals_are_central_differences(volume, ours)
     assert is_closed_manifold(ours[1])
 
 
@@ -84,8 +116,13 @@ def test_sphere_lorensen_is_plain_mc_and_spacing_scales_index_axes():
 
 
 def test_gyroid():
-    ours, theirs = compare(gyroid(), 0.0)
+    volume = gyroid()
+    ours, theirs = compare(volume, 0.0)
     assert_same_surface(ours, theirs)
+    assert_normals_are_central_differences(volume, ours)
+    spacing = (0.5, 1.0, 2.0)
+    anisotropic = tmc.marching_cubes(volume, 0.0, spacing=spacing)
+    assert_normals_are_central_differences(volume, anisotropic, spacing)
     assert edge_counts(ours[1])["non_manifold"] == 0
 
 
@@ -101,6 +138,7 @@ def test_real_ct(name, level):
     data, _ = nrrd.read(str(path), index_order="C")  # [z][y][x]
     ours, theirs = compare(data, level)
     assert_same_surface(ours, theirs)
+    assert_normals_are_central_differences(data, ours)
     counts = edge_counts(ours[1])
     assert counts["non_manifold"] == 0 and counts["inconsistent"] == 0
 

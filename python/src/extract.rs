@@ -13,7 +13,7 @@ use tmc::{ExtractParams, Inside, Method, PipelineOptions, SampleSource};
 
 /// The volume argument: an array (with its grid) or a path to open.
 enum Input<'a> {
-    Array(tmc::volume::StridedVolume<'a>),
+    Array(Box<tmc::volume::StridedVolume<'a>>),
     Path(PathBuf),
 }
 
@@ -25,7 +25,9 @@ impl<'a> Input<'a> {
         mapped: MappedAt,
     ) -> PyResult<Self> {
         match input.cast::<PyUntypedArray>() {
-            Ok(array) => Ok(Input::Array(array::volume(array, spacing, origin, mapped)?)),
+            Ok(array) => Ok(Input::Array(Box::new(array::volume(
+                array, spacing, origin, mapped,
+            )?))),
             Err(_) => Ok(Input::Path(input.extract::<PathBuf>()?)),
         }
     }
@@ -38,7 +40,7 @@ impl<'a> Input<'a> {
         work: impl FnOnce(&dyn SampleSource, Option<&Path>, &AtomicBool) -> tmc::Result<T> + Send,
     ) -> PyResult<T> {
         interrupt::run(py, |cancel| match self {
-            Input::Array(volume) => work(volume, None, cancel),
+            Input::Array(volume) => work(volume.as_ref(), None, cancel),
             Input::Path(path) => {
                 tmc::files::check_input_kind(path)?;
                 let source = tmc::volume::open_cancellable(path, None, cancel)?;
@@ -103,24 +105,33 @@ fn preflight(
     Ok(())
 }
 
-/// The run as `tmc extract --json` reports it (the keys that do not depend
-/// on the process: no memory or byte counts).
+/// The run as `tmc extract --json` reports it, in its key order: the
+/// paths (null for an array or an in-memory mesh) and the library's
+/// summary; the CLI's memory and byte counts describe its process and are
+/// left out.
+#[derive(serde::Serialize)]
+struct Report {
+    input: Option<String>,
+    output: Option<String>,
+    #[serde(flatten)]
+    summary: tmc::stream::RunSummary,
+}
+
+/// [`Report`] as JSON text.
 fn report(
     input: Option<&Path>,
     output: Option<&Path>,
     source: &dyn SampleSource,
     params: &ExtractParams,
     stats: &tmc::Stats,
-) -> String {
-    let _ = (params, source);
-    let summary = stats;
-    let mut json = serde_json::to_value(&summary).unwrap_or_default();
-    if let Some(map) = json.as_object_mut() {
-        let path = |p: Option<&Path>| p.map(|p| p.display().to_string());
-        map.insert("input".into(), path(input).into());
-        map.insert("output".into(), path(output).into());
-    }
-    json.to_string()
+) -> tmc::Result<String> {
+    let path = |p: Option<&Path>| p.map(|p| p.display().to_string());
+    let report = Report {
+        input: path(input),
+        output: path(output),
+        summary: tmc::stream::RunSummary::new(params, source.grid(), stats),
+    };
+    serde_json::to_string(&report).map_err(|e| tmc::Error::Invalid(e.to_string()))
 }
 
 /// Extracts the isosurface of `input` (a 3-D numpy array indexed
@@ -160,7 +171,7 @@ pub(crate) fn extract<'py>(
         } else {
             None
         };
-        let report = report(path, None, source, &params, &stats);
+        let report = report(path, None, source, &params, &stats)?;
         Ok((mesh, normals, report))
     })?;
     let layout = if index_order {
@@ -201,7 +212,7 @@ pub(crate) fn extract_to(
         };
         let mut sink = tmc::export::create_sink(&output)?;
         let stats = tmc::extract_to(source, &params, &options, sink.as_mut())?;
-        Ok(report(path, Some(&output), source, &params, &stats))
+        report(path, Some(&output), source, &params, &stats)
     })
 }
 

@@ -63,7 +63,7 @@ pub(crate) fn info(
     interrupt::run(py, |cancel| {
         tmc::files::check_input_kind(&path)?;
         let source = tmc::volume::open_cancellable(&path, None, cancel)?;
-        let info = (bins, plane_step, source.grid().dims);
+        let info = tmc::volume::volume_info(&path, None, source.as_ref(), bins, plane_step)?;
         serde_json::to_string(&info).map_err(|e| tmc::Error::Invalid(e.to_string()))
     })
 }

@@ -24,17 +24,20 @@ pub(crate) enum Layout {
     Index,
 }
 
+/// Vertices, triangles and (if computed) normals as numpy arrays.
+type MeshArrays<'py> = (
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Option<Bound<'py, PyAny>>,
+);
+
 /// Vertices, triangles and normals of `mesh` as numpy arrays.
 pub(crate) fn mesh_arrays<'py>(
     py: Python<'py>,
     mesh: Mesh,
     normals: Option<Vec<[f32; 3]>>,
     layout: Layout,
-) -> PyResult<(
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Option<Bound<'py, PyAny>>,
-)> {
+) -> PyResult<MeshArrays<'py>> {
     let Mesh {
         mut vertices,
         triangles,

@@ -10,7 +10,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tmc::files::check_distinct;
 use tmc::stream::check_grid;
-use tmc::stream::threads::worker_threads;
+use tmc::stream::RunSummary;
 use tmc::{Error, Result};
 
 /// Runs `tmc extract`; setting `cancel` stops it with [`Error::Interrupted`].
@@ -84,10 +84,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let run = report::Run {
         input,
         output,
-        params: &params,
-        threads: worker_threads(params.threads),
-        grid: &grid,
-        stats: &stats,
+        summary: RunSummary::new(&params, &grid, &stats),
         resources: &resources,
     };
     // The mesh is committed; if its report cannot be written, the run

@@ -10,11 +10,10 @@
 use super::raw_input::RawArgs;
 use super::report::human_bytes;
 use clap::Args;
-use serde::Serialize;
 use std::io::{self, Write};
-use std::path::{Path, PathBuf};
-use tmc::volume::{summarize, RawOptions, Summary, SummaryOptions};
-use tmc::{Grid, Result, SampleSource};
+use std::path::PathBuf;
+use tmc::volume::{volume_info, VolumeInfo, MAX_BINS, MIN_BINS};
+use tmc::Result;
 
 /// Text at the end of `tmc info --help`.
 const INFO_HELP: &str = "\
@@ -80,7 +79,7 @@ pub(crate) struct InfoArgs {
     pub json: bool,
 
     /// Histogram bins between the minimum and the maximum (3 to 4096).
-    #[arg(long, value_name = "N", default_value_t = 1024, value_parser = clap::value_parser!(u16).range(3..=4096))]
+    #[arg(long, value_name = "N", default_value_t = 1024, value_parser = clap::value_parser!(u16).range(MIN_BINS as i64..=MAX_BINS as i64))]
     pub bins: u16,
 
     /// Build the histogram from every N-th plane only; 0 (the default)
@@ -93,52 +92,17 @@ pub(crate) struct InfoArgs {
     pub raw: RawArgs,
 }
 
-/// Samples the histogram pass reads at most when `--plane-step` is automatic.
-const HISTOGRAM_BUDGET: u64 = 1 << 28;
-
-/// The JSON object of `--json` (see `INFO_HELP` for the keys).
-#[derive(Debug, Serialize)]
-struct Info {
-    input: String,
-    format: &'static str,
-    file_bytes: Option<u64>,
-    data_bytes: Option<u64>,
-    dims: [usize; 3],
-    samples: u64,
-    sample_type: Option<&'static str>,
-    spacing: [f64; 3],
-    origin: [f64; 3],
-    direction: [[f64; 3]; 3],
-    affine: [[f64; 4]; 4],
-    min: Option<f64>,
-    max: Option<f64>,
-    mean: Option<f64>,
-    nan_count: u64,
-    infinite_count: u64,
-    integer_valued: bool,
-    histogram_bins: Option<usize>,
-    histogram_plane_step: usize,
-    suggested_iso: Vec<f64>,
-    suggested_iso_single: Option<f64>,
-}
-
 /// Runs `tmc info`.
 pub(crate) fn run(args: &InfoArgs) -> Result<()> {
     let raw = args.raw.options();
     let source = super::raw_input::open_input(&args.input, raw.as_ref(), None)?;
-    let grid = *source.grid();
-    let samples: u64 = grid.dims.iter().map(|&n| n as u64).product();
-    let plane_step = if args.plane_step > 0 {
-        args.plane_step
-    } else {
-        usize::try_from(samples.div_ceil(HISTOGRAM_BUDGET).max(1)).unwrap_or(usize::MAX)
-    };
-    let options = SummaryOptions {
-        bins: usize::from(args.bins),
-        plane_step,
-    };
-    let summary = summarize(source.as_ref(), &options)?;
-    let info = describe(&args.input, raw.as_ref(), source.as_ref(), &grid, &summary);
+    let info = volume_info(
+        &args.input,
+        raw.as_ref(),
+        source.as_ref(),
+        usize::from(args.bins),
+        args.plane_step,
+    )?;
     super::output::to_stdout(|out| {
         if args.json {
             serde_json::to_writer(&mut *out, &info)?;
@@ -147,84 +111,6 @@ pub(crate) fn run(args: &InfoArgs) -> Result<()> {
             write_text(out, &info)
         }
     })
-}
-
-/// Gathers everything reported about the volume.
-fn describe(
-    input: &Path,
-    raw: Option<&RawOptions>,
-    source: &dyn SampleSource,
-    grid: &Grid,
-    summary: &Summary,
-) -> Info {
-    let stored = source.stored_type();
-    let suggestions = summary.suggestions();
-    Info {
-        input: input.display().to_string(),
-        format: tmc::volume::format_name(input, raw).unwrap_or("unknown"),
-        file_bytes: file_bytes(input, source),
-        data_bytes: stored.map(|t| summary.samples.saturating_mul(t.size() as u64)),
-        dims: grid.dims,
-        samples: summary.samples,
-        sample_type: stored.map(|t| t.name()),
-        spacing: grid.spacing,
-        origin: grid.origin,
-        direction: grid.direction,
-        affine: affine(grid),
-        min: summary.min,
-        max: summary.max,
-        mean: summary.mean,
-        nan_count: summary.nan,
-        infinite_count: summary.infinite,
-        integer_valued: summary.integer_valued,
-        histogram_bins: summary.histogram.as_ref().map(|h| h.counts.len()),
-        histogram_plane_step: summary.plane_step,
-        suggested_iso: suggestions.pair.map(Vec::from).unwrap_or_default(),
-        suggested_iso_single: suggestions.single,
-    }
-}
-
-/// The 4x4 index-to-world matrix: `world = A * [i, j, k, 1]`, with
-/// `A[r][c] = direction[r][c] * spacing[c]` and the origin as last column.
-fn affine(grid: &Grid) -> [[f64; 4]; 4] {
-    let mut a = [[0.0; 4]; 4];
-    for (r, row) in a.iter_mut().take(3).enumerate() {
-        for (c, v) in row.iter_mut().take(3).enumerate() {
-            *v = grid.direction[r][c] * grid.spacing[c];
-        }
-        row[3] = grid.origin[r];
-    }
-    a[3][3] = 1.0;
-    a
-}
-
-/// Size of the input: the regular files directly in a directory, else the
-/// file (if it is one) and the data files it names (a detached header's
-/// data, the files of a glob), each once; `None` if one cannot be read.
-fn file_bytes(path: &Path, source: &dyn SampleSource) -> Option<u64> {
-    let meta = std::fs::metadata(path).ok();
-    if meta.as_ref().is_some_and(|m| m.is_dir()) {
-        let mut total = 0u64;
-        for entry in std::fs::read_dir(path).ok()? {
-            let meta = entry.ok()?.metadata().ok()?;
-            if meta.is_file() {
-                total += meta.len();
-            }
-        }
-        return Some(total);
-    }
-    let mut files: Vec<PathBuf> = source
-        .data_files()
-        .into_iter()
-        .chain(meta.filter(|m| m.is_file()).map(|_| path))
-        .map(|f| std::fs::canonicalize(f).unwrap_or_else(|_| f.to_path_buf()))
-        .collect();
-    files.sort();
-    files.dedup();
-    files
-        .iter()
-        .map(|f| std::fs::metadata(f).ok().map(|m| m.len()))
-        .sum()
 }
 
 /// Numbers joined by spaces.
@@ -255,7 +141,7 @@ fn matrix<const N: usize>(rows: &[[f64; N]]) -> Vec<String> {
 }
 
 /// Writes the report as aligned `label  value` lines.
-fn write_text(w: &mut impl Write, info: &Info) -> io::Result<()> {
+fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
     let optional = |v: Option<f64>| v.map_or_else(|| "none".to_string(), |v| v.to_string());
     let mut rows: Vec<(&str, String)> = vec![
         ("input", info.input.clone()),

@@ -16,6 +16,7 @@
 //!
 //! The output does not depend on the threads, the slab depth or the parts:
 //! a chunk's content depends on its two planes only (see [`crate::slab`]).
+//! A finished run is described by a [`RunSummary`] ([`report`]).
 
 pub mod budget;
 pub mod cancellable;
@@ -23,6 +24,7 @@ pub mod entry;
 pub mod parts;
 pub mod pass;
 pub mod preflight;
+pub mod report;
 pub mod schedule;
 pub mod seam;
 pub mod threads;
@@ -31,4 +33,5 @@ pub use entry::{extract, extract_part_to, extract_to};
 pub use parts::layer_range;
 pub use pass::extract_many_to;
 pub use preflight::check_grid;
+pub use report::RunSummary;
 pub use seam::Seam;

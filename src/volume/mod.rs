@@ -12,6 +12,7 @@ pub mod dicom;
 mod dicom_lengths;
 mod guarded;
 pub mod histogram;
+pub mod info;
 mod lent;
 mod mapped;
 pub mod metaimage;
@@ -41,6 +42,9 @@ pub(crate) use crate::grid::set_direction;
 pub use crate::grid::{Grid, IDENTITY};
 pub use array::ArrayVolume;
 pub use guarded::in_guarded_call;
+pub use info::{
+    automatic_plane_step, describe, volume_info, VolumeInfo, HISTOGRAM_BUDGET, MAX_BINS, MIN_BINS,
+};
 pub use lent::LentPlane;
 pub use open::{format_name, open, open_cancellable, Format};
 pub use padded::Padded;

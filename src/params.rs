@@ -17,6 +17,16 @@ pub enum Method {
     Mc,
 }
 
+impl Method {
+    /// The method's name on the command line and in reports: "tmc" or "mc".
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Tmc => "tmc",
+            Method::Mc => "mc",
+        }
+    }
+}
+
 /// Which side of the isovalue is the object.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Inside {
@@ -25,6 +35,16 @@ pub enum Inside {
     High,
     /// Values below the isovalue are inside (signed distance fields).
     Low,
+}
+
+impl Inside {
+    /// The side's name on the command line and in reports: "high" or "low".
+    pub fn name(self) -> &'static str {
+        match self {
+            Inside::High => "high",
+            Inside::Low => "low",
+        }
+    }
 }
 
 /// Options of one extraction.

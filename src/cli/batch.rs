@@ -15,7 +15,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
-use tmc::stream::threads::worker_threads;
+use tmc::stream::RunSummary;
 use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 
 /// Inputs of the batch whose outputs were written before a signal stopped
@@ -283,10 +283,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
             let run = report::Run {
                 input: &item.input,
                 output,
-                params: p,
-                threads: worker_threads(p.threads),
-                grid: &grid,
-                stats: s,
+                summary: RunSummary::new(p, &grid, s),
                 resources: &resources,
             };
             let mut err = std::io::stderr().lock();

@@ -9,7 +9,7 @@ use super::require_surface::RequireSurface;
 use super::{memory, report};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-use tmc::stream::threads::worker_threads;
+use tmc::stream::RunSummary;
 use tmc::{Error, Result};
 
 /// Runs `tmc extract`; setting `cancel` stops it with [`Error::Interrupted`].
@@ -83,10 +83,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let run = report::Run {
         input,
         output,
-        params: &params,
-        threads: worker_threads(params.threads),
-        grid: &grid,
-        stats: &stats,
+        summary: RunSummary::new(&params, &grid, &stats),
         resources: &resources,
     };
     // The mesh is committed; if its report cannot be written, the run

@@ -4,7 +4,8 @@
 use serde::Serialize;
 use std::io::{self, Write};
 use std::path::Path;
-use tmc::{ExtractParams, Grid, Inside, Method, Stats};
+use tmc::stream::RunSummary;
+use tmc::{Grid, Stats};
 
 /// Everything known about one finished extraction.
 pub(crate) struct Run<'a> {
@@ -12,14 +13,8 @@ pub(crate) struct Run<'a> {
     pub input: &'a Path,
     /// Output mesh path.
     pub output: &'a Path,
-    /// The extraction parameters.
-    pub params: &'a ExtractParams,
-    /// Worker threads actually meant by `params.threads`.
-    pub threads: usize,
-    /// The input grid.
-    pub grid: &'a Grid,
-    /// The statistics of the run.
-    pub stats: &'a Stats,
+    /// The parameters, grid and statistics of the run.
+    pub summary: RunSummary,
     /// Bytes, memory and wall time of the run.
     pub resources: &'a Resources,
 }
@@ -73,34 +68,10 @@ pub(crate) fn human_bytes(bytes: u64) -> String {
 struct JsonRun<'a> {
     input: String,
     output: String,
-    iso: f64,
-    method: &'static str,
-    inside: &'static str,
-    close: bool,
-    threads: usize,
-    dims: [usize; 3],
-    spacing: [f64; 3],
-    origin: [f64; 3],
     #[serde(flatten)]
-    stats: &'a Stats,
+    summary: &'a RunSummary,
     #[serde(flatten)]
     resources: &'a Resources,
-}
-
-/// The CLI name of a method.
-fn method_name(method: Method) -> &'static str {
-    match method {
-        Method::Tmc => "tmc",
-        Method::Mc => "mc",
-    }
-}
-
-/// The CLI name of a side.
-fn inside_name(inside: Inside) -> &'static str {
-    match inside {
-        Inside::High => "high",
-        Inside::Low => "low",
-    }
 }
 
 /// Writes the run as one JSON object on one line.
@@ -108,15 +79,7 @@ pub(crate) fn write_json(w: &mut impl Write, run: &Run<'_>) -> io::Result<()> {
     let json = JsonRun {
         input: run.input.display().to_string(),
         output: run.output.display().to_string(),
-        iso: run.params.iso,
-        method: method_name(run.params.method),
-        inside: inside_name(run.params.inside),
-        close: run.params.close,
-        threads: run.threads,
-        dims: run.grid.dims,
-        spacing: run.grid.spacing,
-        origin: run.grid.origin,
-        stats: run.stats,
+        summary: &run.summary,
         resources: run.resources,
     };
     serde_json::to_writer(&mut *w, &json)?;
@@ -125,7 +88,8 @@ pub(crate) fn write_json(w: &mut impl Write, run: &Run<'_>) -> io::Result<()> {
 
 /// Writes the paper's Table 1 plus sizes and time as an aligned table.
 pub(crate) fn write_table(w: &mut impl Write, run: &Run<'_>) -> io::Result<()> {
-    let s = run.stats;
+    let summary = &run.summary;
+    let s = &summary.stats;
     let mut rows: Vec<(String, String)> =
         vec![("ambiguous cells".into(), s.ambiguous_cells.to_string())];
     for (i, n) in s.contours.iter().enumerate() {
@@ -176,17 +140,17 @@ pub(crate) fn write_table(w: &mut impl Write, run: &Run<'_>) -> io::Result<()> {
         r.vm_hwm_bytes.map_or_else(unknown, human_bytes),
     ));
 
-    let [x, y, z] = run.grid.dims;
+    let [x, y, z] = summary.dims;
     writeln!(
         w,
         "{} ({x}x{y}x{z}) -> {}: iso {}, method {}, inside {}{}, {} threads",
         run.input.display(),
         run.output.display(),
-        run.params.iso,
-        method_name(run.params.method),
-        inside_name(run.params.inside),
-        if run.params.close { ", closed" } else { "" },
-        run.threads
+        summary.iso,
+        summary.method,
+        summary.inside,
+        if summary.close { ", closed" } else { "" },
+        summary.threads
     )?;
     let label_width = rows.iter().map(|(l, _)| l.len()).max().unwrap_or(0);
     let value_width = rows.iter().map(|(_, v)| v.len()).max().unwrap_or(0);

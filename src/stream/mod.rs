@@ -16,11 +16,13 @@
 //!
 //! The output does not depend on the threads, the slab depth or the parts:
 //! a chunk's content depends on its two planes only (see [`crate::slab`]).
+//! A finished run is described by a [`RunSummary`] ([`report`]).
 
 pub mod budget;
 pub mod entry;
 pub mod parts;
 pub mod pass;
+pub mod report;
 pub mod schedule;
 pub mod seam;
 pub mod threads;
@@ -28,4 +30,5 @@ pub mod threads;
 pub use entry::{extract, extract_part_to, extract_to};
 pub use parts::layer_range;
 pub use pass::extract_many_to;
+pub use report::RunSummary;
 pub use seam::Seam;

@@ -116,11 +116,20 @@ def test_extract_to_writes_what_the_cli_writes(tmp_path, suffix):
 
 def test_write_read_and_check_round_trip(tmp_path):
     mesh = tmc.extract(noise_volume("u2"), 3.0, close=True)
-    for suffix in (".ply", ".tmesh", ".obj", ".off"):
+    for suffix in (".ply", ".obj", ".off"):
         mesh.write(tmp_path / f"m{suffix}")
         back = tmc.read_mesh(tmp_path / f"m{suffix}")
         np.testing.assert_array_equal(back.triangles, mesh.triangles)
         np.testing.assert_allclose(back.vertices, mesh.vertices, rtol=1e-6)
+    # A .tmesh file records the extraction (grid, chunks per plane):
+    # extract_to writes it; an in-memory mesh refuses, saying so.
+    with pytest.raises(ValueError, match="extract_to"):
+        mesh.write(tmp_path / "m.tmesh")
+    assert not (tmp_path / "m.tmesh").exists()
+    tmc.extract_to(noise_volume("u2"), 3.0, tmp_path / "m.tmesh", close=True)
+    back = tmc.read_mesh(tmp_path / "m.tmesh")
+    np.testing.assert_array_equal(back.triangles, mesh.triangles)
+    np.testing.assert_array_equal(back.vertices, mesh.vertices)
     report = mesh.check()
     cli = __import__("json").loads(run_cli("check", str(tmp_path / "m.ply"), "--json").stdout)
     assert report == cli

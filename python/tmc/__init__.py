@@ -89,10 +89,17 @@ class Mesh:
     def write(self, path: PathLike) -> None:
         """Writes the mesh to ``path`` in the format its extension names.
 
-        ``.tmesh`` (tmc's chunked format), ``.ply`` (binary), ``.obj``,
-        ``.off`` or ``.stl``. The file appears whole or not at all: a failed
-        write leaves nothing at ``path``. Normals are not written yet.
+        ``.ply`` (binary), ``.obj``, ``.off`` or ``.stl``. The file appears
+        whole or not at all: a failed write leaves nothing at ``path``.
+        Normals are not written yet. A ``.tmesh`` file records the
+        extraction that made it (its grid, a chunk per plane), which a mesh
+        in memory no longer knows: :func:`extract_to` writes one.
         """
+        if os.fspath(path).lower().endswith(".tmesh"):
+            raise ValueError(
+                f"{os.fspath(path)}: a .tmesh file records the extraction that made it; "
+                "write it with tmc.extract_to(volume, iso, path)"
+            )
         vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
         triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
         _tmc.write_mesh(os.fspath(path), vertices, triangles)

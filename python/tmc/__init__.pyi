@@ -1,0 +1,85 @@
+"""Type stubs of the tmc package (see tmc/__init__.py for the docs)."""
+
+import os
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+PathLike = Union[str, "os.PathLike[str]"]
+ArrayOrPath = Union[npt.ArrayLike, PathLike]
+
+__version__: str
+
+class Mesh:
+    """A triangle mesh made or read by tmc."""
+
+    vertices: npt.NDArray[np.float64]
+    triangles: npt.NDArray[np.uint32]
+    normals: Optional[npt.NDArray[np.float32]]
+    stats: Dict[str, Any]
+    def __init__(
+        self,
+        vertices: np.ndarray,
+        triangles: np.ndarray,
+        normals: Optional[np.ndarray] = ...,
+        stats: Optional[Dict[str, Any]] = ...,
+    ) -> None:
+        """Wraps vertex and triangle arrays (and optional normals and stats)."""
+    def write(self, path: PathLike) -> None:
+        """Writes the mesh as PLY, OBJ, OFF or STL (by extension), atomically."""
+    def check(self) -> Dict[str, Any]:
+        """The report of ``tmc check --json``."""
+
+def extract(
+    volume: ArrayOrPath,
+    iso: float,
+    *,
+    spacing: Optional[Sequence[float]] = ...,
+    origin: Optional[Sequence[float]] = ...,
+    method: str = ...,
+    inside: str = ...,
+    close: bool = ...,
+    threads: int = ...,
+    normals: bool = ...,
+) -> Mesh:
+    """Extracts the isosurface at ``iso`` into a Mesh (tmc's conventions)."""
+
+def extract_to(
+    volume: ArrayOrPath,
+    iso: float,
+    output: PathLike,
+    *,
+    spacing: Optional[Sequence[float]] = ...,
+    origin: Optional[Sequence[float]] = ...,
+    method: str = ...,
+    inside: str = ...,
+    close: bool = ...,
+    threads: int = ...,
+) -> Dict[str, Any]:
+    """Streams the isosurface into a mesh file without holding the mesh."""
+
+def read_mesh(path: PathLike) -> Mesh:
+    """Reads a .tmesh, PLY, OBJ or OFF file."""
+
+def info(path: PathLike, *, bins: int = ..., plane_step: int = ...) -> Dict[str, Any]:
+    """What ``tmc info --json`` prints for a volume file."""
+
+def marching_cubes(
+    volume: npt.ArrayLike,
+    level: Optional[float] = ...,
+    *,
+    spacing: Sequence[float] = ...,
+    gradient_direction: str = ...,
+    step_size: int = ...,
+    allow_degenerate: bool = ...,
+    method: str = ...,
+    mask: Optional[npt.ArrayLike] = ...,
+    threads: int = ...,
+) -> Tuple[
+    npt.NDArray[np.float32],
+    npt.NDArray[np.int32],
+    npt.NDArray[np.float32],
+    npt.NDArray[np.float32],
+]:
+    """scikit-image's marching_cubes with tmc's topology: (verts, faces, normals, values)."""

@@ -1,0 +1,52 @@
+"""Type stubs of the extension module tmc._tmc (the Rust side; use the
+functions of the tmc package instead)."""
+
+from typing import Any, Optional, Tuple
+
+import numpy as np
+
+__version__: str
+
+def extract(
+    input: Any,
+    iso: float,
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    mapped: Optional[Tuple[str, int]],
+    method: str,
+    inside: str,
+    close: bool,
+    threads: int,
+    normals: bool,
+    index_order: bool,
+) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str]:
+    """Extracts into arrays; returns (vertices, triangles, normals, report JSON)."""
+
+def extract_to(
+    input: Any,
+    output: str,
+    iso: float,
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    mapped: Optional[Tuple[str, int]],
+    method: str,
+    inside: str,
+    close: bool,
+    threads: int,
+) -> str:
+    """Streams into a file; returns the report JSON."""
+
+def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
+    """Reads a mesh file: (vertices float64, triangles uint32)."""
+
+def write_mesh(path: str, vertices: np.ndarray, triangles: np.ndarray) -> None:
+    """Writes a mesh file, atomically."""
+
+def check_mesh(vertices: np.ndarray, triangles: np.ndarray) -> str:
+    """The report of tmc check as JSON text."""
+
+def info(path: str, bins: int = ..., plane_step: int = ...) -> str:
+    """What tmc info --json prints, as JSON text."""
+
+def worker_threads(threads: int) -> int:
+    """The worker threads that `threads` means (0: one per core)."""

@@ -202,6 +202,25 @@ def make_tools(vol: np.ndarray, path: Path, iso: float, args) -> tuple[dict, lis
         tools["MC33"] = lambda: mc33.ask("run")
 
     try:
+        import tmc as tmc_py  # the Python package (python/), in-process
+
+        def tmc_marching_cubes(threads: int):
+            start = time.perf_counter()
+            _, faces, _, _ = tmc_py.marching_cubes(vol, iso, threads=threads)
+            return time.perf_counter() - start, len(faces)
+
+        def tmc_extract(threads: int):
+            start = time.perf_counter()
+            mesh = tmc_py.extract(vol, iso, threads=threads)
+            return time.perf_counter() - start, len(mesh.triangles)
+
+        for threads in (1, 2):
+            tools[f"py.mc {threads}T"] = lambda t=threads: tmc_marching_cubes(t)
+            tools[f"py.extract {threads}T"] = lambda t=threads: tmc_extract(t)
+    except ImportError as e:
+        log(f"skipping the tmc Python package: {e}")
+
+    try:
         from skimage import measure
 
         def skimage_mc():
@@ -320,6 +339,31 @@ def tables(results: list[dict], args) -> str:
         out.append(f"| {r['volume']} | {fmt_s(m.get('pass 1T'))} | {fmt_s(m.get('pass 2T'))} | "
                    f"{fmt_ratio(m.get('tmc 1T'), m.get('pass 1T'))} | "
                    f"{fmt_ratio(m.get('tmc 2T'), m.get('pass 2T'))} |")
+    out.append("")
+    out.append("In-process from Python, on the same numpy arrays: `tmc.extract` (the mesh "
+               "only: the work of 'tmc' above) and `tmc.marching_cubes` (scikit-image's "
+               "return values: also normals and values); median seconds, and ratios: "
+               "extract / the Rust library's extraction (the binding's cost; target at "
+               "most 1.2), scikit-image / marching_cubes (target at least 5), and the peers "
+               "/ marching_cubes at 1 thread:")
+    out.append("")
+    out.append("| volume | py.extract 1T | py.extract 2T | py.mc 1T | py.mc 2T "
+               "| py.extract/tmc 1T | py.extract/tmc 2T | py.mc/tmc 1T "
+               "| skimage/py.mc 1T | FE 1T/py.mc 1T | PyMCubes/py.mc 1T |")
+    out.append("|" + "---|" * 11)
+    for r in results:
+        m = r["median"]
+        out.append(
+            f"| {r['volume']} | {fmt_s(m.get('py.extract 1T'))} | "
+            f"{fmt_s(m.get('py.extract 2T'))} | {fmt_s(m.get('py.mc 1T'))} | "
+            f"{fmt_s(m.get('py.mc 2T'))} | "
+            f"{fmt_ratio(m.get('py.extract 1T'), m.get('tmc 1T'))} | "
+            f"{fmt_ratio(m.get('py.extract 2T'), m.get('tmc 2T'))} | "
+            f"{fmt_ratio(m.get('py.mc 1T'), m.get('tmc 1T'))} | "
+            f"{fmt_ratio(m.get('skimage'), m.get('py.mc 1T'))} | "
+            f"{fmt_ratio(m.get('FE 1T'), m.get('py.mc 1T'))} | "
+            f"{fmt_ratio(m.get('PyMCubes'), m.get('py.mc 1T'))} |"
+        )
     out.append("")
     out.append("TMC against standard MC (tmc --method mc), same code path, median seconds:")
     out.append("")

@@ -714,7 +714,10 @@ fn no_file_names_a_path_of_one_machine() {
     let mut found = Vec::new();
     for path in files_under(root, skip) {
         // A linked worktree's `.git` is a file naming where the repository is.
-        if path.file_name().is_some_and(|n| n == "Cargo.lock" || n == ".git") {
+        if path
+            .file_name()
+            .is_some_and(|n| n == "Cargo.lock" || n == ".git")
+        {
             continue;
         }
         let Ok(text) = std::fs::read_to_string(&path) else {

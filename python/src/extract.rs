@@ -85,15 +85,17 @@ fn params(
     })
 }
 
-/// The checks the CLI makes before it extracts: a grid with cells (unless
-/// closed) inside the range of f32 coordinates, and an output that is
-/// neither the input nor a file the input reads.
-fn preflight(
+/// The checks the CLI makes before it extracts (a grid with cells, unless
+/// closed, inside the range of f32 coordinates; an output that is neither
+/// the input nor a file the input reads), then the pipeline options of a
+/// run that `cancel` stops.
+fn preflight<'a>(
     source: &dyn SampleSource,
     input: Option<&Path>,
     params: &ExtractParams,
     output: Option<&Path>,
-) -> tmc::Result<()> {
+    cancel: &'a AtomicBool,
+) -> tmc::Result<PipelineOptions<'a>> {
     let name = input.unwrap_or(Path::new("array"));
     tmc::stream::check_grid(name, source.grid(), params.close)?;
     if let Some(output) = output {
@@ -102,7 +104,10 @@ fn preflight(
         }
         tmc::export::check_output_path(output)?;
     }
-    Ok(())
+    Ok(PipelineOptions {
+        cancel: Some(cancel),
+        ..Default::default()
+    })
 }
 
 /// The run as `tmc extract --json` reports it, in its key order: the
@@ -158,11 +163,7 @@ pub(crate) fn extract<'py>(
     let params = params(iso, method, inside, close, threads)?;
     let input = Input::new(input, spacing, origin, mapped)?;
     let (mesh, normals, report) = input.run(py, |source, path, cancel| {
-        preflight(source, path, &params, None)?;
-        let options = PipelineOptions {
-            cancel: Some(cancel),
-            ..Default::default()
-        };
+        let options = preflight(source, path, &params, None, cancel)?;
         let mut builder = tmc::MeshBuilder::default();
         let stats = tmc::extract_to(source, &params, &options, &mut builder)?;
         let mesh = builder.into_mesh();
@@ -205,11 +206,7 @@ pub(crate) fn extract_to(
     let params = params(iso, method, inside, close, threads)?;
     let input = Input::new(input, spacing, origin, mapped)?;
     input.run(py, |source, path, cancel| {
-        preflight(source, path, &params, Some(&output))?;
-        let options = PipelineOptions {
-            cancel: Some(cancel),
-            ..Default::default()
-        };
+        let options = preflight(source, path, &params, Some(&output), cancel)?;
         let mut sink = tmc::export::create_sink(&output)?;
         let stats = tmc::extract_to(source, &params, &options, sink.as_mut())?;
         report(path, Some(&output), source, &params, &stats)

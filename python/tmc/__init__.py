@@ -154,20 +154,25 @@ def _as_samples(volume: Any) -> np.ndarray:
     )
 
 
-def _volume_args(volume: Any, spacing: Any, origin: Any) -> Tuple[Any, Any, Any, Any]:
-    """The input, spacing, origin and mapped-file arguments of the library
-    calls for an array or a path."""
+def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[Any, ...]:
+    """The input, isovalue, spacing, origin and mapped-file arguments of
+    the library's calls, for an array or a path."""
     if isinstance(volume, (str, os.PathLike)):
         if spacing is not None or origin is not None:
             raise ValueError(
                 "spacing and origin of a volume file come from its header; "
                 "pass them only with an array"
             )
-        return os.fspath(volume), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
+        return os.fspath(volume), float(iso), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
     array = _as_samples(volume)
     spacing = _triple(spacing, "spacing", 1.0)
     origin = _triple(origin, "origin", 0.0)
-    return array, spacing, origin, _mapped_file(array)
+    return array, float(iso), spacing, origin, _mapped_file(array)
+
+
+def _options(method: str, inside: str, close: bool, threads: int) -> Tuple[Any, ...]:
+    """The method, inside, close and threads arguments of the library's calls."""
+    return _method(method), inside, bool(close), _threads(threads)
 
 
 def _triple(value: Any, name: str, default: float) -> Tuple[float, float, float]:
@@ -252,19 +257,10 @@ def extract(
         Bad input or arguments, with the CLI's words. ``OSError`` for a file
         that cannot be read; ``KeyboardInterrupt`` on Ctrl-C.
     """
-    array, spacing_, origin_, mapped = _volume_args(volume, spacing, origin)
+    source = _source_args(volume, iso, spacing, origin)
+    options = _options(method, inside, close, threads)
     vertices, triangles, vertex_normals, report = _tmc.extract(
-        array,
-        float(iso),
-        spacing_,
-        origin_,
-        mapped,
-        _method(method),
-        inside,
-        bool(close),
-        _threads(threads),
-        bool(normals),
-        False,
+        *source, *options, bool(normals), False
     )
     return Mesh(vertices, triangles, vertex_normals, json.loads(report))
 
@@ -291,19 +287,9 @@ def extract_to(
     those of :func:`extract`. Returns the run's report (``tmc extract
     --json``'s keys that describe the run).
     """
-    array, spacing_, origin_, mapped = _volume_args(volume, spacing, origin)
-    report = _tmc.extract_to(
-        array,
-        os.fspath(output),
-        float(iso),
-        spacing_,
-        origin_,
-        mapped,
-        _method(method),
-        inside,
-        bool(close),
-        _threads(threads),
-    )
+    array, *rest = _source_args(volume, iso, spacing, origin)
+    options = _options(method, inside, close, threads)
+    report = _tmc.extract_to(array, os.fspath(output), *rest, *options)
     return json.loads(report)
 
 

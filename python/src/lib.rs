@@ -1,10 +1,10 @@
 //! `tmc._tmc`: the Rust side of the Python package `tmc`.
 //!
 //! A thin layer over the `tmc` library: numpy arrays become
-//! [`tmc::volume::StridedVolume`]s without a copy ([`array`]), paths open
+//! [`tmc::volume::StridedVolume`]s without a copy (`array.rs`), paths open
 //! with the CLI's readers, every extraction runs with the GIL released and
-//! stops on Ctrl-C ([`interrupt`]), and meshes go back to numpy without a
-//! copy where the types allow ([`output`]). The Python API (argument
+//! stops on Ctrl-C (`interrupt.rs`), and meshes go back to numpy without a
+//! copy where the types allow (`output.rs`). The Python API (argument
 //! handling, `Mesh`, `marching_cubes`) is in `python/tmc/__init__.py`.
 
 #![deny(clippy::undocumented_unsafe_blocks)]

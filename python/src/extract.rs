@@ -4,6 +4,7 @@
 use crate::array::{self, MappedAt};
 use crate::interrupt;
 use crate::output::{mesh_arrays, Layout};
+use crate::values;
 use numpy::PyUntypedArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -141,8 +142,9 @@ fn report(
 
 /// Extracts the isosurface of `input` (a 3-D numpy array indexed
 /// `[z][y][x]`, or a path) into memory. Returns `(vertices, triangles,
-/// normals or None, report JSON)`; `index_order` gives scikit-image's
-/// arrays (see `output::Layout::Index`).
+/// normals or None, values or None, report JSON)`; `index_order` gives
+/// scikit-image's arrays (see `output::Layout::Index`) and, for an array,
+/// its per-vertex values (see `values.rs`).
 #[pyfunction]
 #[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, index_order))]
 #[allow(clippy::too_many_arguments)]
@@ -175,13 +177,23 @@ pub(crate) fn extract<'py>(
         let report = report(path, None, source, &params, &stats)?;
         Ok((mesh, normals, report))
     })?;
+    // scikit-image's per-vertex values, for its layout and an array.
+    let values = match (&input, index_order) {
+        (Input::Array(volume), true) => {
+            let values = py.detach(|| values::cell_maxima(volume, &mesh.vertices));
+            Some(numpy::PyArray1::from_vec(py, values))
+        }
+        _ => None,
+    };
     let layout = if index_order {
         Layout::Index
     } else {
         Layout::Tmc
     };
     let (v, t, n) = mesh_arrays(py, mesh, normals, layout)?;
-    (v, t, n, report).into_pyobject(py).map(|t| t.into_any())
+    (v, t, n, values, report)
+        .into_pyobject(py)
+        .map(|t| t.into_any())
 }
 
 /// Streams the isosurface of `input` (array or path) into the file

@@ -207,3 +207,18 @@ def test_level_defaults_to_mid_range_and_errors_match_scikit_image():
         tmc.marching_cubes(volume, 0.0, mask=volume > 5)
     full = tmc.marching_cubes(volume, 0.0, mask=np.ones(volume.shape, bool))
     np.testing.assert_array_equal(full[0], tmc.marching_cubes(volume, 0.0)[0])
+
+
+def test_values_are_the_largest_sample_of_each_vertex_cell():
+    """Computed here with numpy: floor(vertex / spacing) is the cell (clamped
+    into the grid), the value its largest corner sample."""
+    volume = gyroid(n=30).astype(np.float64)
+    spacing = (0.5, 1.0, 2.0)
+    v, _, _, values = tmc.marching_cubes(volume, 0.1, spacing=spacing)
+    cell = np.floor(v.astype(np.float64) / spacing).astype(np.intp)
+    cell = np.clip(cell, 0, np.array(volume.shape) - 2)
+    expected = np.full(len(v), -np.inf)
+    for corner in np.ndindex(2, 2, 2):
+        expected = np.maximum(expected, volume[tuple((cell + corner).T)])
+    assert values.dtype == np.float32
+    np.testing.assert_array_equal(values, expected.astype(np.float32))

@@ -259,7 +259,7 @@ def extract(
     """
     source = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
-    vertices, triangles, vertex_normals, report = _tmc.extract(
+    vertices, triangles, vertex_normals, _, report = _tmc.extract(
         *source, *options, bool(normals), False
     )
     return Mesh(vertices, triangles, vertex_normals, json.loads(report))
@@ -408,7 +408,7 @@ def marching_cubes(
     spacing_ijk = tuple(float(s) * step for s in spacing)
     if step > 1:
         array = array[::step, ::step, ::step]
-    verts, faces, normals, _ = _tmc.extract(
+    verts, faces, normals, values, _ = _tmc.extract(
         array,
         float(level),
         spacing_ijk[::-1],
@@ -427,29 +427,9 @@ def marching_cubes(
         raise RuntimeError("No surface found at the given iso value.")
     if inside == "low":
         np.negative(normals, out=normals)
-    values = _cell_maxima(array, verts, spacing_ijk)
     if not allow_degenerate:
         verts, faces, normals, values = _without_degenerate(verts, faces, normals, values)
     return verts, faces, normals, values
-
-
-def _cell_maxima(array: np.ndarray, verts: np.ndarray, spacing: Tuple[float, ...]) -> np.ndarray:
-    """The largest of the 8 samples of the cell each vertex lies in."""
-    shape = np.array(array.shape)
-    cell = np.floor(verts / np.asarray(spacing, dtype=np.float32)).astype(np.intp)
-    np.clip(cell, 0, np.maximum(shape - 2, 0), out=cell)
-    i, j, k = cell.T
-    values = None
-    for di in (0, 1):
-        for dj in (0, 1):
-            for dk in (0, 1):
-                corner = array[
-                    np.minimum(i + di, shape[0] - 1),
-                    np.minimum(j + dj, shape[1] - 1),
-                    np.minimum(k + dk, shape[2] - 1),
-                ]
-                values = corner if values is None else np.maximum(values, corner)
-    return np.asarray(values, dtype=np.float32)
 
 
 def _without_degenerate(

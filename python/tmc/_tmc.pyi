@@ -19,8 +19,8 @@ def extract(
     threads: int,
     normals: bool,
     index_order: bool,
-) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str]:
-    """Extracts into arrays; returns (vertices, triangles, normals, report JSON)."""
+) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], Optional[np.ndarray], str]:
+    """Extracts into arrays: (vertices, triangles, normals, values, report JSON)."""
 
 def extract_to(
     input: Any,

@@ -78,6 +78,27 @@ impl StridedVolume<'static> {
 }
 
 impl StridedVolume<'_> {
+    /// Sample `(x, y, z)` as an `f64`, or `None` outside the grid: random
+    /// access for callers that look at a few samples per vertex (the
+    /// Python package's per-vertex values).
+    pub fn sample(&self, [x, y, z]: [usize; 3]) -> Option<f64> {
+        let [nx, ny, nz] = self.grid.dims;
+        if x >= nx || y >= ny || z >= nz {
+            return None;
+        }
+        let mut out = [0.0];
+        let StridedLayout { scalar, endian, .. } = self.layout;
+        decode_strided(
+            scalar,
+            endian,
+            self.bytes(),
+            self.offset(x, y, z),
+            0,
+            &mut out,
+        );
+        Some(out[0])
+    }
+
     fn bytes(&self) -> &[u8] {
         match &self.bytes {
             Bytes::Borrowed(bytes) => bytes,
@@ -319,6 +340,8 @@ mod tests {
         let bytes: Vec<u8> = [1.0f32, 2.5].iter().flat_map(|v| v.to_ne_bytes()).collect();
         let v = StridedVolume::borrowed(grid, layout, &bytes).unwrap();
         assert!(planes(&v).iter().flatten().all(|&s| s == 2.5));
+        assert_eq!(v.sample([2, 1, 1]), Some(2.5));
+        assert_eq!(v.sample([3, 0, 0]), None);
     }
 
     #[test]

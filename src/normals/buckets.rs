@@ -50,7 +50,7 @@ impl Locator {
     /// is clamped onto it; a non-finite one goes to index 0. Small rounding
     /// does not matter: the interpolated gradient is continuous across
     /// cells.
-    #[inline]
+    #[inline(always)]
     pub fn locate(&self, world: [f32; 3]) -> ([usize; 3], [f64; 3]) {
         let index = self.map.index([
             f64::from(world[0]),
@@ -74,7 +74,7 @@ impl Locator {
 
     /// The cell layer holding `world`: `locate(world).0[2]`, for a third of
     /// the work.
-    #[inline]
+    #[inline(always)]
     pub fn layer(&self, world: [f32; 3]) -> usize {
         let world = [
             f64::from(world[0]),
@@ -88,8 +88,13 @@ impl Locator {
     /// not finite) and the offset in it, in `[0, 1]`.
     #[inline(always)]
     fn axis(&self, a: usize, index: f64) -> (usize, f64) {
-        let p = if index.is_finite() {
-            index.max(0.0).min(self.last[a])
+        // Comparisons, cheaper than `f64::max` and `min` (which must look
+        // for NaN): NaN and infinities fail the first test, as they should.
+        let last = self.last[a];
+        let p = if index >= 0.0 && index <= last {
+            index
+        } else if index > last && index.is_finite() {
+            last
         } else {
             0.0
         };

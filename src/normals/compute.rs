@@ -4,9 +4,11 @@ use super::buckets::{Buckets, Locator};
 use super::fallback::{fill_pending, PENDING};
 use super::gradient::Layer;
 use super::ranges::layer_ranges;
+use super::samples::{with_planes, Samples, Visit};
 use super::vector::unit;
 use super::window::Window;
 use crate::error::try_filled;
+use crate::grid::WorldToIndex;
 use crate::mesh::Mesh;
 use crate::params::{ExtractParams, Inside};
 use crate::volume::{Padded, SampleSource};
@@ -27,6 +29,11 @@ const MIN_RANGE_VERTICES: usize = 1 << 14;
 /// map (`direction^-T * diag(1 / spacing)`, so spacing, non-orthogonal and
 /// mirroring directions are honoured), normalized, and pointed outward:
 /// toward lower values for [`Inside::High`], higher for [`Inside::Low`].
+/// A vertex within [`SNAP`](super::buckets::SNAP) of a cell face (in
+/// index units) is taken as on it, which puts the vertices that marching
+/// cubes left on grid edges back there exactly despite the `f32` rounding
+/// of their coordinates: their gradient is then interpolated between the
+/// edge's two ends only.
 ///
 /// With `params.close` the field is the one the extraction saw, the source
 /// inside a border of NaN samples; NaN samples count as equal to the
@@ -147,19 +154,55 @@ impl Walk<'_> {
                 continue;
             }
             let (planes, numbers) = window.around(z)?;
-            let layer = Layer {
-                planes,
+            let layer = LayerNormals {
+                walk: self,
+                vertices,
                 numbers,
-                nx: grid.dims[0],
-                ny: grid.dims[1],
-                tie: self.params.iso,
+                map: &map,
+                sign,
+                out: &mut out,
             };
-            out.extend(vertices.iter().map(|&v| {
-                let (cell, t) = self.locator.locate(self.mesh.vertices[v as usize]);
-                let g = map.gradient_to_world(layer.gradient([cell[0], cell[1]], t));
-                unit(g.map(|c| sign * c)).unwrap_or(PENDING)
-            }));
+            with_planes(planes, layer);
         }
         Ok(out)
+    }
+}
+
+/// The normals of one layer's vertices, appended to `out`: the work of
+/// [`Walk::range`] compiled once per sample type.
+struct LayerNormals<'w, 'a> {
+    /// The walk.
+    walk: &'w Walk<'a>,
+    /// The layer's vertices.
+    vertices: &'w [u32],
+    /// The plane numbers of the layer's planes.
+    numbers: [usize; 4],
+    /// The grid's world-to-index map.
+    map: &'w WorldToIndex,
+    /// 1, or -1 where outward is down the gradient.
+    sign: f64,
+    /// Where the normals go, in bucket order.
+    out: &'w mut Vec<[f32; 3]>,
+}
+
+impl Visit for LayerNormals<'_, '_> {
+    type Output = ();
+
+    fn visit<P: Samples>(self, planes: [P; 4]) {
+        let walk = self.walk;
+        let [nx, ny, _] = walk.source.grid().dims;
+        let layer = Layer {
+            planes,
+            numbers: self.numbers,
+            nx,
+            ny,
+            tie: walk.params.iso,
+        };
+        let (map, sign) = (self.map, self.sign);
+        self.out.extend(self.vertices.iter().map(|&v| {
+            let (cell, t) = walk.locator.locate(walk.mesh.vertices[v as usize]);
+            let g = map.gradient_to_world(layer.gradient([cell[0], cell[1]], t));
+            unit(g.map(|c| sign * c)).unwrap_or(PENDING)
+        }));
     }
 }

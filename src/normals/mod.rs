@@ -8,7 +8,9 @@
 //!
 //! * central-difference gradients at the samples (one-sided at the volume's
 //!   border), trilinearly interpolated to the vertex, as VTK and
-//!   scikit-image do ([`gradient`]);
+//!   scikit-image do ([`gradient`]); a vertex on a grid edge, as nearly
+//!   all are, needs the gradients at the edge's two ends only, and the
+//!   gradient code is compiled once per sample type ([`samples`]);
 //! * converted to world coordinates with the chain rule through the grid's
 //!   inverse map, then normalized and pointed outward: toward lower values
 //!   for [`Inside::High`](crate::params::Inside::High), higher for
@@ -28,6 +30,7 @@ pub mod compute;
 pub mod fallback;
 pub mod gradient;
 pub mod ranges;
+pub mod samples;
 pub mod vector;
 pub mod window;
 

@@ -5,27 +5,14 @@ use crate::volume::{LentPlane, SampleSource};
 use crate::Result;
 
 /// One plane of samples as the window hands it out: lent by the source as
-/// stored (no copy), or read into the window's `f64` buffer.
+/// stored (no copy), or read into the window's `f64` buffer; read through
+/// [`Samples`](super::samples::Samples).
 #[derive(Debug, Clone, Copy)]
 pub enum Plane<'a> {
     /// The source's own samples (see [`SampleSource::lend_plane`]).
     Lent(LentPlane<'a>),
     /// Samples read with [`SampleSource::read_plane`].
     Read(&'a [f64]),
-}
-
-impl Plane<'_> {
-    /// Samples `at` as `f64`s, NaN as `tie` (NaN is outside, a tie at the
-    /// isovalue, as in the extraction: so a difference across a NaN sample,
-    /// such as the border `Padded` adds for `--close`, stays finite).
-    #[inline(always)]
-    pub fn get_many<const N: usize>(&self, at: [usize; N], tie: f64) -> [f64; N] {
-        let values = match self {
-            Plane::Lent(lent) => lent.get_many(at),
-            Plane::Read(samples) => at.map(|i| samples[i]),
-        };
-        values.map(|v| if v.is_nan() { tie } else { v })
-    }
 }
 
 /// The four planes a cell layer's gradients need: for layer `z` (between

@@ -124,20 +124,29 @@ pub struct Buckets {
 impl Buckets {
     /// Sorts `vertices` (at most `u32::MAX` of them: triangles number them
     /// with `u32`) by the cell layer `locator` puts them in; a counting
-    /// sort, two passes, one `u32` per vertex and one count per layer.
+    /// sort, two passes, one count per layer and two `u32` per vertex (the
+    /// layers found in the first pass, so that the second does not locate
+    /// again, and the order).
     pub fn new(locator: &Locator, vertices: &[[f32; 3]]) -> Result<Self> {
         let layers = locator.dims[2] - 1;
         let mut starts = try_filled("the vertices per layer", layers + 1, 0usize)?;
-        for &v in vertices {
-            starts[locator.layer(v) + 1] += 1;
+        let mut layer_of = try_filled("the vertices' layers", vertices.len(), 0u32)?;
+        for (layer, &v) in layer_of.iter_mut().zip(vertices) {
+            let z = locator.layer(v);
+            starts[z + 1] += 1;
+            // `u32::MAX` (a layer `u32` cannot hold): locate again below.
+            *layer = u32::try_from(z).unwrap_or(u32::MAX);
         }
         for z in 0..layers {
             starts[z + 1] += starts[z];
         }
         let mut next = starts.clone();
         let mut order = try_filled("the vertices sorted by layer", vertices.len(), 0u32)?;
-        for (i, &v) in vertices.iter().enumerate() {
-            let z = locator.layer(v);
+        for (i, (&layer, &v)) in layer_of.iter().zip(vertices).enumerate() {
+            let z = match layer {
+                u32::MAX => locator.layer(v),
+                z => z as usize,
+            };
             order[next[z]] = i as u32;
             next[z] += 1;
         }

@@ -43,7 +43,7 @@ const MIN_RANGE_VERTICES: usize = 1 << 14;
 /// normals, and `[0, 0, 0]` if that is zero too (every incident triangle
 /// degenerate, or none). Every other normal has unit length.
 ///
-/// Memory: four planes of `f64` per worker, one `u32` per vertex for the
+/// Memory: four planes of `f64` per worker, two `u32` per vertex for the
 /// bucketing, and the result; the volume is never read whole, and planes
 /// of layers without vertices are not read. Workers (`params.threads`, 0 =
 /// all cores) take ranges of layers; the result does not depend on their

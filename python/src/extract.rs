@@ -2,6 +2,7 @@
 //! file of any output format (`extract_to`), from an array or a path.
 
 use crate::array::{self, MappedAt};
+use crate::errors::OrPyErr;
 use crate::interrupt;
 use crate::output::{mesh_arrays, Layout};
 use crate::values;
@@ -180,7 +181,9 @@ pub(crate) fn extract<'py>(
     // scikit-image's per-vertex values, for its layout and an array.
     let values = match (&input, index_order) {
         (Input::Array(volume), true) => {
-            let values = py.detach(|| values::cell_maxima(volume, &mesh.vertices));
+            let values = py
+                .detach(|| values::cell_maxima(volume, &mesh.vertices, threads))
+                .or_py()?;
             Some(numpy::PyArray1::from_vec(py, values))
         }
         _ => None,

@@ -209,16 +209,24 @@ def test_level_defaults_to_mid_range_and_errors_match_scikit_image():
     np.testing.assert_array_equal(full[0], tmc.marching_cubes(volume, 0.0)[0])
 
 
-def test_values_are_the_largest_sample_of_each_vertex_cell():
-    """Computed here with numpy: floor(vertex / spacing) is the cell (clamped
-    into the grid), the value its largest corner sample."""
+def test_values_are_the_largest_sample_of_each_vertex_element():
+    """Computed here with numpy: per axis, a vertex index within 1e-4 of an
+    integer is on that grid plane, else between its floor and the next; the
+    value is the largest sample of that edge (or face, cell, sample)."""
     volume = gyroid(n=30).astype(np.float64)
     spacing = (0.5, 1.0, 2.0)
     v, _, _, values = tmc.marching_cubes(volume, 0.1, spacing=spacing)
-    cell = np.floor(v.astype(np.float64) / spacing).astype(np.intp)
-    cell = np.clip(cell, 0, np.array(volume.shape) - 2)
+    index = v.astype(np.float64) / spacing
+    nearest = np.round(index)
+    on_plane = np.abs(index - nearest) <= 1e-4
+    low = np.where(on_plane, nearest, np.floor(index)).astype(np.intp)
+    shape = np.array(volume.shape)
+    low = np.clip(low, 0, np.where(on_plane, shape - 1, shape - 2))
+    high = np.where(on_plane, low, np.minimum(low + 1, shape - 1))
     expected = np.full(len(v), -np.inf)
     for corner in np.ndindex(2, 2, 2):
-        expected = np.maximum(expected, volume[tuple((cell + corner).T)])
+        at = np.where(np.array(corner, bool), high, low)
+        expected = np.maximum(expected, volume[tuple(at.T)])
+    assert on_plane.sum(axis=1).min() >= 1  # every vertex is on a grid plane
     assert values.dtype == np.float32
     np.testing.assert_array_equal(values, expected.astype(np.float32))

@@ -30,8 +30,10 @@ pub(crate) fn default_depth(plane_len: usize, layers: usize, threads: usize) -> 
     by_size.min(layers.div_ceil(16 * threads).max(8))
 }
 
-/// A rayon pool of `threads` threads.
-pub(crate) fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
+/// A rayon pool of `threads` threads (a count, not 0: see [`worker_threads`]);
+/// front ends use it for their own parallel steps, so that `threads` holds
+/// for the whole call.
+pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

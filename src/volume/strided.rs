@@ -79,8 +79,7 @@ impl StridedVolume<'static> {
 
 impl StridedVolume<'_> {
     /// Sample `(x, y, z)` as an `f64`, or `None` outside the grid: random
-    /// access for callers that look at a few samples per vertex (the
-    /// Python package's per-vertex values).
+    /// access for callers that look at a few samples per vertex.
     pub fn sample(&self, [x, y, z]: [usize; 3]) -> Option<f64> {
         let [nx, ny, nz] = self.grid.dims;
         if x >= nx || y >= ny || z >= nz {
@@ -97,6 +96,57 @@ impl StridedVolume<'_> {
             &mut out,
         );
         Some(out[0])
+    }
+
+    /// The largest of the samples at `corner` and, along each axis `a`
+    /// where `span[a]` is true, at `corner + 1` (none beyond the grid): the
+    /// corners of a cell, a face, an edge or one sample. NaN samples are
+    /// ignored; `None` outside the grid or when every one is NaN. One look
+    /// at the sample type for all of them (the Python package's per-vertex
+    /// values).
+    pub fn cell_max(&self, corner: [usize; 3], span: [bool; 3]) -> Option<f64> {
+        let dims = self.grid.dims;
+        if (0..3).any(|a| corner[a] >= dims[a]) {
+            return None;
+        }
+        let cell = corner;
+        let span = [0, 1, 2].map(|a| usize::from(span[a] && cell[a] + 1 < dims[a]));
+        let bytes = self.bytes();
+        let base = self.offset(cell[0], cell[1], cell[2]) as isize;
+        let [sx, sy, sz] = self.layout.strides;
+        let endian = self.layout.endian;
+        macro_rules! most {
+            ($t:ty) => {{
+                const N: usize = std::mem::size_of::<$t>();
+                let mut most = f64::NAN;
+                for dz in 0..=span[2] {
+                    for dy in 0..=span[1] {
+                        for dx in 0..=span[0] {
+                            let at = (base + dx as isize * sx + dy as isize * sy + dz as isize * sz)
+                                as usize;
+                            let raw: [u8; N] = bytes[at..at + N].try_into().expect("N bytes");
+                            let v = match endian {
+                                Endian::Little => <$t>::from_le_bytes(raw),
+                                Endian::Big => <$t>::from_be_bytes(raw),
+                            };
+                            most = most.max(f64::from(v));
+                        }
+                    }
+                }
+                most
+            }};
+        }
+        let most = match self.layout.scalar {
+            ScalarType::U8 => most!(u8),
+            ScalarType::I8 => most!(i8),
+            ScalarType::U16 => most!(u16),
+            ScalarType::I16 => most!(i16),
+            ScalarType::U32 => most!(u32),
+            ScalarType::I32 => most!(i32),
+            ScalarType::F32 => most!(f32),
+            ScalarType::F64 => most!(f64),
+        };
+        (!most.is_nan()).then_some(most)
     }
 
     fn bytes(&self) -> &[u8] {
@@ -308,6 +358,22 @@ mod tests {
             endian: Endian::Big,
             ..c
         };
+        // The largest sample of each cell (fewer corners at the far faces).
+        let cell_max = |x: usize, y: usize, z: usize, span: [bool; 3]| {
+            let mut most = 0.0f64;
+            for (dx, dy, dz) in (0..8).map(|c| (c & 1, c >> 1 & 1, c >> 2)) {
+                if (dx == 1 && !span[0]) || (dy == 1 && !span[1]) || (dz == 1 && !span[2]) {
+                    continue;
+                }
+                let (i, j, k) = (
+                    (x + dx).min(nx - 1),
+                    (y + dy).min(ny - 1),
+                    (z + dz).min(nz - 1),
+                );
+                most = most.max(f64::from(data[i + nx * (j + ny * k)]));
+            }
+            most
+        };
         for (layout, bytes) in [
             (c, le(&data)),
             (f, le(&fortran)),
@@ -316,6 +382,14 @@ mod tests {
         ] {
             let v = StridedVolume::borrowed(grid, layout, &bytes).unwrap();
             assert_eq!(planes(&v), expected, "{layout:?}");
+            for (x, y, z) in (0..nx * ny * nz).map(|i| (i % nx, i / nx % ny, i / (nx * ny))) {
+                for span in [[true; 3], [false, true, false], [false; 3]] {
+                    let expected = cell_max(x, y, z, span);
+                    assert_eq!(v.cell_max([x, y, z], span), Some(expected), "{layout:?}");
+                }
+                let sample = f64::from(data[x + nx * (y + ny * z)]);
+                assert_eq!(v.sample([x, y, z]), Some(sample));
+            }
         }
         // The packed native layout is lent as stored; the others are not.
         let bytes = le(&data);
@@ -342,6 +416,8 @@ mod tests {
         assert!(planes(&v).iter().flatten().all(|&s| s == 2.5));
         assert_eq!(v.sample([2, 1, 1]), Some(2.5));
         assert_eq!(v.sample([3, 0, 0]), None);
+        assert_eq!(v.cell_max([2, 1, 1], [true; 3]), Some(2.5));
+        assert_eq!(v.cell_max([0, 2, 0], [true; 3]), None);
     }
 
     #[test]

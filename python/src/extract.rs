@@ -5,6 +5,7 @@ use crate::array::{self, MappedAt};
 use crate::errors::OrPyErr;
 use crate::interrupt;
 use crate::output::{mesh_arrays, Layout};
+use crate::record::Recorder;
 use crate::values;
 use numpy::PyUntypedArray;
 use pyo3::exceptions::PyValueError;
@@ -143,7 +144,8 @@ fn report(
 
 /// Extracts the isosurface of `input` (a 3-D numpy array indexed
 /// `[z][y][x]`, or a path) into memory. Returns `(vertices, triangles,
-/// normals or None, values or None, report JSON)`; `index_order` gives
+/// normals or None, values or None, report JSON, record)`, the record
+/// being what `Mesh.write` needs for a `.tmesh` file (see `record.rs`); `index_order` gives
 /// scikit-image's arrays (see `output::Layout::Index`) and, for an array,
 /// its per-vertex values (see `values.rs`).
 #[pyfunction]
@@ -165,18 +167,19 @@ pub(crate) fn extract<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, close, threads)?;
     let input = Input::new(input, spacing, origin, mapped)?;
-    let (mesh, normals, report) = input.run(py, |source, path, cancel| {
+    let (mesh, normals, report, record) = input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, None, cancel)?;
-        let mut builder = tmc::MeshBuilder::default();
-        let stats = tmc::extract_to(source, &params, &options, &mut builder)?;
-        let mesh = builder.into_mesh();
+        let mut recorder = Recorder::default();
+        let stats = tmc::extract_to(source, &params, &options, &mut recorder)?;
+        let record = recorder.record();
+        let mesh = recorder.builder.into_mesh();
         let normals = if normals {
             Some(tmc::normals::vertex_normals(source, &params, &mesh)?)
         } else {
             None
         };
         let report = report(path, None, source, &params, &stats)?;
-        Ok((mesh, normals, report))
+        Ok((mesh, normals, report, record))
     })?;
     // scikit-image's per-vertex values, for its layout and an array.
     let values = match (&input, index_order) {
@@ -194,7 +197,7 @@ pub(crate) fn extract<'py>(
         Layout::Tmc
     };
     let (v, t, n) = mesh_arrays(py, mesh, normals, layout)?;
-    (v, t, n, values, report)
+    (v, t, n, values, report, record)
         .into_pyobject(py)
         .map(|t| t.into_any())
 }

@@ -15,6 +15,7 @@ mod extract;
 mod interrupt;
 mod mesh_io;
 mod output;
+mod record;
 mod values;
 
 use pyo3::prelude::*;

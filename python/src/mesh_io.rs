@@ -4,6 +4,7 @@
 use crate::errors::OrPyErr;
 use crate::interrupt;
 use crate::output::{mesh_arrays, rows_from, Layout};
+use crate::record::{write_tmesh, Record};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 
@@ -25,17 +26,29 @@ fn mesh_from(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyRes
     })
 }
 
-/// Writes a mesh to `path` in the format its extension names (`.tmesh`,
-/// `.ply`, `.obj`, `.off`, `.stl`); the file appears whole or not at all.
+/// Writes a mesh to `path` in the format its extension names (`.ply`,
+/// `.obj`, `.off`, `.stl`, and `.tmesh` given the `record` of the
+/// extraction that made the mesh); the file appears whole or not at all.
 #[pyfunction]
+#[pyo3(signature = (path, vertices, triangles, record = None))]
 pub(crate) fn write_mesh(
     py: Python<'_>,
     path: PathBuf,
     vertices: &Bound<'_, PyAny>,
     triangles: &Bound<'_, PyAny>,
+    record: Option<PyRef<'_, Record>>,
 ) -> PyResult<()> {
     let mesh = mesh_from(vertices, triangles)?;
-    py.detach(|| tmc::export::write_mesh(&path, &mesh)).or_py()
+    let tmesh = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("tmesh"));
+    match record {
+        Some(record) if tmesh => {
+            let record: &Record = &record;
+            py.detach(|| write_tmesh(&path, &mesh, record))
+        }
+        _ => py.detach(|| tmc::export::write_mesh(&path, &mesh)).or_py(),
+    }
 }
 
 /// The report of `tmc check --json` for a mesh, as JSON text.

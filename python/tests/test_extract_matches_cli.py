@@ -121,15 +121,22 @@ def test_write_read_and_check_round_trip(tmp_path):
         back = tmc.read_mesh(tmp_path / f"m{suffix}")
         np.testing.assert_array_equal(back.triangles, mesh.triangles)
         np.testing.assert_allclose(back.vertices, mesh.vertices, rtol=1e-6)
-    # A .tmesh file records the extraction (grid, chunks per plane):
-    # extract_to writes it; an in-memory mesh refuses, saying so.
-    with pytest.raises(ValueError, match="extract_to"):
-        mesh.write(tmp_path / "m.tmesh")
-    assert not (tmp_path / "m.tmesh").exists()
-    tmc.extract_to(noise_volume("u2"), 3.0, tmp_path / "m.tmesh", close=True)
+    # A .tmesh file records the extraction (grid, chunks per plane): the
+    # mesh of tmc.extract writes the bytes of extract_to; a mesh read from a
+    # file, or one whose sizes changed, refuses, saying so.
+    mesh.write(tmp_path / "m.tmesh")
+    tmc.extract_to(noise_volume("u2"), 3.0, tmp_path / "streamed.tmesh", close=True)
+    assert (tmp_path / "m.tmesh").read_bytes() == (tmp_path / "streamed.tmesh").read_bytes()
     back = tmc.read_mesh(tmp_path / "m.tmesh")
     np.testing.assert_array_equal(back.triangles, mesh.triangles)
     np.testing.assert_array_equal(back.vertices, mesh.vertices)
+    with pytest.raises(ValueError, match="extract_to"):
+        back.write(tmp_path / "again.tmesh")
+    cut = tmc.Mesh(mesh.vertices, mesh.triangles[:-1])
+    cut._record = mesh._record
+    with pytest.raises(ValueError, match="chunks as made"):
+        cut.write(tmp_path / "cut.tmesh")
+    assert not (tmp_path / "again.tmesh").exists() and not (tmp_path / "cut.tmesh").exists()
     report = mesh.check()
     cli = __import__("json").loads(run_cli("check", str(tmp_path / "m.ply"), "--json").stdout)
     assert report == cli

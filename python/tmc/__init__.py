@@ -65,7 +65,7 @@ class Mesh:
         from a file.
     """
 
-    __slots__ = ("vertices", "triangles", "normals", "stats")
+    __slots__ = ("vertices", "triangles", "normals", "stats", "_record")
 
     def __init__(
         self,
@@ -79,6 +79,8 @@ class Mesh:
         self.triangles = triangles
         self.normals = normals
         self.stats = {} if stats is None else stats
+        # The extraction's grid and chunks (opaque), for writing .tmesh.
+        self._record: Any = None
 
     def __repr__(self) -> str:
         return (
@@ -89,20 +91,22 @@ class Mesh:
     def write(self, path: PathLike) -> None:
         """Writes the mesh to ``path`` in the format its extension names.
 
-        ``.ply`` (binary), ``.obj``, ``.off`` or ``.stl``. The file appears
-        whole or not at all: a failed write leaves nothing at ``path``.
-        Normals are not written yet. A ``.tmesh`` file records the
-        extraction that made it (its grid, a chunk per plane), which a mesh
-        in memory no longer knows: :func:`extract_to` writes one.
+        ``.ply`` (binary), ``.obj``, ``.off``, ``.stl`` or ``.tmesh``. The
+        file appears whole or not at all: a failed write leaves nothing at
+        ``path``. Normals are not written yet. A ``.tmesh`` file records the
+        extraction that made the mesh (its grid, a chunk per plane): a mesh
+        from :func:`extract` writes the bytes :func:`extract_to` would have
+        written; a mesh read from a file, or one whose sizes changed, cannot.
         """
-        if os.fspath(path).lower().endswith(".tmesh"):
+        if os.fspath(path).lower().endswith(".tmesh") and self._record is None:
             raise ValueError(
-                f"{os.fspath(path)}: a .tmesh file records the extraction that made it; "
-                "write it with tmc.extract_to(volume, iso, path)"
+                f"{os.fspath(path)}: a .tmesh file records the extraction that made the mesh, "
+                "and this mesh was not made by tmc.extract; write it with "
+                "tmc.extract_to(volume, iso, path)"
             )
         vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
         triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
-        _tmc.write_mesh(os.fspath(path), vertices, triangles)
+        _tmc.write_mesh(os.fspath(path), vertices, triangles, self._record)
 
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``: manifoldness, orientation,
@@ -259,10 +263,12 @@ def extract(
     """
     source = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
-    vertices, triangles, vertex_normals, _, report = _tmc.extract(
+    vertices, triangles, vertex_normals, _, report, record = _tmc.extract(
         *source, *options, bool(normals), False
     )
-    return Mesh(vertices, triangles, vertex_normals, json.loads(report))
+    mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
+    mesh._record = record
+    return mesh
 
 
 def extract_to(
@@ -408,7 +414,7 @@ def marching_cubes(
     spacing_ijk = tuple(float(s) * step for s in spacing)
     if step > 1:
         array = array[::step, ::step, ::step]
-    verts, faces, normals, values, _ = _tmc.extract(
+    verts, faces, normals, values, _, _ = _tmc.extract(
         array,
         float(level),
         spacing_ijk[::-1],

@@ -27,7 +27,7 @@ class Mesh:
     ) -> None:
         """Wraps vertex and triangle arrays (and optional normals and stats)."""
     def write(self, path: PathLike) -> None:
-        """Writes the mesh as PLY, OBJ, OFF or STL (by extension), atomically."""
+        """Writes the mesh as PLY, OBJ, OFF, STL or .tmesh (by extension), atomically."""
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``."""
 

@@ -19,8 +19,8 @@ def extract(
     threads: int,
     normals: bool,
     index_order: bool,
-) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], Optional[np.ndarray], str]:
-    """Extracts into arrays: (vertices, triangles, normals, values, report JSON)."""
+) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], Optional[np.ndarray], str, Any]:
+    """Extracts into arrays: (vertices, triangles, normals, values, report JSON, record)."""
 
 def extract_to(
     input: Any,
@@ -39,8 +39,10 @@ def extract_to(
 def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
     """Reads a mesh file: (vertices float64, triangles uint32)."""
 
-def write_mesh(path: str, vertices: np.ndarray, triangles: np.ndarray) -> None:
-    """Writes a mesh file, atomically."""
+def write_mesh(
+    path: str, vertices: np.ndarray, triangles: np.ndarray, record: Any = ...
+) -> None:
+    """Writes a mesh file, atomically (.tmesh needs the extraction's record)."""
 
 def check_mesh(vertices: np.ndarray, triangles: np.ndarray) -> str:
     """The report of tmc check as JSON text."""

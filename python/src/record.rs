@@ -1,0 +1,110 @@
+//! What a `.tmesh` file needs beyond the mesh: the extraction's
+//! [`MeshInfo`] and its chunks (one per grid plane). [`Recorder`] keeps them
+//! while the pipeline builds the mesh in memory, so that `Mesh.write` can
+//! later replay the same chunks into a `.tmesh` file: the bytes
+//! `extract_to` would have written.
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::path::Path;
+use tmc::mesh::{Chunk, MeshInfo, MeshSink, Totals};
+use tmc::{Mesh, MeshBuilder};
+
+/// The record of one extraction, kept by the Python `Mesh` (opaque there).
+#[pyclass(frozen, module = "tmc._tmc")]
+pub(crate) struct Record {
+    info: MeshInfo,
+    /// Per chunk: grid plane, vertices, triangles.
+    chunks: Vec<[u64; 3]>,
+}
+
+/// A [`MeshBuilder`] that also records the [`Record`].
+#[derive(Default)]
+pub(crate) struct Recorder {
+    /// The mesh being built.
+    pub builder: MeshBuilder,
+    info: Option<MeshInfo>,
+    chunks: Vec<[u64; 3]>,
+}
+
+impl Recorder {
+    /// The record of the finished extraction.
+    pub fn record(&self) -> Option<Record> {
+        self.info.clone().map(|info| Record {
+            info,
+            chunks: self.chunks.clone(),
+        })
+    }
+}
+
+impl MeshSink for Recorder {
+    fn begin(&mut self, info: &MeshInfo) -> tmc::Result<()> {
+        self.info = Some(info.clone());
+        self.builder.begin(info)
+    }
+
+    fn chunk(&mut self, base: u64, chunk: &Chunk) -> tmc::Result<()> {
+        let sizes = [chunk.vertices.len(), chunk.triangles.len()].map(|n| n as u64);
+        self.chunks.push([chunk.plane, sizes[0], sizes[1]]);
+        self.builder.chunk(base, chunk)
+    }
+
+    fn finish(&mut self, totals: &Totals) -> tmc::Result<()> {
+        self.builder.finish(totals)
+    }
+}
+
+/// Writes `mesh`, made by the extraction `record` describes, as the
+/// `.tmesh` file at `path`: its chunks again, in plane order. Fails if the
+/// mesh no longer has the sizes the chunks add up to.
+pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult<()> {
+    let [vertices, triangles] = record
+        .chunks
+        .iter()
+        .fold([0u64; 2], |[v, t], c| [v + c[1], t + c[2]]);
+    if (vertices, triangles) != (mesh.vertices.len() as u64, mesh.triangles.len() as u64) {
+        return Err(PyValueError::new_err(format!(
+            "{}: the mesh has {} vertices and {} triangles, but its extraction made {vertices} and {triangles}; a .tmesh file holds an extraction's chunks as made",
+            path.display(),
+            mesh.vertices.len(),
+            mesh.triangles.len()
+        )));
+    }
+    let replay = || -> tmc::Result<()> {
+        let mut sink = tmc::meshfile::TmeshWriter::create(path)?;
+        sink.begin(&record.info)?;
+        let (mut base, mut first_triangle) = (0usize, 0usize);
+        for (i, &[plane, v, t]) in record.chunks.iter().enumerate() {
+            let (v, t) = (v as usize, t as usize);
+            let triangles = &mesh.triangles[first_triangle..first_triangle + t];
+            // A chunk's triangles reach at most into the next chunk's vertices.
+            let reach = base + v + record.chunks.get(i + 1).map_or(0, |c| c[1] as usize);
+            if let Some(bad) = triangles.iter().flatten().find(|&&k| {
+                let k = k as usize;
+                k < base || k >= reach
+            }) {
+                return Err(tmc::Error::Invalid(format!(
+                    "{}: vertex {bad} of a triangle of plane {plane} is not one the extraction made there; a .tmesh file holds an extraction's chunks as made",
+                    path.display()
+                )));
+            }
+            let chunk = Chunk {
+                plane,
+                vertices: mesh.vertices[base..base + v].to_vec(),
+                triangles: triangles
+                    .iter()
+                    .map(|tri| tri.map(|i| i.wrapping_sub(base as u32)))
+                    .collect(),
+            };
+            sink.chunk(base as u64, &chunk)?;
+            base += v;
+            first_triangle += t;
+        }
+        sink.finish(&Totals {
+            vertices,
+            triangles,
+            chunks: record.chunks.len() as u64,
+        })
+    };
+    replay().map_err(crate::errors::to_py)
+}

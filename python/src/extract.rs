@@ -4,7 +4,7 @@
 use crate::array::{self, MappedAt};
 use crate::errors::OrPyErr;
 use crate::interrupt;
-use crate::output::{mesh_arrays, Layout};
+use crate::output::{arrays, Layout, Positions};
 use crate::record::Recorder;
 use crate::values;
 use numpy::PyUntypedArray;
@@ -167,25 +167,48 @@ pub(crate) fn extract<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, close, threads)?;
     let input = Input::new(input, spacing, origin, mapped)?;
-    let (mesh, normals, report, record) = input.run(py, |source, path, cancel| {
-        let options = preflight(source, path, &params, None, cancel)?;
-        let mut recorder = Recorder::default();
-        let stats = tmc::extract_to(source, &params, &options, &mut recorder)?;
-        let record = recorder.record();
-        let mesh = recorder.builder.into_mesh();
-        let normals = if normals {
-            Some(tmc::normals::vertex_normals(source, &params, &mesh)?)
-        } else {
-            None
-        };
-        let report = report(path, None, source, &params, &stats)?;
-        Ok((mesh, normals, report, record))
-    })?;
+    // tmc's layout without normals takes f64 vertices as the chunks come
+    // (the writer thread widens them while the workers triangulate); the
+    // normals and scikit-image's layout work from the f32 mesh.
+    let wide = !index_order && !normals;
+    let (positions, triangles, normals, report, record) =
+        input.run(py, |source, path, cancel| {
+            let options = preflight(source, path, &params, None, cancel)?;
+            if wide {
+                let mut recorder = Recorder::<[f64; 3]>::default();
+                let stats = tmc::extract_to(source, &params, &options, &mut recorder)?;
+                let report = report(path, None, source, &params, &stats)?;
+                let record = recorder.record();
+                let (vertices, triangles) = recorder.collector.into_parts();
+                return Ok((Positions::Wide(vertices), triangles, None, report, record));
+            }
+            let mut recorder = Recorder::<[f32; 3]>::default();
+            let stats = tmc::extract_to(source, &params, &options, &mut recorder)?;
+            let report = report(path, None, source, &params, &stats)?;
+            let record = recorder.record();
+            let (vertices, triangles) = recorder.collector.into_parts();
+            let mesh = tmc::Mesh {
+                vertices,
+                triangles,
+            };
+            let normals = if normals {
+                Some(tmc::normals::vertex_normals(source, &params, &mesh)?)
+            } else {
+                None
+            };
+            Ok((
+                Positions::Narrow(mesh.vertices),
+                mesh.triangles,
+                normals,
+                report,
+                record,
+            ))
+        })?;
     // scikit-image's per-vertex values, for its layout and an array.
-    let values = match (&input, index_order) {
-        (Input::Array(volume), true) => {
+    let values = match (&input, index_order, &positions) {
+        (Input::Array(volume), true, Positions::Narrow(vertices)) => {
             let values = py
-                .detach(|| values::cell_maxima(volume, &mesh.vertices, threads))
+                .detach(|| values::cell_maxima(volume, vertices, threads))
                 .or_py()?;
             Some(numpy::PyArray1::from_vec(py, values))
         }
@@ -196,7 +219,7 @@ pub(crate) fn extract<'py>(
     } else {
         Layout::Tmc
     };
-    let (v, t, n) = mesh_arrays(py, mesh, normals, layout)?;
+    let (v, t, n) = arrays(py, positions, triangles, normals, layout)?;
     (v, t, n, values, report, record)
         .into_pyobject(py)
         .map(|t| t.into_any())

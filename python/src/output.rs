@@ -31,6 +31,16 @@ type MeshArrays<'py> = (
     Option<Bound<'py, PyAny>>,
 );
 
+/// Vertex positions as collected: `f32` as the pipeline makes them (what
+/// the normals and values are computed from), or already `f64` (collected
+/// so while the extraction ran, for tmc's layout).
+pub(crate) enum Positions {
+    /// As the pipeline made them.
+    Narrow(Vec<[f32; 3]>),
+    /// Widened as they came.
+    Wide(Vec<[f64; 3]>),
+}
+
 /// Vertices, triangles and normals of `mesh` as numpy arrays.
 pub(crate) fn mesh_arrays<'py>(
     py: Python<'py>,
@@ -39,34 +49,64 @@ pub(crate) fn mesh_arrays<'py>(
     layout: Layout,
 ) -> PyResult<MeshArrays<'py>> {
     let Mesh {
-        mut vertices,
+        vertices,
         triangles,
     } = mesh;
-    match layout {
-        Layout::Tmc => {
-            let wide: Vec<[f64; 3]> = vertices.iter().map(|v| v.map(f64::from)).collect();
-            drop(vertices);
-            let normals = normals.map(|n| rows(py, n)).transpose()?;
-            Ok((rows(py, wide)?, rows(py, triangles)?, normals))
+    arrays(py, Positions::Narrow(vertices), triangles, normals, layout)
+}
+
+/// [`mesh_arrays`] of vertices as collected ([`Positions`]); the index
+/// layout needs them narrow.
+pub(crate) fn arrays<'py>(
+    py: Python<'py>,
+    positions: Positions,
+    triangles: Vec<[u32; 3]>,
+    normals: Option<Vec<[f32; 3]>>,
+    layout: Layout,
+) -> PyResult<MeshArrays<'py>> {
+    let normals_rows = |py, n: Option<Vec<[f32; 3]>>| n.map(|n| rows(py, n)).transpose();
+    let mut vertices = match (positions, layout) {
+        (Positions::Wide(wide), Layout::Tmc) => {
+            return Ok((
+                rows(py, wide)?,
+                rows(py, triangles)?,
+                normals_rows(py, normals)?,
+            ));
         }
-        Layout::Index => {
-            if vertices.len() > i32::MAX as usize {
-                return Err(PyValueError::new_err(format!(
-                    "{} vertices do not fit scikit-image's int32 faces; use tmc.extract",
-                    vertices.len()
-                )));
-            }
-            vertices.iter_mut().for_each(|v| v.reverse());
-            let mut normals = normals;
-            if let Some(n) = normals.as_mut() {
-                n.iter_mut().for_each(|v| v.reverse());
-            }
-            // Same size and alignment: collected in place, no allocation.
-            let faces: Vec<[i32; 3]> = triangles.into_iter().map(|t| t.map(|i| i as i32)).collect();
-            let normals = normals.map(|n| rows(py, n)).transpose()?;
-            Ok((rows(py, vertices)?, rows(py, faces)?, normals))
+        (Positions::Narrow(narrow), Layout::Tmc) => {
+            let wide: Vec<[f64; 3]> = narrow.iter().map(|v| v.map(f64::from)).collect();
+            drop(narrow);
+            return Ok((
+                rows(py, wide)?,
+                rows(py, triangles)?,
+                normals_rows(py, normals)?,
+            ));
         }
+        (Positions::Narrow(narrow), Layout::Index) => narrow,
+        (Positions::Wide(_), Layout::Index) => {
+            return Err(PyValueError::new_err(
+                "internal: scikit-image's layout is made from f32 positions",
+            ))
+        }
+    };
+    if vertices.len() > i32::MAX as usize {
+        return Err(PyValueError::new_err(format!(
+            "{} vertices do not fit scikit-image's int32 faces; use tmc.extract",
+            vertices.len()
+        )));
     }
+    vertices.iter_mut().for_each(|v| v.reverse());
+    let mut normals = normals;
+    if let Some(n) = normals.as_mut() {
+        n.iter_mut().for_each(|v| v.reverse());
+    }
+    // Same size and alignment: collected in place, no allocation.
+    let faces: Vec<[i32; 3]> = triangles.into_iter().map(|t| t.map(|i| i as i32)).collect();
+    Ok((
+        rows(py, vertices)?,
+        rows(py, faces)?,
+        normals_rows(py, normals)?,
+    ))
 }
 
 /// A Python sequence of `(N, 3)` rows (a numpy array) as a `Vec`.

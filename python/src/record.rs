@@ -1,14 +1,14 @@
 //! What a `.tmesh` file needs beyond the mesh: the extraction's
 //! [`MeshInfo`] and its chunks (one per grid plane). [`Recorder`] keeps them
-//! while the pipeline builds the mesh in memory, so that `Mesh.write` can
+//! while the pipeline collects the mesh in memory, so that `Mesh.write` can
 //! later replay the same chunks into a `.tmesh` file: the bytes
 //! `extract_to` would have written.
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::Path;
-use tmc::mesh::{Chunk, MeshInfo, MeshSink, Totals};
-use tmc::{Mesh, MeshBuilder};
+use tmc::mesh::{Chunk, Collector, MeshInfo, MeshSink, Totals, Vertex};
+use tmc::Mesh;
 
 /// The record of one extraction, kept by the Python `Mesh` (opaque there).
 #[pyclass(frozen, module = "tmc._tmc")]
@@ -18,16 +18,25 @@ pub(crate) struct Record {
     chunks: Vec<[u64; 3]>,
 }
 
-/// A [`MeshBuilder`] that also records the [`Record`].
-#[derive(Default)]
-pub(crate) struct Recorder {
-    /// The mesh being built.
-    pub builder: MeshBuilder,
+/// A [`Collector`] (vertices as `V`) that also records the [`Record`].
+pub(crate) struct Recorder<V> {
+    /// The mesh being collected.
+    pub collector: Collector<V>,
     info: Option<MeshInfo>,
     chunks: Vec<[u64; 3]>,
 }
 
-impl Recorder {
+impl<V> Default for Recorder<V> {
+    fn default() -> Self {
+        Recorder {
+            collector: Collector::default(),
+            info: None,
+            chunks: Vec::new(),
+        }
+    }
+}
+
+impl<V> Recorder<V> {
     /// The record of the finished extraction.
     pub fn record(&self) -> Option<Record> {
         self.info.clone().map(|info| Record {
@@ -37,20 +46,20 @@ impl Recorder {
     }
 }
 
-impl MeshSink for Recorder {
+impl<V: Vertex> MeshSink for Recorder<V> {
     fn begin(&mut self, info: &MeshInfo) -> tmc::Result<()> {
         self.info = Some(info.clone());
-        self.builder.begin(info)
+        self.collector.begin(info)
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> tmc::Result<()> {
         let sizes = [chunk.vertices.len(), chunk.triangles.len()].map(|n| n as u64);
         self.chunks.push([chunk.plane, sizes[0], sizes[1]]);
-        self.builder.chunk(base, chunk)
+        self.collector.chunk(base, chunk)
     }
 
     fn finish(&mut self, totals: &Totals) -> tmc::Result<()> {
-        self.builder.finish(totals)
+        self.collector.finish(totals)
     }
 }
 

@@ -1,38 +1,87 @@
 //! [`MeshBuilder`]: the sink that collects the chunks into an in-memory
-//! [`Mesh`].
+//! [`Mesh`]; [`Collector`] is the same with vertices in another type (the
+//! Python package collects `f64` vertices as the chunks come, instead of
+//! converting a finished mesh).
 
 use super::{Chunk, Mesh, MeshInfo, MeshSink, Totals};
 use crate::error::make_room;
 use crate::{Error, Result};
 
-/// Builds an in-memory [`Mesh`] (32-bit indices).
+/// A vertex type a [`Collector`] can hold: made from the chunk's `f32`
+/// position without loss.
+pub trait Vertex: Copy {
+    /// The vertex at `position`.
+    fn from_f32(position: [f32; 3]) -> Self;
+}
+
+impl Vertex for [f32; 3] {
+    #[inline(always)]
+    fn from_f32(position: [f32; 3]) -> Self {
+        position
+    }
+}
+
+impl Vertex for [f64; 3] {
+    #[inline(always)]
+    fn from_f32(position: [f32; 3]) -> Self {
+        position.map(f64::from)
+    }
+}
+
+/// Collects the chunks into a vertex vector (of `V`) and a triangle vector
+/// (32-bit global indices).
 ///
-/// Each chunk is copied into the mesh as it comes, so that the chunk's
-/// vectors go back to the slabs still to be computed: memory that is
-/// already paged in is written again instead of new pages being faulted
-/// in (joining kept chunks at the end wrote the whole mesh to fresh pages
-/// twice). When the mesh's vectors are full they grow to what the planes
-/// so far predict for the whole grid, so that they are rarely copied.
-#[derive(Debug, Default)]
-pub struct MeshBuilder {
-    mesh: Mesh,
+/// Each chunk is copied in as it comes, so that the chunk's vectors go
+/// back to the slabs still to be computed: memory that is already paged in
+/// is written again instead of new pages being faulted in (joining kept
+/// chunks at the end wrote the whole mesh to fresh pages twice). When the
+/// vectors are full they grow to what the planes so far predict for the
+/// whole grid, so that they are rarely copied.
+#[derive(Debug)]
+pub struct Collector<V> {
+    vertices: Vec<V>,
+    triangles: Vec<[u32; 3]>,
     /// Grid planes, from [`MeshSink::begin`] (0: not known).
     planes: u64,
 }
 
-impl MeshBuilder {
-    /// A builder with room for a mesh of known size (a replayed `.tmesh`),
-    /// or [`Error::OutOfMemory`].
+/// Builds an in-memory [`Mesh`]: a [`Collector`] of `f32` vertices.
+pub type MeshBuilder = Collector<[f32; 3]>;
+
+impl<V> Default for Collector<V> {
+    fn default() -> Self {
+        Collector {
+            vertices: Vec::new(),
+            triangles: Vec::new(),
+            planes: 0,
+        }
+    }
+}
+
+impl<V> Collector<V> {
+    /// A collector with room for a mesh of known size (a replayed
+    /// `.tmesh`), or [`Error::OutOfMemory`].
     pub fn with_room(vertices: usize, triangles: usize) -> Result<Self> {
-        let mut mesh = Mesh::default();
-        make_room(&mut mesh.vertices, vertices, "the mesh's vertices")?;
-        make_room(&mut mesh.triangles, triangles, "the mesh's triangles")?;
-        Ok(MeshBuilder { mesh, planes: 0 })
+        let mut collector = Collector::default();
+        make_room(&mut collector.vertices, vertices, "the mesh's vertices")?;
+        make_room(&mut collector.triangles, triangles, "the mesh's triangles")?;
+        Ok(collector)
     }
 
+    /// The vertices and triangles collected so far.
+    pub fn into_parts(self) -> (Vec<V>, Vec<[u32; 3]>) {
+        (self.vertices, self.triangles)
+    }
+}
+
+impl MeshBuilder {
     /// The mesh built so far.
     pub fn into_mesh(self) -> Mesh {
-        self.mesh
+        let (vertices, triangles) = self.into_parts();
+        Mesh {
+            vertices,
+            triangles,
+        }
     }
 }
 
@@ -60,7 +109,7 @@ fn make_room_for_all<T>(
     make_room(v, n, what)
 }
 
-impl MeshSink for MeshBuilder {
+impl<V: Vertex> MeshSink for Collector<V> {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
         // Padded by one plane on each side with `--close`.
         self.planes = info.grid.dims[2] as u64 + if info.close { 2 } else { 0 };
@@ -75,13 +124,13 @@ impl MeshSink for MeshBuilder {
                 u32::MAX
             )));
         }
-        let (vertices, triangles) = (&mut self.mesh.vertices, &mut self.mesh.triangles);
+        let (vertices, triangles) = (&mut self.vertices, &mut self.triangles);
         let (plane, planes) = (chunk.plane, self.planes);
         let what = "the mesh's vertices";
         make_room_for_all(vertices, chunk.vertices.len(), plane, planes, what)?;
         let what = "the mesh's triangles";
         make_room_for_all(triangles, chunk.triangles.len(), plane, planes, what)?;
-        vertices.extend_from_slice(&chunk.vertices);
+        vertices.extend(chunk.vertices.iter().map(|&v| V::from_f32(v)));
         // May point into the next chunk, whose own check bounds it.
         let base = base as u32;
         triangles.extend(chunk.triangles.iter().map(|t| t.map(|i| base + i)));

@@ -10,7 +10,7 @@ mod chunk;
 mod indexed;
 mod sink;
 
-pub use builder::MeshBuilder;
+pub use builder::{Collector, MeshBuilder, Vertex};
 pub use chunk::Chunk;
 pub use indexed::Mesh;
 pub(crate) use sink::used_after_finish;

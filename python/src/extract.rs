@@ -5,7 +5,7 @@ use crate::array::{self, MappedAt};
 use crate::errors::OrPyErr;
 use crate::interrupt;
 use crate::output::{arrays, Layout, Positions};
-use crate::record::Recorder;
+use crate::record::{Record, Recorder};
 use crate::values;
 use numpy::PyUntypedArray;
 use pyo3::exceptions::PyValueError;
@@ -142,6 +142,25 @@ fn report(
     serde_json::to_string(&report).map_err(|e| tmc::Error::Invalid(e.to_string()))
 }
 
+/// One extraction collected in memory with vertices as `V`: the vertices,
+/// the triangles, the report JSON and the record a `.tmesh` needs.
+type Collected<V> = (Vec<V>, Vec<[u32; 3]>, String, Option<Record>);
+
+/// Runs the extraction into a [`Recorder`] of `V` vertices.
+fn collect<V: tmc::mesh::Vertex>(
+    source: &dyn SampleSource,
+    path: Option<&Path>,
+    params: &ExtractParams,
+    options: &PipelineOptions,
+) -> tmc::Result<Collected<V>> {
+    let mut recorder = Recorder::<V>::default();
+    let stats = tmc::extract_to(source, params, options, &mut recorder)?;
+    let report = report(path, None, source, params, &stats)?;
+    let record = recorder.record();
+    let (vertices, triangles) = recorder.collector.into_parts();
+    Ok((vertices, triangles, report, record))
+}
+
 /// Extracts the isosurface of `input` (a 3-D numpy array indexed
 /// `[z][y][x]`, or a path) into memory. Returns `(vertices, triangles,
 /// normals or None, values or None, report JSON, record)`, the record
@@ -175,18 +194,12 @@ pub(crate) fn extract<'py>(
         input.run(py, |source, path, cancel| {
             let options = preflight(source, path, &params, None, cancel)?;
             if wide {
-                let mut recorder = Recorder::<[f64; 3]>::default();
-                let stats = tmc::extract_to(source, &params, &options, &mut recorder)?;
-                let report = report(path, None, source, &params, &stats)?;
-                let record = recorder.record();
-                let (vertices, triangles) = recorder.collector.into_parts();
+                let (vertices, triangles, report, record) =
+                    collect::<[f64; 3]>(source, path, &params, &options)?;
                 return Ok((Positions::Wide(vertices), triangles, None, report, record));
             }
-            let mut recorder = Recorder::<[f32; 3]>::default();
-            let stats = tmc::extract_to(source, &params, &options, &mut recorder)?;
-            let report = report(path, None, source, &params, &stats)?;
-            let record = recorder.record();
-            let (vertices, triangles) = recorder.collector.into_parts();
+            let (vertices, triangles, report, record) =
+                collect::<[f32; 3]>(source, path, &params, &options)?;
             let mesh = tmc::Mesh {
                 vertices,
                 triangles,
@@ -196,13 +209,8 @@ pub(crate) fn extract<'py>(
             } else {
                 None
             };
-            Ok((
-                Positions::Narrow(mesh.vertices),
-                mesh.triangles,
-                normals,
-                report,
-                record,
-            ))
+            let positions = Positions::Narrow(mesh.vertices);
+            Ok((positions, mesh.triangles, normals, report, record))
         })?;
     // scikit-image's per-vertex values, for its layout and an array.
     let values = match (&input, index_order, &positions) {

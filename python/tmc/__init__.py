@@ -371,8 +371,10 @@ def marching_cubes(
         space: with anisotropic spacing they are the true surface normals,
         where scikit-image's ignore the spacing.
     values : (V,) float32
-        The largest sample of the cell each vertex lies in (scikit-image's
-        "maximum value of the data in the local region near each vertex").
+        The largest sample of the smallest grid element (edge, face or cell)
+        each vertex lies on: for the usual vertex, on a cell edge, the larger
+        of the edge's two samples (scikit-image's "maximum value of the data
+        in the local region near each vertex").
 
     Raises
     ------

@@ -78,26 +78,6 @@ impl StridedVolume<'static> {
 }
 
 impl StridedVolume<'_> {
-    /// Sample `(x, y, z)` as an `f64`, or `None` outside the grid: random
-    /// access for callers that look at a few samples per vertex.
-    pub fn sample(&self, [x, y, z]: [usize; 3]) -> Option<f64> {
-        let [nx, ny, nz] = self.grid.dims;
-        if x >= nx || y >= ny || z >= nz {
-            return None;
-        }
-        let mut out = [0.0];
-        let StridedLayout { scalar, endian, .. } = self.layout;
-        decode_strided(
-            scalar,
-            endian,
-            self.bytes(),
-            self.offset(x, y, z),
-            0,
-            &mut out,
-        );
-        Some(out[0])
-    }
-
     /// The largest of the samples at `corner` and, along each axis `a`
     /// where `span[a]` is true, at `corner + 1` (none beyond the grid): the
     /// corners of a cell, a face, an edge or one sample. NaN samples are
@@ -388,7 +368,7 @@ mod tests {
                     assert_eq!(v.cell_max([x, y, z], span), Some(expected), "{layout:?}");
                 }
                 let sample = f64::from(data[x + nx * (y + ny * z)]);
-                assert_eq!(v.sample([x, y, z]), Some(sample));
+                assert_eq!(v.cell_max([x, y, z], [false; 3]), Some(sample));
             }
         }
         // The packed native layout is lent as stored; the others are not.
@@ -414,8 +394,8 @@ mod tests {
         let bytes: Vec<u8> = [1.0f32, 2.5].iter().flat_map(|v| v.to_ne_bytes()).collect();
         let v = StridedVolume::borrowed(grid, layout, &bytes).unwrap();
         assert!(planes(&v).iter().flatten().all(|&s| s == 2.5));
-        assert_eq!(v.sample([2, 1, 1]), Some(2.5));
-        assert_eq!(v.sample([3, 0, 0]), None);
+        assert_eq!(v.cell_max([2, 1, 1], [false; 3]), Some(2.5));
+        assert_eq!(v.cell_max([3, 0, 0], [false; 3]), None);
         assert_eq!(v.cell_max([2, 1, 1], [true; 3]), Some(2.5));
         assert_eq!(v.cell_max([0, 2, 0], [true; 3]), None);
     }

@@ -24,7 +24,7 @@ use common::cli::{names, s, synth, temp_files, tmc, tmc_path};
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::{Mutex, MutexGuard};
+use std::sync::{Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, Instant};
 
 /// The tests take turns on the cluster's one node.
@@ -42,33 +42,44 @@ fn cluster() -> Option<MutexGuard<'static, ()>> {
         return None;
     }
     let guard = NODE.lock().unwrap_or_else(|e| e.into_inner());
-    let out = Command::new("sinfo")
-        .args(["-h", "-N", "-o", "%t"])
-        .output()
-        .unwrap_or_else(|e| {
-            panic!(
-                "TMC_SLURM is set but sinfo cannot run ({e}): start a cluster with \
-                 scripts/slurm/local-cluster start and export the SLURM_CONF it prints"
-            )
-        });
-    let states = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(
-        out.status.success()
-            && states
-                .lines()
-                .any(|t| ["idle", "mix", "alloc"].contains(&t.trim())),
-        "TMC_SLURM is set but Slurm has no node up (sinfo: {states:?} {}); \
-         see the logs of scripts/slurm/local-cluster",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    // Asked once: the tests after a failed first look fail at once.
+    static REACHED: OnceLock<Result<(), String>> = OnceLock::new();
+    if let Err(why) = REACHED.get_or_init(reach) {
+        panic!("TMC_SLURM is set but {why}; see scripts/slurm/local-cluster and its logs");
+    }
     Some(guard)
+}
+
+/// Whether Slurm answers with a node up, and if not, what went wrong.
+fn reach() -> Result<(), String> {
+    if let Some(conf) = std::env::var_os("SLURM_CONF") {
+        if !Path::new(&conf).is_file() {
+            return Err(format!("SLURM_CONF names no file ({conf:?})"));
+        }
+    }
+    // sinfo retries for a minute when it has no configuration at all.
+    let out = Command::new("timeout")
+        .args(["30", "sinfo", "-h", "-N", "-o", "%t"])
+        .output()
+        .map_err(|e| format!("sinfo cannot run ({e})"))?;
+    let states = String::from_utf8_lossy(&out.stdout).into_owned();
+    let up = ["idle", "mix", "alloc"];
+    match out.status.success() && states.lines().any(|t| up.contains(&t.trim())) {
+        true => Ok(()),
+        false => Err(format!(
+            "Slurm has no node up (sinfo: {states:?} {})",
+            String::from_utf8_lossy(&out.stderr).trim()
+        )),
+    }
 }
 
 /// The docs' commands (the `sh` block under "On Slurm" in docs/hpc.md).
 fn documented_commands() -> String {
     let doc = fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/hpc.md"))
         .expect("read docs/hpc.md");
-    let section = &doc[doc.find("### On Slurm").expect("docs/hpc.md: On Slurm section")..];
+    let section = &doc[doc
+        .find("### On Slurm")
+        .expect("docs/hpc.md: On Slurm section")..];
     let start = section.find("```sh\n").expect("an sh block") + "```sh\n".len();
     let end = start + section[start..].find("```").expect("end of the sh block");
     let block = section[start..end].to_string();
@@ -104,7 +115,11 @@ struct Jobs {
 /// jobs inherit it: `--export=ALL`).
 fn submit(dir: &Path, commands: &str) -> Jobs {
     let bin = Path::new(tmc_path()).parent().unwrap();
-    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
     let script = format!("set -euo pipefail\n{commands}\necho \"parts job $jid\"\n");
     let out = Command::new("bash")
         .args(["-c", &script])
@@ -250,7 +265,11 @@ fn wait_until_writing(dir: &Path, jobs: &Jobs, task: usize) {
     loop {
         let running = slurm("squeue", &["-h", "-t", "R", "-j", &jobs.parts, "-o", "%i"]);
         let writing = parts.is_dir() && !temp_files(&parts).is_empty();
-        if writing && running.lines().any(|l| l.trim() == format!("{}_{task}", jobs.parts)) {
+        if writing
+            && running
+                .lines()
+                .any(|l| l.trim() == format!("{}_{task}", jobs.parts))
+        {
             return;
         }
         let done = slurm("squeue", &["-h", "-j", &jobs.parts, "-o", "%i"]);
@@ -284,15 +303,19 @@ fn processes_in(dir: &Path) -> Vec<String> {
     found
 }
 
-/// The real CT of `../shared/data` (the smallest, 64x64x93 int16) at 550,
-/// or, without that folder, a head phantom at the same isovalue.
-fn ct(dir: &Path) -> PathBuf {
-    let real = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/headsq_quarter.nrrd");
-    if real.is_file() {
-        real
+/// The smallest real CT of `../shared/data` (64x64x93 int16, also bundled
+/// as `data/headsq_quarter.nrrd`, which stands in when that folder is absent).
+fn ct() -> PathBuf {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let shared = root.join("../shared/data/headsq_quarter.nrrd");
+    if shared.is_file() {
+        shared
     } else {
-        eprintln!("{} not found: a head phantom instead", real.display());
-        synth(dir, "head", "64,64,93", "i16", "phantom.nrrd")
+        eprintln!(
+            "{} not found: using data/headsq_quarter.nrrd",
+            shared.display()
+        );
+        root.join("data/headsq_quarter.nrrd")
     }
 }
 
@@ -300,14 +323,14 @@ fn ct(dir: &Path) -> PathBuf {
 /// noise at the isovalue), for catching a part while it writes.
 const SLOW_ISO: &str = "1035";
 fn slow_volume(dir: &Path) -> PathBuf {
-    synth(dir, "head", "384,384,256", "u16", "head.nrrd")
+    synth(dir, "head", "384,384,320", "u16", "head.nrrd")
 }
 
 #[test]
 fn documented_commands_merge_to_the_bytes_of_one_run() {
     let Some(_node) = cluster() else { return };
     let dir = submit_dir();
-    std::os::unix::fs::symlink(ct(dir.path()), dir.path().join("ct.nrrd")).unwrap();
+    std::os::unix::fs::symlink(ct(), dir.path().join("ct.nrrd")).unwrap();
     // The commands exactly as written: N=16, IN=ct.nrrd, ISO=550, OUT=ct.ply.
     let jobs = submit(dir.path(), &documented_commands());
     wait_until_done(&jobs, Duration::from_secs(150));
@@ -323,9 +346,16 @@ fn documented_commands_merge_to_the_bytes_of_one_run() {
     }
     let merge = accounting(&jobs.merge, 1);
     assert_eq!(last(&merge, &jobs.merge).state, "COMPLETED", "{merge:?}");
-    let single = single_run(&dir.path().join("ct.nrrd"), "550", &dir.path().join("one.ply"));
+    let single = single_run(
+        &dir.path().join("ct.nrrd"),
+        "550",
+        &dir.path().join("one.ply"),
+    );
     let merged = fs::read(dir.path().join("ct.ply")).expect("the merge wrote ct.ply");
-    assert!(merged == single, "the merged ct.ply differs from a single run");
+    assert!(
+        merged == single,
+        "the merged ct.ply differs from a single run"
+    );
     // Each part took the CPUs and memory of its allocation (--cpus-per-task=4,
     // --mem=4G: 4096 MiB less an eighth).
     let log = task_log(dir.path(), &jobs.parts, 3);
@@ -373,7 +403,7 @@ fn damaged_tiff_stack(volume: &Path, dir: &Path) -> (PathBuf, String) {
 fn a_part_with_a_damaged_input_fails_and_the_merge_does_not_run() {
     let Some(_node) = cluster() else { return };
     let dir = submit_dir();
-    let (stack, damaged) = damaged_tiff_stack(&ct(dir.path()), dir.path());
+    let (stack, damaged) = damaged_tiff_stack(&ct(), dir.path());
     let commands = with(&documented_commands(), "N=16", "N=4");
     let commands = with(&commands, "IN=ct.nrrd", &format!("IN={}", s(&stack)));
     let jobs = submit(dir.path(), &commands);
@@ -391,7 +421,10 @@ fn a_part_with_a_damaged_input_fails_and_the_merge_does_not_run() {
         "{parts:?}"
     );
     let log = task_log(dir.path(), &jobs.parts, 4);
-    let error: Vec<&str> = log.lines().filter(|l| l.starts_with("tmc: error: ")).collect();
+    let error: Vec<&str> = log
+        .lines()
+        .filter(|l| l.starts_with("tmc: error: "))
+        .collect();
     assert!(
         error.len() == 1 && error[0].contains(&damaged),
         "part 4's log does not name the damaged slice: {log}"
@@ -421,11 +454,23 @@ fn scancel_of_the_array_leaves_no_part_and_no_temporary() {
     let parts = accounting(&jobs.parts, 2);
     let first = last(&parts, &format!("{}_1", jobs.parts));
     assert_eq!(first.state, "CANCELLED", "{parts:?}");
+    // tmc itself answered Slurm's SIGTERM (one error line naming it), rather
+    // than being killed when Slurm's KillWait ran out.
+    let log = task_log(dir.path(), &jobs.parts, 1);
+    assert!(
+        log.lines()
+            .any(|l| l.starts_with("tmc: ") && l.contains("SIGTERM")),
+        "part 1's log shows no SIGTERM handled by tmc: {log}"
+    );
     let parts_dir = dir.path().join("parts");
     assert_eq!(names(&parts_dir), Vec::<String>::new(), "left in parts/");
     assert_eq!(temp_files(dir.path()), Vec::<String>::new());
     assert!(!dir.path().join("ct.ply").exists());
-    assert_eq!(processes_in(dir.path()), Vec::<String>::new(), "still running");
+    assert_eq!(
+        processes_in(dir.path()),
+        Vec::<String>::new(),
+        "still running"
+    );
 }
 
 #[test]
@@ -445,10 +490,16 @@ fn a_requeued_part_still_merges_to_the_bytes_of_one_run() {
     // need not.
     let start = Instant::now();
     while !slurm("squeue", &["-h", "-t", "PD", "-j", &task, "-o", "%i"]).contains(&task) {
-        assert!(start.elapsed() < Duration::from_secs(30), "{task} not requeued");
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "{task} not requeued"
+        );
         std::thread::sleep(Duration::from_millis(100));
     }
-    slurm("scontrol", &["update", &format!("JobId={task}"), "StartTime=now"]);
+    slurm(
+        "scontrol",
+        &["update", &format!("JobId={task}"), "StartTime=now"],
+    );
     wait_until_done(&jobs, Duration::from_secs(150));
     let parts = accounting(&jobs.parts, 2);
     let runs: Vec<&Record> = parts.iter().filter(|r| r.id == task).collect();
@@ -456,10 +507,88 @@ fn a_requeued_part_still_merges_to_the_bytes_of_one_run() {
         runs.len() == 2 && runs[0].state == "REQUEUED" && runs[1].state == "COMPLETED",
         "part 1 should have run twice, requeued then completed: {parts:?}"
     );
+    // The first run was stopped while it ran (its batch step got SIGTERM).
+    let steps = slurm(
+        "sacct",
+        &[
+            "-n",
+            "-P",
+            "-D",
+            "-j",
+            &task,
+            "--format=JobID,State,ExitCode",
+        ],
+    );
+    let batches: Vec<&str> = steps
+        .lines()
+        .filter(|l| l.starts_with(&format!("{task}.batch|")))
+        .collect();
+    assert!(
+        batches.len() == 2 && batches[0].contains("|CANCELLED|0:15"),
+        "part 1's first run was not stopped while it ran: {steps}"
+    );
     let merge = accounting(&jobs.merge, 1);
     assert_eq!(last(&merge, &jobs.merge).state, "COMPLETED", "{merge:?}");
     let single = single_run(&volume, SLOW_ISO, &dir.path().join("one.tmesh"));
     let merged = fs::read(dir.path().join("head.tmesh")).expect("the merge wrote head.tmesh");
-    assert!(merged == single, "the merged head.tmesh differs from a single run");
-    assert_eq!(names(&dir.path().join("parts")), ["part-1.tmesh", "part-2.tmesh"]);
+    assert!(
+        merged == single,
+        "the merged head.tmesh differs from a single run"
+    );
+    assert_eq!(
+        names(&dir.path().join("parts")),
+        ["part-1.tmesh", "part-2.tmesh"]
+    );
+}
+
+/// The job script's arithmetic, without Slurm: the environment of an
+/// allocation given by hand, and a `tmc` on `PATH` that prints its
+/// arguments.
+#[test]
+fn the_part_script_takes_threads_and_memory_from_the_allocation() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = dir.path().join("bin");
+    fs::create_dir(&bin).unwrap();
+    fs::write(bin.join("tmc"), "#!/bin/sh\necho \"$@\"\n").unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    fs::set_permissions(bin.join("tmc"), fs::Permissions::from_mode(0o755)).unwrap();
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/tmc-parts.sbatch");
+    let run = |env: &[(&str, &str)]| {
+        let path = format!(
+            "{}:{}",
+            bin.display(),
+            std::env::var("PATH").unwrap_or_default()
+        );
+        let out = Command::new("bash")
+            .arg(&script)
+            .current_dir(dir.path())
+            .env_clear()
+            .env("PATH", path)
+            .envs([("N", "2"), ("IN", "ct.nrrd"), ("ISO", "550")])
+            .env("SLURM_ARRAY_TASK_ID", "2")
+            .envs(env.iter().copied())
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let args = |rest: &str| {
+        format!(
+            "extract ct.nrrd --iso 550 {rest} --progress lines --part 2/2 -o parts/part-2.tmesh\n"
+        )
+    };
+    // --cpus-per-task=4 --mem=4G
+    let per_node = [("SLURM_CPUS_PER_TASK", "4"), ("SLURM_MEM_PER_NODE", "4096")];
+    assert_eq!(run(&per_node), args("--threads 4 --max-memory 3584M"));
+    // --cpus-per-task=3 --mem-per-cpu=1000M: 3000 MiB on the node
+    let per_cpu = [
+        ("SLURM_CPUS_PER_TASK", "3"),
+        ("SLURM_CPUS_ON_NODE", "3"),
+        ("SLURM_MEM_PER_CPU", "1000"),
+    ];
+    assert_eq!(run(&per_cpu), args("--threads 3 --max-memory 2625M"));
+    // --mem=0 (the whole node), and no allocation at all: tmc's defaults
+    let whole = [("SLURM_CPUS_PER_TASK", "2"), ("SLURM_MEM_PER_NODE", "0")];
+    assert_eq!(run(&whole), args("--threads 2"));
+    assert_eq!(run(&[]), args("--threads 0"));
 }

@@ -111,6 +111,16 @@ struct Jobs {
     merge: String,
 }
 
+/// A test that fails half-way leaves no job behind for the next one.
+impl Drop for Jobs {
+    fn drop(&mut self) {
+        let _ = Command::new("scancel")
+            .args([&self.parts, &self.merge])
+            .stderr(std::process::Stdio::null())
+            .status();
+    }
+}
+
 /// Runs `commands` in `dir` with bash, the built `tmc` first on `PATH` (the
 /// jobs inherit it: `--export=ALL`).
 fn submit(dir: &Path, commands: &str) -> Jobs {
@@ -326,6 +336,21 @@ fn slow_volume(dir: &Path) -> PathBuf {
     synth(dir, "head", "384,384,320", "u16", "head.nrrd")
 }
 
+/// Submits the documented commands for 2 parts of a [`slow_volume`] at
+/// [`SLOW_ISO`], merged to `out`, and returns once part 1 is writing: the
+/// submit directory, the volume and the jobs.
+fn slow_parts_writing(out: &str) -> (tempfile::TempDir, PathBuf, Jobs) {
+    let dir = submit_dir();
+    let volume = slow_volume(dir.path());
+    let commands = with(&documented_commands(), "N=16", "N=2");
+    let commands = with(&commands, "IN=ct.nrrd", &format!("IN={}", s(&volume)));
+    let commands = with(&commands, "ISO=550", &format!("ISO={SLOW_ISO}"));
+    let commands = with(&commands, "OUT=ct.ply", &format!("OUT={out}"));
+    let jobs = submit(dir.path(), &commands);
+    wait_until_writing(dir.path(), &jobs, 1);
+    (dir, volume, jobs)
+}
+
 #[test]
 fn documented_commands_merge_to_the_bytes_of_one_run() {
     let Some(_node) = cluster() else { return };
@@ -442,13 +467,7 @@ fn a_part_with_a_damaged_input_fails_and_the_merge_does_not_run() {
 #[test]
 fn scancel_of_the_array_leaves_no_part_and_no_temporary() {
     let Some(_node) = cluster() else { return };
-    let dir = submit_dir();
-    let volume = slow_volume(dir.path());
-    let commands = with(&documented_commands(), "N=16", "N=2");
-    let commands = with(&commands, "IN=ct.nrrd", &format!("IN={}", s(&volume)));
-    let commands = with(&commands, "ISO=550", &format!("ISO={SLOW_ISO}"));
-    let jobs = submit(dir.path(), &commands);
-    wait_until_writing(dir.path(), &jobs, 1);
+    let (dir, _, jobs) = slow_parts_writing("ct.ply");
     slurm("scancel", &[&jobs.parts, &jobs.merge]);
     wait_until_done(&jobs, Duration::from_secs(60));
     let parts = accounting(&jobs.parts, 2);
@@ -476,14 +495,7 @@ fn scancel_of_the_array_leaves_no_part_and_no_temporary() {
 #[test]
 fn a_requeued_part_still_merges_to_the_bytes_of_one_run() {
     let Some(_node) = cluster() else { return };
-    let dir = submit_dir();
-    let volume = slow_volume(dir.path());
-    let commands = with(&documented_commands(), "N=16", "N=2");
-    let commands = with(&commands, "IN=ct.nrrd", &format!("IN={}", s(&volume)));
-    let commands = with(&commands, "ISO=550", &format!("ISO={SLOW_ISO}"));
-    let commands = with(&commands, "OUT=ct.ply", "OUT=head.tmesh");
-    let jobs = submit(dir.path(), &commands);
-    wait_until_writing(dir.path(), &jobs, 1);
+    let (dir, volume, jobs) = slow_parts_writing("head.tmesh");
     let task = format!("{}_1", jobs.parts);
     slurm("scontrol", &["requeue", &task]);
     // A requeued job waits two minutes before it may start again; a test

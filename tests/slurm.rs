@@ -381,6 +381,8 @@ fn documented_commands_merge_to_the_bytes_of_one_run() {
         merged == single,
         "the merged ct.ply differs from a single run"
     );
+    assert_eq!(names(&dir.path().join("parts")).len(), 16);
+    assert_eq!(temp_files(dir.path()), Vec::<String>::new());
     // Each part took the CPUs and memory of its allocation (--cpus-per-task=4,
     // --mem=4G: 4096 MiB less an eighth).
     let log = task_log(dir.path(), &jobs.parts, 3);

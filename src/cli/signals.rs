@@ -21,10 +21,12 @@ pub(crate) struct Interrupts {
 
 impl Interrupts {
     /// Installs the handlers. The first SIGINT, SIGTERM or SIGHUP only
-    /// sets the flag, so the run stops at its next slab, plane or chunk and
-    /// removes its temporary output; a second one exits at once (status
-    /// 128 + the signal's number) in case something does not look at the
-    /// flag.
+    /// sets the flag, so the run stops at its next block of rows, plane,
+    /// chunk or MiB and removes its temporary output; a second one exits at
+    /// once (status 128 + the signal's number) in case something does not
+    /// look at the flag, after removing the registered temporary outputs
+    /// (see [`tmc::files::fatal_cleanup`]), so that nothing is left at the
+    /// output path then either.
     ///
     /// A signal that the process inherited as ignored (SIGINT of a
     /// background job started by a non-interactive shell, SIGHUP under
@@ -38,11 +40,18 @@ impl Interrupts {
             }
             // Registered first, so that it runs before the flag is set and
             // only fires on a second signal.
-            signal_hook::flag::register_conditional_shutdown(
-                signal,
-                128 + signal,
-                Arc::clone(&interrupts.flag),
-            )?;
+            let flag = Arc::clone(&interrupts.flag);
+            let second = move || {
+                if flag.load(Ordering::SeqCst) {
+                    stop_at_once(128 + signal);
+                }
+            };
+            // SAFETY: the action only loads an atomic and, on a second
+            // signal, calls `stop_at_once`, which is async-signal-safe (see
+            // there) and never returns; it touches no lock, allocator or
+            // Rust state beyond the `Arc`'s atomic, which lives as long as
+            // the handler.
+            unsafe { signal_hook::low_level::register(signal, second) }?;
             signal_hook::flag::register_usize(
                 signal,
                 Arc::clone(&interrupts.signal),
@@ -122,6 +131,28 @@ fn ignored_in(mask: u64) -> Vec<i32> {
         .into_iter()
         .filter(|&signal| mask >> (signal - 1) & 1 == 1)
         .collect()
+}
+
+/// The line written on a second SIGINT, SIGTERM or SIGHUP.
+const TWICE_MESSAGE: &[u8] =
+    b"tmc: error: interrupted twice; stopped at once, the output in progress was removed\n";
+
+/// Removes the registered temporary outputs, writes [`TWICE_MESSAGE`] and
+/// exits with `status`, from a signal handler: async-signal-safe (atomic
+/// loads, unlink(2), write(2), _exit(2)).
+fn stop_at_once(status: i32) {
+    tmc::files::fatal_cleanup::unlink_registered();
+    // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is a
+    // static byte string, valid for the whole call. A short or failed write
+    // changes nothing: the process exits either way.
+    unsafe {
+        libc::write(
+            libc::STDERR_FILENO,
+            TWICE_MESSAGE.as_ptr().cast(),
+            TWICE_MESSAGE.len(),
+        );
+        libc::_exit(status);
+    }
 }
 
 /// The line written on SIGBUS.

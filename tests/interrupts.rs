@@ -11,7 +11,7 @@ use common::signals::{
     interrupt_and_check, out_dir, signal, spawn, still_running_after, wait_for_temp,
 };
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::AtomicBool;
 use std::sync::{Mutex, OnceLock};

@@ -289,7 +289,9 @@ fn info_near_the_limits_of_the_types() {
         assert!(min < iso && iso < max, "{name}: {min} < {iso} < {max}");
         let out = tmc(&["info", s(&path)]);
         // The label "NaN samples" aside, no value reads inf or NaN.
-        let text = String::from_utf8(out.stdout).unwrap().replace("NaN samples", "");
+        let text = String::from_utf8(out.stdout)
+            .unwrap()
+            .replace("NaN samples", "");
         assert!(out.status.success(), "{name}");
         assert!(
             !text.contains("inf") && !text.contains("NaN"),

@@ -75,7 +75,7 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
         self.chunk_cancellable(base, chunk, &AtomicBool::new(false))
     }
 
-    /// Looks at `cancel` before every [`WRITE_STEP`] vertices or faces
+    /// Looks at `cancel` before every 65,536 vertices or faces
     /// formatted into the spools.
     fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
         let body = self.body.as_mut().ok_or_else(used_after_finish)?;

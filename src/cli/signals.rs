@@ -43,11 +43,11 @@ impl Interrupts {
             let flag = Arc::clone(&interrupts.flag);
             let second = move || {
                 if flag.load(Ordering::SeqCst) {
-                    stop_at_once(128 + signal);
+                    remove_say_exit(TWICE_MESSAGE, 128 + signal);
                 }
             };
             // SAFETY: the action only loads an atomic and, on a second
-            // signal, calls `stop_at_once`, which is async-signal-safe (see
+            // signal, calls `remove_say_exit`, which is async-signal-safe (see
             // there) and never returns; it touches no lock, allocator or
             // Rust state beyond the `Arc`'s atomic, which lives as long as
             // the handler.
@@ -137,21 +137,17 @@ fn ignored_in(mask: u64) -> Vec<i32> {
 const TWICE_MESSAGE: &[u8] =
     b"tmc: error: interrupted twice; stopped at once, the output in progress was removed\n";
 
-/// Removes the registered temporary outputs, writes [`TWICE_MESSAGE`] and
-/// exits with `status`, from a signal handler: async-signal-safe (atomic
-/// loads, unlink(2), write(2), _exit(2)).
-fn stop_at_once(status: i32) {
+/// Removes the registered temporary outputs, writes `message` to stderr
+/// and exits with `status`, from a signal handler: async-signal-safe
+/// (atomic loads, unlink(2), write(2), _exit(2)); never returns.
+fn remove_say_exit(message: &'static [u8], status: i32) -> ! {
     tmc::files::fatal_cleanup::unlink_registered();
     // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is a
     // static byte string, valid for the whole call. A short or failed write
     // changes nothing: the process exits either way.
     unsafe {
-        libc::write(
-            libc::STDERR_FILENO,
-            TWICE_MESSAGE.as_ptr().cast(),
-            TWICE_MESSAGE.len(),
-        );
-        libc::_exit(status);
+        libc::write(libc::STDERR_FILENO, message.as_ptr().cast(), message.len());
+        libc::_exit(status)
     }
 }
 
@@ -168,23 +164,9 @@ it was truncated or rewritten by another program during the run; no output was w
 /// async-signal-safe; nothing appears at the output path.
 pub(crate) fn install_sigbus() -> std::io::Result<()> {
     tmc::files::fatal_cleanup::enable();
-    let action = || {
-        tmc::files::fatal_cleanup::unlink_registered();
-        // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is
-        // a static byte string, valid for the whole call. A short or failed
-        // write changes nothing: the process exits either way.
-        unsafe {
-            libc::write(
-                libc::STDERR_FILENO,
-                SIGBUS_MESSAGE.as_ptr().cast(),
-                SIGBUS_MESSAGE.len(),
-            );
-            libc::_exit(1);
-        }
-    };
-    // SAFETY: the action only calls async-signal-safe functions (atomic
-    // loads and unlink(2) in `unlink_registered`, then see above)
-    // and never returns, so the faulting instruction is not retried; it
+    let action = || remove_say_exit(SIGBUS_MESSAGE, 1);
+    // SAFETY: the action only calls async-signal-safe functions (see
+    // `remove_say_exit`) and never returns, so the faulting instruction is not retried; it
     // touches no lock, allocator or Rust state.
     unsafe { signal_hook::low_level::register(SIGBUS, action) }.map(|_| ())
 }

@@ -151,10 +151,16 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
         // The vectors' lengths are the spacing.
         set_direction(&mut grid, matrix).map_err(|e| fail(format!("'space directions': {e}")))?;
     } else if let Some(spacings) = header.spacings {
-        // Axis j points along +e_j or, for a negative spacing, along -e_j
-        // (a mirrored grid): the diagonal matrix of the signed spacings.
-        let matrix = [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { spacings[c] } else { 0.0 }));
-        set_direction(&mut grid, matrix).map_err(|e| fail(format!("'spacings': {e}")))?;
+        if spacings.iter().all(|s| s.is_finite() && *s != 0.0) {
+            // Axis j points along +e_j or, for a negative spacing, along
+            // -e_j (a mirrored grid): the diagonal of the signed spacings.
+            let matrix =
+                [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { spacings[c] } else { 0.0 }));
+            set_direction(&mut grid, matrix).map_err(|e| fail(format!("'spacings': {e}")))?;
+        } else {
+            // Refused below, with the values.
+            grid.spacing = spacings.map(f64::abs);
+        }
     }
     if dims.contains(&0) {
         return Err(fail(format!("sizes {} contain a zero", dims_text(dims))));

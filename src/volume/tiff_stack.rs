@@ -200,7 +200,7 @@ pub fn open(path: &Path) -> Result<TiffStack> {
         }
         if names.is_empty() {
             return Err(fail(match pattern {
-                Some(_) => "no TIFF file matches the pattern".into(),
+                Some(_) => "no TIFF files match the pattern".into(),
                 // A directory comes here when it holds no DICOM file either
                 // (see `Format::detect`).
                 None => "a directory is read as a TIFF stack (files ending in .tif or .tiff) or a DICOM series (files ending in .dcm, or with 'DICM' at byte 128), and this one holds neither".into(),

@@ -1,12 +1,20 @@
 //! The crate's error type: every failure is one human-readable line.
+//!
+//! The messages quote what they found (a header line, a value, a path),
+//! and a damaged or hostile file can hold control characters there: an
+//! escape sequence would recolour or clear the user's terminal, a carriage
+//! return hide the start of the line. So every message is shown through
+//! [`escape_controls`], which writes them as visible escapes.
 
+use std::borrow::Cow;
+use std::fmt::Write;
 use std::path::PathBuf;
 
 /// Errors reported by the library; the CLI prints them as one line.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// An input or output file could not be accessed.
-    #[error("{path}: {source}")]
+    #[error("{}: {source}", escape_controls(&path.display().to_string()))]
     Io {
         /// The file concerned.
         path: PathBuf,
@@ -14,10 +22,10 @@ pub enum Error {
         source: std::io::Error,
     },
     /// The input file is malformed or inconsistent with the options given.
-    #[error("{0}")]
+    #[error("{}", escape_controls(.0))]
     Format(String),
     /// The options are invalid (bad isovalue, unknown extension, ...).
-    #[error("{0}")]
+    #[error("{}", escape_controls(.0))]
     Invalid(String),
     /// The extraction was cancelled through
     /// [`PipelineOptions::cancel`](crate::PipelineOptions::cancel) (the CLI
@@ -27,8 +35,35 @@ pub enum Error {
     /// Memory for the named purpose could not be had: `--max-memory` is too
     /// small for the pipeline, or an allocation proportional to the input or
     /// the output failed.
-    #[error("{0}")]
+    #[error("{}", escape_controls(.0))]
     OutOfMemory(String),
+}
+
+/// `text` with every control character (C0, DEL, C1) written as a visible
+/// escape: `\r`, `\n`, `\t`, `\0`, else `\xNN` (ASCII) or `\u{NN}`; other
+/// text, backslashes included, as it is. Borrowed when there is nothing
+/// to escape. Every [`Error`] message goes through it.
+pub fn escape_controls(text: &str) -> Cow<'_, str> {
+    if !text.chars().any(char::is_control) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        match c {
+            '\r' => out.push_str("\\r"),
+            '\n' => out.push_str("\\n"),
+            '\t' => out.push_str("\\t"),
+            '\0' => out.push_str("\\0"),
+            c if c.is_ascii_control() => {
+                let _ = write!(out, "\\x{:02x}", c as u32);
+            }
+            c if c.is_control() => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    Cow::Owned(out)
 }
 
 /// Result alias for the crate.
@@ -94,6 +129,22 @@ fn grow<T>(v: &mut Vec<T>, n: usize, what: &str) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn control_characters_are_escaped_in_every_message() {
+        assert!(matches!(
+            escape_controls("plain 'text' \\ ok"),
+            Cow::Borrowed(_)
+        ));
+        assert_eq!(
+            escape_controls("a\x1b[31mb\rc\nd\te\0f\x7fg\u{9b}h"),
+            "a\\x1b[31mb\\rc\\nd\\te\\0f\\x7fg\\u{9b}h"
+        );
+        let e = Error::Format("bad 'type' value 'uint8\x1b[2J\r'".into());
+        assert_eq!(e.to_string(), "bad 'type' value 'uint8\\x1b[2J\\r'");
+        let e = Error::io("out\x07.ply", std::io::Error::other("no"));
+        assert_eq!(e.to_string(), "out\\x07.ply: no");
+    }
 
     #[test]
     fn make_room_reserves_or_fails_cleanly() {

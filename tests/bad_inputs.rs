@@ -231,7 +231,7 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
                 fs::create_dir(&dir).unwrap();
                 args(&dir, &["--iso", "0"])
             },
-            "empty: no TIFF files found",
+            "empty: a directory is read as a TIFF stack (files ending in .tif or .tiff) or a DICOM series",
             1,
         ),
         (

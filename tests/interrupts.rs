@@ -7,8 +7,11 @@
 mod common;
 
 use common::cli::{names, s, temp_files, tmc, tmc_path};
+use common::signals::{
+    interrupt_and_check, out_dir, signal, spawn, still_running_after, wait_for_temp,
+};
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::AtomicBool;
 use std::sync::{Mutex, OnceLock};
@@ -66,62 +69,10 @@ fn start(input: &Path, output: &Path) -> Child {
     ])
 }
 
-/// Starts `tmc` with `args`, its stderr captured.
-fn spawn(args: &[&str]) -> Child {
-    Command::new(tmc_path())
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start tmc")
-}
-
-/// Sleeps `seconds`, then fails unless `child` is still running (the test
-/// would prove nothing if the extraction had already finished).
-fn still_running_after(child: &mut Child, seconds: f64) {
-    sleep(Duration::from_secs_f64(seconds));
-    assert!(
-        child.try_wait().unwrap().is_none(),
-        "the run finished before the test could interrupt it; use a larger input"
-    );
-}
-
-/// Sends `signal` (a name such as `INT`) to `child` with kill(1).
-fn signal(child: &Child, signal: &str) {
-    let status = Command::new("kill")
-        .arg(format!("-{signal}"))
-        .arg(child.id().to_string())
-        .status()
-        .expect("run kill");
-    assert!(status.success());
-}
-
-/// Sends `name` (`INT`, `TERM`) to the running `child`, then checks the
-/// clean end: exit status `code`, the one interrupted line, within 2 s, and
-/// nothing left in `dir` (which holds only `output`).
-fn interrupt_and_check(child: Child, name: &str, code: i32, dir: &Path, output: &Path) {
-    let sent = Instant::now();
-    signal(&child, name);
-    let out = child.wait_with_output().unwrap();
-    let took = sent.elapsed().as_secs_f64();
-    println!("SIG{name} -> exit after {took:.3} s ({})", output.display());
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(code), "SIG{name}: {stderr}");
-    assert_eq!(
-        stderr.trim_end(),
-        format!("tmc: error: interrupted by SIG{name}; no output was written")
-    );
-    assert!(took < 2.0, "SIG{name}: took {took:.3} s to exit");
-    assert!(!output.exists());
-    assert!(names(dir).is_empty(), "left {:?}", names(dir));
-}
-
-/// A fresh, empty output directory.
-fn out_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let output = dir.path().join(name);
-    (dir, output)
+/// Sends `name` to `child` and checks the clean end within 2 s, nothing
+/// left in `dir` (see [`interrupt_and_check`]).
+fn stop(child: Child, name: &str, code: i32, dir: &Path) {
+    interrupt_and_check(child, (name, code), None, 2.0, (dir, &[]));
 }
 
 #[test]
@@ -136,7 +87,7 @@ fn sigint_and_sigterm_stop_the_extraction_and_remove_the_output() {
         let (dir, output) = out_dir(output_name);
         let mut child = start(&input, &output);
         still_running_after(&mut child, 0.5);
-        interrupt_and_check(child, name, code, dir.path(), &output);
+        stop(child, name, code, dir.path());
     }
 }
 
@@ -333,7 +284,7 @@ fn sigint_and_sigterm_stop_a_conversion_or_a_merge_and_remove_the_output() {
         let (out_dir, output) = out_dir(output_name);
         let mut child = spawn(&["convert", s(&tmesh), "-o", s(&output)]);
         still_running_after(&mut child, 0.3);
-        interrupt_and_check(child, name, code, out_dir.path(), &output);
+        stop(child, name, code, out_dir.path());
     }
     // The same mesh as two part files, merged.
     let parts: Vec<_> = (1..=2)
@@ -360,32 +311,7 @@ fn sigint_and_sigterm_stop_a_conversion_or_a_merge_and_remove_the_output() {
         let (out_dir, output) = out_dir(output_name);
         let mut child = spawn(&["merge", s(&parts[0]), s(&parts[1]), "-o", s(&output)]);
         still_running_after(&mut child, 0.3);
-        interrupt_and_check(child, name, code, out_dir.path(), &output);
-    }
-}
-
-/// Waits until the run `child` has created its temporary output in `dir`
-/// (of at least `min_bytes`): it has then installed its signal handlers
-/// and is in the phase the caller wants to interrupt. Fails if the run
-/// ends first.
-fn wait_for_temp(child: &mut Child, dir: &Path, min_bytes: u64) {
-    let start = Instant::now();
-    loop {
-        let started = temp_files(dir)
-            .iter()
-            .any(|name| fs::metadata(dir.join(name)).is_ok_and(|m| m.len() >= min_bytes));
-        if started {
-            return;
-        }
-        assert!(
-            child.try_wait().unwrap().is_none(),
-            "the run ended before it wrote its temporary output"
-        );
-        assert!(
-            start.elapsed() < Duration::from_secs(120),
-            "no temporary output after 120 s"
-        );
-        sleep(Duration::from_millis(5));
+        stop(child, name, code, out_dir.path());
     }
 }
 
@@ -397,7 +323,7 @@ fn sighup_stops_the_extraction_like_sigterm() {
     let mut child = start(&input, &output);
     wait_for_temp(&mut child, dir.path(), 0);
     still_running_after(&mut child, 0.2);
-    interrupt_and_check(child, "HUP", 129, dir.path(), &output);
+    stop(child, "HUP", 129, dir.path());
 }
 
 #[test]
@@ -423,7 +349,7 @@ fn signals_inherited_as_ignored_stay_ignored() {
     signal(&child, "HUP");
     // Still running: they were ignored; SIGTERM still stops it cleanly.
     still_running_after(&mut child, 0.3);
-    interrupt_and_check(child, "TERM", 143, dir.path(), &output);
+    stop(child, "TERM", 143, dir.path());
 }
 
 #[test]
@@ -445,7 +371,7 @@ fn sigint_and_sighup_stop_synth_and_remove_the_output() {
         ]);
         // The header and the first planes are written.
         wait_for_temp(&mut child, dir.path(), 1 << 20);
-        interrupt_and_check(child, name, code, dir.path(), &output);
+        stop(child, name, code, dir.path());
     }
 }
 

@@ -480,6 +480,9 @@ fn nrrd_spacings_crlf_line_skip_and_byte_skip_minus_one() {
     let path = write_file(dir.path(), "crlf.nrrd", &crlf);
     let source = volume::open(&path, None).unwrap();
     assert_eq!(source.grid().spacing, [1.0, 2.0, 3.0]);
+    // The negative spacing mirrors the z axis (teem and ITK keep its sign).
+    let mirror_z = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]];
+    assert_eq!(source.grid().direction, mirror_z);
     assert_same(&read_all(source.as_ref()), &want, "crlf");
 
     let mut data = b"some junk before the data".to_vec();

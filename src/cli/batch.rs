@@ -335,6 +335,11 @@ impl MeshSink for RequireAll<'_> {
         self.inner.chunk(base, chunk)
     }
 
+    fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
+        self.count(chunk);
+        self.inner.chunk_cancellable(base, chunk, cancel)
+    }
+
     fn finish(&mut self, totals: &Totals) -> Result<()> {
         self.check()?;
         self.inner.finish(totals)

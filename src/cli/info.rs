@@ -12,6 +12,8 @@ use super::report::human_bytes;
 use clap::Args;
 use std::io::{self, Write};
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use tmc::stream::cancellable::Cancellable;
 use tmc::volume::{volume_info, VolumeInfo, MAX_BINS, MIN_BINS};
 use tmc::Result;
 
@@ -92,14 +94,20 @@ pub(crate) struct InfoArgs {
     pub raw: RawArgs,
 }
 
-/// Runs `tmc info`.
-pub(crate) fn run(args: &InfoArgs) -> Result<()> {
+/// Runs `tmc info`; setting `cancel` (SIGINT, SIGTERM, SIGHUP) stops the
+/// streamed passes at the next plane with [`tmc::Error::Interrupted`].
+pub(crate) fn run(args: &InfoArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     let raw = args.raw.options();
-    let source = super::raw_input::open_input(&args.input, raw.as_ref(), None)?;
+    let source = super::raw_input::open_input(&args.input, raw.as_ref(), cancel)?;
+    let never = AtomicBool::new(false);
+    let source = Cancellable {
+        inner: source.as_ref(),
+        cancel: cancel.unwrap_or(&never),
+    };
     let info = volume_info(
         &args.input,
         raw.as_ref(),
-        source.as_ref(),
+        &source,
         usize::from(args.bins),
         args.plane_step,
     )?;

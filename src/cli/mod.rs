@@ -3,7 +3,7 @@
 //! Every failure is reported as exactly one line `tmc: error: <message>` on
 //! stderr; the exit status is 0 on success, 1 on failure, 2 on a usage error
 //! and 130, 143 or 129 when SIGINT, SIGTERM or SIGHUP interrupted a command
-//! that writes a file.
+//! that writes a file or streams a volume (`tmc info`).
 
 #[macro_use]
 mod stderr;
@@ -79,15 +79,17 @@ pub fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     let interrupts = match cli.command {
-        Command::Extract(_) | Command::Convert(_) | Command::Merge(_) | Command::Synth(_) => {
-            match signals::Interrupts::install() {
-                Ok(i) => Some(i),
-                Err(e) => {
-                    say!("tmc: error: cannot install the SIGINT/SIGTERM/SIGHUP handlers: {e}");
-                    return ExitCode::FAILURE;
-                }
+        Command::Extract(_)
+        | Command::Convert(_)
+        | Command::Merge(_)
+        | Command::Synth(_)
+        | Command::Info(_) => match signals::Interrupts::install() {
+            Ok(i) => Some(i),
+            Err(e) => {
+                say!("tmc: error: cannot install the SIGINT/SIGTERM/SIGHUP handlers: {e}");
+                return ExitCode::FAILURE;
             }
-        }
+        },
         _ => None,
     };
     let result = panic::catch_unwind(AssertUnwindSafe(|| match cli.command {
@@ -95,7 +97,7 @@ pub fn main() -> ExitCode {
         Command::Convert(args) => convert::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Merge(args) => merge::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Check(args) => check::run(&args),
-        Command::Info(args) => info::run(&args),
+        Command::Info(args) => info::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Synth(args) => synth::run(&args, interrupts.as_ref().map(|i| i.flag())),
     }));
     match result {

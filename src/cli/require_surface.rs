@@ -23,6 +23,10 @@ impl MeshSink for RequireSurface<'_> {
         self.inner.chunk(base, chunk)
     }
 
+    fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
+        self.inner.chunk_cancellable(base, chunk, cancel)
+    }
+
     fn finish(&mut self, totals: &Totals) -> Result<()> {
         self.check(totals)?;
         self.inner.finish(totals)

@@ -21,10 +21,12 @@ pub(crate) struct Interrupts {
 
 impl Interrupts {
     /// Installs the handlers. The first SIGINT, SIGTERM or SIGHUP only
-    /// sets the flag, so the run stops at its next slab, plane or chunk and
-    /// removes its temporary output; a second one exits at once (status
-    /// 128 + the signal's number) in case something does not look at the
-    /// flag.
+    /// sets the flag, so the run stops at its next block of rows, plane,
+    /// chunk or MiB and removes its temporary output; a second one exits at
+    /// once (status 128 + the signal's number) in case something does not
+    /// look at the flag, after removing the registered temporary outputs
+    /// (see [`tmc::files::fatal_cleanup`]), so that nothing is left at the
+    /// output path then either.
     ///
     /// A signal that the process inherited as ignored (SIGINT of a
     /// background job started by a non-interactive shell, SIGHUP under
@@ -38,11 +40,18 @@ impl Interrupts {
             }
             // Registered first, so that it runs before the flag is set and
             // only fires on a second signal.
-            signal_hook::flag::register_conditional_shutdown(
-                signal,
-                128 + signal,
-                Arc::clone(&interrupts.flag),
-            )?;
+            let flag = Arc::clone(&interrupts.flag);
+            let second = move || {
+                if flag.load(Ordering::SeqCst) {
+                    remove_say_exit(TWICE_MESSAGE, 128 + signal);
+                }
+            };
+            // SAFETY: the action only loads an atomic and, on a second
+            // signal, calls `remove_say_exit`, which is async-signal-safe (see
+            // there) and never returns; it touches no lock, allocator or
+            // Rust state beyond the `Arc`'s atomic, which lives as long as
+            // the handler.
+            unsafe { signal_hook::low_level::register(signal, second) }?;
             signal_hook::flag::register_usize(
                 signal,
                 Arc::clone(&interrupts.signal),
@@ -124,6 +133,24 @@ fn ignored_in(mask: u64) -> Vec<i32> {
         .collect()
 }
 
+/// The line written on a second SIGINT, SIGTERM or SIGHUP.
+const TWICE_MESSAGE: &[u8] =
+    b"tmc: error: interrupted twice; stopped at once, the output in progress was removed\n";
+
+/// Removes the registered temporary outputs, writes `message` to stderr
+/// and exits with `status`, from a signal handler: async-signal-safe
+/// (atomic loads, unlink(2), write(2), _exit(2)); never returns.
+fn remove_say_exit(message: &'static [u8], status: i32) -> ! {
+    tmc::files::fatal_cleanup::unlink_registered();
+    // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is a
+    // static byte string, valid for the whole call. A short or failed write
+    // changes nothing: the process exits either way.
+    unsafe {
+        libc::write(libc::STDERR_FILENO, message.as_ptr().cast(), message.len());
+        libc::_exit(status)
+    }
+}
+
 /// The line written on SIGBUS.
 const SIGBUS_MESSAGE: &[u8] = b"tmc: error: input file changed under the memory map (SIGBUS): \
 it was truncated or rewritten by another program during the run; no output was written\n";
@@ -137,23 +164,9 @@ it was truncated or rewritten by another program during the run; no output was w
 /// async-signal-safe; nothing appears at the output path.
 pub(crate) fn install_sigbus() -> std::io::Result<()> {
     tmc::files::fatal_cleanup::enable();
-    let action = || {
-        tmc::files::fatal_cleanup::unlink_registered();
-        // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is
-        // a static byte string, valid for the whole call. A short or failed
-        // write changes nothing: the process exits either way.
-        unsafe {
-            libc::write(
-                libc::STDERR_FILENO,
-                SIGBUS_MESSAGE.as_ptr().cast(),
-                SIGBUS_MESSAGE.len(),
-            );
-            libc::_exit(1);
-        }
-    };
-    // SAFETY: the action only calls async-signal-safe functions (atomic
-    // loads and unlink(2) in `unlink_registered`, then see above)
-    // and never returns, so the faulting instruction is not retried; it
+    let action = || remove_say_exit(SIGBUS_MESSAGE, 1);
+    // SAFETY: the action only calls async-signal-safe functions (see
+    // `remove_say_exit`) and never returns, so the faulting instruction is not retried; it
     // touches no lock, allocator or Rust state.
     unsafe { signal_hook::low_level::register(SIGBUS, action) }.map(|_| ())
 }

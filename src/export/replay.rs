@@ -15,7 +15,8 @@ pub fn replay(reader: &mut TmeshReader, sink: &mut dyn MeshSink) -> Result<Total
     replay_cancellable(reader, sink, &AtomicBool::new(false))
 }
 
-/// [`replay`] that looks at `cancel` before each chunk and stops with
+/// [`replay`] that looks at `cancel` before each chunk (and the sink within
+/// one, [`MeshSink::chunk_cancellable`]) and stops with
 /// [`Error::Interrupted`] once it is set (one relaxed load per chunk);
 /// `finish` is then never called, so a file sink commits nothing.
 pub fn replay_cancellable(
@@ -31,7 +32,7 @@ pub fn replay_cancellable(
         }
         let base = reader.entries()[i].vertex_base;
         let chunk = reader.chunk(i)?;
-        sink.chunk(base, &chunk)?;
+        sink.chunk_cancellable(base, &chunk, cancel)?;
     }
     if cancel.load(Ordering::Relaxed) {
         return Err(Error::Interrupted);

@@ -72,6 +72,12 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
+        self.chunk_cancellable(base, chunk, &AtomicBool::new(false))
+    }
+
+    /// Looks at `cancel` before every 65,536 vertices or faces
+    /// formatted into the spools.
+    fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
         let body = self.body.as_mut().ok_or_else(used_after_finish)?;
         if base + chunk.vertices.len() as u64 > L::MAX_VERTICES {
             return Err(body.numbering().error(format!(
@@ -80,15 +86,33 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
                 L::TOO_MANY
             )));
         }
+        let interrupted = || cancel.load(Ordering::Relaxed);
+        let mut stopped = false;
         body.chunk(base, chunk, |vertices, faces| {
-            for v in &chunk.vertices {
-                L::vertex(vertices, v)?;
+            for step in chunk.vertices.chunks(WRITE_STEP) {
+                stopped |= interrupted();
+                if stopped {
+                    return Ok(());
+                }
+                for v in step {
+                    L::vertex(vertices, v)?;
+                }
             }
-            for t in &chunk.triangles {
-                L::face(faces, t.map(|i| base + u64::from(i)))?;
+            for step in chunk.triangles.chunks(WRITE_STEP) {
+                stopped |= interrupted();
+                if stopped {
+                    return Ok(());
+                }
+                for t in step {
+                    L::face(faces, t.map(|i| base + u64::from(i)))?;
+                }
             }
             Ok(())
-        })
+        })?;
+        match stopped {
+            true => Err(Error::Interrupted),
+            false => Ok(()),
+        }
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
@@ -104,6 +128,10 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
         })
     }
 }
+
+/// Vertices or faces formatted between two looks at the cancel flag (a few
+/// milliseconds of text).
+const WRITE_STEP: usize = 1 << 16;
 
 /// Buffer size of each spool.
 const BUFFER_BYTES: usize = 1 << 20;

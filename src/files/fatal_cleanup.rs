@@ -1,6 +1,7 @@
 //! The temporary output files a fatal-signal handler removes before the
 //! process exits (the CLI's SIGBUS handler: a memory-mapped input that
-//! shrank under the map).
+//! shrank under the map; and its handler of a second SIGINT, SIGTERM or
+//! SIGHUP, which exits at once).
 //!
 //! A signal handler may not allocate, lock or run destructors, so the
 //! paths are kept as C strings behind atomic pointers in a fixed table: the

@@ -45,6 +45,19 @@ pub trait MeshSink {
     /// One chunk; `base` is the global index of its first vertex. The
     /// chunk is lent: the pipeline reuses its vectors for later slabs.
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()>;
+    /// [`MeshSink::chunk`] that stops with [`Error::Interrupted`] once
+    /// `cancel` is set; the sink is then only dropped. The pipeline, `tmc
+    /// convert` and `tmc merge` call this one when they have a cancel flag.
+    /// The default looks at the flag once and then takes the chunk; a sink
+    /// whose chunks take long (PLY, OBJ and OFF format every number of a
+    /// chunk, and a dense layer of a large plane has millions) looks at it
+    /// as it goes, and a wrapper passes it on.
+    fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
+        if cancel.load(Ordering::Relaxed) {
+            return Err(Error::Interrupted);
+        }
+        self.chunk(base, chunk)
+    }
     /// Called once after the last chunk; a file sink commits its output here.
     fn finish(&mut self, totals: &Totals) -> Result<()>;
     /// [`MeshSink::finish`] that stops with [`Error::Interrupted`], leaving

@@ -73,7 +73,7 @@ pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<To
             };
             interrupted()?;
             let chunk = reader.chunk_then(j, next)?;
-            sink.chunk(totals.vertices + e.vertex_base, &chunk)?;
+            sink.chunk_cancellable(totals.vertices + e.vertex_base, &chunk, cancel)?;
             totals.chunks += 1;
         }
         totals.vertices += reader.vertices();

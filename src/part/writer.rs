@@ -6,6 +6,7 @@ use crate::mesh::{Chunk, MeshInfo, MeshSink, Totals};
 use crate::meshfile::TmeshWriter;
 use crate::Result;
 use std::path::Path;
+use std::sync::atomic::AtomicBool;
 
 /// A part file being written; it appears at its path when finished.
 pub struct PartWriter {
@@ -30,6 +31,10 @@ impl MeshSink for PartWriter {
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
         self.inner.chunk(base, chunk)
+    }
+
+    fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
+        self.inner.chunk_cancellable(base, chunk, cancel)
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {

@@ -11,7 +11,7 @@ use crate::error::make_room;
 use crate::kernel::tables::Tables;
 use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles, INTERIOR};
 use crate::params::{ExtractParams, Method};
-use crate::{Result, Stats};
+use crate::{Error, Result, Stats};
 use glam::DVec3;
 
 /// What the cells of one layer are triangulated from.
@@ -23,7 +23,15 @@ pub(super) struct Layer<'a> {
     pub(super) top: &'a Plane<'a>,
     /// Where the numbers of the layer's edge vertices come from.
     pub(super) numbers: LayerNumbers<'a>,
+    /// Whether the run was cancelled ([`crate::volume::SampleSource::interrupted`]),
+    /// asked every [`ROWS_PER_CHECK`] rows.
+    pub(super) interrupted: &'a dyn Fn() -> bool,
 }
+
+/// Rows of cells between two looks at [`Layer::interrupted`]: a layer of a
+/// dense 8192 x 8192 plane takes seconds, 16 of its rows a few
+/// milliseconds, and one look per 16 rows costs nothing measurable.
+const ROWS_PER_CHECK: usize = 16;
 
 /// The ambiguous cells of a row that wait for the kernel, and its scratch.
 pub(super) struct Ambiguous<'a> {
@@ -38,6 +46,9 @@ pub(super) struct Ambiguous<'a> {
 /// cells (their triangles follow the row's): the loop over a row then holds
 /// only the table look-ups of standard MC, and its code does not change
 /// with the kernel's.
+///
+/// Stops with [`Error::Interrupted`] once [`Layer::interrupted`] says so,
+/// which it asks before every [`ROWS_PER_CHECK`] rows.
 pub(super) fn layer_cells(
     layer: &Layer,
     rows: &mut EdgeRows,
@@ -45,11 +56,31 @@ pub(super) fn layer_cells(
     ambiguous: &mut Ambiguous,
     stats: &mut Stats,
 ) -> Result<()> {
-    let [nx, ny, _] = layer.place.grid.dims;
+    let last = layer.place.grid.dims[1] - 1;
+    for first in (0..last).step_by(ROWS_PER_CHECK) {
+        if (layer.interrupted)() {
+            return Err(Error::Interrupted);
+        }
+        let ys = first..(first + ROWS_PER_CHECK).min(last);
+        cell_rows(layer, ys, rows, block, ambiguous, stats)?;
+    }
+    Ok(())
+}
+
+/// The cells of rows `ys` of the layer (see [`layer_cells`]).
+fn cell_rows(
+    layer: &Layer,
+    ys: std::ops::Range<usize>,
+    rows: &mut EdgeRows,
+    block: &mut Block,
+    ambiguous: &mut Ambiguous,
+    stats: &mut Stats,
+) -> Result<()> {
+    let nx = layer.place.grid.dims[0];
     let kernel = layer.params.method == Method::Tmc;
     let (bottom, top) = (layer.bottom, layer.top);
     let words = bottom.inside.words() - 1;
-    for y in 0..ny - 1 {
+    for y in ys {
         let kinds = [
             bottom.inside.kind(y),
             bottom.inside.kind(y + 1),

@@ -65,6 +65,7 @@ pub fn process_slab(
     let mut waiting = Vec::with_capacity(nx);
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
+    let interrupted = || source.interrupted();
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
@@ -106,6 +107,7 @@ pub fn process_slab(
                 top_y: &top.y_first,
                 z: &z_first,
             },
+            interrupted: &interrupted,
         };
         rows.new_layer();
         let mut ambiguous = Ambiguous {

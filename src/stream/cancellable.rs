@@ -1,7 +1,9 @@
 //! [`Cancellable`]: a source that stops giving planes once the cancel flag
 //! is set, so that a slab in progress stops at its next cell layer rather
-//! than at its end (Ctrl-C must stop a run within half a second even when
-//! one slab of a noisy volume takes longer than that).
+//! than at its end, and that answers [`SampleSource::interrupted`], which
+//! the slab loop asks every few rows of cells, so that it stops within a
+//! layer too (Ctrl-C must stop a run within half a second even when one
+//! layer of a dense volume with huge planes takes longer than that).
 
 use crate::volume::{Access, LentPlane, SampleSource, ScalarType};
 use crate::{Error, Grid, Result};
@@ -11,8 +13,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Wraps a source: once `cancel` is set, [`SampleSource::read_plane`]
 /// fails with [`Error::Interrupted`] and no plane is lent (so the slab loop
-/// reads, and fails). Otherwise every call goes to the wrapped source, so
-/// the output is unchanged; the cost is one relaxed load per plane.
+/// reads, and fails), and [`SampleSource::interrupted`] is true. Otherwise
+/// every call goes to the wrapped source, so the output is unchanged; the
+/// cost is one relaxed load per plane and per block of rows.
 pub struct Cancellable<'a> {
     /// The wrapped source.
     pub inner: &'a dyn SampleSource,
@@ -51,6 +54,10 @@ impl SampleSource for Cancellable<'_> {
 
     fn check_unchanged(&self) -> Result<()> {
         self.inner.check_unchanged()
+    }
+
+    fn interrupted(&self) -> bool {
+        self.cancelled() || self.inner.interrupted()
     }
 
     fn data_files(&self) -> Vec<&Path> {

@@ -310,6 +310,10 @@ impl SampleSource for KeepResident<'_> {
         self.inner.check_unchanged()
     }
 
+    fn interrupted(&self) -> bool {
+        self.inner.interrupted()
+    }
+
     fn sample_bytes(&self) -> usize {
         self.inner.sample_bytes()
     }

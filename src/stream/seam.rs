@@ -10,9 +10,9 @@
 
 use crate::mesh::{Chunk, MeshSink, Totals};
 use crate::slab::Spares;
-use crate::{Error, Result, Stats};
+use crate::{Result, Stats};
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 /// Reorders finished slabs and forwards their chunks to a sink in plane order.
@@ -40,8 +40,9 @@ impl<'a> Seam<'a> {
         }
     }
 
-    /// Makes [`Seam::accept`] fail with [`Error::Interrupted`] before the
-    /// next chunk once `flag` is set.
+    /// Makes [`Seam::accept`] fail with [`crate::Error::Interrupted`] once `flag`
+    /// is set, before the next chunk or within one
+    /// ([`MeshSink::chunk_cancellable`]).
     pub fn with_cancel(mut self, flag: Option<&'a AtomicBool>) -> Self {
         self.cancel = flag;
         self
@@ -62,11 +63,14 @@ impl<'a> Seam<'a> {
         while let Some((chunks, stats)) = self.pending.remove(&self.next) {
             let start = Instant::now();
             for chunk in chunks {
-                if self.cancel.is_some_and(|f| f.load(Ordering::Relaxed)) {
-                    return Err(Error::Interrupted);
-                }
                 let (vertices, triangles) = (chunk.vertices.len(), chunk.triangles.len());
-                self.sink.chunk(self.totals.vertices, &chunk)?;
+                match self.cancel {
+                    Some(cancel) => {
+                        self.sink
+                            .chunk_cancellable(self.totals.vertices, &chunk, cancel)?
+                    }
+                    None => self.sink.chunk(self.totals.vertices, &chunk)?,
+                }
                 if let Some(spares) = self.spares {
                     spares.give_chunk(chunk);
                 }

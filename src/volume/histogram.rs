@@ -38,9 +38,44 @@ impl Histogram {
         }
     }
 
-    /// Width of one bin (0 when `lo == hi`).
+    /// Width of one bin (0 when `lo == hi`); finite even when `hi - lo`
+    /// is not (a range from near `-f64::MAX` to near `f64::MAX`).
     pub fn bin_width(&self) -> f64 {
-        (self.hi - self.lo) / self.counts.len() as f64
+        let n = self.counts.len() as f64;
+        let span = self.hi - self.lo;
+        if span.is_finite() {
+            span / n
+        } else {
+            (self.hi / 2.0 - self.lo / 2.0) / n * 2.0
+        }
+    }
+
+    /// The factor that puts the range in reach of plain arithmetic: `1/2`
+    /// when `hi - lo` overflows, `2^900` when the bins' width underflows (a
+    /// range of subnormal numbers, all below `2^-959` or so); `None` when
+    /// no scaling is needed (or the range is empty). Powers of two: the
+    /// scaling is exact.
+    fn rescale(&self) -> Option<f64> {
+        let finite = (self.hi - self.lo).is_finite();
+        if self.hi <= self.lo || (finite && self.bin_width().is_normal()) {
+            None
+        } else if finite {
+            Some(2f64.powi(900))
+        } else {
+            Some(0.5)
+        }
+    }
+
+    /// The value `k` bin widths above `lo` (`0 <= k <= bins`), computed
+    /// without overflow or underflow.
+    fn value_at(&self, k: f64) -> f64 {
+        match self.rescale() {
+            None => self.lo + self.bin_width() * k,
+            Some(s) => {
+                let (lo, hi) = (self.lo * s, self.hi * s);
+                (lo + (hi - lo) * (k / self.counts.len() as f64)) / s
+            }
+        }
     }
 
     /// The bin of `v`: values below `lo` go to the first bin, values at or
@@ -51,12 +86,18 @@ impl Histogram {
         }
         let n = self.counts.len();
         let width = self.bin_width();
-        if width <= 0.0 {
+        if self.hi <= self.lo {
             return Some(0);
         }
+        let position = match self.rescale() {
+            None => (v - self.lo) / width,
+            Some(s) => {
+                let (v, lo, hi) = (v * s, self.lo * s, self.hi * s);
+                (v - lo) / (hi - lo) * n as f64
+            }
+        };
         // Float-to-int `as` saturates: negative values become 0.
-        let i = ((v - self.lo) / width) as usize;
-        Some(i.min(n - 1))
+        Some((position as usize).min(n - 1))
     }
 
     /// Counts `v` (NaN is ignored).
@@ -77,7 +118,7 @@ impl Histogram {
     /// The value between bin `t` and bin `t + 1` (the upper edge of bin
     /// `t`): where a threshold index falls in value space.
     pub fn upper_edge(&self, t: usize) -> f64 {
-        self.lo + (t + 1) as f64 * self.bin_width()
+        self.value_at((t + 1) as f64)
     }
 
     /// The value where threshold `t` cuts best: the middle of the run of
@@ -91,7 +132,7 @@ impl Histogram {
         let below = (0..=t).rev().find(|&i| self.counts[i] > 0);
         let above = (t + 1..self.counts.len()).find(|&i| self.counts[i] > 0);
         match (below, above) {
-            (Some(a), Some(b)) => self.lo + self.bin_width() * (a + 1 + b) as f64 / 2.0,
+            (Some(a), Some(b)) => self.value_at((a + 1 + b) as f64 / 2.0),
             _ => self.upper_edge(t),
         }
     }
@@ -299,6 +340,36 @@ mod tests {
         // Two values: the single threshold separates them.
         assert_eq!(otsu(&[4, 0, 0, 6]).map(|t| t < 3), Some(true));
         assert!(otsu2(&[4, 0, 0, 6]).is_some());
+    }
+
+    /// Ranges whose width overflows (from near `-f64::MAX` to near
+    /// `f64::MAX`) or whose bins underflow (subnormal numbers) bin like
+    /// any other: the extremes in the end bins, the middle in the middle,
+    /// every edge finite and inside the range.
+    #[test]
+    fn extreme_ranges_bin_and_cut_like_any_other() {
+        let max = f64::MAX;
+        let tiny = 1e-320;
+        for (lo, hi) in [
+            (-max, max),
+            (0.0, max),
+            (-max, 0.0),
+            (0.0, tiny),
+            (-tiny, tiny),
+        ] {
+            let mut h = Histogram::new(lo, hi, 4);
+            for v in [lo, lo / 2.0 + hi / 2.0, hi] {
+                h.add(v);
+            }
+            assert_eq!(h.counts, vec![1, 0, 1, 1], "[{lo}, {hi}]");
+            let width = h.bin_width();
+            assert!(width.is_finite() && width > 0.0, "[{lo}, {hi}]: {width}");
+            for t in 0..3 {
+                let (edge, cut) = (h.upper_edge(t), h.cut_value(t));
+                assert!(lo < edge && edge < hi, "[{lo}, {hi}]: edge {t} at {edge}");
+                assert!(lo < cut && cut < hi, "[{lo}, {hi}]: cut {t} at {cut}");
+            }
+        }
     }
 
     #[test]

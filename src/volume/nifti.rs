@@ -284,7 +284,9 @@ fn layout(header: &Header, offset: f64) -> std::result::Result<Layout, String> {
 /// The index-to-world map, as NIfTI's three methods define it: the sform
 /// when `sform_code > 0` (its columns are the scaled axes), else the qform
 /// (quaternion rotation, `qfac` flipping the third axis, `|pixdim|`
-/// spacing, `qoffset` origin), else `pixdim` scaling alone.
+/// spacing, `qoffset` origin), else `pixdim` scaling alone. A negative
+/// `pixdim[1..3]` counts as its absolute value, as nibabel reads it (its
+/// header check sets them to their absolute values on load).
 fn grid(h: &Header) -> std::result::Result<Grid, String> {
     let mut grid = Grid {
         dims: h.dims,

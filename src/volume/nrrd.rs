@@ -21,6 +21,9 @@
 //! and its direction the unit vector, so the mesh lives in the NRRD's space,
 //! rotation or axis flip included, shifted by `space origin`. Vectors that
 //! are parallel (a singular matrix) are refused, as in the other readers.
+//! Without `space directions`, `spacings` gives the spacing, and a negative
+//! value mirrors its axis (positions decrease along it), as teem and ITK
+//! read it; a zero or non-finite one is refused.
 
 use super::nrrd_data::{open_data, DataFormat};
 use super::nrrd_header::{parse_line, DataFile, Encoding, Header};
@@ -140,14 +143,24 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
     };
     let mut grid = Grid {
         dims,
-        spacing: header.spacings.unwrap_or([1.0; 3]),
+        spacing: [1.0; 3],
         origin: header.origin.unwrap_or([0.0; 3]),
         direction: super::IDENTITY,
     };
     if let Some(matrix) = directions {
         // The vectors' lengths are the spacing.
-        grid.spacing = [1.0; 3];
         set_direction(&mut grid, matrix).map_err(|e| fail(format!("'space directions': {e}")))?;
+    } else if let Some(spacings) = header.spacings {
+        if spacings.iter().all(|s| s.is_finite() && *s != 0.0) {
+            // Axis j points along +e_j or, for a negative spacing, along
+            // -e_j (a mirrored grid): the diagonal of the signed spacings.
+            let matrix =
+                [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { spacings[c] } else { 0.0 }));
+            set_direction(&mut grid, matrix).map_err(|e| fail(format!("'spacings': {e}")))?;
+        } else {
+            // Refused below, with the values.
+            grid.spacing = spacings.map(f64::abs);
+        }
     }
     if dims.contains(&0) {
         return Err(fail(format!("sizes {} contain a zero", dims_text(dims))));

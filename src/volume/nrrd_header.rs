@@ -87,7 +87,10 @@ pub(crate) struct Header {
     pub sizes: Option<Vec<usize>>,
     pub endian: Option<Endian>,
     pub encoding: Option<Encoding>,
-    /// From `spacings` (absolute values).
+    /// From `spacings`, signed: a negative spacing makes positions
+    /// decrease along its axis, as teem (`nrrdSpacingCalculate` hands the
+    /// value on as it is) and ITK (index-to-physical with that spacing)
+    /// read it.
     pub spacings: Option<[f64; 3]>,
     /// From `space directions`: the vectors as the columns of a matrix, or
     /// why they do not fit a 3-D grid (reported after a wrong `dimension`,
@@ -208,7 +211,7 @@ pub(crate) fn parse_line(line: &str, header: &mut Header) -> Result<(), String> 
                 let x: f64 = v
                     .parse()
                     .map_err(|_| format!("bad 'spacings' value '{value}'"))?;
-                *s = x.abs();
+                *s = x;
             }
             header.spacings = Some(spacing);
         }

@@ -44,6 +44,10 @@ impl SampleSource for Padded<'_> {
         self.inner.check_unchanged()
     }
 
+    fn interrupted(&self) -> bool {
+        self.inner.interrupted()
+    }
+
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
         out.fill(f64::NAN);
         if z == 0 || z == self.grid.dims[2] - 1 {

@@ -44,6 +44,15 @@ pub trait SampleSource: Sync {
         Ok(())
     }
 
+    /// Whether the run reading this source has been cancelled (a wrapper
+    /// such as the pipeline's cancellable source says so once its flag is
+    /// set). The slab loop asks every few rows of cells, so that a layer of
+    /// a huge plane does not delay a Ctrl-C; it must be cheap (an atomic
+    /// load). `false` by default; wrappers pass the question on.
+    fn interrupted(&self) -> bool {
+        false
+    }
+
     /// The files the samples are read from during the extraction (mapped
     /// data files, DICOM slices), which the output must not overwrite;
     /// empty (the default) for sources that read nothing after opening.

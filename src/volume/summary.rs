@@ -78,9 +78,17 @@ struct Range {
     finite: u64,
     min: f64,
     max: f64,
+    /// The sum of the finite samples; infinite or NaN once it overflowed
+    /// (values near `f64::MAX`), when `scaled` holds the mean.
     sum: f64,
+    /// The same sum, each plane's times [`SUM_SCALE`]: it cannot overflow.
+    scaled: f64,
     integer: bool,
 }
+
+/// The factor of [`Range::scaled`]: `2^-128`, exact, so that `2^64`
+/// samples of `f64::MAX` still sum to a finite value.
+const SUM_SCALE: f64 = 1.0 / (1u128 << 127) as f64 / 2.0;
 
 impl Range {
     const EMPTY: Range = Range {
@@ -90,6 +98,7 @@ impl Range {
         min: f64::INFINITY,
         max: f64::NEG_INFINITY,
         sum: 0.0,
+        scaled: 0.0,
         integer: true,
     };
 
@@ -111,6 +120,28 @@ impl Range {
             }
         }
         self.sum += sum;
+        self.scaled += if sum.is_finite() {
+            sum * SUM_SCALE
+        } else {
+            // The plane's own sum overflowed: again, scaled sample by sample.
+            plane
+                .iter()
+                .filter(|v| v.is_finite())
+                .map(|v| v * SUM_SCALE)
+                .sum()
+        };
+    }
+
+    /// The mean of the finite samples (at least one): the plain sum's when
+    /// it is finite, else the scaled sum's; within `[min, max]` always.
+    fn mean(&self) -> f64 {
+        let n = self.finite as f64;
+        let mean = if self.sum.is_finite() {
+            self.sum / n
+        } else {
+            self.scaled / n / SUM_SCALE
+        };
+        mean.clamp(self.min, self.max)
     }
 
     fn merge(self, o: Range) -> Range {
@@ -121,6 +152,7 @@ impl Range {
             min: self.min.min(o.min),
             max: self.max.max(o.max),
             sum: self.sum + o.sum,
+            scaled: self.scaled + o.scaled,
             integer: self.integer && o.integer,
         }
     }
@@ -202,7 +234,7 @@ pub fn summarize(source: &dyn SampleSource, options: &SummaryOptions) -> Result<
         infinite: range.infinite,
         min: finite.then_some(range.min),
         max: finite.then_some(range.max),
-        mean: finite.then(|| range.sum / range.finite as f64),
+        mean: finite.then(|| range.mean()),
         integer_valued: range.integer,
         histogram,
         plane_step: step,

@@ -199,7 +199,12 @@ pub fn open(path: &Path) -> Result<TiffStack> {
             }
         }
         if names.is_empty() {
-            return Err(fail("no TIFF files found".into()));
+            return Err(fail(match pattern {
+                Some(_) => "no TIFF files match the pattern".into(),
+                // A directory comes here when it holds no DICOM file either
+                // (see `Format::detect`).
+                None => "a directory is read as a TIFF stack (files ending in .tif or .tiff) or a DICOM series (files ending in .dcm, or with 'DICM' at byte 128), and this one holds neither".into(),
+            }));
         }
         names.sort_by(|a, b| natural_cmp(a, b));
         names.into_iter().map(|n| dir.join(n)).collect()

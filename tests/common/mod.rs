@@ -6,6 +6,7 @@ pub mod cli;
 pub mod fields;
 pub mod formats;
 pub mod oracle;
+pub mod signals;
 
 use oracle::Topology;
 use tmc::check::MeshReport;

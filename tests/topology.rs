@@ -25,15 +25,19 @@ fn run(dims: [usize; 3], values: &[f64], iso: f64, close: bool, method: Method) 
 }
 
 /// Extracts with `--close` and compares with the oracle on the grid padded
-/// by one layer of ties (what `--close` means).
+/// by one layer of ties (what `--close` means); the mesh must also have no
+/// zero-area triangle and no two vertices at one position, ties or not.
 fn check_closed(dims: [usize; 3], values: &[f64], iso: f64) -> Result<(MeshReport, Stats), String> {
     let (mesh, stats) = run(dims, values, iso, true, Method::Tmc);
     let report = check_mesh(&mesh);
     let (pdims, g) = oracle::padded(dims, &oracle::scaled(values, iso), 1, 0);
     let topo = oracle::topology(pdims, &g);
-    compare_with_oracle(&report, &topo)
-        .map(|_| (report, stats))
-        .map_err(|e| format!("{e}\n  dims {dims:?} iso {iso} values {values:?}"))
+    let fail = |e: String| format!("{e}\n  dims {dims:?} iso {iso} values {values:?}");
+    compare_with_oracle(&report, &topo).map_err(fail)?;
+    if !report.geometry.is_sound() {
+        return Err(fail(report.geometry.defects()));
+    }
+    Ok((report, stats))
 }
 
 fn random_cell(rng: &mut Pcg64, config: u32, ties: bool) -> [f64; 8] {

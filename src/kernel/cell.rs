@@ -7,6 +7,7 @@ use super::decider::{inside_joined, residual_det2_sign};
 use super::quadratic::{inner_hexagon, saddle_points, Saddles};
 use super::scale::normalized;
 use super::tables::tables;
+use super::ties::edge_fraction;
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
 use super::tunnel::labelled_joins;
 use crate::Stats;
@@ -14,10 +15,10 @@ use glam::DVec3;
 use std::cmp::Ordering::{Greater, Less};
 
 /// Position of the vertex on edge `e` in local coordinates (linear
-/// interpolation; the same formula the slab loop uses).
+/// interpolation, ties apart: [`edge_fraction`], as the slab loop places it).
 pub fn edge_point(g: &[f64; 8], e: usize) -> DVec3 {
     let [a, b] = EDGE_CORNERS[e];
-    let t = g[a] / (g[a] - g[b]);
+    let t = edge_fraction(g[a], g[b]);
     let pa = DVec3::new((a & 1) as f64, (a >> 1 & 1) as f64, (a >> 2 & 1) as f64);
     let pb = DVec3::new((b & 1) as f64, (b >> 1 & 1) as f64, (b >> 2 & 1) as f64);
     pa + (pb - pa) * t

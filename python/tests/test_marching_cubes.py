@@ -178,16 +178,37 @@ def test_step_size_is_a_strided_view():
     np.testing.assert_array_equal(f, expected[1])
 
 
-def test_allow_degenerate_false_drops_collapsed_triangles():
-    volume = np.zeros((6, 6, 6), dtype=np.uint8)
-    volume[2:4, 2:4, 2:4] = 2
-    volume[3, 3, 3] = 1  # ties at the level
-    v, f, n, values = tmc.marching_cubes(volume, 1.0, allow_degenerate=False)
-    t = v[f]
-    area = np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1)
-    assert len(f) > 0 and (area > 0).all()
-    assert len(np.unique(v, axis=0)) == len(v)
-    assert len(n) == len(v) == len(values)
+def test_allow_degenerate_false_removes_nothing_even_on_ties():
+    """Samples equal to the level (ties) no longer collapse triangles: with
+    allow_degenerate=False (scikit-image's merge of equal positions) the
+    mesh comes back unchanged, and no triangle has zero area in float32
+    or float64 arithmetic, on labels, a checkerboard of ties and a CT."""
+    blob = np.zeros((6, 6, 6), dtype=np.uint8)
+    blob[2:4, 2:4, 2:4] = 2
+    blob[3, 3, 3] = 1  # ties at the level
+    checker = np.indices((7, 7, 7)).sum(axis=0) % 2 * 2  # 0 and 2
+    checker[::3] = 1  # whole planes of ties
+    volumes = [(blob, 1.0), (np.pad(checker, 1), 1.0), (np.pad(checker, 1), 0.0)]
+    path = SHARED_DATA / "bonsai.nrrd"
+    nrrd = pytest.importorskip("nrrd")
+    if path.exists():
+        data, _ = nrrd.read(str(path), index_order="C")
+        volumes.append((data, 40.0))  # 71,270 samples at 40
+    for volume, level in volumes:
+        for direction in ["descent", "ascent"]:
+            kept = tmc.marching_cubes(volume, level, gradient_direction=direction)
+            merged = tmc.marching_cubes(
+                volume, level, gradient_direction=direction, allow_degenerate=False
+            )
+            for a, b in zip(kept, merged):
+                np.testing.assert_array_equal(a, b)
+            v, f = kept[0], kept[1]
+            assert len(f) > 0
+            assert len(np.unique(v, axis=0)) == len(v)
+            for dtype in [np.float32, np.float64]:
+                t = v.astype(dtype)[f]
+                cross = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+                assert (np.abs(cross).max(axis=1) > 0).all(), (level, direction, dtype)
 
 
 def test_level_defaults_to_mid_range_and_errors_match_scikit_image():

@@ -383,21 +383,35 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
 
 /// An interior vertex clamped into the cell: into the closed unit cube, and
 /// further, into the cube [`TIE_OFFSET`] inside it, in a cell with a tie
-/// corner (a value 0) or where the vertex lies on the cell's boundary.
-/// At ties (of samples, or of a face saddle whose value is the isovalue)
-/// the level set holds edges of the cell or crosses itself on a face, and
-/// a saddle point of it can lie on the cell's boundary, where the cell
-/// across that boundary may put its own interior vertex, or an edge vertex
-/// lies; strictly inside, an interior vertex is apart from both, which keep
-/// to the boundary. Elsewhere the vertex is the paper's, bit for bit.
+/// corner (a value 0), or where the vertex lies on the cell's boundary and
+/// a face of the cell has a saddle tie (`g0 g2 = g1 g3`: its saddle value
+/// is the isovalue). At such ties the level set holds edges of the cell or
+/// crosses itself on a face, and a saddle point of it can lie on the
+/// cell's boundary, where the cell across that boundary may put its own
+/// interior vertex, or an edge vertex lies; strictly inside, an interior
+/// vertex is apart from both, which keep to the boundary. Elsewhere the
+/// vertex is the paper's, bit for bit.
 #[inline]
 fn interior_clamp(g: &[f64; 8], p: DVec3) -> DVec3 {
     let p = p.clamp(DVec3::ZERO, DVec3::ONE);
-    if g.contains(&0.0) || p.min_element() == 0.0 || p.max_element() == 1.0 {
+    let touches = p.min_element() == 0.0 || p.max_element() == 1.0;
+    if g.contains(&0.0) || touches && face_saddle_tie(g) {
         p.clamp(DVec3::splat(TIE_OFFSET), DVec3::splat(1.0 - TIE_OFFSET))
     } else {
         p
     }
+}
+
+/// Whether an ambiguous face of the cell (inside corners on one diagonal,
+/// outside ones on the other) has `g0 g2 = g1 g3` (products rounded; the
+/// values of integer data at an integer or half-integer isovalue give them
+/// exactly): its saddle value is the isovalue.
+fn face_saddle_tie(g: &[f64; 8]) -> bool {
+    FACE_CORNERS.iter().any(|q| {
+        let inside = q.map(|c| g[c] > 0.0);
+        let ambiguous = inside[0] == inside[2] && inside[1] == inside[3] && inside[0] != inside[1];
+        ambiguous && g[q[0]] * g[q[2]] == g[q[1]] * g[q[3]]
+    })
 }
 
 /// The inner hexagon of a tunnel or 12-vertex contour (see

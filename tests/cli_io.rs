@@ -1127,8 +1127,13 @@ fn check_reports_zero_area_and_shared_positions_and_strict_fails_on_them() {
             assert_eq!(strict.status.code(), Some(0), "{name}");
         } else {
             assert!(!strict.stdout.is_empty(), "{name}: the report comes first");
-            let line = assert_one_line(&strict, 1);
-            assert!(line.contains("--strict"), "{line}");
+            assert_eq!(strict.status.code(), Some(1), "{name}");
+            let line = String::from_utf8(strict.stderr).unwrap();
+            assert_eq!(line.lines().count(), 1, "{line}");
+            assert!(
+                line.starts_with("tmc: error: ") && line.contains("--strict"),
+                "{line}"
+            );
             if zero > 0 {
                 assert!(
                     line.contains(&format!("{zero} zero-area triangles (first: 1")),

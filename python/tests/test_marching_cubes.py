@@ -74,13 +74,17 @@ def assert_same_surface(ours, theirs, exact_fraction=0.99):
     assert v.dtype == np.float32 and f.dtype == np.int32
     assert n.dtype == np.float32 and values.shape == (len(v),)
     np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-5)
-    # Edge vertices are where both put them; TMC's extra interior vertices
-    # and Lewiner's are within a cell of the other's.
+    # Edge vertices are where both put them, but on edges that end at a
+    # sample equal to the level (a tie), where scikit-image's vertex sits on
+    # the sample and tmc's 2^-10 of the edge from it (unit spacing here);
+    # TMC's extra interior vertices and Lewiner's are within a cell of the
+    # other's.
+    tie = 2.0**-10 + 1e-4
     distance, index = nearest(v, sv)
-    assert (distance < 1e-4).mean() >= exact_fraction, (distance < 1e-4).mean()
+    assert (distance < tie).mean() >= exact_fraction, (distance < tie).mean()
     assert distance.max() < 1.0
     back, _ = nearest(sv, v)
-    assert (back < 1e-4).mean() >= exact_fraction
+    assert (back < tie).mean() >= exact_fraction
     # Normals point the same way where the vertices coincide; they are not
     # equal: scikit-image estimates the gradient inside each cube, tmc (as
     # VTK) by central differences at the samples (checked exactly below).

@@ -64,10 +64,18 @@ impl Placement {
     #[inline(never)]
     fn tie_vertex(&self, start: [f64; 3], axis: usize, a: f64, b: f64) -> [f32; 3] {
         let at_start = a == 0.0;
-        let mut p = start;
         if !at_start && b != 0.0 {
+            let mut p = start;
             p[axis] += a / (a - b);
             return self.at(p);
+        }
+        let offset_at = |offset: f64| {
+            let mut p = start;
+            p[axis] += if at_start { offset } else { 1.0 - offset };
+            self.at(p)
+        };
+        if self.resolves_ties {
+            return offset_at(TIE_OFFSET);
         }
         let mut tie = start;
         if !at_start {
@@ -76,9 +84,8 @@ impl Placement {
         let sample = self.at(tie);
         let mut offset = TIE_OFFSET;
         loop {
-            p[axis] = start[axis] + if at_start { offset } else { 1.0 - offset };
-            let position = self.at(p);
-            if self.resolves_ties || position != sample || offset >= 0.5 {
+            let position = offset_at(offset);
+            if position != sample || offset >= 0.5 {
                 return position;
             }
             offset *= 2.0;

@@ -192,14 +192,21 @@ def test_allow_degenerate_false_removes_nothing_even_on_ties():
     blob[3, 3, 3] = 1  # ties at the level
     checker = np.indices((7, 7, 7)).sum(axis=0) % 2 * 2  # 0 and 2
     checker[::3] = 1  # whole planes of ties
-    volumes = [(blob, 1.0), (np.pad(checker, 1), 1.0), (np.pad(checker, 1), 0.0)]
+    both = ["descent", "ascent"]
+    checker = np.pad(checker, 1)
+    volumes = [
+        (blob, 1.0, both),
+        (checker, 1.0, both),
+        (checker, 0.0, ["descent"]),
+        (checker, 2.0, ["ascent"]),
+    ]
     path = SHARED_DATA / "bonsai.nrrd"
     nrrd = pytest.importorskip("nrrd")
     if path.exists():
         data, _ = nrrd.read(str(path), index_order="C")
-        volumes.append((data, 40.0))  # 71,270 samples at 40
-    for volume, level in volumes:
-        for direction in ["descent", "ascent"]:
+        volumes.append((data, 40.0, both))  # 71,270 samples at 40
+    for volume, level, directions in volumes:
+        for direction in directions:
             kept = tmc.marching_cubes(volume, level, gradient_direction=direction)
             merged = tmc.marching_cubes(
                 volume, level, gradient_direction=direction, allow_degenerate=False

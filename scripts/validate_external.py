@@ -38,8 +38,8 @@ README isovalues, plus the bundled data/headsq_quarter.nrrd):
      by the winding check);
    * no triangle repeats a vertex index or has an index out of range, no
      vertex is unreferenced, no coordinate is NaN or infinite; zero-area
-     triangles are only counted (tmc makes them by design on data that ties
-     with the isovalue: distinct vertices may share a position);
+     triangles are only counted (tmc makes none, ties included, see
+     docs/conventions.md#ties; `tmc check --strict` fails on them);
    * bounding box inside the volume's physical extent, from the affine of
      `tmc info VOL --json` (with --close: one sample beyond each face of
      the volume, where tmc puts its caps);

@@ -288,10 +288,13 @@ fn the_threads_do_not_change_the_normals() {
 }
 
 #[test]
-fn ties_on_a_plateau_fall_back_to_the_triangles() {
+fn ties_on_a_plateau_point_out_of_the_gap() {
     // Two blocks of ones, one sample apart, in zeros; iso 0, so the
-    // vertices sit on the zero samples, and those of the gap between the
-    // blocks have neighbours of 1 on both sides: no gradient there.
+    // vertices sit 2^-10 of an edge from the zero samples (ties), and
+    // those of the gap between the blocks, beside samples whose
+    // neighbours are 1 on both sides (no gradient there), have a gradient
+    // of about 2^-10 of the blocks' that must still point the right way
+    // (where it vanished, the triangles' normals would stand in).
     let n = 20;
     let block = |x: usize, y: usize, z: usize| {
         let inner = (4..16).contains(&y) && (4..16).contains(&z);
@@ -313,7 +316,7 @@ fn ties_on_a_plateau_fall_back_to_the_triangles() {
             assert!(dot(wide(*n), *r) > 0.0, "{n:?} at {v:?} against {r:?}");
         }
         let inner = (5.0..14.0).contains(&v[1]) && (5.0..14.0).contains(&v[2]);
-        if v[0] == 9.0 && inner {
+        if (v[0] - 9.0).abs() <= 1.0 / 512.0 && inner {
             in_gap += 1;
             assert!(n[0].abs() > 0.99, "{n:?} at {v:?}");
         }

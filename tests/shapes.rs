@@ -64,7 +64,14 @@ fn edge_vertices_lie_on_the_level_set() {
             if p.iter().filter(|c| c.fract() == 0.0).count() >= 2 {
                 on_edges += 1;
                 let err = interpolate(&vol, p).abs();
-                assert!(err < 1e-5 * range, "vertex {p:?}: |T - iso| = {err}");
+                // On an edge that ends at a tie (a sample at the isovalue)
+                // the vertex keeps 2^-10 of the edge from it: on the level
+                // of 2^-10 of the other end's value above the isovalue.
+                let tie = p
+                    .iter()
+                    .any(|c| [1.0 / 1024.0, 1023.0 / 1024.0].contains(&c.fract()));
+                let bound = if tie { range / 1024.0 } else { 1e-5 * range };
+                assert!(err < bound, "vertex {p:?}: |T - iso| = {err}");
             }
         }
         assert!(on_edges > mesh.vertices.len() / 2);

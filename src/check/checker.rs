@@ -1,6 +1,7 @@
 //! [`check_mesh`]: one sweep over the triangles of each vertex finds every
 //! edge once, checks the vertex links, and gathers the counts per component.
 
+use super::geometry::check_geometry;
 use super::report::{ComponentReport, MeshReport};
 use super::union_find::{ParityUnionFind, UnionFind, NONE};
 use crate::mesh::Mesh;
@@ -19,7 +20,8 @@ struct Counters {
     non_orientable: bool,
 }
 
-/// Checks the combinatorial topology of `mesh`; see [the definitions](crate::check#definitions).
+/// Checks the combinatorial topology of `mesh`, and its geometry with
+/// [`check_geometry`]; see [the definitions](crate::check#definitions).
 ///
 /// # Panics
 /// If the mesh has `u32::MAX` triangles or more (a `Mesh` that large cannot
@@ -34,6 +36,7 @@ pub fn check_mesh(mesh: &Mesh) -> MeshReport {
     let mut report = MeshReport {
         vertices: nv,
         triangles: tris.len(),
+        geometry: check_geometry(mesh),
         ..MeshReport::default()
     };
 

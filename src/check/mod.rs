@@ -1,9 +1,11 @@
-//! An independent, purely combinatorial mesh checker.
+//! An independent mesh checker.
 //!
-//! [`check_mesh`] looks only at the triangle indices of a [`Mesh`](crate::Mesh) (positions
-//! are never used) and reports whether the mesh is a closed, consistently
-//! oriented 2-manifold, together with its Euler characteristic, connected
-//! components and their genus. [`read_mesh`] loads PLY, OBJ, OFF and `.tmesh`
+//! [`check_mesh`] looks at the triangle indices of a [`Mesh`](crate::Mesh) and reports
+//! whether the mesh is a closed, consistently oriented 2-manifold, together
+//! with its Euler characteristic, connected components and their genus;
+//! positions are used only for two geometric counts beside them
+//! ([`check_geometry`]): zero-area triangles and vertices sharing a
+//! position. [`read_mesh`] loads PLY, OBJ, OFF and `.tmesh`
 //! files so that meshes written by any tool can be checked. Nothing here
 //! shares code with the extraction kernel: the checker is the referee of the
 //! kernel's tests and of `tmc check`.
@@ -22,6 +24,12 @@
 //! * A referenced vertex is **non-manifold** when its incident triangles do not
 //!   form a single fan: its link (the edges opposite to it) is not one path
 //!   or one cycle. The ends of a non-manifold edge are non-manifold vertices.
+//! * A proper triangle has **zero area** when the cross product of its edge
+//!   vectors `b - a` and `c - a`, computed in `f64` from the `f32`
+//!   coordinates, is zero: its corners are collinear or two coincide (the
+//!   test is exact for coordinates within 2^29 of one another in
+//!   magnitude). A vertex **shares a position** when another vertex has
+//!   the same coordinates (`-0` as `0`).
 //! * **Components** are the classes of triangles connected through shared
 //!   vertices (so two spheres touching at one vertex are one component, with
 //!   one non-manifold vertex).
@@ -42,10 +50,12 @@
 //! a few words per vertex and per triangle.
 
 mod checker;
+mod geometry;
 mod read;
 mod report;
 mod union_find;
 
 pub use checker::check_mesh;
+pub use geometry::check_geometry;
 pub use read::read_mesh;
-pub use report::{ComponentReport, MeshReport};
+pub use report::{ComponentReport, Geometry, MeshReport};

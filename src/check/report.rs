@@ -46,6 +46,56 @@ impl ComponentReport {
     }
 }
 
+/// The geometric part of a [`MeshReport`]: what [`check_geometry`](super::check_geometry)
+/// finds; see [the definitions](crate::check#definitions).
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize)]
+pub struct Geometry {
+    /// Triangles (without a repeated or invalid index) whose three corners
+    /// are collinear or coincide: zero area in the `f32` coordinates.
+    pub zero_area_triangles: usize,
+    /// The numbers of the first few of them (at most five), from 0.
+    pub first_zero_area_triangles: Vec<usize>,
+    /// Vertices whose position another vertex has too.
+    pub shared_position_vertices: usize,
+    /// Triangles (as above) with a corner among those vertices.
+    pub shared_position_triangles: usize,
+    /// The numbers of the first few of them (at most five), from 0.
+    pub first_shared_position_triangles: Vec<usize>,
+}
+
+impl Geometry {
+    /// No zero-area triangle and no two vertices at one position.
+    pub fn is_sound(&self) -> bool {
+        self.zero_area_triangles == 0 && self.shared_position_vertices == 0
+    }
+
+    /// One line naming the geometric defects, with the first triangles of
+    /// each (empty when [`Geometry::is_sound`]).
+    pub fn defects(&self) -> String {
+        let first = |t: &[usize]| {
+            let list: Vec<String> = t.iter().map(usize::to_string).collect();
+            list.join(", ")
+        };
+        let mut parts = Vec::new();
+        if self.zero_area_triangles > 0 {
+            parts.push(format!(
+                "{} zero-area triangles (first: {})",
+                self.zero_area_triangles,
+                first(&self.first_zero_area_triangles)
+            ));
+        }
+        if self.shared_position_vertices > 0 {
+            parts.push(format!(
+                "{} vertices sharing a position, in {} triangles (first: {})",
+                self.shared_position_vertices,
+                self.shared_position_triangles,
+                first(&self.first_shared_position_triangles)
+            ));
+        }
+        parts.join(", ")
+    }
+}
+
 /// The result of [`check_mesh`](super::check_mesh); see [the
 /// definitions](crate::check#definitions).
 #[derive(Debug, Clone, PartialEq, Eq, Default, Serialize)]
@@ -77,6 +127,10 @@ pub struct MeshReport {
     pub euler: i64,
     /// One entry per component, largest (by triangles) first.
     pub per_component: Vec<ComponentReport>,
+    /// Zero-area triangles and vertices sharing a position (in the JSON
+    /// form, its fields sit beside the others).
+    #[serde(flatten)]
+    pub geometry: Geometry,
 }
 
 impl MeshReport {
@@ -134,7 +188,16 @@ impl MeshReport {
     pub fn print_text(&self, w: &mut impl Write) -> std::io::Result<()> {
         const MAX_ROWS: usize = 20;
         let yes_no = |b: bool| if b { "yes" } else { "no" };
-        let rows: [(&str, String); 14] = [
+        let list = |n: usize, first: &[usize]| {
+            if first.is_empty() {
+                n.to_string()
+            } else {
+                let first: Vec<String> = first.iter().map(usize::to_string).collect();
+                format!("{n} (first triangles: {})", first.join(", "))
+            }
+        };
+        let g = &self.geometry;
+        let rows: [(&str, String); 16] = [
             ("vertices", self.vertices.to_string()),
             ("triangles", self.triangles.to_string()),
             ("edges", self.edges.to_string()),
@@ -146,6 +209,17 @@ impl MeshReport {
             (
                 "unreferenced vertices",
                 self.unreferenced_vertices.to_string(),
+            ),
+            (
+                "zero-area triangles",
+                list(g.zero_area_triangles, &g.first_zero_area_triangles),
+            ),
+            (
+                "shared positions",
+                list(
+                    g.shared_position_vertices,
+                    &g.first_shared_position_triangles,
+                ),
             ),
             ("boundary edges", self.boundary_edges.to_string()),
             ("non-manifold edges", self.non_manifold_edges.to_string()),

@@ -17,6 +17,10 @@ use tmc::{Error, Result};
 /// so topology checks on STL files are not meaningful; check a .ply, .obj,
 /// .off or .tmesh file instead.
 ///
+/// The report also counts zero-area triangles and vertices sharing a
+/// position (with the numbers of the first few triangles of each); they
+/// fail the check only with --strict.
+///
 /// An empty mesh (no triangles) is a manifold only vacuously: the report
 /// says "closed manifold  yes (empty)" and a note on stderr gives its
 /// counts; the exit status is 0, or 1 with --require-surface.
@@ -35,6 +39,11 @@ pub(crate) struct CheckArgs {
     /// triangles. Without it an empty mesh passes with a note on stderr.
     #[arg(long)]
     pub require_surface: bool,
+
+    /// Fail (exit 1, after the report) also when a triangle has zero area
+    /// or two vertices share a position.
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Runs `tmc check`.
@@ -62,13 +71,19 @@ pub(crate) fn run(args: &CheckArgs) -> Result<()> {
         }
         say!("tmc: note: {empty}: closed only vacuously, there is no surface");
     }
-    if report.is_oriented_manifold() {
-        Ok(())
-    } else {
-        Err(Error::Format(format!(
+    if !report.is_oriented_manifold() {
+        return Err(Error::Format(format!(
             "{}: not a consistently oriented manifold: {}",
             args.mesh.display(),
             report.defects()
-        )))
+        )));
     }
+    if args.strict && !report.geometry.is_sound() {
+        return Err(Error::Format(format!(
+            "{}: --strict: {}",
+            args.mesh.display(),
+            report.geometry.defects()
+        )));
+    }
+    Ok(())
 }

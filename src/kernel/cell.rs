@@ -7,6 +7,7 @@ use super::decider::{inside_joined, residual_det2_sign};
 use super::quadratic::{inner_hexagon, saddle_points, Saddles};
 use super::scale::normalized;
 use super::tables::tables;
+use super::ties::{edge_fraction, TIE_OFFSET};
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
 use super::tunnel::labelled_joins;
 use crate::Stats;
@@ -14,10 +15,10 @@ use glam::DVec3;
 use std::cmp::Ordering::{Greater, Less};
 
 /// Position of the vertex on edge `e` in local coordinates (linear
-/// interpolation; the same formula the slab loop uses).
+/// interpolation, ties apart: [`edge_fraction`], as the slab loop places it).
 pub fn edge_point(g: &[f64; 8], e: usize) -> DVec3 {
     let [a, b] = EDGE_CORNERS[e];
-    let t = g[a] / (g[a] - g[b]);
+    let t = edge_fraction(g[a], g[b]);
     let pa = DVec3::new((a & 1) as f64, (a >> 1 & 1) as f64, (a >> 2 & 1) as f64);
     let pb = DVec3::new((b & 1) as f64, (b >> 1 & 1) as f64, (b >> 2 & 1) as f64);
     pa + (pb - pa) * t
@@ -209,7 +210,7 @@ fn triangulate_decided(
         count_ambiguous(stats, n);
         let contour = || t.contours[index].contour(usize::from(head.centred));
         let centre = interior_vertex(&saddle_points(g), g, contour);
-        return Triangles::Centred(t.fans(head), centre.clamp(DVec3::ZERO, DVec3::ONE));
+        return Triangles::Centred(t.fans(head), interior_clamp(g, centre));
     }
     let set = &t.contours[index];
     if let Some((c1, c2)) = tunnel {
@@ -235,6 +236,9 @@ fn triangulate_decided(
             count_flat(stats, n);
             fan(contour, &mut out.triangles);
         }
+    }
+    for p in &mut out.interior {
+        *p = interior_clamp(g, *p);
     }
     Triangles::Mesh
 }
@@ -326,7 +330,7 @@ fn tunnel_contours(set: &ContourSet, a: u8, b: u8) -> Option<(usize, usize)> {
 /// it in opposite directions (so the two strips meet with opposite edge
 /// orientations), each contour assigned to alternate hexagon vertices.
 fn triangulate_tunnel(g: &[f64; 8], c1: &[u8], c2: &[u8], out: &mut CellMesh) {
-    let hex = inner_hexagon(g);
+    let hex = open_hexagon(g);
     let alternate = |parity: usize| [0, 1, 2].map(|k| hex[2 * k + parity]);
     // The first candidate is taken whatever its cost, so that a cost that
     // is not a number still leaves a valid pair of assignments.
@@ -354,7 +358,7 @@ fn triangulate_tunnel(g: &[f64; 8], c1: &[u8], c2: &[u8], out: &mut CellMesh) {
 
 /// The 12-vertex contour: a strip to the inner triangle, closed by it.
 fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
-    let hex = inner_hexagon(g);
+    let hex = open_hexagon(g);
     let cost = costs(edge_points(g, contour), |p, k| {
         p.distance_squared(hex[2 * k])
             .min(p.distance_squared(hex[2 * k + 1]))
@@ -375,6 +379,64 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
     } else {
         out.push_triangle([inner[0], inner[2], inner[1]]);
     }
+}
+
+/// An interior vertex clamped into the cell: into the closed unit cube, and
+/// further, into the cube [`TIE_OFFSET`] inside it, in a cell with a tie
+/// corner (a value 0), or where the vertex lies on the cell's boundary and
+/// a face of the cell has a saddle tie (`g0 g2 = g1 g3`: its saddle value
+/// is the isovalue). At such ties the level set holds edges of the cell or
+/// crosses itself on a face, and a saddle point of it can lie on the
+/// cell's boundary, where the cell across that boundary may put its own
+/// interior vertex, or an edge vertex lies; strictly inside, an interior
+/// vertex is apart from both, which keep to the boundary. Elsewhere the
+/// vertex is the paper's, bit for bit.
+#[inline]
+fn interior_clamp(g: &[f64; 8], p: DVec3) -> DVec3 {
+    let p = p.clamp(DVec3::ZERO, DVec3::ONE);
+    let touches = p.min_element() == 0.0 || p.max_element() == 1.0;
+    if g.contains(&0.0) || touches && face_saddle_tie(g) {
+        p.clamp(DVec3::splat(TIE_OFFSET), DVec3::splat(1.0 - TIE_OFFSET))
+    } else {
+        p
+    }
+}
+
+/// Whether an ambiguous face of the cell (inside corners on one diagonal,
+/// outside ones on the other) has `g0 g2 = g1 g3` (products rounded; the
+/// values of integer data at an integer or half-integer isovalue give them
+/// exactly): its saddle value is the isovalue.
+fn face_saddle_tie(g: &[f64; 8]) -> bool {
+    FACE_CORNERS.iter().any(|q| {
+        let inside = q.map(|c| g[c] > 0.0);
+        let ambiguous = inside[0] == inside[2] && inside[1] == inside[3] && inside[0] != inside[1];
+        ambiguous && g[q[0]] * g[q[2]] == g[q[1]] * g[q[3]]
+    })
+}
+
+/// The inner hexagon of a tunnel or 12-vertex contour (see
+/// [`inner_hexagon`]), open: where two consecutive vertices coincide (a
+/// quadratic with a double root: a body saddle whose value is the isovalue,
+/// a tie), the hexagon of the level a little above, `g - δ` for `δ` 2^-20,
+/// then 2^-16 and 2^-12 of the cell's largest magnitude, the first whose
+/// vertices are apart: the level set of `{g > ε}` opens there into a
+/// tunnel whose waist is about the square root of that fraction (2^-10 of
+/// the cell at first). Without such a tie the hexagon is `inner_hexagon(g)`.
+fn open_hexagon(g: &[f64; 8]) -> [DVec3; 6] {
+    let closed = |h: &[DVec3; 6]| (0..6).any(|i| h[i] == h[(i + 1) % 6]);
+    let hex = inner_hexagon(g);
+    if !closed(&hex) {
+        return hex;
+    }
+    let largest = g.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for fraction in [2f64.powi(-20), 2f64.powi(-16), 2f64.powi(-12)] {
+        let shifted = g.map(|v| v - largest * fraction);
+        let open = inner_hexagon(&shifted);
+        if !closed(&open) {
+            return open;
+        }
+    }
+    hex
 }
 
 /// The three interior vertices of a tunnel: midpoints of the hexagon's

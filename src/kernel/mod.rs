@@ -16,6 +16,8 @@
 //! * [`quadratic`]: the three quadratic equations, their roots, the saddle
 //!   points and the inner hexagon;
 //! * [`triangulate`]: the triangulation rules of Section 5;
+//! * [`ties`]: where a vertex goes on an edge that ends at a tie (a
+//!   sample equal to the isovalue);
 //! * [`cell_mesh`]: what a cell hands back (triangles over edge and
 //!   interior vertices);
 //! * [`cell`]: puts them together for one ambiguous cell.
@@ -35,6 +37,7 @@ pub mod quadratic;
 pub mod scale;
 pub mod sweep_pairs;
 pub mod tables;
+pub mod ties;
 pub mod triangulate;
 pub mod tunnel;
 pub mod wide;

@@ -1,7 +1,9 @@
 //! [`Placement`]: where a vertex goes, from its fractional grid index to
-//! world coordinates in `f32`.
+//! world coordinates in `f32`; on an edge that ends at a tie, away from the
+//! tie (see [`kernel::ties`](crate::kernel::ties)).
 
 use crate::grid::{Grid, IDENTITY};
+use crate::kernel::ties::TIE_OFFSET;
 
 /// The grid's index-to-world map, rounded to f32, with a shortcut for the
 /// usual axis-aligned grid (bit for bit the same result: the zero terms of
@@ -10,6 +12,10 @@ use crate::grid::{Grid, IDENTITY};
 pub(super) struct Placement {
     pub(super) grid: Grid,
     pub(super) axis_aligned: bool,
+    /// `f32` tells a vertex [`TIE_OFFSET`] of an edge from the edge's end
+    /// everywhere in the grid (see [`resolves_tie_offset`]); when not, a
+    /// tie's vertex is placed by [`Placement::tie_vertex`].
+    pub(super) resolves_ties: bool,
 }
 
 impl Placement {
@@ -17,6 +23,7 @@ impl Placement {
         Placement {
             grid: *grid,
             axis_aligned: grid.direction == IDENTITY,
+            resolves_ties: resolves_tie_offset(grid),
         }
     }
 
@@ -29,5 +36,124 @@ impl Placement {
         } else {
             g.world(index).map(|c| c as f32)
         }
+    }
+
+    /// The world position of the vertex on the crossed edge from grid index
+    /// `start` along `axis`, whose values are `a` at `start` and `b` at the
+    /// other end: the linear crossing `a / (a - b)`, or, when either end is
+    /// a tie, [`Placement::tie_vertex`]. One test in the loop, `a b = 0`
+    /// (a product that underflows comes back to the plain crossing).
+    #[inline]
+    pub(super) fn edge(&self, mut start: [f64; 3], axis: usize, a: f64, b: f64) -> [f32; 3] {
+        if a * b == 0.0 {
+            return self.tie_vertex(start, axis, a, b);
+        }
+        start[axis] += a / (a - b);
+        self.at(start)
+    }
+
+    /// The vertex on an edge that ends at a tie (`a` or `b` is 0):
+    /// [`TIE_OFFSET`] of the edge away from the tie, or, in a grid whose
+    /// `f32` coordinates may not resolve that ([`resolves_tie_offset`]),
+    /// the first of that offset, twice, four times ... it (up to half the
+    /// edge) whose `f32` position is not the tie sample's own, so that the
+    /// vertices round the tie stay apart. A function of the edge alone:
+    /// every slab and part places it alike. (Neither 0: the plain
+    /// crossing, for a product `a b` that underflowed.)
+    #[cold]
+    #[inline(never)]
+    fn tie_vertex(&self, start: [f64; 3], axis: usize, a: f64, b: f64) -> [f32; 3] {
+        let at_start = a == 0.0;
+        if !at_start && b != 0.0 {
+            let mut p = start;
+            p[axis] += a / (a - b);
+            return self.at(p);
+        }
+        let offset_at = |offset: f64| {
+            let mut p = start;
+            p[axis] += if at_start { offset } else { 1.0 - offset };
+            self.at(p)
+        };
+        if self.resolves_ties {
+            return offset_at(TIE_OFFSET);
+        }
+        let mut tie = start;
+        if !at_start {
+            tie[axis] += 1.0;
+        }
+        let sample = self.at(tie);
+        let mut offset = TIE_OFFSET;
+        loop {
+            let position = offset_at(offset);
+            if position != sample || offset >= 0.5 {
+                return position;
+            }
+            offset *= 2.0;
+        }
+    }
+}
+
+/// Whether `f32` world coordinates tell apart every point of the grid and
+/// the points [`TIE_OFFSET`] of an edge from it: the smallest world step of
+/// that offset along an index axis (its largest coordinate, at least a
+/// third of the step for unit direction columns) is at least four `f32`
+/// units in the last place at the largest world coordinate the grid can
+/// reach (`|origin| + Σ dims · spacing`), so that rounding, half a unit at
+/// most each, cannot merge them. True for the usual grid (spacing 1,
+/// `|origin| + Σ dims` below 2^12); false for NaN or infinite
+/// coordinates.
+fn resolves_tie_offset(grid: &Grid) -> bool {
+    let reach: f64 = (0..3)
+        .map(|j| grid.dims[j] as f64 * grid.spacing[j].abs())
+        .sum();
+    let largest = grid.origin.iter().fold(0.0f64, |m, o| m.max(o.abs())) + reach;
+    let step = (0..3)
+        .map(|j| {
+            let column = (0..3).fold(0.0f64, |m, i| m.max(grid.direction[i][j].abs()));
+            TIE_OFFSET * grid.spacing[j].abs() * column
+        })
+        .fold(f64::INFINITY, f64::min);
+    let top = largest as f32;
+    if !top.is_finite() || !step.is_finite() {
+        return false;
+    }
+    let ulp = f64::from(f32::from_bits(top.to_bits() + 1) - top);
+    step >= 4.0 * ulp
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tie_vertices_keep_off_the_tie_in_f32() {
+        // Grids near the origin resolve the offset; far from it, or with a
+        // tiny spacing, the vertex moves further, but never onto the tie.
+        let mut resolved = 0;
+        for (origin, spacing) in [(0.0, 1.0), (1e3, 0.5), (1e6, 1.0), (0.0, 1e-40), (2e4, 1.0)] {
+            let grid = Grid {
+                dims: [300, 300, 300],
+                spacing: [spacing; 3],
+                origin: [origin; 3],
+                ..Grid::unit([300, 300, 300])
+            };
+            let place = Placement::new(&grid);
+            resolved += usize::from(place.resolves_ties);
+            for x in [0usize, 1, 150, 298] {
+                let start = [x as f64, 7.0, 9.0];
+                let low = place.at(start);
+                let high = place.at([x as f64 + 1.0, 7.0, 9.0]);
+                let from_low = place.edge(start, 0, 0.0, 5.0);
+                let from_high = place.edge(start, 0, 5.0, 0.0);
+                assert_ne!(from_low, low, "{origin} {spacing} {x}");
+                assert_ne!(from_high, high, "{origin} {spacing} {x}");
+                // Edges without a tie: the plain crossing.
+                assert_eq!(
+                    place.edge(start, 0, 1.0, -3.0),
+                    place.at([x as f64 + 0.25, 7.0, 9.0])
+                );
+            }
+        }
+        assert_eq!(resolved, 3);
     }
 }

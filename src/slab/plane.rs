@@ -176,7 +176,7 @@ impl<'s> Plane<'s> {
             for k in 0..words {
                 each_bit(x_crossings(row, k, nx), k, |x| {
                     let (a, b) = (rel(y * nx + x), rel(y * nx + x + 1));
-                    owned.push(place.at([x as f64 + a / (a - b), y as f64, z as f64]));
+                    owned.push(place.edge([x as f64, y as f64, z as f64], 0, a, b));
                     Ok::<(), Error>(())
                 })?;
             }
@@ -191,7 +191,7 @@ impl<'s> Plane<'s> {
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     let (a, b) = (rel(y * nx + x), rel((y + 1) * nx + x));
-                    owned.push(place.at([x as f64, y as f64 + a / (a - b), z as f64]));
+                    owned.push(place.edge([x as f64, y as f64, z as f64], 1, a, b));
                     Ok::<(), Error>(())
                 })?;
             }

@@ -84,7 +84,7 @@ pub fn process_slab(
                     let (a, b) = (bottom.rel(i), top.rel(i));
                     block
                         .vertices
-                        .push(place.at([x as f64, y as f64, z as f64 + a / (a - b)]));
+                        .push(place.edge([x as f64, y as f64, z as f64], 2, a, b));
                     Ok::<(), Error>(())
                 })?;
             }

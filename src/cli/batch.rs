@@ -209,11 +209,10 @@ fn report_line(item: &Item, result: &Result<Vec<Stats>>, seconds: f64) -> String
 /// of each output.
 fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Result<Vec<Stats>> {
     let started = Instant::now();
-    let raw = args.raw.options();
     for output in &item.outputs {
         check_distinct(&item.input, output)?;
     }
-    let source = super::raw_input::open_input(&item.input, raw.as_ref(), cancel)?;
+    let source = super::raw_input::open_input(&item.input, &args.raw, cancel, args.quiet)?;
     for (data, output) in source
         .data_files()
         .iter()

@@ -29,7 +29,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let started = Instant::now();
     let raw = args.raw.options();
     check_distinct(input, output)?;
-    let source = super::raw_input::open_input(input, raw.as_ref(), cancel)?;
+    let source = super::raw_input::open_input(input, &args.raw, cancel, args.quiet)?;
     for data in source.data_files() {
         check_distinct(data, output)?;
     }

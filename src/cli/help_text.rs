@@ -11,6 +11,7 @@ Sign convention:
 Input formats:
   .npy   numpy array, 3-D of shape (nz, ny, nx), C or Fortran order,
          dtype u1 i1 u2 i2 u4 i4 f4 f8 in either byte order; unit spacing
+         (set it with --spacing and --origin)
   .nrrd  NRRD, dimension 3, attached data or (also .nhdr) 'data file': one
   .nhdr  file, 'LIST [subdim]' (names on the following lines) or a printf
          pattern 'slice%03d.raw MIN MAX STEP [subdim]', one slice (subdim 2)
@@ -28,7 +29,9 @@ Input formats:
   .vti   VTK XML ImageData: ascii, binary or appended, raw or base64, zlib;
          Origin, Spacing, Direction
   .tif   a multi-page TIFF (or BigTIFF), or a directory or glob ('dir/*.tif')
-         of single-page TIFFs in natural name order; 8/16/32-bit; unit spacing
+         of single-page TIFFs in natural name order; 8/16/32-bit; spacing
+         from ImageJ (unit=, spacing=, X/YResolution) or OME-XML
+         (PhysicalSizeX/Y/Z) metadata in millimetres, else unit spacing
   DICOM  a directory of slice files (DICM magic or .dcm; other files skipped),
          one slice file (its series in its directory) or a multi-frame .dcm;
          slices sorted by position along the normal, RescaleSlope/Intercept
@@ -37,7 +40,8 @@ Input formats:
          lossless (not JPEG 2000/JPEG-LS)
   raw    headerless samples, x fastest: give --dims and --dtype
   Vertices are in the file's world frame (spacing, origin and direction
-  cosines applied; a mirroring map flips the winding). Uncompressed data is
+  cosines applied; a mirroring map flips the winding). --spacing and
+  --origin set them for any input, overriding the file's (with a note). Uncompressed data is
   memory-mapped; gzip, bzip2 and zlib data is decompressed once into a
   temporary file in TMPDIR and mapped. 'tmc info' shows how a file is read.
 

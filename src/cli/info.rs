@@ -48,6 +48,13 @@ JSON keys (--json; one object on one line):
   sample_type            stored type (u8 i8 u16 i16 u32 i32 f32 f64; before
                          any NIfTI scaling), or null
   spacing, origin        [x, y, z]
+  spacing_from,          where each came from: {\"kind\": \"file\", \"what\":
+    origin_from          WHERE} (the header, ImageJ metadata ...), {\"kind\":
+                         \"default\"} (the file states none), or {\"kind\":
+                         \"option\", \"file\": [x, y, z] or null} (--spacing,
+                         --origin; file = the value they override)
+  chunks                 chunked formats (Zarr, HDF5): chunk_shape [x, y, z],
+                         codec, stored_bytes, chunks, chunks_stored; else null
   direction              3x3, rows = world axes, column j = index axis j
   affine                 4x4 index-to-world matrix, rows:
                          world = affine * [i, j, k, 1]
@@ -98,7 +105,7 @@ pub(crate) struct InfoArgs {
 /// streamed passes at the next plane with [`tmc::Error::Interrupted`].
 pub(crate) fn run(args: &InfoArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     let raw = args.raw.options();
-    let source = super::raw_input::open_input(&args.input, raw.as_ref(), cancel)?;
+    let source = super::raw_input::open_input(&args.input, &args.raw, cancel, false)?;
     let never = AtomicBool::new(false);
     let source = Cancellable {
         inner: source.as_ref(),
@@ -171,7 +178,24 @@ fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
         info.sample_type.unwrap_or("unknown").to_string(),
     ));
     rows.push(("spacing", join(&info.spacing)));
+    rows.push(("  from", info.spacing_from.to_string()));
     rows.push(("origin", join(&info.origin)));
+    rows.push(("  from", info.origin_from.to_string()));
+    if let Some(c) = &info.chunks {
+        let [x, y, z] = c.chunk_shape;
+        rows.push(("chunk shape", format!("{x} x {y} x {z}")));
+        rows.push(("codec", c.codec.clone()));
+        let stored = c
+            .chunks_stored
+            .map_or(String::new(), |n| format!(", {n} stored"));
+        rows.push(("chunks", format!("{}{stored}", c.chunks)));
+        if let Some(bytes) = c.stored_bytes {
+            rows.push((
+                "compressed size",
+                format!("{} ({bytes} bytes)", human_bytes(bytes)),
+            ));
+        }
+    }
     for (i, line) in matrix(&info.direction).into_iter().enumerate() {
         rows.push((if i == 0 { "direction" } else { "" }, line));
     }

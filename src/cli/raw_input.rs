@@ -39,13 +39,15 @@ pub(crate) struct RawArgs {
     )]
     pub header_bytes: Option<u64>,
 
-    /// Raw input: distance between samples along x, y, z, finite and positive
-    /// [default: 1,1,1].
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::spacing, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    /// Distance between samples along x, y, z, finite and positive, for any
+    /// input: sets it where the file states none (raw, .npy, a TIFF without
+    /// voxel size; default 1,1,1), overrides the file's (with a note).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::spacing, help_heading = "Grid (any input)")]
     pub spacing: Option<[f64; 3]>,
 
-    /// Raw input: position of the first sample [default: 0,0,0].
-    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::origin, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
+    /// Position of the first sample, for any input: sets it where the file
+    /// states none (default 0,0,0), overrides the file's (with a note).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::origin, help_heading = "Grid (any input)")]
     pub origin: Option<[f64; 3]>,
 }
 
@@ -70,24 +72,36 @@ impl RawArgs {
                 Some(EndianArg::Little) | None => Endian::Little,
             },
             header_bytes: self.header_bytes.unwrap_or(0),
-            spacing: self.spacing.unwrap_or([1.0; 3]),
-            origin: self.origin.unwrap_or([0.0; 3]),
+            // `open_input` sets --spacing and --origin, as for any input.
+            spacing: [1.0; 3],
+            origin: [0.0; 3],
         })
     }
 }
 
-/// Opens `input` as the command line describes it. Headerless data must
+/// Opens `input` as the command line describes it, on the grid that
+/// `--spacing` and `--origin` set (a note on stderr for each value of the
+/// file's they override, unless `quiet`). Headerless data must
 /// fill the file exactly: extra bytes mean that `--dims` or `--dtype` are
 /// wrong (the library reads such files and ignores what follows the
 /// samples; a shorter file is refused there). Setting `cancel` stops the
 /// decompression of compressed samples with [`tmc::Error::Interrupted`].
 pub(crate) fn open_input(
     input: &Path,
-    raw: Option<&RawOptions>,
+    args: &RawArgs,
     cancel: Option<&AtomicBool>,
+    quiet: bool,
 ) -> Result<Box<dyn SampleSource>> {
+    let raw = args.options();
+    let raw = raw.as_ref();
     let never = AtomicBool::new(false);
     let source = tmc::volume::open_cancellable(input, raw, cancel.unwrap_or(&never))?;
+    let (source, notes) = tmc::volume::regrid(source, args.spacing, args.origin)?;
+    if !quiet {
+        for note in notes {
+            say!("tmc: note: {}: {note}", input.display());
+        }
+    }
     if let Some(options) = raw {
         let extra = RawVolume::trailing_bytes(input, options);
         if extra > 0 {

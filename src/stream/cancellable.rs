@@ -5,7 +5,7 @@
 //! layer too (Ctrl-C must stop a run within half a second even when one
 //! layer of a dense volume with huge planes takes longer than that).
 
-use crate::volume::{Access, LentPlane, SampleSource, ScalarType};
+use crate::volume::{Access, LentPlane, SampleSource, ScalarType, SourceNotes};
 use crate::{Error, Grid, Result};
 use std::ops::Range;
 use std::path::Path;
@@ -70,5 +70,9 @@ impl SampleSource for Cancellable<'_> {
 
     fn stored_type(&self) -> Option<ScalarType> {
         self.inner.stored_type()
+    }
+
+    fn notes(&self) -> SourceNotes {
+        self.inner.notes()
     }
 }

@@ -8,6 +8,7 @@
 //! streamed [`Summary`] with [`describe`].
 
 use super::{format_name, summarize, RawOptions, SampleSource, Summary, SummaryOptions};
+use super::{ChunkNotes, ValueFrom};
 use crate::grid::Grid;
 use crate::{Error, Result};
 use serde::Serialize;
@@ -49,6 +50,13 @@ pub struct VolumeInfo {
     pub spacing: [f64; 3],
     /// World position of sample (0, 0, 0).
     pub origin: [f64; 3],
+    /// Where the spacing came from: the file, the default, `--spacing`.
+    pub spacing_from: ValueFrom,
+    /// Where the origin came from: the file, the default, `--origin`.
+    pub origin_from: ValueFrom,
+    /// Chunk shape, codec and stored size of a chunked source (Zarr,
+    /// HDF5), else `None`.
+    pub chunks: Option<ChunkNotes>,
     /// Direction cosines: rows are world axes, column `j` is index axis `j`.
     pub direction: [[f64; 3]; 3],
     /// The 4x4 index-to-world matrix: `world = affine * [i, j, k, 1]`.
@@ -120,6 +128,7 @@ pub fn describe(
     let grid = source.grid();
     let stored = source.stored_type();
     let suggestions = summary.suggestions();
+    let notes = source.notes();
     VolumeInfo {
         input: input.display().to_string(),
         format: format_name(input, raw).unwrap_or("unknown"),
@@ -130,6 +139,9 @@ pub fn describe(
         sample_type: stored.map(|t| t.name()),
         spacing: grid.spacing,
         origin: grid.origin,
+        spacing_from: notes.spacing_from,
+        origin_from: notes.origin_from,
+        chunks: notes.chunks,
         direction: grid.direction,
         affine: affine(grid),
         min: summary.min,

@@ -98,7 +98,7 @@ pub fn open(path: &Path) -> Result<RawVolume> {
             Order::XFastest
         },
     };
-    RawVolume::map_file(path, &file, layout)
+    Ok(RawVolume::map_file(path, &file, layout)?.without_stated_grid())
 }
 
 /// The fields of a `.npy` header that the reader uses.

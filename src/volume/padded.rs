@@ -71,4 +71,8 @@ impl SampleSource for Padded<'_> {
     fn stored_type(&self) -> Option<super::ScalarType> {
         self.inner.stored_type()
     }
+
+    fn notes(&self) -> super::SourceNotes {
+        self.inner.notes()
+    }
 }

@@ -83,6 +83,9 @@ pub struct RawVolume {
     storage: Storage,
     /// The file the samples come from (mapped, decompressed or parsed).
     data_file: PathBuf,
+    /// Whether the file states the grid's spacing and origin (a header
+    /// does; `.npy` and headerless samples do not). Only reported.
+    grid_stated: bool,
 }
 
 impl RawVolume {
@@ -119,7 +122,16 @@ impl RawVolume {
             order: Order::XFastest,
         };
         let file = File::open(path).map_err(|e| Error::io(path, e))?;
-        RawVolume::map_file(path, &file, layout)
+        Ok(RawVolume::map_file(path, &file, layout)?.without_stated_grid())
+    }
+
+    /// The same volume, reported as one whose file states no spacing or
+    /// origin (see [`SampleSource::notes`]): `.npy` and headerless samples.
+    pub(crate) fn without_stated_grid(self) -> RawVolume {
+        RawVolume {
+            grid_stated: false,
+            ..self
+        }
     }
 
     /// Maps `file` (opened from `path`) and checks that it holds the samples
@@ -160,6 +172,7 @@ impl RawVolume {
             offset,
             storage,
             data_file: path.to_path_buf(),
+            grid_stated: true,
         })
     }
 
@@ -219,6 +232,14 @@ impl SampleSource for RawVolume {
 
     fn data_files(&self) -> Vec<&Path> {
         vec![self.data_file.as_path()]
+    }
+
+    fn notes(&self) -> super::SourceNotes {
+        if self.grid_stated {
+            super::SourceNotes::default()
+        } else {
+            super::SourceNotes::no_grid()
+        }
     }
 
     fn check_unchanged(&self) -> Result<()> {

@@ -1,7 +1,7 @@
 //! [`SampleSource`]: the one interface between the readers and the pipeline
 //! ([`crate::stream`], [`crate::slab`]).
 
-use super::{LentPlane, ScalarType};
+use super::{LentPlane, ScalarType, SourceNotes};
 use crate::grid::Grid;
 use crate::Result;
 use std::ops::Range;
@@ -72,6 +72,14 @@ pub trait SampleSource: Sync {
     /// sources. Only reported, never used to read.
     fn stored_type(&self) -> Option<ScalarType> {
         None
+    }
+
+    /// Where the grid's spacing and origin came from, and how the samples
+    /// are stored if they are chunked; only reported (`tmc info`), never
+    /// used to read. By default both come from the file's header and the
+    /// samples are not chunked; wrappers pass the question on.
+    fn notes(&self) -> SourceNotes {
+        SourceNotes::default()
     }
 }
 

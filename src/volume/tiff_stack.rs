@@ -12,15 +12,19 @@
 //! page is kept, with the decoder of its file: the decoder remembers where
 //! the pages it has passed start, so the pages of a multi-page file are
 //! found in one walk of its page list, not one walk each (4,096 pages of
-//! 64x64 took 20.7 s that way). The grid has unit spacing and zero origin.
+//! 64x64 took 20.7 s that way). The spacing is the voxel size of the
+//! first page's ImageJ or OME metadata, in millimetres (see
+//! `tiff_meta.rs`), or unit spacing without it; the origin is zero.
 
-use super::{Grid, SampleSource, ScalarType};
+use super::tiff_meta::voxel_size;
+use super::{Grid, SampleSource, ScalarType, SourceNotes, ValueFrom};
 use crate::{Error, Result};
 use std::cmp::Ordering;
 use std::fs::File;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use tiff::decoder::ifd::Value;
 use tiff::decoder::{Decoder, DecodingResult, Limits};
 use tiff::tags::{SampleFormat, Tag};
 use tiff::ColorType;
@@ -34,6 +38,8 @@ pub struct TiffStack {
     pages: Vec<(PathBuf, usize)>,
     /// The last decoded plane, and the decoder of its file.
     cache: Mutex<Cache>,
+    /// Where the spacing came from: the metadata, or `None` (unit spacing).
+    spacing_from: Option<String>,
 }
 
 /// What a [`TiffStack`] keeps between planes.
@@ -212,6 +218,16 @@ pub fn open(path: &Path) -> Result<TiffStack> {
         vec![path.to_path_buf()]
     };
     let all_pages = files.len() == 1;
+    let voxel = {
+        let mut dec = decoder(&files[0])?;
+        let description = dec.get_tag_ascii_string(Tag::ImageDescription).ok();
+        let mut resolution = |tag| match dec.find_tag(tag) {
+            Ok(Some(Value::Rational(n, d))) if d != 0 => Some(f64::from(n) / f64::from(d)),
+            _ => None,
+        };
+        let xy = resolution(Tag::XResolution).zip(resolution(Tag::YResolution));
+        voxel_size(description.as_deref(), xy)
+    };
     let mut pages = Vec::new();
     let mut first: Option<((u32, u32), ScalarType)> = None;
     for file in &files {
@@ -253,15 +269,19 @@ pub fn open(path: &Path) -> Result<TiffStack> {
         }
     }
     let ((w, h), scalar) = first.ok_or_else(|| fail("no pages".into()))?;
-    let grid = Grid::unit([w as usize, h as usize, pages.len()]);
+    let mut grid = Grid::unit([w as usize, h as usize, pages.len()]);
     if grid.dims.contains(&0) {
         return Err(fail("empty pages".into()));
+    }
+    if let Some(v) = &voxel {
+        grid.spacing = v.spacing;
     }
     Ok(TiffStack {
         grid,
         scalar,
         pages,
         cache: Mutex::new(Cache::default()),
+        spacing_from: voxel.map(|v| v.what),
     })
 }
 
@@ -368,5 +388,16 @@ impl SampleSource for TiffStack {
 
     fn stored_type(&self) -> Option<ScalarType> {
         Some(self.scalar)
+    }
+
+    fn notes(&self) -> SourceNotes {
+        SourceNotes {
+            spacing_from: match &self.spacing_from {
+                Some(what) => ValueFrom::File { what: what.clone() },
+                None => ValueFrom::Default,
+            },
+            origin_from: ValueFrom::Default,
+            chunks: None,
+        }
     }
 }

@@ -14,7 +14,8 @@ use tmc::{ExtractParams, Inside, Method, PipelineOptions};
 pub(crate) struct ExtractArgs {
     /// Input volume: .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha,
     /// .vtk, .vti, .tif/.tiff, a directory or pattern of TIFFs, DICOM (.dcm
-    /// or a directory of slices), or headerless samples with --dims and
+    /// or a directory of slices), a Zarr store (STORE or STORE/ARRAY), or
+    /// headerless samples with --dims and
     /// --dtype. Several inputs are a batch (see --keep-going): -o must
     /// contain {stem}.
     #[arg(value_name = "INPUT", required_unless_present = "manifest")]

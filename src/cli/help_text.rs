@@ -38,6 +38,13 @@ Input formats:
          applied per slice (CT in HU), patient (LPS) coordinates; one series
          per directory; uncompressed, deflate, RLE and JPEG baseline and
          lossless (not JPEG 2000/JPEG-LS)
+  Zarr   a Zarr v2 or v3 array in a directory store (STORE, or STORE/PATH for
+         an array of a group, or --array PATH); blosc, zstd, gzip, zlib,
+         bytes (either order), transpose, sharding; missing chunks read as
+         the fill value; the last three axes are z, y, x, earlier ones must
+         have one entry. OME-Zarr (NGFF 0.4, 0.5): level 0 or --level N,
+         scale and translation as spacing and origin (in mm). Each chunk is
+         decompressed once per pass, a layer of chunks at a time
   raw    headerless samples, x fastest: give --dims and --dtype
   Vertices are in the file's world frame (spacing, origin and direction
   cosines applied; a mirroring map flips the winding). --spacing and

@@ -40,7 +40,7 @@ Cost:
 JSON keys (--json; one object on one line):
   input, format          the path and the reader (NRRD, NIfTI-1, NIfTI-2,
                          MetaImage, VTK legacy, VTK ImageData, TIFF stack,
-                         DICOM, NumPy, raw)
+                         DICOM, Zarr, NumPy, raw)
   file_bytes             size of the input file and the data files it names
                          (all files of a directory, the files of a glob)
   data_bytes             samples * stored sample size; null if unknown
@@ -78,7 +78,8 @@ JSON keys (--json; one object on one line):
 pub(crate) struct InfoArgs {
     /// Input volume: .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha,
     /// .vtk, .vti, .tif/.tiff, a directory or pattern of TIFFs, DICOM (.dcm
-    /// or a directory of slices), or headerless samples with --dims and
+    /// or a directory of slices), a Zarr store (STORE or STORE/ARRAY), or
+    /// headerless samples with --dims and
     /// --dtype.
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,

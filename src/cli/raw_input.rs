@@ -49,6 +49,21 @@ pub(crate) struct RawArgs {
     /// states none (default 0,0,0), overrides the file's (with a note).
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = values::origin, help_heading = "Grid (any input)")]
     pub origin: Option<[f64; 3]>,
+
+    /// Zarr: the array of a group to read (its path in the store), e.g.
+    /// --array scans/ct; the same as giving STORE/scans/ct as the input.
+    #[arg(long, value_name = "PATH", help_heading = "Zarr input")]
+    pub array: Option<String>,
+
+    /// OME-Zarr: the level of the multiscale pyramid to read (0, the
+    /// finest, by default); its scale and translation give the grid.
+    #[arg(
+        long,
+        value_name = "N",
+        conflicts_with = "array",
+        help_heading = "Zarr input"
+    )]
+    pub level: Option<usize>,
 }
 
 /// `--endian`.
@@ -95,7 +110,11 @@ pub(crate) fn open_input(
     let raw = args.options();
     let raw = raw.as_ref();
     let never = AtomicBool::new(false);
-    let source = tmc::volume::open_cancellable(input, raw, cancel.unwrap_or(&never))?;
+    let select = tmc::volume::zarr::ZarrSelect {
+        array: args.array.clone(),
+        level: args.level,
+    };
+    let source = tmc::volume::open_selected(input, raw, &select, cancel.unwrap_or(&never))?;
     let (source, notes) = tmc::volume::regrid(source, args.spacing, args.origin)?;
     if !quiet {
         for note in notes {

@@ -8,6 +8,7 @@
 
 mod array;
 mod ascii;
+mod chunk_layers;
 pub mod dicom;
 mod dicom_lengths;
 mod guarded;
@@ -36,9 +37,12 @@ mod strided;
 pub mod summary;
 mod tiff_meta;
 pub mod tiff_stack;
+mod units;
 pub mod vti;
 pub mod vtk_legacy;
 pub mod write;
+pub mod zarr;
+mod zarr_ome;
 
 pub use crate::files::check_input_kind;
 pub(crate) use crate::grid::set_direction;
@@ -50,7 +54,7 @@ pub use info::{
 };
 pub use lent::LentPlane;
 pub use notes::{ChunkNotes, SourceNotes, ValueFrom};
-pub use open::{format_name, open, open_cancellable, Format};
+pub use open::{format_name, open, open_cancellable, open_selected, Format};
 pub use padded::Padded;
 pub use raw::{RawOptions, RawVolume};
 pub use regrid::{regrid, Regridded};

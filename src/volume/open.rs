@@ -1,6 +1,7 @@
 //! Choosing the reader: a path (and raw options, if given) to the
 //! [`SampleSource`] that reads it.
 
+use super::zarr::{self, ZarrSelect};
 use super::{dicom, metaimage, nifti, npy, nrrd, raw, tiff_stack, vti, vtk_legacy};
 use super::{RawOptions, SampleSource};
 use crate::files::{check_input_kind, lowercase_extension};
@@ -29,11 +30,13 @@ pub enum Format {
     TiffStack,
     /// A DICOM series (a directory, one slice file or a multi-frame file).
     Dicom,
+    /// A Zarr v2 or v3 array or group, OME-Zarr included (a directory).
+    Zarr,
 }
 
 impl Format {
     /// The reader for `path`: raw when `raw` options are given; a directory
-    /// holding DICOM files is a DICOM series, another directory or a glob
+    /// named `*.zarr` or holding Zarr metadata is Zarr; one holding DICOM files is a DICOM series, another directory or a glob
     /// pattern a TIFF stack; otherwise by extension (`.npy`, `.nrrd`,
     /// `.nhdr`, `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`,
     /// `.tif`/`.tiff`, `.dcm`), and a file with the DICOM magic is DICOM
@@ -41,6 +44,9 @@ impl Format {
     pub fn detect(path: &Path, raw: bool) -> Option<Format> {
         if raw {
             return Some(Format::Raw);
+        }
+        if zarr::is_zarr(path) {
+            return Some(Format::Zarr);
         }
         if path.is_dir() && dicom::dir_has_dicom(path) {
             return Some(Format::Dicom);
@@ -77,6 +83,7 @@ impl Format {
             Format::Vti => "VTK ImageData",
             Format::TiffStack => "TIFF stack",
             Format::Dicom => "DICOM",
+            Format::Zarr => "Zarr",
         }
     }
 }
@@ -95,7 +102,25 @@ pub fn open_cancellable(
     raw: Option<&RawOptions>,
     cancel: &AtomicBool,
 ) -> Result<Box<dyn SampleSource>> {
+    open_selected(path, raw, &ZarrSelect::default(), cancel)
+}
+
+/// [`open_cancellable`] with the array of a Zarr group chosen by `select`
+/// (`--array`, `--level`); `select` must be empty for other formats.
+pub fn open_selected(
+    path: &Path,
+    raw: Option<&RawOptions>,
+    select: &ZarrSelect,
+    cancel: &AtomicBool,
+) -> Result<Box<dyn SampleSource>> {
     check_input_kind(path)?;
+    if *select != ZarrSelect::default() && Format::detect(path, raw.is_some()) != Some(Format::Zarr)
+    {
+        return Err(crate::Error::Invalid(format!(
+            "{}: --array and --level choose an array of a Zarr store, and this is not one",
+            path.display()
+        )));
+    }
     if let Some(options) = raw {
         if let Some(format) = Format::detect(path, false).filter(|_| path.is_file()) {
             return Err(crate::Error::Invalid(format!(
@@ -115,7 +140,7 @@ pub fn open_cancellable(
     }
     let format = Format::detect(path, false).ok_or_else(|| {
         crate::Error::Invalid(format!(
-            "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff, .dcm, a directory of TIFFs or DICOM files, or give --dims and --dtype for raw data)",
+            "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff, .dcm, a Zarr store, a directory of TIFFs or DICOM files, or give --dims and --dtype for raw data)",
             path.display()
         ))
     })?;
@@ -134,6 +159,7 @@ pub fn open_cancellable(
         Format::Vti => Box::new(vti::open(path)?),
         Format::TiffStack => Box::new(tiff_stack::open(path)?),
         Format::Dicom => Box::new(dicom::open(path)?),
+        Format::Zarr => Box::new(zarr::open(path, select)?),
     })
 }
 

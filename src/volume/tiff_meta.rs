@@ -11,6 +11,8 @@
 //! 72 dots per inch from a scanner or an image editor) are not a voxel
 //! size and are ignored.
 
+use super::units::millimetres_per;
+
 /// A voxel size read from the metadata.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct VoxelSize {
@@ -19,23 +21,6 @@ pub(crate) struct VoxelSize {
     pub spacing: [f64; 3],
     /// Where it came from and in which unit, for reports.
     pub what: String,
-}
-
-/// Millimetres per unit `name`, for the unit names ImageJ, OME and
-/// tifffile write; `None` if unknown.
-pub(crate) fn millimetres_per(name: &str) -> Option<f64> {
-    let name = name.trim().replace("\\u00B5", "µ").replace("\\u00b5", "µ");
-    Some(match name.to_ascii_lowercase().as_str() {
-        "pm" | "picometer" | "picometre" => 1e-9,
-        "å" | "angstrom" => 1e-7,
-        "nm" | "nanometer" | "nanometre" => 1e-6,
-        "µm" | "μm" | "um" | "micron" | "microns" | "micrometer" | "micrometre" => 1e-3,
-        "mm" | "millimeter" | "millimetre" => 1.0,
-        "cm" | "centimeter" | "centimetre" => 10.0,
-        "m" | "meter" | "metre" => 1000.0,
-        "in" | "inch" | "inches" => 25.4,
-        _ => return None,
-    })
 }
 
 /// The voxel size stated by a TIFF's first page: its ImageDescription

@@ -126,8 +126,8 @@ fn cast<T>(field: &[u8], f: impl Fn(u8) -> T) -> Vec<T> {
 /// Grids whose `f32` coordinates cannot resolve the offset of 2^-10 of an
 /// edge (about 2^13 spacings from the origin: the offset doubles until they
 /// can), and turned or mirrored grids (the general index-to-world map):
-/// sound too. (Much farther out, about 2^17 spacings, the interior vertices
-/// that keep 2^-10 of a cell from its faces round onto them: see the limits
+/// sound too. (Farther out, beyond about 2^14 spacings, the interior vertices
+/// that keep 2^-10 of a cell from its faces can round onto them: see the limits
 /// in docs/conventions.md#ties.)
 #[test]
 fn far_and_turned_grids_keep_tie_vertices_apart() {

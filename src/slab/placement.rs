@@ -160,23 +160,20 @@ mod tests {
                 assert_ne!(from_high, high, "{origin} {spacing} {x}");
                 // The first of 2^-10, 2^-9 ... (up to half the edge) of the
                 // edge from the tie whose position is not the tie's.
-                for axis in 0..3 {
+                for (axis, at_start) in [(0, true), (1, false), (2, true), (2, false)] {
+                    let end = if at_start { 0.0 } else { 1.0 };
                     let mut tie = start;
-                    let far_end = (axis % 2 == 1).then(|| tie[axis] += 1.0);
+                    tie[axis] += end;
                     let sample = place.at(tie);
                     let expect = std::iter::successors(Some(TIE_OFFSET), |o| Some(o * 2.0))
                         .map(|o| {
                             let mut p = start;
-                            p[axis] += if far_end.is_some() { 1.0 - o } else { o };
+                            p[axis] += if at_start { o } else { 1.0 - o };
                             (o, place.at(p))
                         })
                         .find(|&(o, p)| p != sample || o >= 0.5)
                         .map(|(_, p)| p);
-                    let (a, b) = if far_end.is_some() {
-                        (2.0, 0.0)
-                    } else {
-                        (0.0, -2.0)
-                    };
+                    let (a, b) = if at_start { (0.0, 2.0) } else { (2.0, 0.0) };
                     assert_eq!(Some(place.edge(start, axis, a, b)), expect, "{axis}");
                 }
                 // Edges without a tie: the plain crossing, also where the

@@ -335,6 +335,7 @@ fn an_empty_mesh_has_no_normals() {
     let stray = Mesh {
         vertices: vec![[-1e30, 5.0, 1e30], [f32::NAN, 0.0, 0.0], [3.5, 3.5, 3.5]],
         triangles: vec![[0, 1, 2], [7, 8, 9]],
+        normals: Vec::new(),
     };
     let normals = vertex_normals(&vol, &ExtractParams::default(), &stray).unwrap();
     assert_eq!(normals.len(), 3);

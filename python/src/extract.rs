@@ -203,6 +203,7 @@ pub(crate) fn extract<'py>(
             let mesh = tmc::Mesh {
                 vertices,
                 triangles,
+                normals: Vec::new(),
             };
             let normals = if normals {
                 Some(tmc::normals::vertex_normals(source, &params, &mesh)?)

@@ -23,6 +23,7 @@ fn mesh_from(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyRes
     Ok(tmc::Mesh {
         vertices: vertices.iter().map(|v| v.map(|c| c as f32)).collect(),
         triangles: rows_from(triangles, "triangles")?,
+        normals: Vec::new(),
     })
 }
 

@@ -104,6 +104,7 @@ pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult
                     .iter()
                     .map(|tri| tri.map(|i| i.wrapping_sub(base as u32)))
                     .collect(),
+                normals: Vec::new(),
             };
             sink.chunk(base as u64, &chunk)?;
             base += v;

@@ -239,6 +239,7 @@ mod tests {
             plane: 0,
             vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
             triangles: vec![[0, 1, 2]],
+            normals: Vec::new(),
         };
         body.chunk(0, &chunk, |vertices, faces| {
             for v in &chunk.vertices {

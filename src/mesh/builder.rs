@@ -81,6 +81,7 @@ impl MeshBuilder {
         Mesh {
             vertices,
             triangles,
+            normals: Vec::new(),
         }
     }
 }

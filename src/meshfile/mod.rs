@@ -175,5 +175,6 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
             Inside::High
         },
         close: h[98] == 1,
+        normals: false,
     })
 }

@@ -264,6 +264,7 @@ impl TmeshReader {
             plane: e.plane,
             vertices,
             triangles,
+            normals: Vec::new(),
         })
     }
 }

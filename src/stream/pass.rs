@@ -91,6 +91,7 @@ pub(crate) fn extract_many_part_to(
         method: p.method,
         inside: p.inside,
         close: p.close,
+        normals: false,
     };
     let padded;
     let source: &dyn SampleSource = if first.close {

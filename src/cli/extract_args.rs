@@ -55,6 +55,15 @@ pub(crate) struct ExtractArgs {
     #[arg(long)]
     pub close: bool,
 
+    /// Give every vertex a unit outward normal, from the field's gradient
+    /// (central differences at the samples, linear along the vertex's edge,
+    /// in world coordinates; where it vanishes, the angle-weighted normal of
+    /// the vertex's triangles): PLY 'nx ny nz', OBJ 'vn' with faces 'v//vn',
+    /// .tmesh an optional attribute; OFF and STL have no vertex normals and
+    /// are refused.
+    #[arg(long)]
+    pub normals: bool,
+
     /// Print the cell statistics (the paper's Table 1), sizes and time to
     /// stderr as a table.
     #[arg(long)]
@@ -160,6 +169,7 @@ impl ExtractArgs {
             },
             close: self.close,
             threads: self.threads.unwrap_or(0),
+            normals: self.normals,
         }
     }
 }

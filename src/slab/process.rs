@@ -12,6 +12,7 @@ use crate::error::make_room;
 use crate::kernel::tables::tables;
 use crate::kernel::CellMesh;
 use crate::mesh::Chunk;
+use crate::normals::SlabNormals;
 use crate::params::ExtractParams;
 use crate::volume::{Access, SampleSource};
 use crate::{Error, Result, Stats};
@@ -66,6 +67,15 @@ pub fn process_slab(
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     let interrupted = || source.interrupted();
+    // With `params.normals`, each chunk's normals as it is finished.
+    let mut normals = params.normals.then(|| SlabNormals::new(source, params));
+    let mut emit = |chunks: &mut Vec<Chunk>, mut chunk: Chunk| {
+        if let Some(normals) = &mut normals {
+            normals.fill(&mut chunk)?;
+        }
+        chunks.push(chunk);
+        Ok::<(), Error>(())
+    };
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
@@ -116,11 +126,14 @@ pub fn process_slab(
         };
         layer_cells(&layer, &mut rows, &mut block, &mut ambiguous, &mut stats)?;
         finished = (block.vertices.len(), block.triangles.len());
-        chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
+        emit(
+            &mut chunks,
+            std::mem::replace(&mut block, next).into_chunk(z, mirrored),
+        )?;
         std::mem::swap(&mut bottom, &mut top);
     }
     if layers.end == nz - 1 {
-        chunks.push(block.into_chunk(nz - 1, mirrored));
+        emit(&mut chunks, block.into_chunk(nz - 1, mirrored))?;
     } else {
         spares.give_chunk(block.into_chunk(layers.end, mirrored));
     }

@@ -175,6 +175,19 @@ impl ExtractArgs {
 }
 
 impl ExtractArgs {
+    /// With `--normals`, fails unless `output`'s format holds vertex
+    /// normals (OFF and STL do not: the run would compute them for
+    /// nothing).
+    pub(super) fn check_normals_output(&self, output: &std::path::Path) -> tmc::Result<()> {
+        if self.normals && !tmc::export::Format::from_path(output)?.holds_normals() {
+            return Err(tmc::Error::Invalid(format!(
+                "{}: --normals needs an output that holds vertex normals (.ply, .obj or .tmesh)",
+                output.display()
+            )));
+        }
+        Ok(())
+    }
+
     /// How the pipeline runs for these arguments.
     pub(super) fn pipeline_options<'a>(
         &self,

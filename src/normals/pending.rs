@@ -114,9 +114,15 @@ impl<'a> FillPending<'a> {
             return self.forward(chunk, cancel);
         }
         self.release(Some(chunk), cancel)?;
-        // Reuse the vectors of the chunk two behind.
+        // Reuse the vectors of the chunk two behind (copied as bytes).
         let mut copy = self.spare.take().unwrap_or_default();
-        copy.clone_from(chunk);
+        copy.plane = chunk.plane;
+        copy.vertices.clear();
+        copy.vertices.extend_from_slice(&chunk.vertices);
+        copy.triangles.clear();
+        copy.triangles.extend_from_slice(&chunk.triangles);
+        copy.normals.clear();
+        copy.normals.extend_from_slice(&chunk.normals);
         self.current = Some(copy);
         Ok(())
     }
@@ -155,12 +161,20 @@ impl MeshSink for FillPending<'_> {
 fn resolve(previous: Option<&Chunk>, current: &mut Chunk, next: Option<&Chunk>) {
     let own = current.vertices.len();
     let mut sums: Vec<(usize, [f64; 3])> = Vec::new();
-    let mut slot = vec![usize::MAX; own];
     for (i, n) in current.normals.iter().enumerate() {
         if is_pending(n) {
-            slot[i] = sums.len();
             sums.push((i, [0.0; 3]));
         }
+    }
+    // The pending vertices lie in `first..=last` of the chunk: a triangle
+    // without a corner there is passed over with two comparisons a corner.
+    let (first, last) = match (sums.first(), sums.last()) {
+        (Some(f), Some(l)) => (f.0, l.0),
+        _ => return,
+    };
+    let mut slot = vec![usize::MAX; last + 1 - first];
+    for (s, (i, _)) in sums.iter().enumerate() {
+        slot[i - first] = s;
     }
     // Chunks `previous`, `current`, `next` as one run of vertices:
     // a position by its index from `previous`'s first vertex.
@@ -176,7 +190,11 @@ fn resolve(previous: Option<&Chunk>, current: &mut Chunk, next: Option<&Chunk>) 
         v.map(|p| p.map(f64::from))
     };
     let mut add = |tri: [usize; 3]| {
-        let mine = tri.map(|i| i.checked_sub(before).filter(|&j| j < own).map(|j| slot[j]));
+        let (low, high) = (before + first, before + last);
+        if tri.iter().all(|&i| i < low || i > high) {
+            return;
+        }
+        let mine = tri.map(|i| (low..=high).contains(&i).then(|| slot[i - low]));
         if mine.iter().all(|s| s.is_none_or(|s| s == usize::MAX)) {
             return;
         }

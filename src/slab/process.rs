@@ -67,15 +67,6 @@ pub fn process_slab(
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     let interrupted = || source.interrupted();
-    // With `params.normals`, each chunk's normals as it is finished.
-    let mut normals = params.normals.then(|| SlabNormals::new(source, params));
-    let mut emit = |chunks: &mut Vec<Chunk>, mut chunk: Chunk| {
-        if let Some(normals) = &mut normals {
-            normals.fill(&mut chunk)?;
-        }
-        chunks.push(chunk);
-        Ok::<(), Error>(())
-    };
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
@@ -126,16 +117,16 @@ pub fn process_slab(
         };
         layer_cells(&layer, &mut rows, &mut block, &mut ambiguous, &mut stats)?;
         finished = (block.vertices.len(), block.triangles.len());
-        emit(
-            &mut chunks,
-            std::mem::replace(&mut block, next).into_chunk(z, mirrored),
-        )?;
+        chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
         std::mem::swap(&mut bottom, &mut top);
     }
     if layers.end == nz - 1 {
-        emit(&mut chunks, block.into_chunk(nz - 1, mirrored))?;
+        chunks.push(block.into_chunk(nz - 1, mirrored));
     } else {
         spares.give_chunk(block.into_chunk(layers.end, mirrored));
+    }
+    if params.normals {
+        slab_normals(source, params, &mut chunks)?;
     }
     spares.give_scratch(Scratch {
         planes: [bottom.into_buffers(), top.into_buffers()],
@@ -148,4 +139,17 @@ pub fn process_slab(
     source.advise(layers.start..layers.end, Access::Done);
     stats.cell_seconds = start.elapsed().as_secs_f64() - stats.read_seconds;
     Ok((chunks, stats))
+}
+
+/// Gives every chunk of the slab its normals ([`SlabNormals`]), after the
+/// loop and out of line, so that the loop's code is the same with normals
+/// off; the slab's planes are still in the caches.
+#[inline(never)]
+fn slab_normals(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    chunks: &mut [Chunk],
+) -> Result<()> {
+    let mut normals = SlabNormals::new(source, params);
+    chunks.iter_mut().try_for_each(|chunk| normals.fill(chunk))
 }

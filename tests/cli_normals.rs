@@ -247,3 +247,48 @@ fn read_tmesh_py_reads_the_normals() {
         normals[normals.len() - 1][2]
     );
 }
+
+#[test]
+fn a_batch_gives_every_output_normals() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = gyroid(dir.path());
+    let b = synth(dir.path(), "sphere", "20x22x24", "u8", "ball.nrrd");
+    let template = dir.path().join("{stem}_{iso}.ply");
+    let iso = ["--iso", "0.1,100"];
+    ok(&[
+        &[
+            "extract",
+            s(&a),
+            s(&b),
+            "-o",
+            s(&template),
+            "-q",
+            "--normals",
+        ][..],
+        &iso,
+    ]
+    .concat());
+    for name in [
+        "gyroid_0.1.ply",
+        "gyroid_100.ply",
+        "ball_0.1.ply",
+        "ball_100.ply",
+    ] {
+        let path = dir.path().join(name);
+        let (vertices, normals) = ply_vertices(&path);
+        assert_eq!(vertices.len(), normals.len(), "{name}");
+    }
+    // The one-input run writes the same bytes as the batch.
+    let single = dir.path().join("single.ply");
+    ok(&[
+        "extract",
+        s(&b),
+        "--iso",
+        "100",
+        "-o",
+        s(&single),
+        "-q",
+        "--normals",
+    ]);
+    assert!(read(&single) == read(&dir.path().join("ball_100.ply")));
+}

@@ -72,7 +72,7 @@ impl<'a> SlabNormals<'a> {
     ///
     /// The chunk's vertices lie in cell layer `chunk.plane` (the top
     /// plane's, in the layer below it): each is located in that layer from
-    /// its position, offsets within [`SNAP`](super::locate::SNAP) of a
+    /// its position, offsets within [`SNAP`] of a
     /// face taken as on it, so a vertex on a grid edge weighs that edge's
     /// two ends only. A normal depends on the vertex and the samples alone:
     /// the same for any slab, thread or part.
@@ -235,7 +235,7 @@ fn at_sample<P: Samples>(field: &Layer<P>, fz: [f64; 2], e: [i64; 3]) -> [f64; 3
 
 /// `g` (a world gradient) times `sign`, normalized, as `f32`; [`PENDING`]
 /// when it is zero or not finite. One square root for gradients of
-/// ordinary size; [`unit`] (which scales first) for tiny or huge ones.
+/// ordinary size; [`unit()`] (which scales first) for tiny or huge ones.
 #[inline(always)]
 fn outward(g: [f64; 3], sign: f64) -> [f32; 3] {
     let squared = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];

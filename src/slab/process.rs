@@ -12,7 +12,6 @@ use crate::error::make_room;
 use crate::kernel::tables::tables;
 use crate::kernel::CellMesh;
 use crate::mesh::Chunk;
-use crate::normals::SlabNormals;
 use crate::params::ExtractParams;
 use crate::volume::{Access, SampleSource};
 use crate::{Error, Result, Stats};
@@ -125,9 +124,6 @@ pub fn process_slab(
     } else {
         spares.give_chunk(block.into_chunk(layers.end, mirrored));
     }
-    if params.normals {
-        slab_normals(source, params, &mut chunks)?;
-    }
     spares.give_scratch(Scratch {
         planes: [bottom.into_buffers(), top.into_buffers()],
         z_first,
@@ -139,17 +135,4 @@ pub fn process_slab(
     source.advise(layers.start..layers.end, Access::Done);
     stats.cell_seconds = start.elapsed().as_secs_f64() - stats.read_seconds;
     Ok((chunks, stats))
-}
-
-/// Gives every chunk of the slab its normals ([`SlabNormals`]), after the
-/// loop and out of line, so that the loop's code is the same with normals
-/// off; the slab's planes are still in the caches.
-#[inline(never)]
-fn slab_normals(
-    source: &dyn SampleSource,
-    params: &ExtractParams,
-    chunks: &mut [Chunk],
-) -> Result<()> {
-    let mut normals = SlabNormals::new(source, params);
-    chunks.iter_mut().try_for_each(|chunk| normals.fill(chunk))
 }

@@ -15,6 +15,7 @@
 
 use super::budget;
 use super::cancellable::Cancellable;
+use super::normals::slab_normals;
 use super::parts::layer_range;
 use super::schedule::Schedule;
 use super::seam::Seam;
@@ -188,7 +189,11 @@ pub(crate) fn extract_many_part_to(
     let run = |layers: Range<usize>| {
         check_cancel(options)?;
         source.check_unchanged()?;
-        slab_for_each(source, params, layers, &spares)
+        let mut results = slab_for_each(source, params, layers, &spares)?;
+        if normals {
+            slab_normals(source, params, &mut results)?;
+        }
+        Ok(results)
     };
     // Hands slab `i` to every seam; returns how many slabs got written
     // (the same for all seams, as they all see the same slabs).

@@ -87,7 +87,7 @@ def _header(h):
         if h[at] > 1:
             raise TmeshError(f"not a valid .tmesh file: unknown {field} byte {h[at]}")
     attributes = h[99]
-    if version == VERSION and attributes:
+    if version == VERSION and any(h[99:124]):
         raise TmeshError("not a valid .tmesh file: reserved header bytes 99..124 are not zero")
     if attributes & ~ATTRIBUTE_NORMALS:
         raise TmeshError(f"not a valid .tmesh file: unknown attribute bits {attributes:#04x}")

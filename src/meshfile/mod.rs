@@ -176,7 +176,7 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
         return Err(bad(&format!("unknown {field} byte {}", h[at])));
     }
     let attributes = h[99];
-    if version == VERSION && attributes != 0 {
+    if version == VERSION && h[99..124].iter().any(|&b| b != 0) {
         return Err(bad("reserved header bytes 99..124 are not zero"));
     }
     if attributes & !ATTRIBUTE_NORMALS != 0 {

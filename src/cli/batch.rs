@@ -211,6 +211,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     let started = Instant::now();
     let raw = args.raw.options();
     for output in &item.outputs {
+        args.check_normals_output(output)?;
         check_distinct(&item.input, output)?;
     }
     let source = super::raw_input::open_input(&item.input, raw.as_ref(), cancel)?;

@@ -4,11 +4,13 @@
 //! into `f64` only the few samples next to the surface.
 //!
 //! A plane whose bytes are not aligned for their type (a file header of odd
-//! length before 16-bit samples, say) is lent too, as [`Packed`] bytes
-//! decoded sample by sample: before, such a plane was read into `f64`s,
-//! 8 bytes of the process's own memory per sample and per plane (two
-//! planes per worker: 1 GiB per worker for planes of 8192 x 8192), where
-//! a lent plane stays in the page cache.
+//! length before 16-bit samples, say) is lent too, as arrays of bytes
+//! decoded sample by sample (the `...Bytes` variants): before, such a plane
+//! was read into `f64`s, 8 bytes of the process's own memory per sample and
+//! per plane (two planes per worker: 1 GiB per worker for planes of
+//! 8192 x 8192), where a lent plane stays in the page cache. Each type has
+//! its own variant, so that a lent plane stays two words and the sample
+//! loops look at its type once per plane.
 
 use super::ScalarType;
 
@@ -31,104 +33,58 @@ pub enum LentPlane<'a> {
     F32(&'a [f32]),
     /// 64-bit floats.
     F64(&'a [f64]),
-    /// Samples of a type wider than a byte, in native byte order, in bytes
-    /// not aligned for that type.
-    Packed(Packed<'a>),
-}
-
-/// Native-endian samples of one type packed in bytes at any alignment:
-/// each sample is decoded when it is read.
-#[derive(Debug, Clone, Copy)]
-pub struct Packed<'a> {
-    scalar: ScalarType,
-    bytes: &'a [u8],
-}
-
-/// Sample `i` of `bytes` as `T`, read from `N` native-endian bytes.
-macro_rules! decode {
-    ($t:ty, $bytes:expr, $i:expr) => {{
-        const N: usize = std::mem::size_of::<$t>();
-        let at = $i * N;
-        let mut b = [0u8; N];
-        b.copy_from_slice(&$bytes[at..at + N]);
-        <$t>::from_ne_bytes(b)
-    }};
-}
-
-impl<'a> Packed<'a> {
-    /// The samples' type.
-    pub fn scalar(&self) -> ScalarType {
-        self.scalar
-    }
-
-    /// Sample `i` as an `f64` (exact for every type).
-    #[inline]
-    pub fn get(&self, i: usize) -> f64 {
-        let b = self.bytes;
-        match self.scalar {
-            ScalarType::U8 => f64::from(b[i]),
-            ScalarType::I8 => f64::from(b[i] as i8),
-            ScalarType::U16 => f64::from(decode!(u16, b, i)),
-            ScalarType::I16 => f64::from(decode!(i16, b, i)),
-            ScalarType::U32 => f64::from(decode!(u32, b, i)),
-            ScalarType::I32 => f64::from(decode!(i32, b, i)),
-            ScalarType::F32 => f64::from(decode!(f32, b, i)),
-            ScalarType::F64 => decode!(f64, b, i),
-        }
-    }
-
-    /// Copies samples `start..start + out.len()` into `out`, whose type
-    /// must be the samples' own (same size; bytes copied as they are).
-    pub fn copy_to<T: bytemuck::Pod>(&self, start: usize, out: &mut [T]) {
-        let size = std::mem::size_of::<T>();
-        assert_eq!(
-            size,
-            self.scalar.size(),
-            "decoded as a type of another size"
-        );
-        let bytes = &self.bytes[start * size..(start + out.len()) * size];
-        bytemuck::cast_slice_mut::<T, u8>(out).copy_from_slice(bytes);
-    }
-
-    /// Samples held.
-    pub fn len(&self) -> usize {
-        self.bytes.len() / self.scalar.size()
-    }
-
-    /// Whether no sample is held.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
+    /// Unsigned 16-bit samples, native byte order, at any alignment.
+    U16Bytes(&'a [[u8; 2]]),
+    /// Signed 16-bit samples, native byte order, at any alignment.
+    I16Bytes(&'a [[u8; 2]]),
+    /// Unsigned 32-bit samples, native byte order, at any alignment.
+    U32Bytes(&'a [[u8; 4]]),
+    /// Signed 32-bit samples, native byte order, at any alignment.
+    I32Bytes(&'a [[u8; 4]]),
+    /// 32-bit floats, native byte order, at any alignment.
+    F32Bytes(&'a [[u8; 4]]),
+    /// 64-bit floats, native byte order, at any alignment.
+    F64Bytes(&'a [[u8; 8]]),
 }
 
 impl<'a> LentPlane<'a> {
     /// Native-endian samples of `scalar` packed in `bytes`: typed slices
-    /// when the bytes are aligned for the type, else [`LentPlane::Packed`];
-    /// `None` when the bytes do not hold a whole number of samples.
+    /// when the bytes are aligned for the type, else byte arrays (the
+    /// `...Bytes` variants); `None` when the bytes do not hold a whole
+    /// number of samples.
     pub fn from_bytes(scalar: ScalarType, bytes: &'a [u8]) -> Option<Self> {
         use bytemuck::try_cast_slice as cast;
-        if !bytes.len().is_multiple_of(scalar.size()) {
-            return None;
-        }
-        let packed = LentPlane::Packed(Packed { scalar, bytes });
+        // Either cast fails only on the length: byte arrays have alignment 1.
         Some(match scalar {
             ScalarType::U8 => LentPlane::U8(bytes),
             ScalarType::I8 => LentPlane::I8(cast(bytes).ok()?),
-            ScalarType::U16 => cast(bytes).map_or(packed, LentPlane::U16),
-            ScalarType::I16 => cast(bytes).map_or(packed, LentPlane::I16),
-            ScalarType::U32 => cast(bytes).map_or(packed, LentPlane::U32),
-            ScalarType::I32 => cast(bytes).map_or(packed, LentPlane::I32),
-            ScalarType::F32 => cast(bytes).map_or(packed, LentPlane::F32),
-            ScalarType::F64 => cast(bytes).map_or(packed, LentPlane::F64),
+            ScalarType::U16 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::U16Bytes), |s| Ok(Self::U16(s)))
+                .ok()?,
+            ScalarType::I16 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::I16Bytes), |s| Ok(Self::I16(s)))
+                .ok()?,
+            ScalarType::U32 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::U32Bytes), |s| Ok(Self::U32(s)))
+                .ok()?,
+            ScalarType::I32 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::I32Bytes), |s| Ok(Self::I32(s)))
+                .ok()?,
+            ScalarType::F32 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::F32Bytes), |s| Ok(Self::F32(s)))
+                .ok()?,
+            ScalarType::F64 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::F64Bytes), |s| Ok(Self::F64(s)))
+                .ok()?,
         })
     }
 
     /// Are the samples integers (not floats)?
     pub fn is_integer(&self) -> bool {
-        match self {
-            LentPlane::Packed(p) => !matches!(p.scalar, ScalarType::F32 | ScalarType::F64),
-            _ => !matches!(self, LentPlane::F32(_) | LentPlane::F64(_)),
-        }
+        !matches!(
+            self,
+            LentPlane::F32(_) | LentPlane::F64(_) | LentPlane::F32Bytes(_) | LentPlane::F64Bytes(_)
+        )
     }
 
     /// Sample `i` as an `f64` (exact for every type).
@@ -143,7 +99,12 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32(s) => f64::from(s[i]),
             LentPlane::F32(s) => f64::from(s[i]),
             LentPlane::F64(s) => s[i],
-            LentPlane::Packed(p) => p.get(i),
+            LentPlane::U16Bytes(s) => f64::from(u16::from_ne_bytes(s[i])),
+            LentPlane::I16Bytes(s) => f64::from(i16::from_ne_bytes(s[i])),
+            LentPlane::U32Bytes(s) => f64::from(u32::from_ne_bytes(s[i])),
+            LentPlane::I32Bytes(s) => f64::from(i32::from_ne_bytes(s[i])),
+            LentPlane::F32Bytes(s) => f64::from(f32::from_ne_bytes(s[i])),
+            LentPlane::F64Bytes(s) => f64::from_ne_bytes(s[i]),
         }
     }
 
@@ -159,7 +120,12 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32(s) => at.map(|i| f64::from(s[i])),
             LentPlane::F32(s) => at.map(|i| f64::from(s[i])),
             LentPlane::F64(s) => at.map(|i| s[i]),
-            LentPlane::Packed(p) => at.map(|i| p.get(i)),
+            LentPlane::U16Bytes(s) => at.map(|i| f64::from(u16::from_ne_bytes(s[i]))),
+            LentPlane::I16Bytes(s) => at.map(|i| f64::from(i16::from_ne_bytes(s[i]))),
+            LentPlane::U32Bytes(s) => at.map(|i| f64::from(u32::from_ne_bytes(s[i]))),
+            LentPlane::I32Bytes(s) => at.map(|i| f64::from(i32::from_ne_bytes(s[i]))),
+            LentPlane::F32Bytes(s) => at.map(|i| f64::from(f32::from_ne_bytes(s[i]))),
+            LentPlane::F64Bytes(s) => at.map(|i| f64::from_ne_bytes(s[i])),
         }
     }
 
@@ -174,7 +140,9 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32(s) => s.len(),
             LentPlane::F32(s) => s.len(),
             LentPlane::F64(s) => s.len(),
-            LentPlane::Packed(p) => p.len(),
+            LentPlane::U16Bytes(s) | LentPlane::I16Bytes(s) => s.len(),
+            LentPlane::U32Bytes(s) | LentPlane::I32Bytes(s) | LentPlane::F32Bytes(s) => s.len(),
+            LentPlane::F64Bytes(s) => s.len(),
         }
     }
 

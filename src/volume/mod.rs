@@ -45,7 +45,7 @@ pub use guarded::in_guarded_call;
 pub use info::{
     automatic_plane_step, describe, volume_info, VolumeInfo, HISTOGRAM_BUDGET, MAX_BINS, MIN_BINS,
 };
-pub use lent::{LentPlane, Packed};
+pub use lent::LentPlane;
 pub use open::{format_name, open, open_cancellable, Format};
 pub use padded::Padded;
 pub use raw::{RawOptions, RawVolume};

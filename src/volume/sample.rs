@@ -2,7 +2,7 @@
 //! to `f64`, and how the slab loop compares it with the isovalue without
 //! converting ([`Threshold`]).
 
-use super::{LentPlane, ScalarType};
+use super::LentPlane;
 
 /// A sample type an [`ArrayVolume`](super::ArrayVolume) can hold; every one converts to `f64`
 /// exactly.
@@ -191,16 +191,12 @@ impl LentPlane<'_> {
             LentPlane::I32(_) => i32::subtracts_exactly(iso),
             LentPlane::F32(_) => f32::subtracts_exactly(iso),
             LentPlane::F64(_) => f64::subtracts_exactly(iso),
-            LentPlane::Packed(p) => match p.scalar() {
-                ScalarType::U8 => u8::subtracts_exactly(iso),
-                ScalarType::I8 => i8::subtracts_exactly(iso),
-                ScalarType::U16 => u16::subtracts_exactly(iso),
-                ScalarType::I16 => i16::subtracts_exactly(iso),
-                ScalarType::U32 => u32::subtracts_exactly(iso),
-                ScalarType::I32 => i32::subtracts_exactly(iso),
-                ScalarType::F32 => f32::subtracts_exactly(iso),
-                ScalarType::F64 => f64::subtracts_exactly(iso),
-            },
+            LentPlane::U16Bytes(_) => u16::subtracts_exactly(iso),
+            LentPlane::I16Bytes(_) => i16::subtracts_exactly(iso),
+            LentPlane::U32Bytes(_) => u32::subtracts_exactly(iso),
+            LentPlane::I32Bytes(_) => i32::subtracts_exactly(iso),
+            LentPlane::F32Bytes(_) => f32::subtracts_exactly(iso),
+            LentPlane::F64Bytes(_) => f64::subtracts_exactly(iso),
         }
     }
 }

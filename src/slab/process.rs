@@ -150,9 +150,9 @@ const READ_AHEAD_BYTES: usize = 64 << 20;
 /// Advising a whole slab when it starts made the worker wait for the
 /// kernel to queue all its reads (some 300 MiB for planes of 4096^2 u16)
 /// before it could begin, and left nothing queued for the slab after;
-/// rolling kept the disk busy: a cold read of 131 planes of 4096^2 u16
-/// took 4.3-4.6 s against 5.0 s (dd of the same bytes: 3.7-4.3 s; see
-/// docs/performance.md).
+/// rolling keeps the disk busier: a cold extraction of 131 planes of
+/// 4096^2 u16 at two threads took 4.6-5.0 s against 5.1-5.5 s (dd of the
+/// same bytes: 3.0-3.3 s; busy machine, see docs/performance.md).
 struct ReadAhead {
     /// Planes per batch.
     planes: usize,

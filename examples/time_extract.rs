@@ -16,7 +16,8 @@
 //!
 //! With `--opened` the volume is not copied: tmc extracts from the file as
 //! `tmc extract` opens it (memory-mapped, samples in their own type), as the
-//! `tmc_vs_mc` bench does.
+//! `tmc_vs_mc` bench does. With `--normals` the extraction computes vertex
+//! normals too.
 //!
 //! Build with `cargo build --release --example time_extract`.
 
@@ -57,6 +58,10 @@ struct Args {
     /// `tmc_vs_mc` bench take.
     #[arg(long)]
     opened: bool,
+    /// Compute vertex normals too (`ExtractParams::normals`, as
+    /// `tmc extract --normals`).
+    #[arg(long)]
+    normals: bool,
 }
 
 /// `--method`.
@@ -163,6 +168,7 @@ fn run_once(
     iso: f64,
     method: MethodArg,
     threads: usize,
+    normals: bool,
 ) -> tmc::Result<(f64, u64, u64)> {
     if let MethodArg::Pass = method {
         let start = Instant::now();
@@ -174,6 +180,7 @@ fn run_once(
         iso,
         method: method.method(),
         threads,
+        normals,
         ..Default::default()
     };
     let start = Instant::now();
@@ -200,7 +207,7 @@ fn report(
     out.flush()
 }
 
-fn serve(volume: &Loaded, iso: f64) -> Result<(), Box<dyn std::error::Error>> {
+fn serve(volume: &Loaded, iso: f64, normals: bool) -> Result<(), Box<dyn std::error::Error>> {
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for line in std::io::stdin().lock().lines() {
@@ -219,7 +226,7 @@ fn serve(volume: &Loaded, iso: f64) -> Result<(), Box<dyn std::error::Error>> {
             &mut out,
             method,
             threads,
-            run_once(volume, iso, method, threads)?,
+            run_once(volume, iso, method, threads, normals)?,
         )?;
     }
     Ok(())
@@ -237,15 +244,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "load_seconds": load_seconds,
         });
         println!("{ready}");
-        return serve(&volume, args.iso);
+        return serve(&volume, args.iso, args.normals);
     }
     for _ in 0..args.warmup {
-        run_once(&volume, args.iso, args.method, args.threads)?;
+        run_once(&volume, args.iso, args.method, args.threads, args.normals)?;
     }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     for _ in 0..args.runs {
-        let timing = run_once(&volume, args.iso, args.method, args.threads)?;
+        let timing = run_once(&volume, args.iso, args.method, args.threads, args.normals)?;
         report(&mut out, args.method, args.threads, timing)?;
     }
     Ok(())

@@ -10,13 +10,16 @@ As a module:
     from read_tmesh import read_tmesh
     vertices, triangles, info = read_tmesh("mesh.tmesh")
     # vertices: float32 (N, 3); triangles: uint64 (M, 3), global indices,
-    # counter-clockwise seen from outside; info: dict (grid, iso, ...)
+    # counter-clockwise seen from outside; info: dict (grid, iso, ...);
+    # info["normals"]: float32 (N, 3) unit outward vertex normals when the
+    # file has them (version 2, the normals attribute), else None
 
 As a command:
 
     read_tmesh.py MESH.tmesh                 # print a summary
     read_tmesh.py MESH.tmesh --off OUT.off   # also write an ASCII OFF
-    read_tmesh.py MESH.tmesh --ply OUT.ply   # also write an ASCII PLY
+    read_tmesh.py MESH.tmesh --ply OUT.ply   # also write an ASCII PLY (with
+                                             # nx ny nz if the file has normals)
 
 The command exits with status 1 and one line on stderr if the file cannot
 be read (also when it does not fit in memory). Needs: python3 -m pip install numpy zstandard
@@ -34,6 +37,10 @@ import zstandard
 MAGIC = b"\x89TMESH\r\n"
 END_MAGIC = b"TMESHEND"
 VERSION = 1
+# Version 2: header byte 99 holds attribute bits (bit 0: vertex normals,
+# stored after the triangles in each chunk's payload).
+VERSION_ATTRIBUTES = 2
+ATTRIBUTE_NORMALS = 1
 HEADER_BYTES = 128
 CHUNK_HEADER_BYTES = 48
 INDEX_ENTRY_BYTES = 32
@@ -61,8 +68,11 @@ def _header(h):
     if h[0:8] != MAGIC:
         raise TmeshError("not a .tmesh file (wrong magic bytes)")
     version, size = struct.unpack_from("<II", h, 8)
-    if version != VERSION:
-        raise TmeshError(f".tmesh version {version} is not supported (this reads {VERSION})")
+    if version not in (VERSION, VERSION_ATTRIBUTES):
+        raise TmeshError(
+            f".tmesh version {version} is not supported "
+            f"(this reads {VERSION} and {VERSION_ATTRIBUTES})"
+        )
     if size != HEADER_BYTES or struct.unpack_from("<I", h, 124)[0] != _crc(h[:124]):
         raise TmeshError("header checksum mismatch")
     # Fields no checksum vouches for (a writer could get them wrong), as
@@ -76,8 +86,13 @@ def _header(h):
     for at, field in enumerate(("method", "inside", "close"), start=96):
         if h[at] > 1:
             raise TmeshError(f"not a valid .tmesh file: unknown {field} byte {h[at]}")
-    if any(h[99:124]):
+    attributes = h[99]
+    if version == VERSION and any(h[99:124]):
         raise TmeshError("not a valid .tmesh file: reserved header bytes 99..124 are not zero")
+    if attributes & ~ATTRIBUTE_NORMALS:
+        raise TmeshError(f"not a valid .tmesh file: unknown attribute bits {attributes:#04x}")
+    if any(h[100:124]):
+        raise TmeshError("not a valid .tmesh file: reserved header bytes 100..124 are not zero")
     return {
         "dims": dims,
         "spacing": list(struct.unpack_from("<3d", h, 40)),
@@ -86,6 +101,7 @@ def _header(h):
         "method": "mc" if h[96] == 1 else "tmc",
         "inside": "low" if h[97] == 1 else "high",
         "close": h[98] == 1,
+        "has_normals": bool(attributes & ATTRIBUTE_NORMALS),
     }
 
 
@@ -168,10 +184,10 @@ def _index(f, length, info):
     return (vertices, triangles), entries, index_offset
 
 
-def _chunk(f, i, e, next_nv, limit, decompressor):
+def _chunk(f, i, e, next_nv, limit, decompressor, has_normals):
     """Reads chunk i, whose payload must end by byte limit (where the next
     chunk or the index starts); returns (vertices float32 (n, 3), relative
-    triangles uint32 (m, 3))."""
+    triangles uint32 (m, 3), normals float32 (n, 3) or None)."""
     name = f"chunk {i} (plane {int(e['plane'])}, byte {int(e['offset'])})"
     h = _read_at(f, int(e["offset"]), CHUNK_HEADER_BYTES, name)
     if h[0:4] != b"CHNK" or struct.unpack_from("<I", h, 40)[0] != _crc(h[:40]):
@@ -189,7 +205,7 @@ def _chunk(f, i, e, next_nv, limit, decompressor):
     payload = _read_at(f, int(e["offset"]) + CHUNK_HEADER_BYTES, size, name)
     if _crc(payload) != crc:
         raise TmeshError(f"{name}: payload checksum mismatch (the data is damaged)")
-    expect = 12 * (nv + nt)
+    expect = 12 * (nv + nt + (nv if has_normals else 0))
     # The frame must state exactly that size before it is inflated: when a
     # frame states its size, zstandard allocates that much and ignores
     # max_output_size (which bounds frames that do not).
@@ -208,10 +224,19 @@ def _chunk(f, i, e, next_nv, limit, decompressor):
         raise TmeshError(
             f"{name}: vertex {int(bad[0])} has a coordinate that is not a finite number"
         )
-    triangles = np.frombuffer(raw, dtype="<u4", offset=12 * nv).reshape(nt, 3)
+    triangles = np.frombuffer(raw, dtype="<u4", offset=12 * nv, count=3 * nt).reshape(nt, 3)
     if nt and int(triangles.max()) >= nv + next_nv:
         raise TmeshError(f"{name}: a triangle points beyond the next chunk")
-    return vertices, triangles
+    normals = None
+    if has_normals:
+        normals = np.frombuffer(raw, dtype="<f4", offset=12 * (nv + nt)).reshape(nv, 3)
+        bad = np.flatnonzero(~np.isfinite(normals).all(axis=1))
+        if len(bad):
+            raise TmeshError(
+                f"{name}: the normal of vertex {int(bad[0])} has a component "
+                "that is not a finite number"
+            )
+    return vertices, triangles, normals
 
 
 def read_tmesh(path):
@@ -219,8 +244,9 @@ def read_tmesh(path):
 
     Returns (vertices, triangles, info): vertices float32 of shape (N, 3),
     triangles uint64 of shape (M, 3) with global vertex indices, and a dict
-    with the grid (dims, spacing, origin), iso, method, inside, close and the
-    counts (vertices, triangles, chunks). Raises TmeshError on a damaged or
+    with the grid (dims, spacing, origin), iso, method, inside, close, the
+    counts (vertices, triangles, chunks) and normals: float32 (N, 3) unit
+    outward vertex normals when the file has them, else None. Raises TmeshError on a damaged or
     truncated file.
     """
     with open(path, "rb") as f:
@@ -232,18 +258,22 @@ def read_tmesh(path):
         (nv, nt), entries, index_offset = _index(f, length, info)
         vertices = np.empty((nv, 3), dtype=np.float32)
         triangles = np.empty((nt, 3), dtype=np.uint64)
+        has_normals = info.pop("has_normals")
+        normals = np.empty((nv, 3), dtype=np.float32) if has_normals else None
         decompressor = zstandard.ZstdDecompressor()
         t = 0
         for i, e in enumerate(entries):
             last = i + 1 == len(entries)
             next_nv = 0 if last else int(entries[i + 1]["nv"])
             limit = index_offset if last else int(entries[i + 1]["offset"])
-            v, tri = _chunk(f, i, e, next_nv, limit, decompressor)
+            v, tri, n = _chunk(f, i, e, next_nv, limit, decompressor, has_normals)
             base = int(e["base"])
             vertices[base : base + len(v)] = v
+            if n is not None:
+                normals[base : base + len(v)] = n
             triangles[t : t + len(tri)] = tri.astype(np.uint64) + np.uint64(base)
             t += len(tri)
-    info.update(vertices=nv, triangles=nt, chunks=len(entries))
+    info.update(vertices=nv, triangles=nt, chunks=len(entries), normals=normals)
     return vertices, triangles, info
 
 
@@ -255,17 +285,20 @@ def write_off(path, vertices, triangles):
         np.savetxt(out, triangles, fmt="3 %d %d %d")
 
 
-def write_ply(path, vertices, triangles):
-    """Writes an ASCII PLY file (9 significant digits: float32 round-trips)."""
+def write_ply(path, vertices, triangles, normals=None):
+    """Writes an ASCII PLY file (9 significant digits: float32 round-trips),
+    with nx ny nz when normals are given."""
     with open(path, "w") as out:
         out.write(
             "ply\nformat ascii 1.0\ncomment written by read_tmesh.py\n"
             f"element vertex {len(vertices)}\n"
             "property float x\nproperty float y\nproperty float z\n"
-            f"element face {len(triangles)}\n"
+            + ("property float nx\nproperty float ny\nproperty float nz\n" if normals is not None else "")
+            + f"element face {len(triangles)}\n"
             "property list uchar uint vertex_indices\nend_header\n"
         )
-        np.savetxt(out, vertices, fmt="%.9g")
+        rows = vertices if normals is None else np.hstack((vertices, normals))
+        np.savetxt(out, rows, fmt="%.9g")
         np.savetxt(out, triangles, fmt="3 %d %d %d")
 
 
@@ -280,7 +313,7 @@ def main(argv=None):
         if args.off:
             write_off(args.off, vertices, triangles)
         if args.ply:
-            write_ply(args.ply, vertices, triangles)
+            write_ply(args.ply, vertices, triangles, info["normals"])
     except (TmeshError, OSError) as err:
         print(f"read_tmesh: {args.mesh}: {err}", file=sys.stderr)
         return 1
@@ -294,7 +327,8 @@ def main(argv=None):
         f"{args.mesh}: {info['vertices']} vertices, {info['triangles']} triangles, "
         f"{info['chunks']} chunks; grid {dims}, spacing {info['spacing']}, "
         f"origin {info['origin']}; iso {info['iso']}, method {info['method']}, "
-        f"inside {info['inside']}, close {info['close']}"
+        f"inside {info['inside']}, close {info['close']}, "
+        f"normals {info['normals'] is not None}"
     )
     return 0
 

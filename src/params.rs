@@ -61,6 +61,10 @@ pub struct ExtractParams {
     pub close: bool,
     /// Worker threads (0 = all cores).
     pub threads: usize,
+    /// Give every vertex a unit outward normal (`Chunk::normals`), from
+    /// the field's gradient, computed by the workers as they triangulate
+    /// (see `crate::normals`). Off: nothing about the output changes.
+    pub normals: bool,
 }
 
 impl Default for ExtractParams {
@@ -71,6 +75,7 @@ impl Default for ExtractParams {
             inside: Inside::High,
             close: false,
             threads: 0,
+            normals: false,
         }
     }
 }

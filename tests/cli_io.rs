@@ -267,6 +267,7 @@ fn tetrahedron() -> Mesh {
             [0.05, 1.0, 12350.0],
         ],
         triangles: vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
+        normals: Vec::new(),
     }
 }
 
@@ -404,6 +405,7 @@ fn degenerate_stl_facets_get_a_zero_normal() {
     let mesh = Mesh {
         vertices: vec![[0.0; 3], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]],
         triangles: vec![[0, 1, 2]],
+        normals: Vec::new(),
     };
     let path = dir.path().join("d.stl");
     write_mesh(&path, &mesh).unwrap();
@@ -416,6 +418,7 @@ fn failed_writes_leave_nothing_behind() {
     let bad = Mesh {
         vertices: vec![[0.0; 3]],
         triangles: vec![[0, 0, 1]],
+        normals: Vec::new(),
     };
     let path = dir.path().join("bad.ply");
     let err = write_mesh(&path, &bad).unwrap_err().to_string();

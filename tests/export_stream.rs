@@ -187,6 +187,7 @@ fn info() -> MeshInfo {
         method: Default::default(),
         inside: Default::default(),
         close: false,
+        normals: false,
     }
 }
 
@@ -195,6 +196,7 @@ fn chunk(plane: u64, vertices: usize, triangles: &[[u32; 3]]) -> Chunk {
         plane,
         vertices: vec![[plane as f32, 0.5, 0.25]; vertices],
         triangles: triangles.to_vec(),
+        normals: Vec::new(),
     }
 }
 

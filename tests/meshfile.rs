@@ -225,6 +225,21 @@ fn unchecked_fields_are_refused() {
         (header(&|b| b[97] = 2), "unknown inside byte 2"),
         (header(&|b| b[98] = 255), "unknown close byte 255"),
         (header(&|b| b[123] = 1), "reserved header bytes 99..124"),
+        (header(&|b| b[99] = 1), "reserved header bytes 99..124"),
+        (
+            header(&|b| {
+                b[8..12].copy_from_slice(&2u32.to_le_bytes());
+                b[99] = 3;
+            }),
+            "unknown attribute bits 0x03",
+        ),
+        (
+            header(&|b| {
+                b[8..12].copy_from_slice(&2u32.to_le_bytes());
+                b[123] = 1;
+            }),
+            "reserved header bytes 100..124",
+        ),
         (plane(4, entries[3].plane), "not after the previous"),
         (plane(entries.len() - 1, 1 << 63), "beyond the grid"),
         (reserved, "bytes 44..48 are not zero"),
@@ -257,6 +272,7 @@ fn unchecked_fields_are_refused() {
             plane: 1,
             vertices: vec![[0.0, bad, 0.0]; 3],
             triangles: vec![[0, 1, 2]],
+            normals: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {
@@ -343,6 +359,7 @@ fn a_chunk_larger_than_a_plane_is_refused() {
             plane: 1,
             vertices: vec![[0.0, 0.0, 0.0]; count],
             triangles: vec![[0, 1, 2]],
+            normals: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {

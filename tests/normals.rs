@@ -1,8 +1,12 @@
-//! `tmc::normals::vertex_normals`: accuracy against analytic normals,
-//! orientation on every kind of grid, `close`, ties, determinism.
+//! Vertex normals computed in the slab loop (`ExtractParams::normals`):
+//! accuracy against analytic normals, orientation on every kind of grid,
+//! `close`, ties, the triangles' normals where the gradient vanishes,
+//! determinism across threads, slab depths and parts.
 
-use tmc::normals::vertex_normals;
-use tmc::{extract, ArrayVolume, ExtractParams, Grid, Inside, Mesh};
+use tmc::{
+    extract, extract_part_to, ArrayVolume, ExtractParams, Grid, Inside, Mesh, MeshBuilder,
+    PipelineOptions,
+};
 
 /// The field `f` sampled at the world positions of `grid`'s samples.
 fn sampled(grid: Grid, f: impl Fn([f64; 3]) -> f64) -> ArrayVolume {
@@ -24,6 +28,7 @@ fn params(iso: f64, inside: Inside, close: bool, threads: usize) -> ExtractParam
         inside,
         close,
         threads,
+        normals: true,
         ..Default::default()
     }
 }
@@ -32,7 +37,7 @@ fn params(iso: f64, inside: Inside, close: bool, threads: usize) -> ExtractParam
 fn mesh_and_normals(source: &ArrayVolume, p: &ExtractParams) -> (Mesh, Vec<[f32; 3]>) {
     let (mesh, _) = extract(source, p).unwrap();
     assert!(!mesh.vertices.is_empty());
-    let normals = vertex_normals(source, p, &mesh).unwrap();
+    let normals = mesh.normals.clone();
     assert_eq!(normals.len(), mesh.vertices.len());
     for n in &normals {
         let len = n.iter().map(|&c| f64::from(c).powi(2)).sum::<f64>().sqrt();
@@ -267,23 +272,75 @@ fn close_caps_get_finite_outward_normals() {
     assert!(normals.iter().flatten().all(|c| c.is_finite()));
 }
 
+/// The normals of `source` for part `part` (`None`: all) with `threads`
+/// and slabs of `depth` layers.
+fn normals_of(
+    source: &dyn tmc::SampleSource,
+    p: &ExtractParams,
+    depth: usize,
+    part: Option<(usize, usize)>,
+) -> Vec<[f32; 3]> {
+    let mut builder = MeshBuilder::default();
+    let options = PipelineOptions {
+        slab_depth: depth,
+        ..Default::default()
+    };
+    extract_part_to(source, p, &options, part, &mut builder).unwrap();
+    let mesh = builder.into_mesh();
+    assert_eq!(mesh.normals.len(), mesh.vertices.len());
+    mesh.normals
+}
+
+fn bits(n: &[[f32; 3]]) -> Vec<u32> {
+    n.iter().flatten().map(|c| c.to_bits()).collect()
+}
+
 #[test]
-fn the_threads_do_not_change_the_normals() {
-    let vol = tmc::synth::gyroid(96, 4.0);
-    let mut all = Vec::new();
-    for threads in [1, 2, 3, 0] {
+fn threads_slabs_and_parts_do_not_change_the_normals() {
+    let vol = tmc::synth::gyroid(64, 4.0);
+    let whole = normals_of(&vol, &params(0.1, Inside::High, false, 1), 0, None);
+    assert!(whole.len() > 20_000, "{} vertices", whole.len());
+    for (threads, depth) in [(2, 1), (3, 5), (0, 64), (2, 7)] {
         let p = params(0.1, Inside::High, false, threads);
-        let (mesh, _) = extract(&vol, &p).unwrap();
-        all.push(vertex_normals(&vol, &p, &mesh).unwrap());
+        assert_eq!(bits(&whole), bits(&normals_of(&vol, &p, depth, None)));
     }
-    assert!(
-        all[0].len() > 100_000,
-        "{} vertices: too few for several ranges",
-        all[0].len()
-    );
-    let bits = |n: &Vec<[f32; 3]>| n.iter().flatten().map(|c| c.to_bits()).collect::<Vec<_>>();
-    for other in &all[1..] {
-        assert_eq!(bits(&all[0]), bits(other));
+    for n in [2, 3, 7] {
+        let p = params(0.1, Inside::High, false, 2);
+        let parts: Vec<[f32; 3]> = (1..=n)
+            .flat_map(|i| normals_of(&vol, &p, 3, Some((i, n))))
+            .collect();
+        assert_eq!(bits(&whole), bits(&parts), "{n} parts");
+    }
+}
+
+/// Planes of 0 and 1 alternating along x: at iso 0.5 every vertex sits
+/// between two samples whose central differences along x are 0, so the
+/// gradient vanishes everywhere and every normal comes from the
+/// triangles, across chunk, slab and part boundaries alike.
+#[test]
+fn where_the_gradient_vanishes_the_triangles_give_the_normal() {
+    let (nx, ny, nz) = (9, 7, 12);
+    let data: Vec<u8> = (0..nx * ny * nz).map(|i| (i % nx % 2) as u8).collect();
+    let vol = ArrayVolume::new(Grid::unit([nx, ny, nz]), data).unwrap();
+    let p = params(0.5, Inside::High, false, 1);
+    let (mesh, _) = extract(&vol, &p).unwrap();
+    assert!(!mesh.vertices.is_empty());
+    for (v, n) in mesh.vertices.iter().zip(&mesh.normals) {
+        // Inside (1) at odd x: out is toward the even neighbour.
+        let x = v[0].round() as usize;
+        let expected = if v[0] > x as f32 { 1.0 } else { -1.0 };
+        let expected = if x % 2 == 1 { expected } else { -expected };
+        assert_eq!(n[0], expected, "{n:?} at {v:?}");
+        assert_eq!([n[1], n[2]], [0.0, 0.0], "{n:?} at {v:?}");
+    }
+    let whole = bits(&mesh.normals);
+    for depth in [1, 2, 5] {
+        let p = params(0.5, Inside::High, false, 2);
+        assert_eq!(whole, bits(&normals_of(&vol, &p, depth, None)));
+        let parts: Vec<[f32; 3]> = (1..=4)
+            .flat_map(|i| normals_of(&vol, &p, depth, Some((i, 4))))
+            .collect();
+        assert_eq!(whole, bits(&parts), "depth {depth}");
     }
 }
 
@@ -304,9 +361,12 @@ fn ties_on_a_plateau_point_out_of_the_gap() {
         .map(|i| u8::from(block(i % n, (i / n) % n, i / (n * n))))
         .collect();
     let vol = ArrayVolume::new(Grid::unit([n; 3]), data).unwrap();
-    let p = ExtractParams::default();
+    let p = ExtractParams {
+        normals: true,
+        ..Default::default()
+    };
     let (mesh, _) = extract(&vol, &p).unwrap();
-    let normals = vertex_normals(&vol, &p, &mesh).unwrap();
+    let normals = mesh.normals.clone();
     let reference = triangle_normals(&mesh);
     let mut in_gap = 0;
     for ((v, n), r) in mesh.vertices.iter().zip(&normals).zip(&reference) {
@@ -325,17 +385,18 @@ fn ties_on_a_plateau_point_out_of_the_gap() {
 }
 
 #[test]
-fn an_empty_mesh_has_no_normals() {
-    let vol = tmc::synth::sphere(8, 2.0);
-    let p = params(100.0, Inside::High, false, 0);
-    let (mesh, _) = extract(&vol, &p).unwrap();
-    assert!(mesh.vertices.is_empty());
-    assert!(vertex_normals(&vol, &p, &mesh).unwrap().is_empty());
-    // Vertices off the grid are clamped onto it, not a panic.
-    let stray = Mesh {
-        vertices: vec![[-1e30, 5.0, 1e30], [f32::NAN, 0.0, 0.0], [3.5, 3.5, 3.5]],
-        triangles: vec![[0, 1, 2], [7, 8, 9]],
+fn without_normals_the_mesh_has_none_and_is_unchanged() {
+    let vol = tmc::synth::sphere(24, 8.0);
+    let with = params(0.0, Inside::High, false, 0);
+    let without = ExtractParams {
+        normals: false,
+        ..with.clone()
     };
-    let normals = vertex_normals(&vol, &ExtractParams::default(), &stray).unwrap();
-    assert_eq!(normals.len(), 3);
+    let (a, _) = extract(&vol, &with).unwrap();
+    let (b, _) = extract(&vol, &without).unwrap();
+    assert!(b.normals.is_empty());
+    assert_eq!((&a.vertices, &a.triangles), (&b.vertices, &b.triangles));
+    // No surface: no vertices, no normals.
+    let (empty, _) = extract(&vol, &params(100.0, Inside::High, false, 0)).unwrap();
+    assert!(empty.vertices.is_empty() && empty.normals.is_empty());
 }

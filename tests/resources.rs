@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::cli::{assert_one_line, names, s, synth, tmc};
+use common::cli::{assert_one_line, json_number, names, s, synth, tmc};
 use std::fs;
 use std::path::Path;
 use std::process::Command;
@@ -110,18 +110,6 @@ fn max_memory_thins_the_slabs_and_keeps_the_output() {
     let (roomy, roomy_slabs) = run("roomy.ply", &["--max-memory", "4G"]);
     assert_eq!(roomy_slabs, free_slabs);
     assert!(roomy == free);
-}
-
-/// A JSON number field of `--json` output.
-fn json_number(json: &[u8], key: &str) -> f64 {
-    let text = String::from_utf8_lossy(json);
-    let needle = format!("\"{key}\":");
-    let at = text.find(&needle).expect("key in JSON") + needle.len();
-    let digits: String = text[at..]
-        .chars()
-        .take_while(|c| c.is_ascii_digit() || *c == '.')
-        .collect();
-    digits.parse().unwrap()
 }
 
 #[test]

@@ -60,6 +60,7 @@ fn params(
     inside: &str,
     close: bool,
     threads: usize,
+    normals: bool,
 ) -> PyResult<ExtractParams> {
     let method = match method {
         "tmc" => Method::Tmc,
@@ -85,6 +86,7 @@ fn params(
         inside,
         close,
         threads,
+        normals,
     })
 }
 
@@ -143,8 +145,9 @@ fn report(
 }
 
 /// One extraction collected in memory with vertices as `V`: the vertices,
-/// the triangles, the report JSON and the record a `.tmesh` needs.
-type Collected<V> = (Vec<V>, Vec<[u32; 3]>, String, Option<Record>);
+/// the triangles, the normals (empty without `params.normals`), the report
+/// JSON and the record a `.tmesh` needs.
+type Collected<V> = (Vec<V>, Vec<[u32; 3]>, Vec<[f32; 3]>, String, Option<Record>);
 
 /// Runs the extraction into a [`Recorder`] of `V` vertices.
 fn collect<V: tmc::mesh::Vertex>(
@@ -157,8 +160,8 @@ fn collect<V: tmc::mesh::Vertex>(
     let stats = tmc::extract_to(source, params, options, &mut recorder)?;
     let report = report(path, None, source, params, &stats)?;
     let record = recorder.record();
-    let (vertices, triangles) = recorder.collector.into_parts();
-    Ok((vertices, triangles, report, record))
+    let (vertices, triangles, normals) = recorder.collector.into_parts();
+    Ok((vertices, triangles, normals, report, record))
 }
 
 /// Extracts the isosurface of `input` (a 3-D numpy array indexed
@@ -184,33 +187,37 @@ pub(crate) fn extract<'py>(
     normals: bool,
     index_order: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let params = params(iso, method, inside, close, threads)?;
+    // The normals come from the workers, with the triangles.
+    let params = params(iso, method, inside, close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped)?;
-    // tmc's layout without normals takes f64 vertices as the chunks come
-    // (the writer thread widens them while the workers triangulate); the
-    // normals and scikit-image's layout work from the f32 mesh.
-    let wide = !index_order && !normals;
+    // tmc's layout takes f64 vertices as the chunks come (the writer
+    // thread widens them while the workers triangulate); scikit-image's
+    // layout works from the f32 mesh.
+    let wide = !index_order;
     let (positions, triangles, normals, report, record) =
         input.run(py, |source, path, cancel| {
             let options = preflight(source, path, &params, None, cancel)?;
+            let some = |n: Vec<[f32; 3]>| normals.then_some(n);
             if wide {
-                let (vertices, triangles, report, record) =
+                let (vertices, triangles, n, report, record) =
                     collect::<[f64; 3]>(source, path, &params, &options)?;
-                return Ok((Positions::Wide(vertices), triangles, None, report, record));
+                return Ok((
+                    Positions::Wide(vertices),
+                    triangles,
+                    some(n),
+                    report,
+                    record,
+                ));
             }
-            let (vertices, triangles, report, record) =
+            let (vertices, triangles, n, report, record) =
                 collect::<[f32; 3]>(source, path, &params, &options)?;
-            let mesh = tmc::Mesh {
-                vertices,
+            Ok((
+                Positions::Narrow(vertices),
                 triangles,
-            };
-            let normals = if normals {
-                Some(tmc::normals::vertex_normals(source, &params, &mesh)?)
-            } else {
-                None
-            };
-            let positions = Positions::Narrow(mesh.vertices);
-            Ok((positions, mesh.triangles, normals, report, record))
+                some(n),
+                report,
+                record,
+            ))
         })?;
     // scikit-image's per-vertex values, for its layout and an array.
     let values = match (&input, index_order, &positions) {
@@ -252,7 +259,7 @@ pub(crate) fn extract_to(
     close: bool,
     threads: usize,
 ) -> PyResult<String> {
-    let params = params(iso, method, inside, close, threads)?;
+    let params = params(iso, method, inside, close, threads, false)?;
     let input = Input::new(input, spacing, origin, mapped)?;
     input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, Some(&output), cancel)?;

@@ -23,22 +23,36 @@ fn mesh_from(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyRes
     Ok(tmc::Mesh {
         vertices: vertices.iter().map(|v| v.map(|c| c as f32)).collect(),
         triangles: rows_from(triangles, "triangles")?,
+        normals: Vec::new(),
     })
 }
 
 /// Writes a mesh to `path` in the format its extension names (`.ply`,
 /// `.obj`, `.off`, `.stl`, and `.tmesh` given the `record` of the
-/// extraction that made the mesh); the file appears whole or not at all.
+/// extraction that made the mesh), with its `normals` ((N, 3) float32, one
+/// per vertex) where the format holds them; the file appears whole or not
+/// at all.
 #[pyfunction]
-#[pyo3(signature = (path, vertices, triangles, record = None))]
+#[pyo3(signature = (path, vertices, triangles, record = None, normals = None))]
 pub(crate) fn write_mesh(
     py: Python<'_>,
     path: PathBuf,
     vertices: &Bound<'_, PyAny>,
     triangles: &Bound<'_, PyAny>,
     record: Option<PyRef<'_, Record>>,
+    normals: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<()> {
-    let mesh = mesh_from(vertices, triangles)?;
+    let mut mesh = mesh_from(vertices, triangles)?;
+    if let Some(normals) = normals {
+        mesh.normals = rows_from::<f32>(normals, "normals")?;
+        if mesh.normals.len() != mesh.vertices.len() {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} normals for {} vertices",
+                mesh.normals.len(),
+                mesh.vertices.len()
+            )));
+        }
+    }
     let tmesh = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("tmesh"));

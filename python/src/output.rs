@@ -51,6 +51,7 @@ pub(crate) fn mesh_arrays<'py>(
     let Mesh {
         vertices,
         triangles,
+        ..
     } = mesh;
     arrays(py, Positions::Narrow(vertices), triangles, normals, layout)
 }

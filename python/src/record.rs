@@ -79,9 +79,16 @@ pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult
             mesh.triangles.len()
         )));
     }
+    // The normals attribute as the mesh has normals (an extraction with
+    // normals whose mesh lost them writes a file without).
+    let with_normals = !mesh.normals.is_empty();
+    let info = tmc::MeshInfo {
+        normals: with_normals,
+        ..record.info.clone()
+    };
     let replay = || -> tmc::Result<()> {
         let mut sink = tmc::meshfile::TmeshWriter::create(path)?;
-        sink.begin(&record.info)?;
+        sink.begin(&info)?;
         let (mut base, mut first_triangle) = (0usize, 0usize);
         for (i, &[plane, v, t]) in record.chunks.iter().enumerate() {
             let (v, t) = (v as usize, t as usize);
@@ -104,6 +111,10 @@ pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult
                     .iter()
                     .map(|tri| tri.map(|i| i.wrapping_sub(base as u32)))
                     .collect(),
+                normals: match with_normals {
+                    true => mesh.normals[base..base + v].to_vec(),
+                    false => Vec::new(),
+                },
             };
             sink.chunk(base as u64, &chunk)?;
             base += v;

@@ -93,7 +93,10 @@ class Mesh:
 
         ``.ply`` (binary), ``.obj``, ``.off``, ``.stl`` or ``.tmesh``. The
         file appears whole or not at all: a failed write leaves nothing at
-        ``path``. Normals are not written yet. A ``.tmesh`` file records the
+        ``path``. The normals, when the mesh has them, go into PLY
+        (``nx ny nz``), OBJ (``vn``, faces ``v//vn``) and ``.tmesh`` (its
+        normals attribute), as the CLI's ``--normals`` writes them; OFF and
+        STL hold none. A ``.tmesh`` file records the
         extraction that made the mesh (its grid, a chunk per plane): a mesh
         from :func:`extract` writes the bytes :func:`extract_to` would have
         written; a mesh read from a file, or one whose sizes changed, cannot.
@@ -106,7 +109,10 @@ class Mesh:
             )
         vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
         triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
-        _tmc.write_mesh(os.fspath(path), vertices, triangles, self._record)
+        normals = None
+        if self.normals is not None:
+            normals = np.ascontiguousarray(self.normals, dtype=np.float32)
+        _tmc.write_mesh(os.fspath(path), vertices, triangles, self._record, normals)
 
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``: manifoldness, orientation,

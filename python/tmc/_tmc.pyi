@@ -40,9 +40,14 @@ def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
     """Reads a mesh file: (vertices float64, triangles uint32)."""
 
 def write_mesh(
-    path: str, vertices: np.ndarray, triangles: np.ndarray, record: Any = ...
+    path: str,
+    vertices: np.ndarray,
+    triangles: np.ndarray,
+    record: Any = ...,
+    normals: Optional[np.ndarray] = ...,
 ) -> None:
-    """Writes a mesh file, atomically (.tmesh needs the extraction's record)."""
+    """Writes a mesh file, atomically (.tmesh needs the extraction's record),
+    with the normals where the format holds them."""
 
 def check_mesh(vertices: np.ndarray, triangles: np.ndarray) -> str:
     """The report of tmc check as JSON text."""

@@ -210,6 +210,7 @@ fn report_line(item: &Item, result: &Result<Vec<Stats>>, seconds: f64) -> String
 fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Result<Vec<Stats>> {
     let started = Instant::now();
     for output in &item.outputs {
+        args.check_normals_output(output)?;
         check_distinct(&item.input, output)?;
     }
     let source = super::raw_input::open_input(&item.input, &args.raw, cancel, args.quiet)?;

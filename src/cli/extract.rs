@@ -26,6 +26,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             output.display()
         )));
     }
+    args.check_normals_output(output)?;
     let started = Instant::now();
     let raw = args.raw.options();
     check_distinct(input, output)?;

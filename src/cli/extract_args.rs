@@ -56,6 +56,15 @@ pub(crate) struct ExtractArgs {
     #[arg(long)]
     pub close: bool,
 
+    /// Give every vertex a unit outward normal, from the field's gradient
+    /// (central differences at the samples, linear along the vertex's edge,
+    /// in world coordinates; where it vanishes, the angle-weighted normal of
+    /// the vertex's triangles): PLY 'nx ny nz', OBJ 'vn' with faces 'v//vn',
+    /// .tmesh an optional attribute; OFF and STL have no vertex normals and
+    /// are refused.
+    #[arg(long)]
+    pub normals: bool,
+
     /// Print the cell statistics (the paper's Table 1), sizes and time to
     /// stderr as a table.
     #[arg(long)]
@@ -161,11 +170,25 @@ impl ExtractArgs {
             },
             close: self.close,
             threads: self.threads.unwrap_or(0),
+            normals: self.normals,
         }
     }
 }
 
 impl ExtractArgs {
+    /// With `--normals`, fails unless `output`'s format holds vertex
+    /// normals (OFF and STL do not: the run would compute them for
+    /// nothing).
+    pub(super) fn check_normals_output(&self, output: &std::path::Path) -> tmc::Result<()> {
+        if self.normals && !tmc::export::Format::from_path(output)?.holds_normals() {
+            return Err(tmc::Error::Invalid(format!(
+                "{}: --normals needs an output that holds vertex normals (.ply, .obj or .tmesh)",
+                output.display()
+            )));
+        }
+        Ok(())
+    }
+
     /// How the pipeline runs for these arguments.
     pub(super) fn pipeline_options<'a>(
         &self,

@@ -40,6 +40,14 @@ impl Format {
     }
 }
 
+impl Format {
+    /// Whether the format holds vertex normals (PLY, OBJ, `.tmesh`); the
+    /// others write the positions of a mesh with normals and drop them.
+    pub fn holds_normals(self) -> bool {
+        matches!(self, Format::Ply | Format::Obj | Format::Tmesh)
+    }
+}
+
 /// A streaming writer for `path`, in the format named by its extension:
 /// [`PlySink`], [`ObjSink`], [`OffSink`], [`StlSink`] or [`TmeshWriter`].
 ///

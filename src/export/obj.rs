@@ -5,7 +5,9 @@ use super::spooled::{write_whole, Layout, SpooledSink};
 use crate::mesh::Mesh;
 use std::io::{self, Write};
 
-/// The OBJ layout: a comment, `v x y z` lines, then `f a b c` lines.
+/// The OBJ layout: a comment, `v x y z` lines, then `f a b c` lines; with
+/// normals, each `v` line followed by its `vn nx ny nz` line (the `n`-th
+/// `vn` is the `n`-th vertex's normal) and faces `f a//a b//b c//c`.
 #[derive(Debug)]
 pub struct Obj;
 
@@ -20,6 +22,22 @@ impl Layout for Obj {
 
     fn face(w: &mut impl Write, [a, b, c]: [u64; 3]) -> io::Result<()> {
         writeln!(w, "f {} {} {}", a + 1, b + 1, c + 1)
+    }
+
+    const NORMALS: bool = true;
+
+    fn vertex_with_normal(
+        w: &mut impl Write,
+        v: &[f32; 3],
+        [x, y, z]: &[f32; 3],
+    ) -> io::Result<()> {
+        Self::vertex(w, v)?;
+        writeln!(w, "vn {x} {y} {z}")
+    }
+
+    fn face_with_normals(w: &mut impl Write, t: [u64; 3]) -> io::Result<()> {
+        let [a, b, c] = t.map(|i| i + 1);
+        writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")
     }
 }
 

@@ -16,12 +16,27 @@ impl Layout for Ply {
         "more than PLY's 32-bit indices can name; write .obj, .off or .tmesh instead";
 
     fn header(w: &mut impl Write, vertices: u64, faces: u64) -> io::Result<()> {
-        write_header(w, vertices, faces)
+        write_header(w, vertices, faces, "")
     }
 
     fn vertex(w: &mut impl Write, v: &[f32; 3]) -> io::Result<()> {
         let mut bytes = [0u8; 12];
         for (out, c) in bytes.chunks_exact_mut(4).zip(v) {
+            out.copy_from_slice(&c.to_le_bytes());
+        }
+        w.write_all(&bytes)
+    }
+
+    const NORMALS: bool = true;
+
+    fn header_with_normals(w: &mut impl Write, vertices: u64, faces: u64) -> io::Result<()> {
+        write_header(w, vertices, faces, NORMAL_PROPERTIES)
+    }
+
+    /// x, y, z, nx, ny, nz: six little-endian `float`s.
+    fn vertex_with_normal(w: &mut impl Write, v: &[f32; 3], normal: &[f32; 3]) -> io::Result<()> {
+        let mut bytes = [0u8; 24];
+        for (out, c) in bytes.chunks_exact_mut(4).zip(v.iter().chain(normal)) {
             out.copy_from_slice(&c.to_le_bytes());
         }
         w.write_all(&bytes)
@@ -45,7 +60,11 @@ pub fn write_ply(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
     write_whole::<Ply>(w, mesh)
 }
 
-fn write_header(w: &mut impl Write, vertices: u64, faces: u64) -> io::Result<()> {
+/// The vertex properties of the normals, after x, y and z.
+const NORMAL_PROPERTIES: &str = "property float nx\nproperty float ny\nproperty float nz\n";
+
+/// The header; `extra` is what follows the z property (the normals' or nothing).
+fn write_header(w: &mut impl Write, vertices: u64, faces: u64, extra: &str) -> io::Result<()> {
     write!(
         w,
         "ply\n\
@@ -55,6 +74,7 @@ fn write_header(w: &mut impl Write, vertices: u64, faces: u64) -> io::Result<()>
          property float x\n\
          property float y\n\
          property float z\n\
+         {extra}\
          element face {faces}\n\
          property list uchar uint vertex_indices\n\
          end_header\n",

@@ -34,11 +34,39 @@ pub trait Layout {
     fn vertex(w: &mut impl Write, v: &[f32; 3]) -> io::Result<()>;
     /// One triangle, global indices.
     fn face(w: &mut impl Write, t: [u64; 3]) -> io::Result<()>;
+
+    /// Whether the format holds vertex normals; a format that does not
+    /// writes the positions of a mesh with normals and drops the normals.
+    const NORMALS: bool = false;
+    /// The header of a file whose vertices carry normals.
+    fn header_with_normals(w: &mut impl Write, vertices: u64, faces: u64) -> io::Result<()> {
+        Self::header(w, vertices, faces)
+    }
+    /// One vertex and its normal.
+    fn vertex_with_normal(w: &mut impl Write, v: &[f32; 3], _normal: &[f32; 3]) -> io::Result<()> {
+        Self::vertex(w, v)
+    }
+    /// One triangle of a file whose vertices carry normals.
+    fn face_with_normals(w: &mut impl Write, t: [u64; 3]) -> io::Result<()> {
+        Self::face(w, t)
+    }
 }
 
-/// Writes a whole mesh in layout `L`.
+/// Writes a whole mesh in layout `L`, with its normals when it has one per
+/// vertex (and some vertices) and `L` holds them.
 pub fn write_whole<L: Layout>(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
-    L::header(w, mesh.vertices.len() as u64, mesh.triangles.len() as u64)?;
+    let (vertices, faces) = (mesh.vertices.len() as u64, mesh.triangles.len() as u64);
+    if L::NORMALS && !mesh.normals.is_empty() && mesh.normals.len() == mesh.vertices.len() {
+        L::header_with_normals(w, vertices, faces)?;
+        for (v, n) in mesh.vertices.iter().zip(&mesh.normals) {
+            L::vertex_with_normal(w, v, n)?;
+        }
+        for t in &mesh.triangles {
+            L::face_with_normals(w, t.map(u64::from))?;
+        }
+        return Ok(());
+    }
+    L::header(w, vertices, faces)?;
     for v in &mesh.vertices {
         L::vertex(w, v)?;
     }
@@ -53,6 +81,8 @@ pub fn write_whole<L: Layout>(w: &mut impl Write, mesh: &Mesh) -> io::Result<()>
 /// size (see [`super::create_sink`]).
 pub struct SpooledSink<L> {
     body: Option<Spooled>,
+    /// The chunks carry normals and `L` holds them.
+    normals: bool,
     layout: PhantomData<L>,
 }
 
@@ -61,13 +91,15 @@ impl<L: Layout> SpooledSink<L> {
     pub fn create(path: &Path) -> Result<Self> {
         Ok(SpooledSink {
             body: Some(Spooled::create(path)?),
+            normals: false,
             layout: PhantomData,
         })
     }
 }
 
 impl<L: Layout> MeshSink for SpooledSink<L> {
-    fn begin(&mut self, _info: &MeshInfo) -> Result<()> {
+    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        self.normals = info.normals && L::NORMALS;
         Ok(())
     }
 
@@ -86,9 +118,21 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
                 L::TOO_MANY
             )));
         }
+        if self.normals && chunk.normals.len() != chunk.vertices.len() {
+            return Err(body.numbering().error(format!(
+                "a chunk of {} vertices has {} normals",
+                chunk.vertices.len(),
+                chunk.normals.len()
+            )));
+        }
         let interrupted = || cancel.load(Ordering::Relaxed);
         let mut stopped = false;
+        let normals = self.normals;
         body.chunk(base, chunk, |vertices, faces| {
+            if normals {
+                return write_with_normals::<L>(chunk, base, vertices, faces, &interrupted)
+                    .map(|done| stopped = !done);
+            }
             for step in chunk.vertices.chunks(WRITE_STEP) {
                 stopped |= interrupted();
                 if stopped {
@@ -123,10 +167,42 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
     /// the spools copied into the output.
     fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
         let body = self.body.take().ok_or_else(used_after_finish)?;
-        body.finish(totals, cancel, |w, vertices, faces| {
-            L::header(w, vertices, faces)
+        let normals = self.normals;
+        body.finish(totals, cancel, |w, vertices, faces| match normals {
+            true => L::header_with_normals(w, vertices, faces),
+            false => L::header(w, vertices, faces),
         })
     }
+}
+
+/// Appends `chunk` (starting at global vertex `base`), its vertices with
+/// their normals, to the spools; false when `interrupted` stopped it
+/// (asked before every [`WRITE_STEP`] vertices or faces).
+fn write_with_normals<L: Layout>(
+    chunk: &Chunk,
+    base: u64,
+    vertices: &mut impl Write,
+    faces: &mut impl Write,
+    interrupted: &impl Fn() -> bool,
+) -> io::Result<bool> {
+    let normals = chunk.normals.chunks(WRITE_STEP);
+    for (step, normals) in chunk.vertices.chunks(WRITE_STEP).zip(normals) {
+        if interrupted() {
+            return Ok(false);
+        }
+        for (v, n) in step.iter().zip(normals) {
+            L::vertex_with_normal(vertices, v, n)?;
+        }
+    }
+    for step in chunk.triangles.chunks(WRITE_STEP) {
+        if interrupted() {
+            return Ok(false);
+        }
+        for t in step {
+            L::face_with_normals(faces, t.map(|i| base + u64::from(i)))?;
+        }
+    }
+    Ok(true)
 }
 
 /// Vertices or faces formatted between two looks at the cancel flag (a few
@@ -239,6 +315,7 @@ mod tests {
             plane: 0,
             vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
             triangles: vec![[0, 1, 2]],
+            normals: Vec::new(),
         };
         body.chunk(0, &chunk, |vertices, faces| {
             for v in &chunk.vertices {

@@ -394,9 +394,14 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
 #[inline]
 fn interior_clamp(g: &[f64; 8], p: DVec3) -> DVec3 {
     let p = p.clamp(DVec3::ZERO, DVec3::ONE);
+    let inner = p.clamp(DVec3::splat(TIE_OFFSET), DVec3::splat(1.0 - TIE_OFFSET));
+    if inner == p {
+        // Already inside the inner cube (most vertices): no tie test.
+        return p;
+    }
     let touches = p.min_element() == 0.0 || p.max_element() == 1.0;
     if g.contains(&0.0) || touches && face_saddle_tie(g) {
-        p.clamp(DVec3::splat(TIE_OFFSET), DVec3::splat(1.0 - TIE_OFFSET))
+        inner
     } else {
         p
     }

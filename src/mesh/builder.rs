@@ -28,8 +28,8 @@ impl Vertex for [f64; 3] {
     }
 }
 
-/// Collects the chunks into a vertex vector (of `V`) and a triangle vector
-/// (32-bit global indices).
+/// Collects the chunks into a vertex vector (of `V`), a triangle vector
+/// (32-bit global indices) and, when the chunks carry them, a normal vector.
 ///
 /// Each chunk is copied in as it comes, so that the chunk's vectors go
 /// back to the slabs still to be computed: memory that is already paged in
@@ -41,6 +41,8 @@ impl Vertex for [f64; 3] {
 pub struct Collector<V> {
     vertices: Vec<V>,
     triangles: Vec<[u32; 3]>,
+    /// The chunks' normals (empty when they carry none).
+    normals: Vec<[f32; 3]>,
     /// Grid planes, from [`MeshSink::begin`] (0: not known).
     planes: u64,
 }
@@ -53,6 +55,7 @@ impl<V> Default for Collector<V> {
         Collector {
             vertices: Vec::new(),
             triangles: Vec::new(),
+            normals: Vec::new(),
             planes: 0,
         }
     }
@@ -68,19 +71,21 @@ impl<V> Collector<V> {
         Ok(collector)
     }
 
-    /// The vertices and triangles collected so far.
-    pub fn into_parts(self) -> (Vec<V>, Vec<[u32; 3]>) {
-        (self.vertices, self.triangles)
+    /// The vertices, triangles and normals (empty when the chunks had
+    /// none) collected so far.
+    pub fn into_parts(self) -> (Vec<V>, Vec<[u32; 3]>, Vec<[f32; 3]>) {
+        (self.vertices, self.triangles, self.normals)
     }
 }
 
 impl MeshBuilder {
     /// The mesh built so far.
     pub fn into_mesh(self) -> Mesh {
-        let (vertices, triangles) = self.into_parts();
+        let (vertices, triangles, normals) = self.into_parts();
         Mesh {
             vertices,
             triangles,
+            normals,
         }
     }
 }
@@ -131,6 +136,11 @@ impl<V: Vertex> MeshSink for Collector<V> {
         let what = "the mesh's triangles";
         make_room_for_all(triangles, chunk.triangles.len(), plane, planes, what)?;
         vertices.extend(chunk.vertices.iter().map(|&v| V::from_f32(v)));
+        if !chunk.normals.is_empty() {
+            let what = "the mesh's normals";
+            make_room_for_all(&mut self.normals, chunk.normals.len(), plane, planes, what)?;
+            self.normals.extend_from_slice(&chunk.normals);
+        }
         // May point into the next chunk, whose own check bounds it.
         let base = base as u32;
         triangles.extend(chunk.triangles.iter().map(|t| t.map(|i| base + i)));

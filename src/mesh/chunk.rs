@@ -16,4 +16,8 @@ pub struct Chunk {
     pub vertices: Vec<[f32; 3]>,
     /// Triangles, counter-clockwise seen from outside, relative indices.
     pub triangles: Vec<[u32; 3]>,
+    /// Unit outward vertex normals, one per vertex, when the sink's
+    /// [`MeshInfo::normals`](crate::MeshInfo::normals) is set; empty
+    /// otherwise.
+    pub normals: Vec<[f32; 3]>,
 }

@@ -8,4 +8,7 @@ pub struct Mesh {
     pub vertices: Vec<[f32; 3]>,
     /// Triangles, indices into `vertices`.
     pub triangles: Vec<[u32; 3]>,
+    /// Unit outward vertex normals, one per vertex, or empty when the mesh
+    /// has none.
+    pub normals: Vec<[f32; 3]>,
 }

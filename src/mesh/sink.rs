@@ -25,6 +25,8 @@ pub struct MeshInfo {
     pub inside: Inside,
     /// Whether surfaces were closed at the volume border.
     pub close: bool,
+    /// Whether every chunk carries vertex normals (`Chunk::normals`).
+    pub normals: bool,
 }
 
 /// Totals known when the last chunk has been sent.

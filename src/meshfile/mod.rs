@@ -7,7 +7,7 @@
 //! ```text
 //! header   128 bytes
 //!   0   8  magic  89 54 4D 45 53 48 0D 0A  ("\x89TMESH\r\n")
-//!   8   4  version u32 = 1
+//!   8   4  version u32: 1, or 2 when an attribute is present
 //!  12   4  header size u32 = 128
 //!  16  24  dims u64 x 3 (samples along x, y, z of the input grid)
 //!  40  24  spacing f64 x 3
@@ -16,7 +16,9 @@
 //!  96   1  method (0 tmc, 1 mc)
 //!  97   1  inside (0 high, 1 low)
 //!  98   1  close (0 or 1)
-//!  99  25  zero
+//!  99   1  attributes (version 2; zero in version 1): bit 0 normals,
+//!          the other bits zero
+//! 100  24  zero
 //! 124   4  CRC-32 of bytes 0..124
 //! chunk    (one per grid plane that owns vertices or triangles, in plane order)
 //!   0   4  tag "CHNK"
@@ -30,7 +32,9 @@
 //!  44   4  zero
 //!  48   .. payload: one zstd frame holding vertex count x 3 f32 (x, y, z)
 //!            then triangle count x 3 u32: vertex indices relative to the
-//!            vertex base; they may point into the next chunk, never beyond
+//!            vertex base; they may point into the next chunk, never beyond;
+//!            then, with the normals attribute, vertex count x 3 f32
+//!            (nx, ny, nz): unit outward vertex normals, or 0 0 0
 //! index
 //!   0   4  tag "INDX"
 //!   4   4  CRC-32 of the entries
@@ -49,7 +53,9 @@
 //! plane order or with a plane beyond the grid (`dims[2] + 2` planes with
 //! close), chunks claiming more vertices or triangles than one plane of the
 //! grid can have (11 and 32 per sample of a plane), and non-finite vertex
-//! coordinates.
+//! coordinates or normals. A file without attributes is written as version
+//! 1, byte for byte what builds before version 2 wrote; this build reads
+//! both.
 //!
 //! Global vertex indices are 64-bit, so a file holds more than 2^32
 //! vertices; the index lets a reader seek to any chunk; the checksums let a
@@ -68,8 +74,14 @@ use crate::{Error, Grid, Result};
 
 /// The first 8 bytes of every `.tmesh` file.
 pub const MAGIC: [u8; 8] = *b"\x89TMESH\r\n";
-/// The format version this crate writes and reads.
+/// The format version of files without attributes, which every build
+/// reads.
 pub const VERSION: u32 = 1;
+/// The format version of files with attributes (the normals), which this
+/// build also reads.
+pub const VERSION_ATTRIBUTES: u32 = 2;
+/// Bit of header byte 99 saying the chunks carry vertex normals.
+pub const ATTRIBUTE_NORMALS: u8 = 1;
 /// Bytes in the file header.
 pub const HEADER_BYTES: usize = 128;
 /// Bytes in a chunk header.
@@ -114,7 +126,12 @@ fn le_f64(b: &[u8]) -> f64 {
 fn encode_header(info: &MeshInfo) -> [u8; HEADER_BYTES] {
     let mut h = [0u8; HEADER_BYTES];
     h[0..8].copy_from_slice(&MAGIC);
-    h[8..12].copy_from_slice(&VERSION.to_le_bytes());
+    let version = if info.normals {
+        VERSION_ATTRIBUTES
+    } else {
+        VERSION
+    };
+    h[8..12].copy_from_slice(&version.to_le_bytes());
     h[12..16].copy_from_slice(&(HEADER_BYTES as u32).to_le_bytes());
     for i in 0..3 {
         h[16 + 8 * i..24 + 8 * i].copy_from_slice(&(info.grid.dims[i] as u64).to_le_bytes());
@@ -125,6 +142,7 @@ fn encode_header(info: &MeshInfo) -> [u8; HEADER_BYTES] {
     h[96] = u8::from(info.method == Method::Mc);
     h[97] = u8::from(info.inside == Inside::Low);
     h[98] = u8::from(info.close);
+    h[99] = if info.normals { ATTRIBUTE_NORMALS } else { 0 };
     let crc = crc32fast::hash(&h[..124]);
     h[124..128].copy_from_slice(&crc.to_le_bytes());
     h
@@ -137,9 +155,9 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
         return Err(bad("wrong magic bytes"));
     }
     let version = le_u32(&h[8..]);
-    if version != VERSION {
+    if version != VERSION && version != VERSION_ATTRIBUTES {
         return Err(Error::Format(format!(
-            ".tmesh version {version} is not supported (this build reads version {VERSION})"
+            ".tmesh version {version} is not supported (this build reads versions {VERSION} and {VERSION_ATTRIBUTES})"
         )));
     }
     if le_u32(&h[124..]) != crc32fast::hash(&h[..124]) {
@@ -157,8 +175,15 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
         let field = ["method", "inside", "close"][at - 96];
         return Err(bad(&format!("unknown {field} byte {}", h[at])));
     }
-    if h[99..124].iter().any(|&b| b != 0) {
+    let attributes = h[99];
+    if version == VERSION && h[99..124].iter().any(|&b| b != 0) {
         return Err(bad("reserved header bytes 99..124 are not zero"));
+    }
+    if attributes & !ATTRIBUTE_NORMALS != 0 {
+        return Err(bad(&format!("unknown attribute bits {attributes:#04x}")));
+    }
+    if h[100..124].iter().any(|&b| b != 0) {
+        return Err(bad("reserved header bytes 100..124 are not zero"));
     }
     Ok(MeshInfo {
         grid: Grid {
@@ -175,5 +200,6 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
             Inside::High
         },
         close: h[98] == 1,
+        normals: attributes & ATTRIBUTE_NORMALS != 0,
     })
 }

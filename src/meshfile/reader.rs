@@ -224,7 +224,8 @@ impl TmeshReader {
             return Err(bad("payload checksum mismatch (the data is damaged)"));
         }
         let (nv, nt) = (e.vertex_count as usize, e.triangle_count as usize);
-        let expect = nv * 12 + nt * 12;
+        let nn = if self.info.normals { nv } else { 0 };
+        let expect = nv * 12 + nt * 12 + nn * 12;
         // The frame must say it holds exactly that many bytes before room
         // for them is reserved (the counts come from the file).
         match zstd::zstd_safe::get_frame_content_size(&payload) {
@@ -238,22 +239,19 @@ impl TmeshReader {
         if raw.len() != expect {
             return Err(bad("payload has the wrong size"));
         }
-        let f = |b: &[u8]| f32::from_le_bytes(b[..4].try_into().expect("4 bytes"));
-        let vertices: Vec<[f32; 3]> = raw[..nv * 12]
-            .chunks_exact(12)
-            .map(|v| [f(v), f(&v[4..]), f(&v[8..])])
-            .collect();
-        if let Some(k) = vertices
-            .iter()
-            .position(|v| v.iter().any(|c| !c.is_finite()))
-        {
-            return Err(bad(&format!(
+        let vertices = finite_triples(&raw[..nv * 12]).map_err(|k| {
+            bad(&format!(
                 "vertex {k} has a coordinate that is not a finite number"
-            )));
-        }
+            ))
+        })?;
+        let normals = finite_triples(&raw[nv * 12 + nt * 12..]).map_err(|k| {
+            bad(&format!(
+                "the normal of vertex {k} has a component that is not a finite number"
+            ))
+        })?;
         let bound = e.vertex_count as u64 + next as u64;
         let mut triangles = crate::error::try_vec("a .tmesh chunk's triangles", nt)?;
-        for t in raw[nv * 12..].chunks_exact(12) {
+        for t in raw[nv * 12..nv * 12 + nt * 12].chunks_exact(12) {
             let tri = [le_u32(t), le_u32(&t[4..]), le_u32(&t[8..])];
             if tri.iter().any(|&k| k as u64 >= bound) {
                 return Err(bad("a triangle points beyond the next chunk"));
@@ -264,6 +262,24 @@ impl TmeshReader {
             plane: e.plane,
             vertices,
             triangles,
+            normals,
         })
+    }
+}
+
+/// The little-endian `f32` triples of `raw`, or the number of the first
+/// triple with a component that is not finite.
+fn finite_triples(raw: &[u8]) -> std::result::Result<Vec<[f32; 3]>, usize> {
+    let f = |b: &[u8]| f32::from_le_bytes(b[..4].try_into().expect("4 bytes"));
+    let triples: Vec<[f32; 3]> = raw
+        .chunks_exact(12)
+        .map(|v| [f(v), f(&v[4..]), f(&v[8..])])
+        .collect();
+    match triples
+        .iter()
+        .position(|v| v.iter().any(|c| !c.is_finite()))
+    {
+        Some(k) => Err(k),
+        None => Ok(triples),
     }
 }

@@ -28,6 +28,8 @@ pub struct TmeshWriter {
     /// more than compressing small chunks (a 2x2x1000000 volume spent 57%
     /// of its 25 s there).
     compressor: zstd::bulk::Compressor<'static>,
+    /// The chunks carry normals ([`MeshInfo::normals`]).
+    normals: bool,
 }
 
 impl TmeshWriter {
@@ -44,6 +46,7 @@ impl TmeshWriter {
             index: Vec::new(),
             bytes: 0,
             compressor,
+            normals: false,
         })
     }
 
@@ -71,9 +74,11 @@ impl TmeshWriter {
     }
 }
 
-/// The payload of a chunk before compression: positions, then relative indices.
+/// The payload of a chunk before compression: positions, then relative
+/// indices, then the normals if it has any.
 pub(crate) fn raw_payload(chunk: &Chunk) -> Result<Vec<u8>> {
-    let len = (chunk.vertices.len() + chunk.triangles.len()).saturating_mul(12);
+    let len =
+        (chunk.vertices.len() + chunk.triangles.len() + chunk.normals.len()).saturating_mul(12);
     let mut raw = crate::error::try_vec::<u8>("a .tmesh chunk", len)?;
     for v in &chunk.vertices {
         for c in v {
@@ -85,11 +90,17 @@ pub(crate) fn raw_payload(chunk: &Chunk) -> Result<Vec<u8>> {
             raw.extend_from_slice(&i.to_le_bytes());
         }
     }
+    for n in &chunk.normals {
+        for c in n {
+            raw.extend_from_slice(&c.to_le_bytes());
+        }
+    }
     Ok(raw)
 }
 
 impl MeshSink for TmeshWriter {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        self.normals = info.normals;
         let header = encode_header(info);
         debug_assert_eq!(header.len(), HEADER_BYTES);
         self.write(&header)
@@ -98,6 +109,19 @@ impl MeshSink for TmeshWriter {
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
         if chunk.vertices.is_empty() && chunk.triangles.is_empty() {
             return Ok(());
+        }
+        let normals = if self.normals {
+            chunk.vertices.len()
+        } else {
+            0
+        };
+        if chunk.normals.len() != normals {
+            return Err(Error::Invalid(format!(
+                "a chunk of {} vertices has {} normals, the file {}",
+                chunk.vertices.len(),
+                chunk.normals.len(),
+                if self.normals { "one each" } else { "none" }
+            )));
         }
         let payload = self
             .compressor

@@ -33,7 +33,7 @@ impl<P: Samples> Layer<P> {
     ///
     /// Corners of weight zero are skipped: a vertex on a grid edge (two
     /// coordinates of `t` exactly 0 or 1, see
-    /// [`Locator::locate`](super::buckets::Locator::locate)) costs the
+    /// [`Locator::locate_in_layer`](super::locate::Locator::locate_in_layer)) costs the
     /// differences at the edge's two ends, 12 samples, and one on a sample
     /// costs one difference. The sum runs over the corners in the same
     /// order either way, so skipping changes nothing but the work.

@@ -1,37 +1,39 @@
-//! Per-vertex normals of an extracted mesh, from the gradient of the field.
+//! Per-vertex normals from the gradient of the field, computed in the slab
+//! loop ([`ExtractParams::normals`](crate::params::ExtractParams::normals)).
 //!
 //! Marching cubes places vertices on grid edges; the triangles around a
 //! vertex give only a coarse normal, while the field's gradient gives a
 //! smooth one, which is what renderers and the mesh formats that carry
-//! normals want. [`vertex_normals`] computes it once, for the library, the
-//! CLI and the bindings alike:
+//! normals want. The workers compute it as they triangulate, for the
+//! library, the CLI and the bindings alike:
 //!
 //! * central-difference gradients at the samples (one-sided at the volume's
-//!   border), trilinearly interpolated to the vertex, as VTK and
-//!   scikit-image do ([`gradient`]); a vertex on a grid edge, as nearly
-//!   all are, needs the gradients at the edge's two ends only, and the
-//!   gradient code is compiled once per sample type ([`samples`]);
+//!   border), interpolated linearly to the vertex along its edge (or
+//!   trilinearly in its cell), as VTK and scikit-image do ([`gradient`]);
+//!   a vertex on a grid edge needs the gradients at the edge's two ends
+//!   only, and the gradient code is compiled once per sample type
+//!   ([`samples`]);
 //! * converted to world coordinates with the chain rule through the grid's
 //!   inverse map, then normalized and pointed outward: toward lower values
 //!   for [`Inside::High`](crate::params::Inside::High), higher for
-//!   [`Inside::Low`](crate::params::Inside::Low) ([`compute`]);
+//!   [`Inside::Low`](crate::params::Inside::Low) ([`in_slab`]), chunk by
+//!   chunk, each vertex located in its chunk's layer ([`locate`]) and the
+//!   planes around that layer held by a [`window`];
 //! * where the gradient vanishes or is not finite (plateaus, ties), the
-//!   angle-weighted average of the normals of the vertex's triangles
-//!   ([`fallback`]).
+//!   angle-weighted average of the normals of the vertex's triangles,
+//!   which needs the chunks on both sides: [`pending`] resolves them one
+//!   chunk behind the stream.
 //!
-//! The volume is never held whole: the vertices are bucketed by cell layer
-//! ([`buckets`]), and workers walk ranges of layers ([`ranges`]) holding
-//! only the four planes around the current layer ([`window`]). Each
-//! vertex's normal depends only on the samples, so the output is the same
-//! for any number of threads.
+//! Each normal depends on the samples and the mesh only, so the output is
+//! the same for any number of threads, slab depth or split into parts.
 
-pub mod buckets;
-pub mod compute;
-pub mod fallback;
 pub mod gradient;
-pub mod ranges;
+pub mod in_slab;
+pub mod locate;
+pub mod pending;
 pub mod samples;
 pub mod vector;
 pub mod window;
 
-pub use compute::vertex_normals;
+pub use in_slab::SlabNormals;
+pub use pending::{FillPending, PENDING};

@@ -170,7 +170,7 @@ fn order(mut parts: Vec<Part>) -> Result<Vec<Part>> {
     Ok(parts)
 }
 
-/// The extraction options (`--method`, `--inside`, `--close`) in which `x`
+/// The extraction options (`--method`, `--inside`, `--close`, `--normals`) in which `x`
 /// and `y` differ, as "options (--close: on vs off)", if any.
 fn options_differ(x: &MeshInfo, y: &MeshInfo) -> Option<String> {
     let on = |b: bool| if b { "on" } else { "off" };
@@ -188,6 +188,9 @@ fn options_differ(x: &MeshInfo, y: &MeshInfo) -> Option<String> {
     }
     if x.close != y.close {
         differ.push(format!("--close: {} vs {}", on(x.close), on(y.close)));
+    }
+    if x.normals != y.normals {
+        differ.push(format!("--normals: {} vs {}", on(x.normals), on(y.normals)));
     }
     (!differ.is_empty()).then(|| format!("options ({})", differ.join(", ")))
 }

@@ -74,8 +74,21 @@ impl SignBits {
     /// (see [`Sample::threshold`]), else in `f64`, which is exact for every
     /// type; either way the packing loop vectorises.
     pub(super) fn classify<T: Sample>(&mut self, samples: &[T], nx: usize, iso: f64, above: bool) {
+        self.classify_from(0, samples, nx, iso, above);
+    }
+
+    /// [`classify`](Self::classify) for the rows from `first` on: `samples`
+    /// holds whole rows, row `first` first.
+    pub(super) fn classify_from<T: Sample>(
+        &mut self,
+        first: usize,
+        samples: &[T],
+        nx: usize,
+        iso: f64,
+        above: bool,
+    ) {
         let threshold = T::threshold(iso, above);
-        for (y, values) in samples.chunks_exact(nx).enumerate() {
+        for (y, values) in (first..).zip(samples.chunks_exact(nx)) {
             let bits = self.row_mut(y);
             match threshold {
                 Threshold::ViaF64 if above => pack_bits(values, bits, |v| v.to_f64() > iso),

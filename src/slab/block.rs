@@ -45,6 +45,7 @@ impl Block {
             plane: plane as u64,
             triangles: self.triangles,
             vertices: self.vertices,
+            normals: Vec::new(),
         }
     }
 

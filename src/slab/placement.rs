@@ -14,7 +14,7 @@ pub(super) struct Placement {
     pub(super) axis_aligned: bool,
     /// `f32` tells a vertex [`TIE_OFFSET`] of an edge from the edge's end
     /// everywhere in the grid (see [`resolves_tie_offset`]); when not, a
-    /// tie's vertex is placed by [`Placement::tie_vertex`].
+    /// tie's vertex is placed by [`Placement::far_tie_fraction`].
     pub(super) resolves_ties: bool,
 }
 
@@ -40,43 +40,53 @@ impl Placement {
 
     /// The world position of the vertex on the crossed edge from grid index
     /// `start` along `axis`, whose values are `a` at `start` and `b` at the
-    /// other end: the linear crossing `a / (a - b)`, or, when either end is
-    /// a tie, [`Placement::tie_vertex`]. One test in the loop, `a b = 0`
-    /// (a product that underflows comes back to the plain crossing).
-    #[inline]
+    /// other end: `start` moved along `axis` by [`Placement::crossing`].
+    #[inline(always)]
     pub(super) fn edge(&self, mut start: [f64; 3], axis: usize, a: f64, b: f64) -> [f32; 3] {
-        if a * b == 0.0 {
-            return self.tie_vertex(start, axis, a, b);
-        }
-        start[axis] += a / (a - b);
+        start[axis] += self.crossing(start, axis, a, b);
         self.at(start)
     }
 
-    /// The vertex on an edge that ends at a tie (`a` or `b` is 0):
-    /// [`TIE_OFFSET`] of the edge away from the tie, or, in a grid whose
-    /// `f32` coordinates may not resolve that ([`resolves_tie_offset`]),
-    /// the first of that offset, twice, four times ... it (up to half the
-    /// edge) whose `f32` position is not the tie sample's own, so that the
-    /// vertices round the tie stay apart. A function of the edge alone:
-    /// every slab and part places it alike. (Neither 0: the plain
-    /// crossing, for a product `a b` that underflowed.)
+    /// Where the vertex of the crossed edge from `start` along `axis`
+    /// (values `a` and `b` at its ends) lies, as a fraction of the edge from
+    /// `start`: the linear crossing `a / (a - b)`, or, when either end is a
+    /// tie, [`TIE_OFFSET`] of the edge away from it (in a grid whose `f32`
+    /// coordinates may not resolve that, [`Placement::far_tie_fraction`]).
+    /// One test in the loop, `a b = 0` (a product that underflows, neither
+    /// value 0, comes back to the plain crossing). The tie's offset is a
+    /// select, not a call: tie vertices are common on integer data (a
+    /// quarter of bonsai's at 40), and a fraction, not a position, leaves
+    /// the vertex loops the one `at` they had before ties.
+    #[inline(always)]
+    fn crossing(&self, start: [f64; 3], axis: usize, a: f64, b: f64) -> f64 {
+        if a * b == 0.0 && (a == 0.0 || b == 0.0) {
+            if !self.resolves_ties {
+                return self.far_tie_fraction(start[0], start[1], start[2], axis, a == 0.0);
+            }
+            if a == 0.0 {
+                TIE_OFFSET
+            } else {
+                1.0 - TIE_OFFSET
+            }
+        } else {
+            a / (a - b)
+        }
+    }
+
+    /// [`Placement::crossing`] of an edge from `(x, y, z)` along `axis` that
+    /// ends at a tie (at its start when `at_start`, else at its other end)
+    /// in a grid whose `f32` coordinates may not resolve [`TIE_OFFSET`]
+    /// ([`resolves_tie_offset`]): the first of that offset, twice, four
+    /// times ... it (up to half the edge) whose `f32` position is not the
+    /// tie sample's own, so that the vertices round the tie stay apart. A
+    /// function of the edge alone: every slab and part places it alike.
+    /// (Coordinates as scalars, not an array: the call stays out of the
+    /// vertex loops' registers.)
     #[cold]
     #[inline(never)]
-    fn tie_vertex(&self, start: [f64; 3], axis: usize, a: f64, b: f64) -> [f32; 3] {
-        let at_start = a == 0.0;
-        if !at_start && b != 0.0 {
-            let mut p = start;
-            p[axis] += a / (a - b);
-            return self.at(p);
-        }
-        let offset_at = |offset: f64| {
-            let mut p = start;
-            p[axis] += if at_start { offset } else { 1.0 - offset };
-            self.at(p)
-        };
-        if self.resolves_ties {
-            return offset_at(TIE_OFFSET);
-        }
+    fn far_tie_fraction(&self, x: f64, y: f64, z: f64, axis: usize, at_start: bool) -> f64 {
+        let start = [x, y, z];
+        let fraction = |offset: f64| if at_start { offset } else { 1.0 - offset };
         let mut tie = start;
         if !at_start {
             tie[axis] += 1.0;
@@ -84,9 +94,10 @@ impl Placement {
         let sample = self.at(tie);
         let mut offset = TIE_OFFSET;
         loop {
-            let position = offset_at(offset);
-            if position != sample || offset >= 0.5 {
-                return position;
+            let mut p = start;
+            p[axis] += fraction(offset);
+            if self.at(p) != sample || offset >= 0.5 {
+                return fraction(offset);
             }
             offset *= 2.0;
         }
@@ -147,10 +158,33 @@ mod tests {
                 let from_high = place.edge(start, 0, 5.0, 0.0);
                 assert_ne!(from_low, low, "{origin} {spacing} {x}");
                 assert_ne!(from_high, high, "{origin} {spacing} {x}");
-                // Edges without a tie: the plain crossing.
+                // The first of 2^-10, 2^-9 ... (up to half the edge) of the
+                // edge from the tie whose position is not the tie's.
+                for (axis, at_start) in [(0, true), (1, false), (2, true), (2, false)] {
+                    let end = if at_start { 0.0 } else { 1.0 };
+                    let mut tie = start;
+                    tie[axis] += end;
+                    let sample = place.at(tie);
+                    let expect = std::iter::successors(Some(TIE_OFFSET), |o| Some(o * 2.0))
+                        .map(|o| {
+                            let mut p = start;
+                            p[axis] += if at_start { o } else { 1.0 - o };
+                            (o, place.at(p))
+                        })
+                        .find(|&(o, p)| p != sample || o >= 0.5)
+                        .map(|(_, p)| p);
+                    let (a, b) = if at_start { (0.0, 2.0) } else { (2.0, 0.0) };
+                    assert_eq!(Some(place.edge(start, axis, a, b)), expect, "{axis}");
+                }
+                // Edges without a tie: the plain crossing, also where the
+                // product of the two values underflows.
                 assert_eq!(
                     place.edge(start, 0, 1.0, -3.0),
                     place.at([x as f64 + 0.25, 7.0, 9.0])
+                );
+                assert_eq!(
+                    place.edge(start, 1, 1e-200, -3e-200),
+                    place.at([x as f64, 7.25, 9.0])
                 );
             }
         }

@@ -11,7 +11,7 @@ use super::spares::{PlaneBuffers, Scratch};
 use crate::error::make_room;
 use crate::grid::Grid;
 use crate::params::ExtractParams;
-use crate::volume::{LentPlane, SampleSource};
+use crate::volume::{LentPlane, Sample, SampleSource};
 use crate::{Error, Result, Stats};
 use std::time::Instant;
 
@@ -160,6 +160,12 @@ impl<'s> Plane<'s> {
             Some(LentPlane::I32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
             Some(LentPlane::F32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
             Some(LentPlane::F64(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U16Bytes(s)) => by_bands::<u16, 2>(&mut self.inside, s, nx, level),
+            Some(LentPlane::I16Bytes(s)) => by_bands::<i16, 2>(&mut self.inside, s, nx, level),
+            Some(LentPlane::U32Bytes(s)) => by_bands::<u32, 4>(&mut self.inside, s, nx, level),
+            Some(LentPlane::I32Bytes(s)) => by_bands::<i32, 4>(&mut self.inside, s, nx, level),
+            Some(LentPlane::F32Bytes(s)) => by_bands::<f32, 4>(&mut self.inside, s, nx, level),
+            Some(LentPlane::F64Bytes(s)) => by_bands::<f64, 8>(&mut self.inside, s, nx, level),
         }
         let (lent, read) = (self.lent, &self.read);
         let rel = |i: usize| rel_at(lent, read, level, i);
@@ -208,4 +214,30 @@ pub(super) fn rel_at(lent: Option<LentPlane>, read: &[f64], level: Level, i: usi
         None => read[i],
     };
     level.rel(value)
+}
+
+/// Bytes of samples [`by_bands`] copies at once (whole rows, at least
+/// one).
+const BAND_BYTES: usize = 64 << 10;
+
+/// Classifies a plane lent as byte arrays (samples not aligned for their
+/// type `T`, of `N` bytes): a band of rows at a time is copied into aligned
+/// samples and classified as a lent plane of type `T` is (so the bits are
+/// the same), the copy taking a few pages, not a plane.
+fn by_bands<T: Sample + bytemuck::Pod, const N: usize>(
+    inside: &mut SignBits,
+    plane: &[[u8; N]],
+    nx: usize,
+    level: Level,
+) {
+    let ny = plane.len() / nx;
+    let rows = (BAND_BYTES / (nx * N)).clamp(1, ny.max(1));
+    let mut band = vec![T::zeroed(); rows * nx];
+    for first in (0..ny).step_by(rows) {
+        let n = rows.min(ny - first);
+        let band = &mut band[..n * nx];
+        let bytes = &plane[first * nx..(first + n) * nx];
+        bytemuck::cast_slice_mut::<T, u8>(band).copy_from_slice(bytes.as_flattened());
+        inside.classify_from(first, band, nx, level.iso, level.sign > 0.0);
+    }
 }

@@ -41,7 +41,7 @@ pub fn process_slab(
     // MC triangles per cell.
     let row = (nx, tables.mc_most * (nx - 1));
     let mut block = Block::sized_like((0, 0), row, spares)?;
-    source.advise(layers.start..layers.end + 1, Access::Soon);
+    let mut ahead = ReadAhead::new(source, layers.start);
     let Scratch {
         planes: [lower, upper],
         mut z_first,
@@ -68,6 +68,7 @@ pub fn process_slab(
     let interrupted = || source.interrupted();
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
+        ahead.reading(source, z + 1);
         top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
         // z-edges between the two planes.
         let words = bottom.inside.words() - 1;
@@ -135,4 +136,54 @@ pub fn process_slab(
     source.advise(layers.start..layers.end, Access::Done);
     stats.cell_seconds = start.elapsed().as_secs_f64() - stats.read_seconds;
     Ok((chunks, stats))
+}
+
+/// Bytes of planes [`ReadAhead`] keeps advised ahead of the plane being
+/// read (between this and twice this).
+const READ_AHEAD_BYTES: usize = 64 << 20;
+
+/// Read-ahead advice that rolls along with the slab and on past its end:
+/// between `planes` and `2 * planes` planes ahead of the plane being read
+/// are advised [`Access::Soon`], a batch of `planes` at a time (one call per
+/// batch, not per layer, so that tiny planes cost no call each).
+///
+/// Advising a whole slab when it starts made the worker wait for the
+/// kernel to queue all its reads (some 300 MiB for planes of 4096^2 u16)
+/// before it could begin, and left nothing queued for the slab after;
+/// rolling keeps the disk busier: a cold extraction of 131 planes of
+/// 4096^2 u16 at two threads took 4.6-5.0 s against 5.1-5.5 s (dd of the
+/// same bytes: 3.0-3.3 s; busy machine, see docs/performance.md).
+struct ReadAhead {
+    /// Planes per batch.
+    planes: usize,
+    /// Planes advised so far end here (exclusive).
+    advised: usize,
+    /// Planes in the grid.
+    nz: usize,
+}
+
+impl ReadAhead {
+    /// Advises the first batches from plane `first` on.
+    fn new(source: &dyn SampleSource, first: usize) -> Self {
+        let grid = source.grid();
+        let plane_bytes = (grid.plane_len() * source.sample_bytes()).max(1);
+        let mut ahead = ReadAhead {
+            planes: (READ_AHEAD_BYTES / plane_bytes).clamp(1, 64),
+            advised: first,
+            nz: grid.dims[2],
+        };
+        ahead.reading(source, first);
+        ahead
+    }
+
+    /// Plane `z` is about to be read: advises the next batch when fewer
+    /// than `planes` planes beyond it are advised.
+    fn reading(&mut self, source: &dyn SampleSource, z: usize) {
+        if self.advised <= z + self.planes && self.advised < self.nz {
+            let end = (z + 1 + 2 * self.planes).min(self.nz);
+            let start = self.advised.max(z);
+            source.advise(start..end, Access::Soon);
+            self.advised = end;
+        }
+    }
 }

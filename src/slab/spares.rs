@@ -50,7 +50,8 @@ pub struct Spares {
 pub fn chunk_bytes(chunk: &Chunk) -> u64 {
     let vertices = chunk.vertices.capacity() * std::mem::size_of::<[f32; 3]>();
     let triangles = chunk.triangles.capacity() * std::mem::size_of::<[u32; 3]>();
-    (vertices + triangles) as u64
+    let normals = chunk.normals.capacity() * std::mem::size_of::<[f32; 3]>();
+    (vertices + triangles + normals) as u64
 }
 
 impl Spares {
@@ -87,6 +88,7 @@ impl Spares {
     pub fn give_chunk(&self, mut chunk: Chunk) {
         chunk.vertices.clear();
         chunk.triangles.clear();
+        chunk.normals.clear();
         // Counted before it can be taken, so that the count never wraps.
         let bytes = chunk_bytes(&chunk);
         self.block_bytes.fetch_add(bytes, Ordering::Relaxed);

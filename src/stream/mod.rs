@@ -9,10 +9,14 @@
 //!    the layers of the part asked for ([`parts`]);
 //! 3. **triangulate** ([`crate::slab`]): a worker turns the slab's layers
 //!    into one chunk per grid plane, for each isovalue while the planes are
-//!    resident;
+//!    resident, and, with normals, gives the chunks their gradient normals
+//!    (`normals.rs`, [`crate::normals::SlabNormals`]);
 //! 4. **stitch** ([`seam`]): finished slabs, in any order, are put back in
 //!    plane order and handed to each isovalue's sink with global vertex
-//!    numbers; nothing is matched by position.
+//!    numbers; nothing is matched by position. Each sink is wrapped in a
+//!    [`crate::normals::FillPending`], which gives the vertices without a
+//!    gradient their triangles' normal, one chunk behind, and, for a part
+//!    with normals, drops the layer of context computed on each side.
 //!
 //! The output does not depend on the threads, the slab depth or the parts:
 //! a chunk's content depends on its two planes only (see [`crate::slab`]).
@@ -21,6 +25,7 @@
 pub mod budget;
 pub mod cancellable;
 pub mod entry;
+mod normals;
 pub mod parts;
 pub mod pass;
 pub mod preflight;

@@ -15,12 +15,14 @@
 
 use super::budget;
 use super::cancellable::Cancellable;
+use super::normals::slab_normals;
 use super::parts::layer_range;
 use super::schedule::Schedule;
 use super::seam::Seam;
 use super::threads::{default_depth, thread_pool, worker_threads};
 use crate::grid::Grid;
 use crate::mesh::{Chunk, MeshInfo, MeshSink};
+use crate::normals::FillPending;
 use crate::params::{ExtractParams, PipelineOptions, Progress};
 use crate::slab::{chunk_bytes, process_slab, Spares};
 use crate::volume::{Access, LentPlane, Padded, SampleSource, ScalarType};
@@ -91,6 +93,7 @@ pub(crate) fn extract_many_part_to(
         method: p.method,
         inside: p.inside,
         close: p.close,
+        normals: p.normals,
     };
     let padded;
     let source: &dyn SampleSource = if first.close {
@@ -126,36 +129,50 @@ pub(crate) fn extract_many_part_to(
     } else {
         default_depth(source.grid().plane_len(), layers, threads)
     };
-    let plan = budget::plan(
-        source.grid().plane_len(),
-        threads,
-        depth,
-        options.max_memory,
-    )?;
+    // Normals hold up to four more planes of `f64` per worker (32 bytes
+    // per sample beside the loop's 17) and 12 bytes per vertex: the budget
+    // counts each plane three times, which covers both.
+    let normals = params.iter().any(|p| p.normals);
+    let budget_plane = source.grid().plane_len() * if normals { 3 } else { 1 };
+    let plan = budget::plan(budget_plane, threads, depth, options.max_memory)?;
     let depth = plan.depth;
     check_cancel(options)?;
     let range = match part {
         Some((i, n)) => layer_range(layers, i, n)?,
         None => 0..layers,
     };
+    // The chunks the sinks get: those of the range's layers, and the top
+    // plane's when the range ends there. With normals, a part computes one
+    // layer more on each side, whose chunks only lend their triangles to
+    // the normals of the part's first and last chunks (`FillPending`).
+    let keep = range.start as u64..range.end as u64 + u64::from(range.end == layers);
+    let range = if normals && part.is_some() {
+        range.start.saturating_sub(1)..(range.end + 1).min(layers)
+    } else {
+        range
+    };
     let mut schedule = Schedule::new(
         range,
         layers,
         plan,
         options.max_memory,
-        [source.grid().plane_len(), threads],
+        [budget_plane, threads],
     );
     let layers_total = schedule.layers_total();
-    for (p, sink) in params.iter().zip(sinks.iter_mut()) {
-        sink.begin(&info(p))?;
+    let mut fills: Vec<FillPending> = sinks
+        .iter_mut()
+        .map(|sink| FillPending::new(&mut **sink, keep.clone()))
+        .collect();
+    for (p, fill) in params.iter().zip(fills.iter_mut()) {
+        fill.begin(&info(p))?;
     }
     // Scratch for every slab in flight; block vectors for one slab per
     // isovalue (see `Spares`; the budget counts them).
     let spares = Spares::new(plan.window, (depth + 1) * params.len());
-    let mut seams: Vec<Seam> = sinks
+    let mut seams: Vec<Seam> = fills
         .iter_mut()
         .map(|sink| {
-            Seam::new(&mut **sink)
+            Seam::new(sink)
                 .with_cancel(options.cancel)
                 .with_spares(&spares)
         })
@@ -172,7 +189,11 @@ pub(crate) fn extract_many_part_to(
     let run = |layers: Range<usize>| {
         check_cancel(options)?;
         source.check_unchanged()?;
-        slab_for_each(source, params, layers, &spares)
+        let mut results = slab_for_each(source, params, layers, &spares)?;
+        if normals {
+            slab_normals(source, params, &mut results)?;
+        }
+        Ok(results)
     };
     // Hands slab `i` to every seam; returns how many slabs got written
     // (the same for all seams, as they all see the same slabs).
@@ -229,12 +250,15 @@ pub(crate) fn extract_many_part_to(
     check_cancel(options)?;
     let mut all = Vec::with_capacity(seams.len());
     for seam in seams {
-        let (mut stats, totals) = seam.finish()?;
-        stats.vertices = totals.vertices;
-        stats.triangles = totals.triangles;
+        let (mut stats, _) = seam.finish()?;
         stats.slabs = schedule.started().len() as u64;
-        stats.seconds = start.elapsed().as_secs_f64();
         all.push(stats);
+    }
+    // What the sinks got (a part's extra layers of context left out).
+    for (stats, fill) in all.iter_mut().zip(&fills) {
+        stats.vertices = fill.totals().vertices;
+        stats.triangles = fill.totals().triangles;
+        stats.seconds = start.elapsed().as_secs_f64();
     }
     Ok(all)
 }

@@ -77,6 +77,7 @@ mod tests {
             inside: Inside::Low,
             close: true,
             threads: 3,
+            normals: false,
         };
         let summary = RunSummary::new(&params, &Grid::unit([2, 3, 4]), &Stats::default());
         let json = serde_json::to_string(&summary).unwrap();

@@ -2,6 +2,15 @@
 //! in native byte order and without scaling, lends them to the slab loop,
 //! which then compares them with the isovalue in their own type and turns
 //! into `f64` only the few samples next to the surface.
+//!
+//! A plane whose bytes are not aligned for their type (a file header of odd
+//! length before 16-bit samples, say) is lent too, as arrays of bytes
+//! decoded sample by sample (the `...Bytes` variants): before, such a plane
+//! was read into `f64`s, 8 bytes of the process's own memory per sample and
+//! per plane (two planes per worker: 1 GiB per worker for planes of
+//! 8192 x 8192), where a lent plane stays in the page cache. Each type has
+//! its own variant, so that a lent plane stays two words and the sample
+//! loops look at its type once per plane.
 
 use super::ScalarType;
 
@@ -24,28 +33,58 @@ pub enum LentPlane<'a> {
     F32(&'a [f32]),
     /// 64-bit floats.
     F64(&'a [f64]),
+    /// Unsigned 16-bit samples, native byte order, at any alignment.
+    U16Bytes(&'a [[u8; 2]]),
+    /// Signed 16-bit samples, native byte order, at any alignment.
+    I16Bytes(&'a [[u8; 2]]),
+    /// Unsigned 32-bit samples, native byte order, at any alignment.
+    U32Bytes(&'a [[u8; 4]]),
+    /// Signed 32-bit samples, native byte order, at any alignment.
+    I32Bytes(&'a [[u8; 4]]),
+    /// 32-bit floats, native byte order, at any alignment.
+    F32Bytes(&'a [[u8; 4]]),
+    /// 64-bit floats, native byte order, at any alignment.
+    F64Bytes(&'a [[u8; 8]]),
 }
 
 impl<'a> LentPlane<'a> {
-    /// Native-endian samples of `scalar` packed in `bytes`, or `None` when
-    /// the bytes are not aligned for the type (those must be decoded).
+    /// Native-endian samples of `scalar` packed in `bytes`: typed slices
+    /// when the bytes are aligned for the type, else byte arrays (the
+    /// `...Bytes` variants); `None` when the bytes do not hold a whole
+    /// number of samples.
     pub fn from_bytes(scalar: ScalarType, bytes: &'a [u8]) -> Option<Self> {
         use bytemuck::try_cast_slice as cast;
+        // Either cast fails only on the length: byte arrays have alignment 1.
         Some(match scalar {
             ScalarType::U8 => LentPlane::U8(bytes),
             ScalarType::I8 => LentPlane::I8(cast(bytes).ok()?),
-            ScalarType::U16 => LentPlane::U16(cast(bytes).ok()?),
-            ScalarType::I16 => LentPlane::I16(cast(bytes).ok()?),
-            ScalarType::U32 => LentPlane::U32(cast(bytes).ok()?),
-            ScalarType::I32 => LentPlane::I32(cast(bytes).ok()?),
-            ScalarType::F32 => LentPlane::F32(cast(bytes).ok()?),
-            ScalarType::F64 => LentPlane::F64(cast(bytes).ok()?),
+            ScalarType::U16 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::U16Bytes), |s| Ok(Self::U16(s)))
+                .ok()?,
+            ScalarType::I16 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::I16Bytes), |s| Ok(Self::I16(s)))
+                .ok()?,
+            ScalarType::U32 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::U32Bytes), |s| Ok(Self::U32(s)))
+                .ok()?,
+            ScalarType::I32 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::I32Bytes), |s| Ok(Self::I32(s)))
+                .ok()?,
+            ScalarType::F32 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::F32Bytes), |s| Ok(Self::F32(s)))
+                .ok()?,
+            ScalarType::F64 => cast(bytes)
+                .map_or_else(|_| cast(bytes).map(Self::F64Bytes), |s| Ok(Self::F64(s)))
+                .ok()?,
         })
     }
 
     /// Are the samples integers (not floats)?
     pub fn is_integer(&self) -> bool {
-        !matches!(self, LentPlane::F32(_) | LentPlane::F64(_))
+        !matches!(
+            self,
+            LentPlane::F32(_) | LentPlane::F64(_) | LentPlane::F32Bytes(_) | LentPlane::F64Bytes(_)
+        )
     }
 
     /// Sample `i` as an `f64` (exact for every type).
@@ -60,6 +99,12 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32(s) => f64::from(s[i]),
             LentPlane::F32(s) => f64::from(s[i]),
             LentPlane::F64(s) => s[i],
+            LentPlane::U16Bytes(s) => f64::from(u16::from_ne_bytes(s[i])),
+            LentPlane::I16Bytes(s) => f64::from(i16::from_ne_bytes(s[i])),
+            LentPlane::U32Bytes(s) => f64::from(u32::from_ne_bytes(s[i])),
+            LentPlane::I32Bytes(s) => f64::from(i32::from_ne_bytes(s[i])),
+            LentPlane::F32Bytes(s) => f64::from(f32::from_ne_bytes(s[i])),
+            LentPlane::F64Bytes(s) => f64::from_ne_bytes(s[i]),
         }
     }
 
@@ -75,6 +120,12 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32(s) => at.map(|i| f64::from(s[i])),
             LentPlane::F32(s) => at.map(|i| f64::from(s[i])),
             LentPlane::F64(s) => at.map(|i| s[i]),
+            LentPlane::U16Bytes(s) => at.map(|i| f64::from(u16::from_ne_bytes(s[i]))),
+            LentPlane::I16Bytes(s) => at.map(|i| f64::from(i16::from_ne_bytes(s[i]))),
+            LentPlane::U32Bytes(s) => at.map(|i| f64::from(u32::from_ne_bytes(s[i]))),
+            LentPlane::I32Bytes(s) => at.map(|i| f64::from(i32::from_ne_bytes(s[i]))),
+            LentPlane::F32Bytes(s) => at.map(|i| f64::from(f32::from_ne_bytes(s[i]))),
+            LentPlane::F64Bytes(s) => at.map(|i| f64::from_ne_bytes(s[i])),
         }
     }
 
@@ -89,6 +140,9 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32(s) => s.len(),
             LentPlane::F32(s) => s.len(),
             LentPlane::F64(s) => s.len(),
+            LentPlane::U16Bytes(s) | LentPlane::I16Bytes(s) => s.len(),
+            LentPlane::U32Bytes(s) | LentPlane::I32Bytes(s) | LentPlane::F32Bytes(s) => s.len(),
+            LentPlane::F64Bytes(s) => s.len(),
         }
     }
 

@@ -191,6 +191,12 @@ impl LentPlane<'_> {
             LentPlane::I32(_) => i32::subtracts_exactly(iso),
             LentPlane::F32(_) => f32::subtracts_exactly(iso),
             LentPlane::F64(_) => f64::subtracts_exactly(iso),
+            LentPlane::U16Bytes(_) => u16::subtracts_exactly(iso),
+            LentPlane::I16Bytes(_) => i16::subtracts_exactly(iso),
+            LentPlane::U32Bytes(_) => u32::subtracts_exactly(iso),
+            LentPlane::I32Bytes(_) => i32::subtracts_exactly(iso),
+            LentPlane::F32Bytes(_) => f32::subtracts_exactly(iso),
+            LentPlane::F64Bytes(_) => f64::subtracts_exactly(iso),
         }
     }
 }

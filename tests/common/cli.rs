@@ -174,3 +174,15 @@ pub fn temp_files(dir: &Path) -> Vec<String> {
         .filter(|n| n.starts_with(".tmc-") && n.ends_with(".tmp"))
         .collect()
 }
+
+/// A JSON number field of `--json` output.
+pub fn json_number(json: &[u8], key: &str) -> f64 {
+    let text = String::from_utf8_lossy(json);
+    let needle = format!("\"{key}\":");
+    let at = text.find(&needle).expect("key in JSON") + needle.len();
+    let digits: String = text[at..]
+        .chars()
+        .take_while(|c| c.is_ascii_digit() || *c == '.')
+        .collect();
+    digits.parse().unwrap()
+}

@@ -161,6 +161,7 @@ pub(super) fn read_off(src: &mut Source) -> Result<Mesh> {
     let mut mesh = Mesh {
         vertices: Vec::with_capacity(nv.min(MAX_RESERVE)),
         triangles: Vec::with_capacity(nf.min(MAX_RESERVE)),
+        normals: Vec::new(),
     };
     for i in 0..nv {
         if !src.next_content_line()? {

@@ -122,6 +122,7 @@ pub(super) fn read_ply(src: &mut Source) -> Result<Mesh> {
     let mut mesh = Mesh {
         vertices: Vec::with_capacity((vertex_count as usize).min(MAX_RESERVE)),
         triangles: Vec::new(),
+        normals: Vec::new(),
     };
     let mut scratch = Vec::new();
     let mut polygon: Vec<u32> = Vec::new();

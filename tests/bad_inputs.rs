@@ -1,6 +1,6 @@
 //! Bad inputs to `tmc extract`, one table row each: the one-line message
 //! (a substring), the exit status, and nothing left in the output directory
-//! (no mesh, no `.tmc-*.tmp`). Cases already covered by `cli_io.rs` (a
+//! (no mesh, no `.tmc-*.tmp`). Cases already covered by `cli_io/` (a
 //! missing input, a garbage `.npy`, an unknown extension, a NaN or infinite
 //! `--iso`, an unknown `--dtype`, an output directory that does not exist or
 //! cannot be written) are not repeated here. Also: the output refused when it

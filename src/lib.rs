@@ -35,6 +35,7 @@
 #![deny(clippy::undocumented_unsafe_blocks)]
 
 pub mod check;
+pub mod compare;
 pub mod error;
 pub mod export;
 pub mod files;

@@ -92,6 +92,31 @@ fn sigint_and_sigterm_stop_the_extraction_and_remove_the_output() {
 }
 
 #[test]
+fn sigint_stops_compare() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let input = volume().join("noise.raw");
+    let dims = format!("{N},{N},{N}");
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = spawn(&[
+        "compare",
+        s(&input),
+        "--dims",
+        &dims,
+        "--dtype",
+        "u8",
+        "--iso",
+        "127.5",
+        "--threads",
+        "1",
+        "--runs",
+        "1000",
+        "-q",
+    ]);
+    still_running_after(&mut child, 0.5);
+    stop(child, "INT", 130, dir.path());
+}
+
+#[test]
 fn sigkill_never_leaves_a_file_at_the_output_path() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let input = volume().join("noise.raw");

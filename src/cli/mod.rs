@@ -10,6 +10,7 @@ mod stderr;
 
 mod batch;
 mod check;
+mod compare;
 mod convert;
 mod extract;
 mod extract_args;
@@ -63,6 +64,7 @@ enum Command {
     Convert(convert::ConvertArgs),
     Merge(merge::MergeArgs),
     Check(check::CheckArgs),
+    Compare(compare::CompareArgs),
     Info(info::InfoArgs),
     Synth(synth::SynthArgs),
 }
@@ -83,6 +85,7 @@ pub fn main() -> ExitCode {
         | Command::Convert(_)
         | Command::Merge(_)
         | Command::Synth(_)
+        | Command::Compare(_)
         | Command::Info(_) => match signals::Interrupts::install() {
             Ok(i) => Some(i),
             Err(e) => {
@@ -97,6 +100,7 @@ pub fn main() -> ExitCode {
         Command::Convert(args) => convert::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Merge(args) => merge::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Check(args) => check::run(&args),
+        Command::Compare(args) => compare::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Info(args) => info::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Synth(args) => synth::run(&args, interrupts.as_ref().map(|i| i.flag())),
     }));

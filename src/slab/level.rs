@@ -7,14 +7,14 @@ use crate::params::{ExtractParams, Inside};
 
 /// Which side of the isovalue is inside, and the value the kernel sees.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Level {
+pub(crate) struct Level {
     pub(super) iso: f64,
     /// 1 for `Inside::High`, -1 for `Inside::Low`.
     pub(super) sign: f64,
 }
 
 impl Level {
-    pub(super) fn new(params: &ExtractParams) -> Self {
+    pub(crate) fn new(params: &ExtractParams) -> Self {
         let sign = match params.inside {
             Inside::High => 1.0,
             Inside::Low => -1.0,
@@ -44,7 +44,7 @@ impl Level {
     /// replaced last) so that the eight run side by side. (`rel` itself
     /// stays as it is: the vertex loops compile worse with this form.)
     #[inline(always)]
-    pub(super) fn rel_all(self, values: [f64; 8]) -> [f64; 8] {
+    pub(crate) fn rel_all(self, values: [f64; 8]) -> [f64; 8] {
         const LIMIT: f64 = f64::MAX / 4.0;
         let mut out = [0.0; 8];
         for (g, v) in out.iter_mut().zip(values) {
@@ -69,7 +69,7 @@ impl Level {
     /// rounded. One pass of plain arithmetic over the eight, without a
     /// branch, so that it runs in vector registers.
     #[inline(always)]
-    pub(super) fn residuals(self, values: [f64; 8]) -> [f64; 8] {
+    pub(crate) fn residuals(self, values: [f64; 8]) -> [f64; 8] {
         let mut out = [0.0; 8];
         for (r, &v) in out.iter_mut().zip(&values) {
             let d = v - self.iso;

@@ -44,5 +44,6 @@ mod plane;
 mod process;
 mod spares;
 
+pub(crate) use level::Level;
 pub use process::process_slab;
 pub use spares::{chunk_bytes, Spares};

@@ -33,8 +33,9 @@ use crate::Stats;
 use serde::Serialize;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Cells that TMC triangulates differently from standard MC, by kind (see
-/// the [module](self) for the kinds; a cell may count in several).
+/// Cells that TMC triangulates differently from standard MC, by kind (a
+/// cell may count in several). Only ambiguous cells can differ: both
+/// methods copy the same MC table triangles for the others.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
 pub struct DifferingCells {
     /// Cells that differ, of any kind (each counted once).

@@ -284,7 +284,10 @@ fn the_gyroid_has_the_same_topology_by_both_methods() {
     let input = synth(dir.path(), "gyroid", "64,64,64", "f32", "gyroid.npy");
     let json = compare_json(&[s(&input), "--iso", "0", "--close"]);
     // Not the same meshes: some cells differ, and the topology still agrees.
-    assert!(json["differing_cells"]["cells"].as_u64().unwrap() > 10, "{json}");
+    assert!(
+        json["differing_cells"]["cells"].as_u64().unwrap() > 10,
+        "{json}"
+    );
     for key in ["components", "euler", "genus"] {
         assert!(!json["tmc"][key].is_null(), "{key}: {json}");
         assert_eq!(json["tmc"][key], json["mc"][key], "{key}");

@@ -52,9 +52,15 @@ fn volume() -> &'static Path {
 /// Starts `tmc extract` of `input` (the noise volume's layout) into
 /// `output` on one thread.
 fn start(input: &Path, output: &Path) -> Child {
+    start_command("extract", input, &["-o", s(output)])
+}
+
+/// Starts `tmc COMMAND input` with the noise volume's layout, its
+/// isovalue and one thread, then `extra`.
+fn start_command(command: &str, input: &Path, extra: &[&str]) -> Child {
     let dims = format!("{N},{N},{N}");
-    spawn(&[
-        "extract",
+    let mut args = vec![
+        command,
         s(input),
         "--dims",
         &dims,
@@ -64,9 +70,9 @@ fn start(input: &Path, output: &Path) -> Child {
         "127.5",
         "--threads",
         "1",
-        "-o",
-        s(output),
-    ])
+    ];
+    args.extend(extra);
+    spawn(&args)
 }
 
 /// Sends `name` to `child` and checks the clean end within 2 s, nothing
@@ -95,23 +101,8 @@ fn sigint_and_sigterm_stop_the_extraction_and_remove_the_output() {
 fn sigint_stops_compare() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let input = volume().join("noise.raw");
-    let dims = format!("{N},{N},{N}");
     let dir = tempfile::tempdir().unwrap();
-    let mut child = spawn(&[
-        "compare",
-        s(&input),
-        "--dims",
-        &dims,
-        "--dtype",
-        "u8",
-        "--iso",
-        "127.5",
-        "--threads",
-        "1",
-        "--runs",
-        "1000",
-        "-q",
-    ]);
+    let mut child = start_command("compare", &input, &["--runs", "1000", "-q"]);
     still_running_after(&mut child, 0.5);
     stop(child, "INT", 130, dir.path());
 }

@@ -328,6 +328,34 @@ fn topology_beyond_its_bound_is_left_out_and_said() {
 }
 
 #[test]
+fn compare_keeps_to_max_memory_on_the_densest_surface() {
+    // A mesh of some 240 MB in flight if nothing bounded it; the timed runs
+    // keep to --max-memory, and the survey holds two planes per thread.
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::cli::uniform_npy(dir.path(), [256, 256, 48]);
+    let json = compare_json(&[
+        s(&input),
+        "--iso",
+        "0.5",
+        "--threads",
+        "2",
+        "--max-memory",
+        "48M",
+        "--topology-memory",
+        "1K",
+    ]);
+    assert!(
+        json["tmc"]["triangles"].as_u64().unwrap() > 10_000_000,
+        "{json}"
+    );
+    let peak = json["peak_rss_anon_bytes"].as_f64().unwrap();
+    assert!(
+        peak <= 48.0 * (1 << 20) as f64,
+        "peak {peak} bytes beyond --max-memory 48M"
+    );
+}
+
+#[test]
 fn a_set_cancel_flag_stops_the_survey() {
     let volume = random_volume([6, 6, 6], 2, 7);
     let cancel = std::sync::atomic::AtomicBool::new(true);

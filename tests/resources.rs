@@ -117,19 +117,7 @@ fn max_memory_holds_on_the_densest_surface() {
     // Uniform random samples: about 3.8 triangles a cell, some 25 times
     // what the budget's first estimate of a slab's mesh assumed.
     let dir = tempfile::tempdir().unwrap();
-    let [nx, ny, nz] = [256usize, 256, 48];
-    let mut bytes = common::cli::npy_header(&format!(
-        "{{'descr': '<f4', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}"
-    ));
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    for _ in 0..nx * ny * nz {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        bytes.extend_from_slice(&((state >> 40) as f32 / (1u64 << 24) as f32).to_le_bytes());
-    }
-    let input = dir.path().join("uniform.npy");
-    fs::write(&input, bytes).unwrap();
+    let input = common::cli::uniform_npy(dir.path(), [256, 256, 48]);
     let run = |name: &str, extra: &[&str]| {
         let output = dir.path().join(name);
         let mut argv = vec!["extract", s(&input), "--iso", "0.5", "-o", s(&output)];

@@ -126,9 +126,7 @@ fn cast<T>(field: &[u8], f: impl Fn(u8) -> T) -> Vec<T> {
 /// Grids whose `f32` coordinates cannot resolve the offset of 2^-10 of an
 /// edge (about 2^13 spacings from the origin: the offset doubles until they
 /// can), and turned or mirrored grids (the general index-to-world map):
-/// sound too. (Farther out, beyond about 2^14 spacings, the interior vertices
-/// that keep 2^-10 of a cell from its faces can round onto them: see the limits
-/// in docs/conventions.md#ties.)
+/// sound too. (Farther out see [`far_grids_keep_interior_tie_vertices_apart`].)
 #[test]
 fn far_and_turned_grids_keep_tie_vertices_apart() {
     let field: Vec<f64> = tie_field(7).iter().map(|&v| f64::from(v)).collect();
@@ -159,6 +157,58 @@ fn far_and_turned_grids_keep_tie_vertices_apart() {
             for close in [false, true] {
                 let (mesh, _) = extract(&vol, &params(inside, close)).expect("extract");
                 assert_sound(&mesh, close, &format!("{name} {inside:?} close {close}"));
+            }
+        }
+    }
+}
+
+/// Grids beyond 2^14 spacings from the origin, where `f32` cannot tell an
+/// interior vertex 2^-10 of its cell from the cell's faces (the margin
+/// widens, docs/conventions.md#ties): random fields and spacings, the
+/// origin far on each axis alone and on all three, either sign, up to about
+/// 2^18.8 spacings (where a quarter of the cell is what `f32` still
+/// resolves); either side inside, with and without `--close`. The grid
+/// issue 31 found two vertices at one position on comes first.
+#[test]
+fn far_grids_keep_interior_tie_vertices_apart() {
+    let mut rng = Pcg64::seed_from_u64(31);
+    let mut grids = vec![(3, [2.0e5, -3.0e5, 1.0e5], [1.0, 2.0, 1.5])];
+    for round in 0..24 {
+        let spacing: [f64; 3] = std::array::from_fn(|_| rng.gen_range(0.5..2.0));
+        let least = spacing.iter().fold(f64::INFINITY, |m, &s| m.min(s));
+        let mut far = || {
+            let sign = if rng.gen_bool(0.5) { 1.0 } else { -1.0 };
+            sign * least * rng.gen_range(2.0f64.powi(14)..4.5e5)
+        };
+        // Far on axis `round % 4` alone (3: on all of them).
+        let axis = round % 4;
+        let origin: [f64; 3] =
+            std::array::from_fn(|i| if axis == 3 || axis == i { far() } else { 0.0 });
+        grids.push((round as u64 + 100, origin, spacing));
+    }
+    for (seed, origin, spacing) in grids {
+        let grid = Grid {
+            dims: DIMS,
+            spacing,
+            origin,
+            direction: tmc::grid::IDENTITY,
+        };
+        // Plateaus of ties, and independent integers (as in the issue).
+        let mut uniform = Pcg64::seed_from_u64(seed);
+        let fields: [Vec<f64>; 2] = [
+            tie_field(seed).iter().map(|&v| f64::from(v)).collect(),
+            (0..DIMS.iter().product::<usize>())
+                .map(|_| f64::from(uniform.gen_range(0..=4u8)))
+                .collect(),
+        ];
+        for field in fields {
+            let vol = ArrayVolume::new(grid, field).unwrap();
+            for inside in [Inside::High, Inside::Low] {
+                for close in [false, true] {
+                    let (mesh, _) = extract(&vol, &params(inside, close)).expect("extract");
+                    let case = format!("{seed}: {origin:?} {spacing:?} {inside:?} close {close}");
+                    assert_sound(&mesh, close, &case);
+                }
             }
         }
     }
@@ -208,5 +258,36 @@ fn merged_parts_keep_tie_vertices_apart() {
         assert!(out.status.success(), "{args:?}: {out:?}");
         let out = tmc(&["check", s(&merged), "--strict", "--require-surface"]);
         assert!(out.status.success(), "{opts:?}: {out:?}");
+    }
+}
+
+/// A volume without ties (random `f32`s at `--iso 2`: no sample, face
+/// saddle or body saddle at the isovalue) gives the bytes the commit before
+/// ties (db9cd6e) wrote for it: `tests/data/tie_free*.ply`, made by that
+/// commit's `tmc extract tests/data/tie_free.nhdr --iso 2 -o tie_free.ply`,
+/// and of `tie_free_far.nhdr` (the same samples, origin `(2e5, -3e5, 1e5)`,
+/// spacing `(1, 2, 1.5)`: a grid far enough for both tie margins to widen,
+/// which must not move a vertex that is not at a tie) with `--inside low`.
+#[test]
+fn tie_free_volumes_keep_the_bytes_from_before_ties() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let dir = tempfile::tempdir().unwrap();
+    for (name, extra) in [
+        ("tie_free", &[][..]),
+        ("tie_free_far", &["--inside", "low"]),
+    ] {
+        let input = data.join(format!("{name}.nhdr"));
+        let out = dir.path().join(format!("{name}.ply"));
+        let mut args = vec!["extract", s(&input), "--iso", "2", "-o", s(&out), "-q"];
+        args.extend_from_slice(extra);
+        let run = tmc(&args);
+        assert!(run.status.success(), "{args:?}: {run:?}");
+        let expect = std::fs::read(data.join(format!("{name}.ply"))).unwrap();
+        let got = std::fs::read(&out).unwrap();
+        assert!(
+            expect.len() > 100_000,
+            "{name}: a fixture too small to check"
+        );
+        assert!(got == expect, "{name}: the bytes differ from db9cd6e's");
     }
 }

@@ -7,7 +7,7 @@ use super::decider::{inside_joined, residual_det2_sign};
 use super::quadratic::{inner_hexagon, saddle_points, Saddles};
 use super::scale::normalized;
 use super::tables::tables;
-use super::ties::{edge_fraction, TIE_OFFSET};
+use super::ties::edge_fraction;
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
 use super::tunnel::labelled_joins;
 use crate::Stats;
@@ -210,7 +210,7 @@ fn triangulate_decided(
         count_ambiguous(stats, n);
         let contour = || t.contours[index].contour(usize::from(head.centred));
         let centre = interior_vertex(&saddle_points(g), g, contour);
-        return Triangles::Centred(t.fans(head), interior_clamp(g, centre));
+        return Triangles::Centred(t.fans(head), interior_clamp(g, centre, out.tie_margin));
     }
     let set = &t.contours[index];
     if let Some((c1, c2)) = tunnel {
@@ -237,8 +237,9 @@ fn triangulate_decided(
             fan(contour, &mut out.triangles);
         }
     }
+    let margin = out.tie_margin;
     for p in &mut out.interior {
-        *p = interior_clamp(g, *p);
+        *p = interior_clamp(g, *p, margin);
     }
     Triangles::Mesh
 }
@@ -382,7 +383,8 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
 }
 
 /// An interior vertex clamped into the cell: into the closed unit cube, and
-/// further, into the cube [`TIE_OFFSET`] inside it, in a cell with a tie
+/// further, into the cube `margin` inside it ([`TIE_OFFSET`](super::ties::TIE_OFFSET), or more on a
+/// grid far from the origin: [`CellMesh::tie_margin`]), in a cell with a tie
 /// corner (a value 0), or where the vertex lies on the cell's boundary and
 /// a face of the cell has a saddle tie (`g0 g2 = g1 g3`: its saddle value
 /// is the isovalue). At such ties the level set holds edges of the cell or
@@ -392,9 +394,9 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
 /// vertex is apart from both, which keep to the boundary. Elsewhere the
 /// vertex is the paper's, bit for bit.
 #[inline]
-fn interior_clamp(g: &[f64; 8], p: DVec3) -> DVec3 {
+fn interior_clamp(g: &[f64; 8], p: DVec3, margin: f64) -> DVec3 {
     let p = p.clamp(DVec3::ZERO, DVec3::ONE);
-    let inner = p.clamp(DVec3::splat(TIE_OFFSET), DVec3::splat(1.0 - TIE_OFFSET));
+    let inner = p.clamp(DVec3::splat(margin), DVec3::splat(1.0 - margin));
     if inner == p {
         // Already inside the inner cube (most vertices): no tie test.
         return p;

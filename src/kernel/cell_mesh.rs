@@ -4,6 +4,7 @@
 //! Every part of the kernel and the slab loop speak these types, so they
 //! sit apart from the code that makes them.
 
+use super::ties::TIE_OFFSET;
 use glam::DVec3;
 
 /// A vertex of a cell's triangles: `0..12` is the vertex on that cell edge,
@@ -21,14 +22,30 @@ pub struct CellMesh {
     pub triangles: Vec<[VertexRef; 3]>,
     /// Interior vertices, local coordinates in [0, 1]^3.
     pub interior: Vec<DVec3>,
+    /// How far (a fraction of the cell, per axis) an interior vertex that
+    /// ties would put on or near the cell's boundary keeps from it:
+    /// [`TIE_OFFSET`] (the default), or more on a grid whose `f32`
+    /// coordinates cannot tell that offset from the boundary (far from the
+    /// origin; the slab loop's `Placement` chooses it per grid, so every
+    /// slab and part places alike). Between `TIE_OFFSET` and `1/4`.
+    pub tie_margin: f64,
 }
 
 impl CellMesh {
-    /// An empty cell mesh with room for the largest case.
+    /// An empty cell mesh with room for the largest case, whose tie
+    /// vertices keep [`TIE_OFFSET`] of the cell from its boundary.
     pub fn new() -> Self {
+        Self::with_tie_margin(TIE_OFFSET)
+    }
+
+    /// [`CellMesh::new`] with interior tie vertices `margin` of the cell
+    /// from its boundary (see [`CellMesh::tie_margin`]; clamped to
+    /// `[TIE_OFFSET, 1/4]`).
+    pub fn with_tie_margin(margin: f64) -> Self {
         CellMesh {
             triangles: Vec::with_capacity(48),
             interior: Vec::with_capacity(8),
+            tie_margin: margin.clamp(TIE_OFFSET, 0.25),
         }
     }
 

@@ -13,9 +13,13 @@ pub(super) struct Placement {
     pub(super) grid: Grid,
     pub(super) axis_aligned: bool,
     /// `f32` tells a vertex [`TIE_OFFSET`] of an edge from the edge's end
-    /// everywhere in the grid (see [`resolves_tie_offset`]); when not, a
+    /// everywhere in the grid (see [`resolves_offset`]); when not, a
     /// tie's vertex is placed by [`Placement::far_tie_fraction`].
     pub(super) resolves_ties: bool,
+    /// How far an interior vertex that ties would put on or near its
+    /// cell's boundary keeps from it ([`CellMesh::tie_margin`](crate::kernel::CellMesh::tie_margin)):
+    /// [`TIE_OFFSET`] where that resolves, else [`interior_tie_margin`].
+    pub(super) interior_margin: f64,
 }
 
 impl Placement {
@@ -23,7 +27,8 @@ impl Placement {
         Placement {
             grid: *grid,
             axis_aligned: grid.direction == IDENTITY,
-            resolves_ties: resolves_tie_offset(grid),
+            resolves_ties: resolves_offset(grid, TIE_OFFSET),
+            interior_margin: interior_tie_margin(grid),
         }
     }
 
@@ -76,7 +81,7 @@ impl Placement {
     /// [`Placement::crossing`] of an edge from `(x, y, z)` along `axis` that
     /// ends at a tie (at its start when `at_start`, else at its other end)
     /// in a grid whose `f32` coordinates may not resolve [`TIE_OFFSET`]
-    /// ([`resolves_tie_offset`]): the first of that offset, twice, four
+    /// ([`resolves_offset`]): the first of that offset, twice, four
     /// times ... it (up to half the edge) whose `f32` position is not the
     /// tie sample's own, so that the vertices round the tie stay apart. A
     /// function of the edge alone: every slab and part places it alike.
@@ -104,8 +109,27 @@ impl Placement {
     }
 }
 
+/// The margin an interior vertex of a tie cell keeps from the cell's
+/// boundary, a fraction of the cell per axis: the first of [`TIE_OFFSET`],
+/// twice, four times ... it (up to `1/4`) that `f32` world coordinates
+/// resolve everywhere in the grid ([`resolves_offset`]), so that such a
+/// vertex is apart from the points of the boundary (edge vertices, grid
+/// samples) and from the interior vertex of the cell across, which keeps
+/// the same margin on the other side. A function of the grid alone, like
+/// [`Placement::far_tie_fraction`], so every slab and part places alike;
+/// [`TIE_OFFSET`] on the usual grid (where it changes nothing). Beyond
+/// about 2^20 spacings from the origin (an `f32` unit in the last place
+/// above a sixteenth of the spacing) even `1/4` is not resolved.
+fn interior_tie_margin(grid: &Grid) -> f64 {
+    let mut margin = TIE_OFFSET;
+    while margin < 0.25 && !resolves_offset(grid, margin) {
+        margin *= 2.0;
+    }
+    margin
+}
+
 /// Whether `f32` world coordinates tell apart every point of the grid and
-/// the points [`TIE_OFFSET`] of an edge from it: the smallest world step of
+/// the points `offset` of an edge from it: the smallest world step of
 /// that offset along an index axis (its largest coordinate, at least a
 /// third of the step for unit direction columns) is at least four `f32`
 /// units in the last place at the largest world coordinate the grid can
@@ -113,7 +137,7 @@ impl Placement {
 /// most each, cannot merge them. True for the usual grid (spacing 1,
 /// `|origin| + Σ dims` below 2^12); false for NaN or infinite
 /// coordinates.
-fn resolves_tie_offset(grid: &Grid) -> bool {
+fn resolves_offset(grid: &Grid, offset: f64) -> bool {
     let reach: f64 = (0..3)
         .map(|j| grid.dims[j] as f64 * grid.spacing[j].abs())
         .sum();
@@ -121,7 +145,7 @@ fn resolves_tie_offset(grid: &Grid) -> bool {
     let step = (0..3)
         .map(|j| {
             let column = (0..3).fold(0.0f64, |m, i| m.max(grid.direction[i][j].abs()));
-            TIE_OFFSET * grid.spacing[j].abs() * column
+            offset * grid.spacing[j].abs() * column
         })
         .fold(f64::INFINITY, f64::min);
     let top = largest as f32;
@@ -189,5 +213,25 @@ mod tests {
             }
         }
         assert_eq!(resolved, 3);
+    }
+
+    #[test]
+    fn interior_margin_widens_only_where_f32_needs_it() {
+        let margin = |origin: f64, spacing: f64| {
+            let grid = Grid {
+                spacing: [spacing; 3],
+                origin: [origin; 3],
+                ..Grid::unit([300, 300, 300])
+            };
+            Placement::new(&grid).interior_margin
+        };
+        assert_eq!(margin(0.0, 1.0), TIE_OFFSET);
+        assert_eq!(margin(1e3, 0.5), TIE_OFFSET);
+        // 2^18 + 900: an f32 unit of 2^-5, four of them 1/8 of a spacing.
+        assert_eq!(margin(262_144.0, 1.0), 0.125);
+        assert_eq!(margin(262_144.0, 2.0), 0.0625);
+        // Nothing resolves: a quarter of the cell at most.
+        assert_eq!(margin(1e9, 1.0), 0.25);
+        assert_eq!(margin(f64::NAN, 1.0), 0.25);
     }
 }

@@ -61,7 +61,7 @@ pub fn process_slab(
         &mut block.vertices,
         &mut stats,
     )?;
-    let mut cell = CellMesh::new();
+    let mut cell = CellMesh::with_tie_margin(place.interior_margin);
     let mut waiting = Vec::with_capacity(nx);
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);

@@ -21,7 +21,7 @@
 use super::ascii::read_ascii;
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::spill::spill;
-use super::{set_direction, Access, Endian, Grid, SampleSource, ScalarType};
+use super::{set_direction, Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
 // One line reader and one header limit (1 MiB, without the file list of
 // `LIST`) for both text-header formats.
 use super::nrrd::{read_line, MAX_HEADER};
@@ -80,6 +80,15 @@ impl SampleSource for MetaImageVolume {
                 })?;
                 slice.read_plane(0, out)
             }
+        }
+    }
+
+    /// Lends the stored plane as `RawVolume` does (native byte order,
+    /// aligned): the slab loop then holds no `f64` copy of it.
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        match &self.data {
+            Data::Volume(v) => v.lend_plane(z),
+            Data::Slices(slices) => slices.get(z)?.lend_plane(0),
         }
     }
 

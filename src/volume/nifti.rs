@@ -19,7 +19,7 @@
 
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::spill::spill;
-use super::{set_direction, Access, Endian, Grid, SampleSource, ScalarType};
+use super::{set_direction, Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::{BufReader, Read};
@@ -73,6 +73,17 @@ impl SampleSource for NiftiVolume {
             }
         }
         Ok(())
+    }
+
+    /// Lends the stored plane as `RawVolume` does (native byte order,
+    /// aligned) when the samples are not scaled: the slab loop then holds no
+    /// `f64` copy of the plane (8 bytes a sample, two planes a worker).
+    /// Scaled samples are read by `read_plane`.
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        if self.scaling.is_some() {
+            return None;
+        }
+        self.inner.lend_plane(z)
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

@@ -44,5 +44,5 @@ mod plane;
 mod process;
 mod spares;
 
-pub use process::process_slab;
+pub use process::{process_slab, process_window, Window};
 pub use spares::{chunk_bytes, Spares};

@@ -16,6 +16,11 @@ pub(super) struct Placement {
     /// everywhere in the grid (see [`resolves_tie_offset`]); when not, a
     /// tie's vertex is placed by [`Placement::far_tie_fraction`].
     pub(super) resolves_ties: bool,
+    /// The x and y grid index of the slab's sample (0, 0) (not zero only
+    /// when the slab is a [`Window`](super::Window) of the grid), added to
+    /// every index before it is placed, so that a window places its
+    /// vertices bit for bit where the whole grid does.
+    pub(super) offset: [f64; 2],
 }
 
 impl Placement {
@@ -24,7 +29,31 @@ impl Placement {
             grid: *grid,
             axis_aligned: grid.direction == IDENTITY,
             resolves_ties: resolves_tie_offset(grid),
+            offset: [0.0; 2],
         }
+    }
+
+    /// The placement of a window of `window.full` whose own grid (its
+    /// dims, the whole grid's origin, spacing and directions) is `grid`:
+    /// ties are resolved as in the whole grid.
+    pub(super) fn windowed(grid: &Grid, window: &super::Window) -> Self {
+        Placement {
+            grid: *grid,
+            axis_aligned: grid.direction == IDENTITY,
+            resolves_ties: resolves_tie_offset(&window.full),
+            offset: window.offset.map(|o| o as f64),
+        }
+    }
+
+    /// The grid index of the slab's sample `(x, y)` on plane `z`, as the
+    /// whole grid numbers it.
+    #[inline(always)]
+    pub(super) fn index(&self, x: usize, y: usize, z: usize) -> [f64; 3] {
+        [
+            x as f64 + self.offset[0],
+            y as f64 + self.offset[1],
+            z as f64,
+        ]
     }
 
     /// The world position of a (fractional) grid index.

@@ -9,6 +9,7 @@ use super::placement::Placement;
 use super::plane::Plane;
 use super::spares::{Scratch, Spares};
 use crate::error::make_room;
+use crate::grid::Grid;
 use crate::kernel::tables::tables;
 use crate::kernel::CellMesh;
 use crate::mesh::Chunk;
@@ -29,11 +30,44 @@ pub fn process_slab(
     layers: Range<usize>,
     spares: &Spares,
 ) -> Result<(Vec<Chunk>, Stats)> {
+    process_window(source, params, layers, spares, None)
+}
+
+/// A rectangle of a grid's planes that a slab is triangulated in: the
+/// source handed to [`process_window`] holds the samples from `offset`
+/// on, its grid has the window's x and y sizes and the whole grid's
+/// origin, spacing, directions and z size.
+///
+/// The chunks are those of the whole grid when every crossed edge and
+/// every cell with a corner inside lies in the window (a window that holds
+/// every inside sample of the slab's planes and one sample more on each
+/// side, clipped to the grid): vertices and triangles come in the same
+/// raster order, and vertices are placed from the whole grid's indices.
+#[derive(Debug, Clone, Copy)]
+pub struct Window {
+    /// The whole grid.
+    pub full: Grid,
+    /// The whole grid's x and y index of the window's sample (0, 0).
+    pub offset: [usize; 2],
+}
+
+/// [`process_slab`] of a source that is a [`Window`] of a larger grid
+/// (`None`: the whole grid).
+pub fn process_window(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    layers: Range<usize>,
+    spares: &Spares,
+    window: Option<&Window>,
+) -> Result<(Vec<Chunk>, Stats)> {
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
     let start = Instant::now();
     let mirrored = grid.is_mirrored();
-    let place = Placement::new(&grid);
+    let place = match window {
+        Some(window) => Placement::windowed(&grid, window),
+        None => Placement::new(&grid),
+    };
     let mut stats = Stats::default();
     let mut chunks = Vec::with_capacity(layers.len() + 1);
     let tables = tables();
@@ -44,11 +78,12 @@ pub fn process_slab(
     let mut ahead = ReadAhead::new(source, layers.start);
     let Scratch {
         planes: [lower, upper],
+        dims,
         mut z_first,
         mut rows,
     } = spares
         .take_scratch()
-        .filter(|s| s.z_first.len() == ny)
+        .filter(|s| s.dims == [nx, ny])
         .unwrap_or_else(|| Scratch::new(&grid));
     let mut bottom = Plane::new(lower);
     let mut top = Plane::new(upper);
@@ -56,6 +91,7 @@ pub fn process_slab(
     // numbered the same way here and there, and kept by the block of that plane.
     bottom.load(
         source,
+        &place,
         params,
         layers.start,
         &mut block.vertices,
@@ -69,7 +105,14 @@ pub fn process_slab(
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         ahead.reading(source, z + 1);
-        top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
+        top.load(
+            source,
+            &place,
+            params,
+            z + 1,
+            &mut next.vertices,
+            &mut stats,
+        )?;
         // z-edges between the two planes.
         let words = bottom.inside.words() - 1;
         for (y, first) in z_first.iter_mut().enumerate() {
@@ -85,7 +128,7 @@ pub fn process_slab(
                     let (a, b) = (bottom.rel(i), top.rel(i));
                     block
                         .vertices
-                        .push(place.edge([x as f64, y as f64, z as f64], 2, a, b));
+                        .push(place.edge(place.index(x, y, z), 2, a, b));
                     Ok::<(), Error>(())
                 })?;
             }
@@ -127,6 +170,7 @@ pub fn process_slab(
     }
     spares.give_scratch(Scratch {
         planes: [bottom.into_buffers(), top.into_buffers()],
+        dims,
         z_first,
         rows,
     });

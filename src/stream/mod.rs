@@ -25,6 +25,7 @@
 pub mod budget;
 pub mod cancellable;
 pub mod entry;
+pub mod labels;
 mod normals;
 pub mod parts;
 pub mod pass;
@@ -35,6 +36,7 @@ pub mod seam;
 pub mod threads;
 
 pub use entry::{extract, extract_part_to, extract_to};
+pub use labels::extract_labels_to;
 pub use parts::layer_range;
 pub use pass::extract_many_to;
 pub use preflight::check_grid;

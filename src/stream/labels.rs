@@ -29,12 +29,12 @@ use crate::grid::Grid;
 use crate::mesh::{Chunk, MeshSink};
 use crate::params::{ExtractParams, Inside, PipelineOptions};
 use crate::slab::{process_window, Spares, Window};
-use crate::volume::{Access, LentPlane, SampleSource};
+use crate::volume::{plane_runs, Access, LentPlane, SampleSource};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
 
-/// The code of a NaN sample (only `--close`'s border: a label map is
-/// checked for whole numbers first, see [`crate::volume::scan_labels`]).
+/// The code of `--close`'s border of NaN samples (a tie: outside every
+/// label, as in each label's padded indicator).
 const TIE: u16 = u16::MAX;
 
 /// The most labels one pass takes (their codes are `u16`, one kept for
@@ -110,11 +110,8 @@ pub fn extract_labels_to(
 }
 
 /// The code of value `v`: its label's number in `lookup` (from 1), 0 for
-/// any other value, [`TIE`] for NaN.
+/// any other value (NaN too: no label).
 fn code_of(lookup: &[(i64, u16)], v: f64) -> u16 {
-    if v.is_nan() {
-        return TIE;
-    }
     // Whole numbers in i64's range convert exactly; anything else is no
     // label (`as` saturates, and the comparison catches it).
     let l = v as i64;
@@ -150,37 +147,40 @@ fn label_slab(
     layers: Range<usize>,
     spares: &Spares,
 ) -> Result<Vec<(Vec<Chunk>, Stats)>> {
+    // The source is padded with NaN for `--close` (see `run_pass`).
+    let close = params.first().is_some_and(|p| p.close);
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
     let area = nx * ny;
     let planes = layers.len() + 1;
     let mut codes: Vec<u16> = try_filled("the label codes of a slab", planes * area, 0)?;
     let mut rects: Vec<Option<Rect>> = vec![None; params.len()];
-    let mut values = try_filled("a plane of samples", area, 0.0)?;
+    let mut values = Vec::new();
     for (k, z) in (layers.start..=layers.end).enumerate() {
-        source.read_plane(z, &mut values)?;
         let plane = &mut codes[k * area..(k + 1) * area];
-        for y in 0..ny {
-            let row = &values[y * nx..(y + 1) * nx];
-            let out = &mut plane[y * nx..(y + 1) * nx];
-            let mut x = 0;
-            while x < nx {
-                // A run of equal values (NaN runs one sample at a time).
-                let v = row[x];
-                let mut end = x + 1;
-                while end < nx && row[end] == v {
-                    end += 1;
+        plane_runs(source, z, &mut values, |y, x, end, v| {
+            let code = code_of(lookup, v);
+            plane[y * nx + x..y * nx + end].fill(code);
+            if code != 0 {
+                let run = [x, end - 1];
+                match &mut rects[usize::from(code) - 1] {
+                    Some(rect) => rect.grow(run, y),
+                    slot => *slot = Some(Rect { x: run, y: [y, y] }),
                 }
-                let code = code_of(lookup, v);
-                out[x..end].fill(code);
-                if code != 0 && code != TIE {
-                    let run = [x, end - 1];
-                    match &mut rects[usize::from(code) - 1] {
-                        Some(rect) => rect.grow(run, y),
-                        slot => *slot = Some(Rect { x: run, y: [y, y] }),
-                    }
+            }
+            Ok(())
+        })?;
+        if close {
+            // `--close`'s border of NaN: a tie for every label.
+            if z == 0 || z == nz - 1 {
+                plane.fill(TIE);
+            } else {
+                for row in plane.chunks_exact_mut(nx) {
+                    row[0] = TIE;
+                    row[nx - 1] = TIE;
                 }
-                x = end;
+                plane[..nx].fill(TIE);
+                plane[area - nx..].fill(TIE);
             }
         }
         if source.interrupted() {
@@ -204,20 +204,24 @@ fn label_slab(
         let (wx, wy) = (xs.len(), ys.len());
         indicator.clear();
         crate::error::make_room(&mut indicator, planes * wx * wy, "a label's indicator")?;
-        let mut ties = false;
         for k in 0..planes {
             for y in ys.clone() {
                 let row = &codes[k * area + y * nx..][xs.clone()];
-                indicator.extend(row.iter().map(|&c| match c {
-                    c if c == code => 1u8,
-                    TIE => {
-                        ties = true;
-                        2
-                    }
-                    _ => 0,
-                }));
+                // Without a branch, so that it runs in vector registers.
+                indicator.extend(
+                    row.iter()
+                        .map(|&c| u8::from(c == code) | (u8::from(c == TIE) << 1)),
+                );
             }
         }
+        // Ties are the border's, where the window reaches it.
+        let ties = close
+            && (xs.start == 0
+                || xs.end == nx
+                || ys.start == 0
+                || ys.end == ny
+                || layers.start == 0
+                || layers.end == nz - 1);
         let window = Window {
             full: grid,
             offset: [xs.start, ys.start],

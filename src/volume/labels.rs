@@ -2,8 +2,8 @@
 //! has, read plane by plane, with the first sample that is not a whole
 //! number refused.
 
-use super::SampleSource;
-use crate::error::try_filled;
+use super::{LentPlane, Sample, SampleSource};
+use crate::error::make_room;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -42,34 +42,78 @@ impl LabelCounts {
 /// plane).
 pub fn scan_labels(source: &dyn SampleSource, cancel: Option<&AtomicBool>) -> Result<LabelCounts> {
     const LIMIT: f64 = (1u64 << 53) as f64;
-    let [nx, ny, nz] = source.grid().dims;
-    let mut plane = try_filled("a plane of samples", nx * ny, 0.0)?;
+    let nz = source.grid().dims[2];
+    let mut plane = Vec::new();
     let mut counts: BTreeMap<i64, u64> = BTreeMap::new();
     for z in 0..nz {
         if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
             return Err(Error::Interrupted);
         }
-        source.read_plane(z, &mut plane)?;
-        let mut i = 0;
-        while i < plane.len() {
-            let v = plane[i];
-            let mut end = i + 1;
-            while end < plane.len() && plane[end] == v {
-                end += 1;
-            }
+        plane_runs(source, z, &mut plane, |y, x, end, v| {
             if !(v.fract() == 0.0 && v.abs() <= LIMIT) {
                 return Err(Error::Invalid(format!(
-                    "sample (x {}, y {}, z {}) is {v}, not a whole number: a label map holds integer labels",
-                    i % nx,
-                    i / nx,
-                    z
+                    "sample (x {x}, y {y}, z {z}) is {v}, not a whole number: a label map holds integer labels"
                 )));
             }
-            *counts.entry(v as i64).or_default() += (end - i) as u64;
-            i = end;
-        }
+            *counts.entry(v as i64).or_default() += (end - x) as u64;
+            Ok(())
+        })?;
     }
     Ok(LabelCounts {
         counts: counts.into_iter().collect(),
     })
+}
+
+/// Calls `f(y, x, end, value)` for every run of equal samples
+/// `x..end` of each row `y` of plane `z`, in raster order (a NaN is a run
+/// of its own). Reads the plane as the source lends it when it does (runs
+/// compared in the stored type), else into `buffer` as `f64`; stops at
+/// the first error of `f`.
+pub fn plane_runs(
+    source: &dyn SampleSource,
+    z: usize,
+    buffer: &mut Vec<f64>,
+    mut f: impl FnMut(usize, usize, usize, f64) -> Result<()>,
+) -> Result<()> {
+    let [nx, ny, _] = source.grid().dims;
+    let len = nx * ny;
+    match source.lend_plane(z).filter(|p| p.len() == len) {
+        Some(LentPlane::U8(s)) => runs(s, nx, f),
+        Some(LentPlane::I8(s)) => runs(s, nx, f),
+        Some(LentPlane::U16(s)) => runs(s, nx, f),
+        Some(LentPlane::I16(s)) => runs(s, nx, f),
+        Some(LentPlane::U32(s)) => runs(s, nx, f),
+        Some(LentPlane::I32(s)) => runs(s, nx, f),
+        Some(LentPlane::F32(s)) => runs(s, nx, f),
+        Some(LentPlane::F64(s)) => runs(s, nx, f),
+        _ => {
+            buffer.clear();
+            make_room(buffer, len, "a plane of samples")?;
+            buffer.resize(len, 0.0);
+            source.read_plane(z, buffer)?;
+            runs(&buffer[..], nx, &mut f)
+        }
+    }
+}
+
+/// [`plane_runs`] of samples of type `T`, rows of `nx`.
+#[inline]
+fn runs<T: Sample + PartialEq>(
+    samples: &[T],
+    nx: usize,
+    mut f: impl FnMut(usize, usize, usize, f64) -> Result<()>,
+) -> Result<()> {
+    for (y, row) in samples.chunks_exact(nx).enumerate() {
+        let mut x = 0;
+        while x < nx {
+            let v = row[x];
+            let mut end = x + 1;
+            while end < nx && row[end] == v {
+                end += 1;
+            }
+            f(y, x, end, v.to_f64())?;
+            x = end;
+        }
+    }
+    Ok(())
 }

@@ -370,8 +370,11 @@ fn parse_plain_ply(bytes: &[u8]) -> (Vec<[u8; 12]>, Vec<[u32; 3]>) {
     (v, f)
 }
 
+/// A face of the one-file PLY and its label.
+type LabelledFace = ([u32; 3], u32);
+
 /// Vertices and (face, label) of the one-file PLY.
-fn parse_labelled_ply(bytes: &[u8]) -> (Vec<[u8; 12]>, Vec<([u32; 3], u32)>) {
+fn parse_labelled_ply(bytes: &[u8]) -> (Vec<[u8; 12]>, Vec<LabelledFace>) {
     let (header, body) = split_ply(bytes);
     assert!(header.contains("property list uchar uint vertex_indices\nproperty uint label\n"));
     let (nv, nf) = (count(&header, "vertex"), count(&header, "face"));

@@ -43,6 +43,8 @@ mod placement;
 mod plane;
 mod process;
 mod spares;
+mod window;
 
-pub use process::{process_slab, process_window, Window};
+pub use process::{process_slab, process_window};
 pub use spares::{chunk_bytes, Spares};
+pub use window::Window;

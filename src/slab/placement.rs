@@ -2,6 +2,7 @@
 //! world coordinates in `f32`; on an edge that ends at a tie, away from the
 //! tie (see [`kernel::ties`](crate::kernel::ties)).
 
+use super::window::Window;
 use crate::grid::{Grid, IDENTITY};
 use crate::kernel::ties::TIE_OFFSET;
 
@@ -17,7 +18,7 @@ pub(super) struct Placement {
     /// tie's vertex is placed by [`Placement::far_tie_fraction`].
     pub(super) resolves_ties: bool,
     /// The x and y grid index of the slab's sample (0, 0) (not zero only
-    /// when the slab is a [`Window`](super::Window) of the grid), added to
+    /// when the slab is a [`Window`] of the grid), added to
     /// every index before it is placed, so that a window places its
     /// vertices bit for bit where the whole grid does.
     pub(super) offset: [f64; 2],
@@ -36,7 +37,7 @@ impl Placement {
     /// The placement of a window of `window.full` whose own grid (its
     /// dims, the whole grid's origin, spacing and directions) is `grid`:
     /// ties are resolved as in the whole grid.
-    pub(super) fn windowed(grid: &Grid, window: &super::Window) -> Self {
+    pub(super) fn windowed(grid: &Grid, window: &Window) -> Self {
         Placement {
             grid: *grid,
             axis_aligned: grid.direction == IDENTITY,

@@ -8,8 +8,8 @@ use super::edges::LayerNumbers;
 use super::placement::Placement;
 use super::plane::Plane;
 use super::spares::{Scratch, Spares};
+use super::window::Window;
 use crate::error::make_room;
-use crate::grid::Grid;
 use crate::kernel::tables::tables;
 use crate::kernel::CellMesh;
 use crate::mesh::Chunk;
@@ -31,24 +31,6 @@ pub fn process_slab(
     spares: &Spares,
 ) -> Result<(Vec<Chunk>, Stats)> {
     process_window(source, params, layers, spares, None)
-}
-
-/// A rectangle of a grid's planes that a slab is triangulated in: the
-/// source handed to [`process_window`] holds the samples from `offset`
-/// on, its grid has the window's x and y sizes and the whole grid's
-/// origin, spacing, directions and z size.
-///
-/// The chunks are those of the whole grid when every crossed edge and
-/// every cell with a corner inside lies in the window (a window that holds
-/// every inside sample of the slab's planes and one sample more on each
-/// side, clipped to the grid): vertices and triangles come in the same
-/// raster order, and vertices are placed from the whole grid's indices.
-#[derive(Debug, Clone, Copy)]
-pub struct Window {
-    /// The whole grid.
-    pub full: Grid,
-    /// The whole grid's x and y index of the window's sample (0, 0).
-    pub offset: [usize; 2],
 }
 
 /// [`process_slab`] of a source that is a [`Window`] of a larger grid

@@ -4,7 +4,7 @@
 //!
 //! The pass is the ordinary one ([`super::pass`]): one seam and one sink per
 //! label, slabs scheduled, triangulated and stitched as for isovalues. Only
-//! what a worker does with a slab differs ([`label_slab`]):
+//! what a worker does with a slab differs (`label_slab`):
 //! 1. **code** the slab's planes once: each sample becomes the number of
 //!    its label (0 for a value that is not a wanted label), and each label
 //!    gets the bounding rectangle of its samples in these planes;
@@ -37,8 +37,8 @@ use std::ops::Range;
 /// label, as in each label's padded indicator).
 const TIE: u16 = u16::MAX;
 
-/// The most labels one pass takes (their codes are `u16`, one kept for
-/// [`TIE`]).
+/// The most labels one pass takes (their codes are `u16`, 0 kept for no
+/// label and one for `--close`'s border).
 pub const MOST_LABELS: usize = u16::MAX as usize - 1;
 
 /// Extracts the boundary surface of each of `labels` in one pass over

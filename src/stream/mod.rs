@@ -20,7 +20,9 @@
 //!
 //! The output does not depend on the threads, the slab depth or the parts:
 //! a chunk's content depends on its two planes only (see [`crate::slab`]).
-//! A finished run is described by a [`RunSummary`] ([`report`]).
+//! A finished run is described by a [`RunSummary`] ([`report`]). A label
+//! map is the same pass with one output per label ([`labels`]): only what a
+//! worker does with a slab differs.
 
 pub mod budget;
 pub mod cancellable;

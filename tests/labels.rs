@@ -16,6 +16,36 @@ use std::path::{Path, PathBuf};
 use tmc::volume::{write_volume, ArrayVolume, ScalarType};
 use tmc::Grid;
 
+/// `tmc extract input --labels all --close --json -o dir/{label}.tmesh`:
+/// the JSON report.
+fn closed_labels_json(input: &Path, dir: &Path) -> serde_json::Value {
+    let out = dir.join("{label}.tmesh");
+    let args = [
+        "extract",
+        s(input),
+        "--labels",
+        "all",
+        "--close",
+        "-o",
+        s(&out),
+        "-q",
+        "--json",
+    ];
+    serde_json::from_slice(&ok(&args)).unwrap()
+}
+
+/// A closed label surface encloses its voxels' volume to within the
+/// half-voxel shell: half the largest voxel side (1.5 here and in the
+/// frog) times the area.
+fn assert_volume_within_the_shell(r: &serde_json::Value) {
+    let (v, n, area) = (
+        r["enclosed_volume"].as_f64().unwrap(),
+        r["voxel_volume"].as_f64().unwrap(),
+        r["area"].as_f64().unwrap(),
+    );
+    assert!(v > 0.0 && (v - n).abs() <= 0.75 * area, "{r}");
+}
+
 /// Runs `tmc` with `args`, asserting success; returns stdout.
 fn ok(args: &[&str]) -> Vec<u8> {
     let out = tmc(args);
@@ -146,19 +176,7 @@ fn closed_label_surfaces_match_the_oracle() {
     let values = label_map(dims, 6, 2);
     let input = dir.path().join("labels.nrrd");
     write(&input, dims, values.clone(), ScalarType::U8);
-    let out = dir.path().join("{label}.tmesh");
-    let json = ok(&[
-        "extract",
-        s(&input),
-        "--labels",
-        "all",
-        "--close",
-        "-o",
-        s(&out),
-        "-q",
-        "--json",
-    ]);
-    let json: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    let json = closed_labels_json(&input, dir.path());
     let reports = json["labels"].as_array().unwrap();
     let labels = labels_of(&values);
     assert_eq!(reports.len(), labels.len());
@@ -175,12 +193,7 @@ fn closed_label_surfaces_match_the_oracle() {
         assert_eq!(r["components"], report.components);
         assert_eq!(r["genus"], topo.surface_genus().unwrap());
         // The enclosed volume is within the half-voxel shell of the voxels.
-        let (v, n, area) = (
-            r["enclosed_volume"].as_f64().unwrap(),
-            r["voxel_volume"].as_f64().unwrap(),
-            r["area"].as_f64().unwrap(),
-        );
-        assert!(v > 0.0 && (v - n).abs() <= 0.75 * area, "label {l}: {r}");
+        assert_volume_within_the_shell(r);
     }
     // The torus has a tunnel.
     let torus = reports.iter().find(|r| r["label"] == 150).unwrap();
@@ -430,30 +443,12 @@ fn frog_tissues() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("{label}.tmesh");
-    let json = ok(&[
-        "extract",
-        s(&frog),
-        "--labels",
-        "all",
-        "--close",
-        "-o",
-        s(&out),
-        "-q",
-        "--json",
-    ]);
-    let json: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    let json = closed_labels_json(&frog, dir.path());
     let reports = json["labels"].as_array().unwrap();
     assert!(reports.len() >= 20, "{}", reports.len());
     for r in reports {
         assert_eq!(r["closed"], true, "{r}");
-        let (v, n, area) = (
-            r["enclosed_volume"].as_f64().unwrap(),
-            r["voxel_volume"].as_f64().unwrap(),
-            r["area"].as_f64().unwrap(),
-        );
-        // Half the largest voxel side (1.5 along z) times the area.
-        assert!(v > 0.0 && (v - n).abs() <= 0.75 * area, "{r}");
+        assert_volume_within_the_shell(r);
     }
     // Two labels against their indicators (u8, read back from the file).
     let source = tmc::volume::open(&frog, None).unwrap();

@@ -37,22 +37,8 @@ pub fn write_labeled_ply(path: &Path, parts: &[(u32, &Path)], cancel: &AtomicBoo
     let io = |e| Error::io(path, e);
     {
         let mut w = BufWriter::with_capacity(1 << 20, file.file());
-        write!(
-            w,
-            "ply\n\
-             format binary_little_endian 1.0\n\
-             comment written by tmc {}\n\
-             element vertex {vertices}\n\
-             property float x\n\
-             property float y\n\
-             property float z\n\
-             element face {faces}\n\
-             property list uchar uint vertex_indices\n\
-             property uint label\n\
-             end_header\n",
-            env!("CARGO_PKG_VERSION"),
-        )
-        .map_err(io)?;
+        super::ply::write_header_with(&mut w, vertices, faces, "", "property uint label\n")
+            .map_err(io)?;
         let stop = || -> Result<()> {
             match cancel.load(Ordering::Relaxed) {
                 true => Err(Error::Interrupted),

@@ -15,6 +15,9 @@ use tmc::{Error, Result};
 
 /// Runs `tmc extract`; setting `cancel` stops it with [`Error::Interrupted`].
 pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    if args.labels.is_some() {
+        return super::labels::run(args, cancel);
+    }
     let (input, iso, template) = match (&args.input[..], &args.iso[..], &args.output) {
         ([input], [iso], Some(output)) if !args.batch.given() => (input, *iso, output),
         _ => return super::batch::run(args, cancel),

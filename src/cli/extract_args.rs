@@ -27,8 +27,33 @@ pub(crate) struct ExtractArgs {
     /// each: {iso} in -o is replaced by the isovalue, or '_iso<VALUE>' is
     /// inserted before the extension.
     #[arg(long, value_name = "VALUE", allow_hyphen_values = true, value_parser = values::finite,
-          value_delimiter = ',', required_unless_present = "manifest")]
+          value_delimiter = ',', required_unless_present_any = ["manifest", "labels"])]
     pub iso: Vec<f64>,
+
+    /// Segmentation label map: instead of an isosurface, the boundary
+    /// surface of each label L (the isosurface at 0.5 of the indicator
+    /// 'value == L', with the same rules and ties, so each label's mesh is
+    /// what an extraction of its 0/1 volume at --iso 0.5 writes), all
+    /// labels in one pass. 'all' is every value present but the background
+    /// (--background, 0 by default), found by a first reading of the
+    /// volume; or a list L1,L2,... -o must contain {label} (one file per
+    /// label) or be one .ply (every label, a per-face uint32 'label').
+    /// Float inputs must hold whole numbers (the first sample that does
+    /// not is an error). --stats/--json give per label triangles,
+    /// components, genus, area and enclosed volume beside the label's
+    /// voxel count times the voxel volume.
+    #[arg(long, value_name = "all|L1,L2,...",
+          conflicts_with_all = ["iso", "manifest", "part", "normals", "require_surface"])]
+    pub labels: Option<String>,
+
+    /// With --labels all: the value that is no label (0 by default).
+    #[arg(
+        long,
+        value_name = "V",
+        requires = "labels",
+        allow_hyphen_values = true
+    )]
+    pub background: Option<i64>,
 
     /// Output mesh; the format comes from the extension: .ply, .obj, .off,
     /// .stl or .tmesh (chunked and compressed, any size; see 'tmc convert').

@@ -136,7 +136,7 @@ pub(crate) fn outputs(template: &Path, input: &Path, isos: &[f64]) -> Vec<PathBu
 /// TIFF pages, the pattern's name without its wildcards
 /// (`scan/slice_*.tif` -> `slice`), or the folder's name if nothing is
 /// left (`scan/*.tif` -> `scan`).
-fn stem(input: &Path) -> String {
+pub(crate) fn stem(input: &Path) -> String {
     let name = input
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())

@@ -16,6 +16,7 @@ mod extract;
 mod extract_args;
 mod help_text;
 mod info;
+mod labels;
 mod manifest;
 mod memory;
 mod merge;

@@ -65,6 +65,19 @@ const NORMAL_PROPERTIES: &str = "property float nx\nproperty float ny\nproperty 
 
 /// The header; `extra` is what follows the z property (the normals' or nothing).
 fn write_header(w: &mut impl Write, vertices: u64, faces: u64, extra: &str) -> io::Result<()> {
+    write_header_with(w, vertices, faces, extra, "")
+}
+
+/// The header of tmc's binary PLY; `extra` follows the z property and
+/// `face_extra` the face's `vertex_indices` (a label's, see
+/// `labeled_ply.rs`).
+pub(super) fn write_header_with(
+    w: &mut impl Write,
+    vertices: u64,
+    faces: u64,
+    extra: &str,
+    face_extra: &str,
+) -> io::Result<()> {
     write!(
         w,
         "ply\n\
@@ -77,6 +90,7 @@ fn write_header(w: &mut impl Write, vertices: u64, faces: u64, extra: &str) -> i
          {extra}\
          element face {faces}\n\
          property list uchar uint vertex_indices\n\
+         {face_extra}\
          end_header\n",
         env!("CARGO_PKG_VERSION"),
     )

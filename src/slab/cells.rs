@@ -197,7 +197,7 @@ pub(super) fn ambiguous_cell(
         (rest != [0.0; 8]).then_some(&rest)
     };
     cell.clear();
-    let origin = DVec3::new(x as f64, y as f64, bottom.z as f64);
+    let origin = DVec3::from_array(place.index(x, y, bottom.z));
     match triangulate_ambiguous(&g, residual, config, stats, cell) {
         Triangles::Table(fans) => {
             // Edge vertices only, as MC.

@@ -43,7 +43,9 @@ mod placement;
 mod plane;
 mod process;
 mod spares;
+mod window;
 
 pub(crate) use level::Level;
-pub use process::process_slab;
+pub use process::{process_slab, process_window};
 pub use spares::{chunk_bytes, Spares};
+pub use window::Window;

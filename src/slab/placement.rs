@@ -2,6 +2,7 @@
 //! world coordinates in `f32`; on an edge that ends at a tie, away from the
 //! tie (see [`kernel::ties`](crate::kernel::ties)).
 
+use super::window::Window;
 use crate::grid::{Grid, IDENTITY};
 use crate::kernel::ties::TIE_OFFSET;
 
@@ -20,6 +21,11 @@ pub(super) struct Placement {
     /// cell's boundary keeps from it ([`CellMesh::tie_margin`](crate::kernel::CellMesh::tie_margin)):
     /// [`TIE_OFFSET`] where that resolves, else [`interior_tie_margin`].
     pub(super) interior_margin: f64,
+    /// The x and y grid index of the slab's sample (0, 0) (not zero only
+    /// when the slab is a [`Window`] of the grid), added to
+    /// every index before it is placed, so that a window places its
+    /// vertices bit for bit where the whole grid does.
+    pub(super) offset: [f64; 2],
 }
 
 impl Placement {
@@ -29,7 +35,33 @@ impl Placement {
             axis_aligned: grid.direction == IDENTITY,
             resolves_ties: resolves_offset(grid, TIE_OFFSET),
             interior_margin: interior_tie_margin(grid),
+            offset: [0.0; 2],
         }
+    }
+
+    /// The placement of a window of `window.full` whose own grid (its
+    /// dims, the whole grid's origin, spacing and directions) is `grid`:
+    /// ties are resolved (and interior tie vertices keep their margin) as in
+    /// the whole grid.
+    pub(super) fn windowed(grid: &Grid, window: &Window) -> Self {
+        Placement {
+            grid: *grid,
+            axis_aligned: grid.direction == IDENTITY,
+            resolves_ties: resolves_offset(&window.full, TIE_OFFSET),
+            interior_margin: interior_tie_margin(&window.full),
+            offset: window.offset.map(|o| o as f64),
+        }
+    }
+
+    /// The grid index of the slab's sample `(x, y)` on plane `z`, as the
+    /// whole grid numbers it.
+    #[inline(always)]
+    pub(super) fn index(&self, x: usize, y: usize, z: usize) -> [f64; 3] {
+        [
+            x as f64 + self.offset[0],
+            y as f64 + self.offset[1],
+            z as f64,
+        ]
     }
 
     /// The world position of a (fractional) grid index.

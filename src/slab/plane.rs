@@ -61,6 +61,7 @@ impl Scratch {
     pub(super) fn new(grid: &Grid) -> Self {
         Scratch {
             planes: [PlaneBuffers::new(grid), PlaneBuffers::new(grid)],
+            dims: [grid.dims[0], grid.dims[1]],
             z_first: vec![0; grid.dims[1]],
             rows: EdgeRows::new(grid.dims[0]),
         }
@@ -123,12 +124,12 @@ impl<'s> Plane<'s> {
     pub(super) fn load(
         &mut self,
         source: &'s dyn SampleSource,
+        place: &Placement,
         params: &ExtractParams,
         z: usize,
         owned: &mut Vec<[f32; 3]>,
         stats: &mut Stats,
     ) -> Result<()> {
-        let place = Placement::new(source.grid());
         let [nx, ny, _] = place.grid.dims;
         self.z = z;
         let start = Instant::now();
@@ -182,7 +183,7 @@ impl<'s> Plane<'s> {
             for k in 0..words {
                 each_bit(x_crossings(row, k, nx), k, |x| {
                     let (a, b) = (rel(y * nx + x), rel(y * nx + x + 1));
-                    owned.push(place.edge([x as f64, y as f64, z as f64], 0, a, b));
+                    owned.push(place.edge(place.index(x, y, z), 0, a, b));
                     Ok::<(), Error>(())
                 })?;
             }
@@ -197,7 +198,7 @@ impl<'s> Plane<'s> {
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     let (a, b) = (rel(y * nx + x), rel((y + 1) * nx + x));
-                    owned.push(place.edge([x as f64, y as f64, z as f64], 1, a, b));
+                    owned.push(place.edge(place.index(x, y, z), 1, a, b));
                     Ok::<(), Error>(())
                 })?;
             }

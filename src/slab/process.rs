@@ -8,6 +8,7 @@ use super::edges::LayerNumbers;
 use super::placement::Placement;
 use super::plane::Plane;
 use super::spares::{Scratch, Spares};
+use super::window::Window;
 use crate::error::make_room;
 use crate::kernel::tables::tables;
 use crate::kernel::CellMesh;
@@ -29,11 +30,26 @@ pub fn process_slab(
     layers: Range<usize>,
     spares: &Spares,
 ) -> Result<(Vec<Chunk>, Stats)> {
+    process_window(source, params, layers, spares, None)
+}
+
+/// [`process_slab`] of a source that is a [`Window`] of a larger grid
+/// (`None`: the whole grid).
+pub fn process_window(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    layers: Range<usize>,
+    spares: &Spares,
+    window: Option<&Window>,
+) -> Result<(Vec<Chunk>, Stats)> {
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
     let start = Instant::now();
     let mirrored = grid.is_mirrored();
-    let place = Placement::new(&grid);
+    let place = match window {
+        Some(window) => Placement::windowed(&grid, window),
+        None => Placement::new(&grid),
+    };
     let mut stats = Stats::default();
     let mut chunks = Vec::with_capacity(layers.len() + 1);
     let tables = tables();
@@ -44,11 +60,12 @@ pub fn process_slab(
     let mut ahead = ReadAhead::new(source, layers.start);
     let Scratch {
         planes: [lower, upper],
+        dims,
         mut z_first,
         mut rows,
     } = spares
         .take_scratch()
-        .filter(|s| s.z_first.len() == ny)
+        .filter(|s| s.dims == [nx, ny])
         .unwrap_or_else(|| Scratch::new(&grid));
     let mut bottom = Plane::new(lower);
     let mut top = Plane::new(upper);
@@ -56,6 +73,7 @@ pub fn process_slab(
     // numbered the same way here and there, and kept by the block of that plane.
     bottom.load(
         source,
+        &place,
         params,
         layers.start,
         &mut block.vertices,
@@ -69,7 +87,14 @@ pub fn process_slab(
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         ahead.reading(source, z + 1);
-        top.load(source, params, z + 1, &mut next.vertices, &mut stats)?;
+        top.load(
+            source,
+            &place,
+            params,
+            z + 1,
+            &mut next.vertices,
+            &mut stats,
+        )?;
         // z-edges between the two planes.
         let words = bottom.inside.words() - 1;
         for (y, first) in z_first.iter_mut().enumerate() {
@@ -85,7 +110,7 @@ pub fn process_slab(
                     let (a, b) = (bottom.rel(i), top.rel(i));
                     block
                         .vertices
-                        .push(place.edge([x as f64, y as f64, z as f64], 2, a, b));
+                        .push(place.edge(place.index(x, y, z), 2, a, b));
                     Ok::<(), Error>(())
                 })?;
             }
@@ -127,6 +152,7 @@ pub fn process_slab(
     }
     spares.give_scratch(Scratch {
         planes: [bottom.into_buffers(), top.into_buffers()],
+        dims,
         z_first,
         rows,
     });

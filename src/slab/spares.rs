@@ -30,6 +30,8 @@ pub(super) struct PlaneBuffers {
 #[derive(Debug)]
 pub(super) struct Scratch {
     pub(super) planes: [PlaneBuffers; 2],
+    /// The plane size (x, y) the buffers are made for.
+    pub(super) dims: [usize; 2],
     pub(super) z_first: Vec<u32>,
     pub(super) rows: EdgeRows,
 }

@@ -20,11 +20,14 @@
 //!
 //! The output does not depend on the threads, the slab depth or the parts:
 //! a chunk's content depends on its two planes only (see [`crate::slab`]).
-//! A finished run is described by a [`RunSummary`] ([`report`]).
+//! A finished run is described by a [`RunSummary`] ([`report`]). A label
+//! map is the same pass with one output per label ([`labels`]): only what a
+//! worker does with a slab differs.
 
 pub mod budget;
 pub mod cancellable;
 pub mod entry;
+pub mod labels;
 mod normals;
 pub mod parts;
 pub mod pass;
@@ -35,6 +38,7 @@ pub mod seam;
 pub mod threads;
 
 pub use entry::{extract, extract_part_to, extract_to};
+pub use labels::extract_labels_to;
 pub use parts::layer_range;
 pub use pass::extract_many_to;
 pub use preflight::check_grid;

@@ -62,6 +62,37 @@ pub(crate) fn extract_many_part_to(
     part: Option<(usize, usize)>,
     sinks: &mut [&mut dyn MeshSink],
 ) -> Result<Vec<Stats>> {
+    run_pass(source, params, options, part, sinks, None)
+}
+
+/// What a worker makes of a slab instead of [`slab_for_each`]: given the
+/// pass's source (padded with `--close`, cancellable) and the slab's cell
+/// layers, the chunks and counts of every output, in the order of the
+/// pass's `params`, each exactly what a single run of that output writes
+/// for those layers. Its planes per sample of a plane are `budget_planes`
+/// (as the budget counts a plane of the slab loop).
+pub(crate) struct SlabWork<'w> {
+    /// The slab's chunks and counts, per output.
+    pub(crate) run: &'w SlabFn<'w>,
+    /// How many of the slab loop's planes the work holds, for the budget.
+    pub(crate) budget_planes: usize,
+}
+
+/// The function of a [`SlabWork`].
+pub(crate) type SlabFn<'w> = dyn Fn(&dyn SampleSource, Range<usize>, &Spares) -> Result<Vec<(Vec<Chunk>, Stats)>>
+    + Sync
+    + 'w;
+
+/// The pass of [`extract_many_part_to`], each slab made by `work` when
+/// given (else by [`slab_for_each`]).
+pub(crate) fn run_pass(
+    source: &dyn SampleSource,
+    params: &[ExtractParams],
+    options: &PipelineOptions,
+    part: Option<(usize, usize)>,
+    sinks: &mut [&mut dyn MeshSink],
+    work: Option<SlabWork>,
+) -> Result<Vec<Stats>> {
     let start = Instant::now();
     let Some(first) = params.first() else {
         return Err(Error::Invalid("no isovalue to extract".into()));
@@ -133,7 +164,12 @@ pub(crate) fn extract_many_part_to(
     // per sample beside the loop's 17) and 12 bytes per vertex: the budget
     // counts each plane three times, which covers both.
     let normals = params.iter().any(|p| p.normals);
-    let budget_plane = source.grid().plane_len() * if normals { 3 } else { 1 };
+    let budget_plane = source.grid().plane_len()
+        * match &work {
+            Some(work) => work.budget_planes,
+            None if normals => 3,
+            None => 1,
+        };
     let plan = budget::plan(budget_plane, threads, depth, options.max_memory)?;
     let depth = plan.depth;
     check_cancel(options)?;
@@ -189,7 +225,10 @@ pub(crate) fn extract_many_part_to(
     let run = |layers: Range<usize>| {
         check_cancel(options)?;
         source.check_unchanged()?;
-        let mut results = slab_for_each(source, params, layers, &spares)?;
+        let mut results = match &work {
+            Some(work) => (work.run)(source, layers, &spares)?,
+            None => slab_for_each(source, params, layers, &spares)?,
+        };
         if normals {
             slab_normals(source, params, &mut results)?;
         }

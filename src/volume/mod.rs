@@ -14,6 +14,7 @@ mod dicom_lengths;
 mod guarded;
 pub mod histogram;
 pub mod info;
+mod labels;
 mod lent;
 mod mapped;
 pub mod metaimage;
@@ -52,6 +53,7 @@ pub use guarded::in_guarded_call;
 pub use info::{
     automatic_plane_step, describe, volume_info, VolumeInfo, HISTOGRAM_BUDGET, MAX_BINS, MIN_BINS,
 };
+pub use labels::{plane_runs, scan_labels, LabelCounts};
 pub use lent::LentPlane;
 pub use notes::{ChunkNotes, SourceNotes, ValueFrom};
 pub use open::{format_name, open, open_cancellable, open_selected, Format};

@@ -1,0 +1,357 @@
+//! `tmc extract --labels`: the boundary surface of each label of a
+//! segmentation in one pass ([`tmc::stream::extract_labels_to`]), one file
+//! per label (`{label}` in `-o`) or one PLY with a per-face label.
+//!
+//! The values are counted first ([`tmc::volume::scan_labels`]: one reading
+//! of the volume, plane by plane, which also refuses a sample that is not a
+//! whole number); `all` is every value present but the background.
+
+use super::extract_args::ExtractArgs;
+use super::monitor::Monitor;
+use super::output::{to_stdout, withdraw};
+use serde::Serialize;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use tmc::check::check_mesh;
+use tmc::files::check_distinct;
+use tmc::stream::check_grid;
+use tmc::{Chunk, Error, MeshBuilder, MeshInfo, MeshSink, Result, Totals};
+
+/// One label's figures for `--stats` and `--json`.
+#[derive(Serialize)]
+struct LabelReport {
+    label: i64,
+    output: String,
+    triangles: u64,
+    vertices: u64,
+    /// Samples of the label; `voxel_volume` is their count times the
+    /// volume of a voxel.
+    samples: u64,
+    voxel_volume: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    components: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    genus: Option<i64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    closed: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    area: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    enclosed_volume: Option<f64>,
+}
+
+/// The `--json` object of a label run.
+#[derive(Serialize)]
+struct LabelRun<'a> {
+    input: String,
+    close: bool,
+    method: &'static str,
+    background: i64,
+    labels: &'a [LabelReport],
+    scan_seconds: f64,
+    pass_seconds: f64,
+    seconds: f64,
+}
+
+/// Runs `tmc extract --labels`.
+pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    let started = Instant::now();
+    let (input, template) = match (&args.input[..], &args.output) {
+        ([input], Some(output)) if !args.batch.given() => (input, output),
+        _ => {
+            return Err(Error::Invalid(
+                "--labels takes one input and -o (no batch options)".into(),
+            ))
+        }
+    };
+    let spec = args.labels.as_deref().unwrap_or("all");
+    let background = args.background.unwrap_or(0);
+    let text = template.to_string_lossy();
+    let per_label = text.contains("{label}");
+    if !per_label && template.extension().is_none_or(|e| e != "ply") {
+        return Err(Error::Invalid(format!(
+            "{}: with --labels, -o must contain {{label}} (one file per label) or be one .ply (a per-face 'label' property)",
+            template.display()
+        )));
+    }
+    let source = super::raw_input::open_input(input, &args.raw, cancel, args.quiet)?;
+    let grid = *source.grid();
+    check_grid(input, &grid, args.close)?;
+    let scan_start = Instant::now();
+    let counts =
+        tmc::volume::scan_labels(source.as_ref(), cancel).map_err(|e| name_input(input, e))?;
+    let scan_seconds = scan_start.elapsed().as_secs_f64();
+    let labels = match spec {
+        "all" => counts.labels_except(background),
+        list => parse_list(list)?,
+    };
+    if labels.is_empty() {
+        return Err(Error::Invalid(format!(
+            "{}: no label but the background {background}",
+            input.display()
+        )));
+    }
+    let outputs: Vec<PathBuf> = if per_label {
+        let text = text.replace("{stem}", &super::manifest::stem(input));
+        labels
+            .iter()
+            .map(|l| PathBuf::from(text.replace("{label}", &l.to_string())))
+            .collect()
+    } else {
+        if let Some(l) = labels.iter().find(|&&l| u32::try_from(l).is_err()) {
+            return Err(Error::Invalid(format!(
+                "label {l} does not fit the PLY's uint32 'label' property; write one file per label with {{label}}"
+            )));
+        }
+        vec![template.clone()]
+    };
+    for output in &outputs {
+        check_distinct(input, output)?;
+        for data in source.data_files() {
+            check_distinct(data, output)?;
+        }
+        tmc::export::check_output_path(output)?;
+    }
+    // One file: each label goes to a .tmesh in a temporary directory beside
+    // the output, assembled into the PLY at the end.
+    let spool = match per_label {
+        true => None,
+        false => {
+            let dir = template
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .unwrap_or(Path::new("."));
+            let spool = tempfile::Builder::new()
+                .prefix(".tmc-labels-")
+                .tempdir_in(dir)
+                .map_err(|e| Error::io(dir, e))?;
+            Some(spool)
+        }
+    };
+    let targets: Vec<PathBuf> = match &spool {
+        Some(dir) => labels
+            .iter()
+            .map(|l| dir.path().join(format!("{l}.tmesh")))
+            .collect(),
+        None => outputs.clone(),
+    };
+    let measure = args.stats || args.json;
+    let mut sinks = Vec::with_capacity(labels.len());
+    for target in &targets {
+        sinks.push(Measured {
+            inner: tmc::export::create_sink(target)?,
+            mesh: measure.then(MeshBuilder::default),
+        });
+    }
+    let mut dyn_sinks: Vec<&mut dyn MeshSink> =
+        sinks.iter_mut().map(|s| s as &mut dyn MeshSink).collect();
+    let params = args.params(0.5);
+    let mut monitor = Monitor::new(&grid, args, input);
+    let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
+    let options = args.pipeline_options(&on_progress, cancel);
+    let pass_start = Instant::now();
+    let stats = tmc::stream::extract_labels_to(
+        source.as_ref(),
+        &labels,
+        &params,
+        &options,
+        None,
+        &mut dyn_sinks,
+    )?;
+    monitor.finish();
+    if let Some(dir) = spool {
+        let parts: Vec<(u32, &Path)> = labels
+            .iter()
+            .zip(&targets)
+            .map(|(&l, t)| (l as u32, t.as_path()))
+            .collect();
+        let never = AtomicBool::new(false);
+        tmc::export::write_labeled_ply(template, &parts, cancel.unwrap_or(&never))?;
+        dir.close().map_err(|e| Error::io(template, e))?;
+    }
+    let pass_seconds = pass_start.elapsed().as_secs_f64();
+    if !measure {
+        return Ok(());
+    }
+    let voxel = voxel_volume(&grid);
+    let reports: Vec<LabelReport> = labels
+        .iter()
+        .zip(&mut sinks)
+        .zip(&stats)
+        .enumerate()
+        .map(|(i, ((&label, sink), stats))| {
+            let output = outputs[if per_label { i } else { 0 }].display().to_string();
+            let mesh = sink.mesh.take().map(MeshBuilder::into_mesh);
+            let checked = mesh.as_ref().map(|m| (check_mesh(m), area_and_volume(m)));
+            let samples = counts.samples(label);
+            LabelReport {
+                label,
+                output,
+                triangles: stats.triangles,
+                vertices: stats.vertices,
+                samples,
+                voxel_volume: samples as f64 * voxel,
+                components: checked.as_ref().map(|(r, _)| r.components),
+                genus: checked.as_ref().and_then(|(r, _)| r.total_genus()),
+                closed: checked.as_ref().map(|(r, _)| r.is_closed_manifold()),
+                area: checked.as_ref().map(|(_, a)| a.0),
+                enclosed_volume: checked.as_ref().map(|(_, a)| a.1),
+            }
+        })
+        .collect();
+    let written: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+    if args.stats {
+        write_table(&reports)
+            .map_err(|e| withdraw(written.iter().copied(), Error::io("standard error", e)))?;
+    }
+    if args.json {
+        let run = LabelRun {
+            input: input.display().to_string(),
+            close: args.close,
+            method: params.method.name(),
+            background,
+            labels: &reports,
+            scan_seconds,
+            pass_seconds,
+            seconds: started.elapsed().as_secs_f64(),
+        };
+        to_stdout(|out| {
+            serde_json::to_writer(&mut *out, &run).map_err(std::io::Error::other)?;
+            writeln!(out)
+        })
+        .map_err(|e| withdraw(written.iter().copied(), e))?;
+    }
+    Ok(())
+}
+
+/// Prefixes the input's name unless the message has it.
+fn name_input(input: &Path, e: Error) -> Error {
+    match e {
+        Error::Invalid(m) => Error::Invalid(format!("{}: {m}", input.display())),
+        other => other,
+    }
+}
+
+/// `L1,L2,...`: integers, each once.
+fn parse_list(list: &str) -> Result<Vec<i64>> {
+    let mut labels = Vec::new();
+    for item in list.split(',') {
+        let l: i64 = item.trim().parse().map_err(|_| {
+            Error::Invalid(format!(
+                "--labels: '{item}' is not an integer (give 'all' or L1,L2,...)"
+            ))
+        })?;
+        if labels.contains(&l) {
+            return Err(Error::Invalid(format!("--labels: {l} is given twice")));
+        }
+        labels.push(l);
+    }
+    Ok(labels)
+}
+
+/// The volume of one voxel: |det| of the index-to-world map's matrix.
+fn voxel_volume(grid: &tmc::Grid) -> f64 {
+    let m: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| grid.direction[i][j] * grid.spacing[j]));
+    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    det.abs()
+}
+
+/// Surface area and enclosed volume (divergence theorem, outward
+/// triangles: positive for a closed surface), in `f64`.
+fn area_and_volume(mesh: &tmc::Mesh) -> (f64, f64) {
+    let (mut area, mut volume) = (0.0, 0.0);
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|k| mesh.vertices[k as usize].map(f64::from));
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        area += (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0;
+        // a . (b x c) / 6
+        let bc = [
+            b[1] * c[2] - b[2] * c[1],
+            b[2] * c[0] - b[0] * c[2],
+            b[0] * c[1] - b[1] * c[0],
+        ];
+        volume += (a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2]) / 6.0;
+    }
+    (area, volume)
+}
+
+/// The `--stats` table on stderr.
+fn write_table(reports: &[LabelReport]) -> std::io::Result<()> {
+    let mut err = std::io::stderr().lock();
+    let opt = |v: Option<String>| v.unwrap_or_else(|| "-".into());
+    writeln!(
+        err,
+        "{:>8} {:>10} {:>6} {:>6} {:>7} {:>14} {:>14} {:>14}",
+        "label", "triangles", "comps", "genus", "closed", "area", "volume", "voxels*voxel"
+    )?;
+    for r in reports {
+        writeln!(
+            err,
+            "{:>8} {:>10} {:>6} {:>6} {:>7} {:>14} {:>14} {:>14.3}",
+            r.label,
+            r.triangles,
+            opt(r.components.map(|c| c.to_string())),
+            opt(r.genus.map(|g| g.to_string())),
+            opt(r.closed.map(|c| if c { "yes" } else { "no" }.to_string())),
+            opt(r.area.map(|a| format!("{a:.3}"))),
+            opt(r.enclosed_volume.map(|v| format!("{v:.3}"))),
+            r.voxel_volume,
+        )?;
+    }
+    Ok(())
+}
+
+/// A sink that also collects the mesh for `--stats` (components, genus,
+/// area and volume need the whole label mesh).
+struct Measured {
+    inner: Box<dyn MeshSink>,
+    mesh: Option<MeshBuilder>,
+}
+
+impl MeshSink for Measured {
+    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        if let Some(m) = &mut self.mesh {
+            m.begin(info)?;
+        }
+        self.inner.begin(info)
+    }
+
+    fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
+        if let Some(m) = &mut self.mesh {
+            m.chunk(base, chunk)?;
+        }
+        self.inner.chunk(base, chunk)
+    }
+
+    fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
+        if let Some(m) = &mut self.mesh {
+            m.chunk(base, chunk)?;
+        }
+        self.inner.chunk_cancellable(base, chunk, cancel)
+    }
+
+    fn finish(&mut self, totals: &Totals) -> Result<()> {
+        if let Some(m) = &mut self.mesh {
+            m.finish(totals)?;
+        }
+        self.inner.finish(totals)
+    }
+
+    fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
+        if let Some(m) = &mut self.mesh {
+            m.finish(totals)?;
+        }
+        self.inner.finish_cancellable(totals, cancel)
+    }
+}

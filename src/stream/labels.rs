@@ -1,0 +1,313 @@
+//! Label maps in one pass: the boundary surface of every label of a
+//! segmentation, each exactly what an extraction of that label's 0/1
+//! indicator volume at 0.5 writes.
+//!
+//! The pass is the ordinary one ([`super::pass`]): one seam and one sink per
+//! label, slabs scheduled, triangulated and stitched as for isovalues. Only
+//! what a worker does with a slab differs (`label_slab`):
+//! 1. **code** the slab's planes once: each sample becomes the number of
+//!    its label (0 for a value that is not a wanted label), and each label
+//!    gets the bounding rectangle of its samples in these planes;
+//! 2. for each label present, write its indicator (1 on the label, else 0;
+//!    `--close`'s NaN border stays a tie) over that rectangle grown by one
+//!    sample on each side, and triangulate it with the ordinary slab loop
+//!    as a [`Window`] of the grid: every crossed edge and every cell with a
+//!    label corner lies in it, so the chunks are those of the whole
+//!    indicator grid, placed from the whole grid's indices;
+//! 3. a label absent from the slab's planes gets the slab's empty chunks.
+//!
+//! The work per slab is one reading of its planes plus, per label present,
+//! the slab loop over that label's rectangle: labels that keep to their
+//! own region of the volume cost about their region, not the volume.
+//! Memory per worker: the codes (2 bytes per sample of the slab's planes)
+//! and one label's indicator (1 byte per sample of its rectangle), whatever
+//! the number of labels.
+
+use super::pass::{run_pass, SlabWork};
+use crate::error::try_filled;
+use crate::grid::Grid;
+use crate::mesh::{Chunk, MeshSink};
+use crate::params::{ExtractParams, Inside, PipelineOptions};
+use crate::slab::{process_window, Spares, Window};
+use crate::volume::{plane_runs, Access, LentPlane, SampleSource};
+use crate::{Error, Result, Stats};
+use std::ops::Range;
+
+/// The code of `--close`'s border of NaN samples (a tie: outside every
+/// label, as in each label's padded indicator).
+const TIE: u16 = u16::MAX;
+
+/// The most labels one pass takes (their codes are `u16`, 0 kept for no
+/// label and one for `--close`'s border).
+pub const MOST_LABELS: usize = u16::MAX as usize - 1;
+
+/// Extracts the boundary surface of each of `labels` in one pass over
+/// `source`, streaming label `labels[i]`'s mesh to `sinks[i]`; returns the
+/// statistics of each.
+///
+/// Label `L`'s mesh is byte for byte what [`extract_to`](super::extract_to)
+/// writes for the volume that is 1 where `source` is `L` and 0 elsewhere, at
+/// isovalue 0.5 with `params`' method, `close` and threads (the sink is
+/// told that isovalue): the surface of the trilinear interpolant of the
+/// indicator, with the sign convention's ties. Samples that are not whole
+/// numbers belong to no label; check the map with
+/// [`scan_labels`](crate::volume::scan_labels) first to refuse them.
+/// `params.iso`, `inside` and `normals` are not used (normals are refused).
+/// The output does not depend on the threads, the slab depth or the part
+/// (`part` as in [`extract_part_to`](super::extract_part_to)).
+pub fn extract_labels_to(
+    source: &dyn SampleSource,
+    labels: &[i64],
+    params: &ExtractParams,
+    options: &PipelineOptions,
+    part: Option<(usize, usize)>,
+    sinks: &mut [&mut dyn MeshSink],
+) -> Result<Vec<Stats>> {
+    if params.normals {
+        return Err(Error::Invalid(
+            "vertex normals are not made for label surfaces".into(),
+        ));
+    }
+    if labels.is_empty() {
+        return Err(Error::Invalid("no label to extract".into()));
+    }
+    if labels.len() > MOST_LABELS {
+        return Err(Error::Invalid(format!(
+            "{} labels; one pass takes at most {MOST_LABELS}",
+            labels.len()
+        )));
+    }
+    let mut lookup: Vec<(i64, u16)> = labels
+        .iter()
+        .enumerate()
+        .map(|(i, &l)| (l, i as u16 + 1))
+        .collect();
+    lookup.sort_unstable();
+    if let Some(pair) = lookup.windows(2).find(|w| w[0].0 == w[1].0) {
+        return Err(Error::Invalid(format!(
+            "label {} is asked for twice",
+            pair[0].0
+        )));
+    }
+    let each = ExtractParams {
+        iso: 0.5,
+        inside: Inside::High,
+        normals: false,
+        ..params.clone()
+    };
+    let all = vec![each; labels.len()];
+    let run = |source: &dyn SampleSource, layers: Range<usize>, spares: &Spares| {
+        label_slab(source, &lookup, &all, layers, spares)
+    };
+    // Codes of the slab's planes (2 bytes a sample, a slab of up to 64
+    // layers) and one indicator (1 byte): counted as 4 of the slab loop's
+    // planes of 17 bytes.
+    let work = SlabWork {
+        run: &run,
+        budget_planes: 4,
+    };
+    run_pass(source, &all, options, part, sinks, Some(work))
+}
+
+/// The code of value `v`: its label's number in `lookup` (from 1), 0 for
+/// any other value (NaN too: no label).
+fn code_of(lookup: &[(i64, u16)], v: f64) -> u16 {
+    // Whole numbers in i64's range convert exactly; anything else is no
+    // label (`as` saturates, and the comparison catches it).
+    let l = v as i64;
+    if l as f64 != v {
+        return 0;
+    }
+    match lookup.binary_search_by_key(&l, |&(label, _)| label) {
+        Ok(k) => lookup[k].1,
+        Err(_) => 0,
+    }
+}
+
+/// A label's rectangle in a slab's planes: inclusive x and y bounds.
+#[derive(Clone, Copy)]
+struct Rect {
+    x: [usize; 2],
+    y: [usize; 2],
+}
+
+impl Rect {
+    fn grow(&mut self, x: [usize; 2], y: usize) {
+        self.x = [self.x[0].min(x[0]), self.x[1].max(x[1])];
+        self.y = [self.y[0].min(y), self.y[1].max(y)];
+    }
+}
+
+/// The chunks and counts of every label for cell layers `layers` (see the
+/// module documentation).
+fn label_slab(
+    source: &dyn SampleSource,
+    lookup: &[(i64, u16)],
+    params: &[ExtractParams],
+    layers: Range<usize>,
+    spares: &Spares,
+) -> Result<Vec<(Vec<Chunk>, Stats)>> {
+    // The source is padded with NaN for `--close` (see `run_pass`).
+    let close = params.first().is_some_and(|p| p.close);
+    let grid = *source.grid();
+    let [nx, ny, nz] = grid.dims;
+    let area = nx * ny;
+    let planes = layers.len() + 1;
+    let mut codes: Vec<u16> = try_filled("the label codes of a slab", planes * area, 0)?;
+    let mut rects: Vec<Option<Rect>> = vec![None; params.len()];
+    let mut values = Vec::new();
+    for (k, z) in (layers.start..=layers.end).enumerate() {
+        let plane = &mut codes[k * area..(k + 1) * area];
+        plane_runs(source, z, &mut values, |y, x, end, v| {
+            let code = code_of(lookup, v);
+            plane[y * nx + x..y * nx + end].fill(code);
+            if code != 0 {
+                let run = [x, end - 1];
+                match &mut rects[usize::from(code) - 1] {
+                    Some(rect) => rect.grow(run, y),
+                    slot => *slot = Some(Rect { x: run, y: [y, y] }),
+                }
+            }
+            Ok(())
+        })?;
+        if close {
+            // `--close`'s border of NaN: a tie for every label.
+            if z == 0 || z == nz - 1 {
+                plane.fill(TIE);
+            } else {
+                for row in plane.chunks_exact_mut(nx) {
+                    row[0] = TIE;
+                    row[nx - 1] = TIE;
+                }
+                plane[..nx].fill(TIE);
+                plane[area - nx..].fill(TIE);
+            }
+        }
+        if source.interrupted() {
+            return Err(Error::Interrupted);
+        }
+    }
+    drop(values);
+    // The planes are coded: the source's pages may go (the slab above
+    // releases the last plane, as in the slab loop).
+    source.advise(layers.start..layers.end, Access::Done);
+    let mut indicator: Vec<u8> = Vec::new();
+    let mut results = Vec::with_capacity(params.len());
+    for (i, (rect, p)) in rects.iter().zip(params).enumerate() {
+        let Some(rect) = rect else {
+            results.push((empty_chunks(&layers, nz), Stats::default()));
+            continue;
+        };
+        let code = i as u16 + 1;
+        let xs = rect.x[0].saturating_sub(1)..(rect.x[1] + 2).min(nx);
+        let ys = rect.y[0].saturating_sub(1)..(rect.y[1] + 2).min(ny);
+        let (wx, wy) = (xs.len(), ys.len());
+        indicator.clear();
+        crate::error::make_room(&mut indicator, planes * wx * wy, "a label's indicator")?;
+        for k in 0..planes {
+            for y in ys.clone() {
+                let row = &codes[k * area + y * nx..][xs.clone()];
+                // Without a branch, so that it runs in vector registers.
+                indicator.extend(
+                    row.iter()
+                        .map(|&c| u8::from(c == code) | (u8::from(c == TIE) << 1)),
+                );
+            }
+        }
+        // Ties are the border's, where the window reaches it.
+        let ties = close
+            && (xs.start == 0
+                || xs.end == nx
+                || ys.start == 0
+                || ys.end == ny
+                || layers.start == 0
+                || layers.end == nz - 1);
+        let window = Window {
+            full: grid,
+            offset: [xs.start, ys.start],
+        };
+        let view = Indicator {
+            grid: Grid {
+                dims: [wx, wy, nz],
+                ..grid
+            },
+            planes: &indicator,
+            first: layers.start,
+            ties,
+            outer: source,
+        };
+        results.push(process_window(
+            &view,
+            p,
+            layers.clone(),
+            spares,
+            Some(&window),
+        )?);
+    }
+    Ok(results)
+}
+
+/// The chunks of cell layers `layers` of a grid of `nz` planes without a
+/// surface: one per layer, and the top plane's when the layers end there
+/// (what the slab loop hands back for them).
+fn empty_chunks(layers: &Range<usize>, nz: usize) -> Vec<Chunk> {
+    let top = (layers.end == nz - 1).then_some(nz - 1);
+    layers
+        .clone()
+        .chain(top)
+        .map(|z| Chunk {
+            plane: z as u64,
+            ..Chunk::default()
+        })
+        .collect()
+}
+
+/// One label's indicator over a window of a slab's planes, as a source
+/// for the slab loop: 1 on the label, 0 elsewhere, NaN (a tie) where the
+/// codes say [`TIE`]. Lends its planes as `u8` when there is no tie, as
+/// an indicator volume stored as bytes is read.
+struct Indicator<'a> {
+    grid: Grid,
+    /// Byte 0, 1 or 2 (a tie) per sample, planes from `first` on.
+    planes: &'a [u8],
+    first: usize,
+    ties: bool,
+    outer: &'a dyn SampleSource,
+}
+
+impl Indicator<'_> {
+    fn plane(&self, z: usize) -> &[u8] {
+        let len = self.grid.plane_len();
+        let k = z - self.first;
+        &self.planes[k * len..(k + 1) * len]
+    }
+}
+
+impl SampleSource for Indicator<'_> {
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        for (o, &b) in out.iter_mut().zip(self.plane(z)) {
+            *o = match b {
+                0 => 0.0,
+                1 => 1.0,
+                _ => f64::NAN,
+            };
+        }
+        Ok(())
+    }
+
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        (!self.ties).then(|| LentPlane::U8(self.plane(z)))
+    }
+
+    fn interrupted(&self) -> bool {
+        self.outer.interrupted()
+    }
+
+    fn sample_bytes(&self) -> usize {
+        1
+    }
+}

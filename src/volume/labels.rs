@@ -1,0 +1,119 @@
+//! [`scan_labels`]: the values of a label map and how many samples each
+//! has, read plane by plane, with the first sample that is not a whole
+//! number refused.
+
+use super::{LentPlane, Sample, SampleSource};
+use crate::error::make_room;
+use crate::{Error, Result};
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// The values of a label map, ascending, each with its number of samples.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct LabelCounts {
+    /// `(value, samples)` for every value present, ascending.
+    pub counts: Vec<(i64, u64)>,
+}
+
+impl LabelCounts {
+    /// The samples of `label` (0 when absent).
+    pub fn samples(&self, label: i64) -> u64 {
+        self.counts
+            .binary_search_by_key(&label, |&(l, _)| l)
+            .map_or(0, |k| self.counts[k].1)
+    }
+
+    /// Every value present but `background`, ascending.
+    pub fn labels_except(&self, background: i64) -> Vec<i64> {
+        self.counts
+            .iter()
+            .map(|&(l, _)| l)
+            .filter(|&l| l != background)
+            .collect()
+    }
+}
+
+/// Reads every plane of `source` once (in z order, one plane of `f64` in
+/// memory) and counts the samples of each value. Label maps hold integers,
+/// though many are stored as floats: a sample that is not a whole number
+/// within ±2^53 (a fraction, NaN, an infinity) is an error naming its
+/// position, the first in the file's order (x fastest, then y, then z).
+/// Stops with [`Error::Interrupted`] once `cancel` is set (looked at every
+/// plane).
+pub fn scan_labels(source: &dyn SampleSource, cancel: Option<&AtomicBool>) -> Result<LabelCounts> {
+    const LIMIT: f64 = (1u64 << 53) as f64;
+    let nz = source.grid().dims[2];
+    let mut plane = Vec::new();
+    let mut counts: BTreeMap<i64, u64> = BTreeMap::new();
+    for z in 0..nz {
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+            return Err(Error::Interrupted);
+        }
+        plane_runs(source, z, &mut plane, |y, x, end, v| {
+            if !(v.fract() == 0.0 && v.abs() <= LIMIT) {
+                return Err(Error::Invalid(format!(
+                    "sample (x {x}, y {y}, z {z}) is {v}, not a whole number: a label map holds integer labels"
+                )));
+            }
+            *counts.entry(v as i64).or_default() += (end - x) as u64;
+            Ok(())
+        })?;
+    }
+    Ok(LabelCounts {
+        counts: counts.into_iter().collect(),
+    })
+}
+
+/// Calls `f(y, x, end, value)` for every run of equal samples
+/// `x..end` of each row `y` of plane `z`, in raster order (a NaN is a run
+/// of its own). Reads the plane as the source lends it when it does (runs
+/// compared in the stored type), else into `buffer` as `f64`; stops at
+/// the first error of `f`.
+pub fn plane_runs(
+    source: &dyn SampleSource,
+    z: usize,
+    buffer: &mut Vec<f64>,
+    mut f: impl FnMut(usize, usize, usize, f64) -> Result<()>,
+) -> Result<()> {
+    let [nx, ny, _] = source.grid().dims;
+    let len = nx * ny;
+    match source.lend_plane(z).filter(|p| p.len() == len) {
+        Some(LentPlane::U8(s)) => runs(s, nx, f),
+        Some(LentPlane::I8(s)) => runs(s, nx, f),
+        Some(LentPlane::U16(s)) => runs(s, nx, f),
+        Some(LentPlane::I16(s)) => runs(s, nx, f),
+        Some(LentPlane::U32(s)) => runs(s, nx, f),
+        Some(LentPlane::I32(s)) => runs(s, nx, f),
+        Some(LentPlane::F32(s)) => runs(s, nx, f),
+        Some(LentPlane::F64(s)) => runs(s, nx, f),
+        _ => {
+            buffer.clear();
+            make_room(buffer, len, "a plane of samples")?;
+            buffer.resize(len, 0.0);
+            source.read_plane(z, buffer)?;
+            runs(&buffer[..], nx, &mut f)
+        }
+    }
+}
+
+/// [`plane_runs`] of samples of type `T`, rows of `nx`.
+#[inline]
+fn runs<T: Sample + PartialEq>(
+    samples: &[T],
+    nx: usize,
+    mut f: impl FnMut(usize, usize, usize, f64) -> Result<()>,
+) -> Result<()> {
+    for (y, row) in samples.chunks_exact(nx).enumerate() {
+        let mut x = 0;
+        while x < nx {
+            let v = row[x];
+            let mut end = x + 1;
+            while end < nx && row[end] == v {
+                end += 1;
+            }
+            f(y, x, end, v.to_f64())?;
+            x = end;
+        }
+    }
+    Ok(())
+}

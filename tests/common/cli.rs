@@ -186,3 +186,16 @@ pub fn json_number(json: &[u8], key: &str) -> f64 {
         .collect();
     digits.parse().unwrap()
 }
+
+/// `tmc extract` of `input` (at iso 40, with `extra` options) fails with
+/// one line holding `words`, and writes nothing.
+pub fn refused(input: &Path, extra: &[&str], words: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.ply");
+    let mut args = vec!["extract", s(input), "--iso", "40", "-o", s(&out)];
+    args.extend_from_slice(extra);
+    let line = assert_one_line(&tmc(&args), 1);
+    assert!(line.contains(words), "{line}");
+    assert!(!out.exists());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}

@@ -15,7 +15,8 @@
 //! first plane asked for in a layer of chunks decodes all of that layer's
 //! chunks, in parallel on scoped threads, and the layer is kept while its
 //! planes are read, so each chunk is decompressed once per pass and memory
-//! holds a few layers per worker.
+//! holds a few layers per worker (and, while a slab is triangulated, the
+//! layers its planes lie in: they are lent, see `held.rs`).
 
 use super::chunk_layers::ChunkLayers;
 use super::zarr_ome::{self, OmeLevel};

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::cli::{assert_one_line, s, tmc};
+use common::cli::{refused, s, tmc};
 use common::formats::{all_samples, data_dir};
 use std::path::{Path, PathBuf};
 use tmc::volume::zarr::{self, ZarrSelect};
@@ -79,7 +79,7 @@ fn groups_by_path_or_array_option_and_ome_levels() {
     assert_eq!(all_samples(&*by_path), all_samples(&*twin));
     let select = ZarrSelect {
         array: Some("scans/ct".into()),
-        level: None,
+        ..ZarrSelect::default()
     };
     let by_option = zarr::open(&data("zr_group.zarr"), &select).unwrap();
     assert_eq!(all_samples(&by_option), all_samples(&*twin));
@@ -91,8 +91,8 @@ fn groups_by_path_or_array_option_and_ome_levels() {
         assert!(matches!(src.notes().spacing_from, ValueFrom::File { .. }));
         same_mesh(&*src, &*twin, [0.5, 1.0, 2.0], [1.5, -2.0, 3.25]);
         let coarse = ZarrSelect {
-            array: None,
             level: Some(1),
+            ..ZarrSelect::default()
         };
         let l1 = zarr::open(&data(name), &coarse).unwrap();
         assert_eq!(l1.grid().dims, [5, 4, 3]);
@@ -143,19 +143,6 @@ fn copy(name: &str, dir: &Path) -> PathBuf {
     let to = dir.join(name);
     walk(&data(name), &to);
     to
-}
-
-/// `tmc extract` of `input` fails with one line holding `words`, and
-/// writes nothing.
-fn refused(input: &Path, extra: &[&str], words: &str) {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("m.ply");
-    let mut args = vec!["extract", s(input), "--iso", "40", "-o", s(&out)];
-    args.extend_from_slice(extra);
-    let line = assert_one_line(&tmc(&args), 1);
-    assert!(line.contains(words), "{line}");
-    assert!(!out.exists());
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
 #[test]

@@ -45,6 +45,9 @@ Input formats:
          have one entry. OME-Zarr (NGFF 0.4, 0.5): level 0 or --level N,
          scale and translation as spacing and origin (in mm). Each chunk is
          decompressed once per pass, a layer of chunks at a time
+  HDF5   a dataset of an HDF5 file (.h5, .hdf5, .nxs ...): FILE:/path/to/data
+         or --dataset PATH; contiguous or chunked, gzip/deflate and shuffle;
+         spacing from the dataset's element_size_um (z, y, x in um), in mm
   raw    headerless samples, x fastest: give --dims and --dtype
   Vertices are in the file's world frame (spacing, origin and direction
   cosines applied; a mirroring map flips the winding). --spacing and

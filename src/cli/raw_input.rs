@@ -64,6 +64,12 @@ pub(crate) struct RawArgs {
         help_heading = "Zarr input"
     )]
     pub level: Option<usize>,
+
+    /// HDF5: the dataset to read (its path in the file), e.g.
+    /// --dataset /exchange/data; the same as giving FILE:/exchange/data as
+    /// the input.
+    #[arg(long, value_name = "PATH", help_heading = "HDF5 input")]
+    pub dataset: Option<String>,
 }
 
 /// `--endian`.
@@ -113,6 +119,7 @@ pub(crate) fn open_input(
     let select = tmc::volume::zarr::ZarrSelect {
         array: args.array.clone(),
         level: args.level,
+        dataset: args.dataset.clone(),
     };
     let source = tmc::volume::open_selected(input, raw, &select, cancel.unwrap_or(&never))?;
     let (source, notes) = tmc::volume::regrid(source, args.spacing, args.origin)?;

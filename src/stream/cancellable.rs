@@ -5,7 +5,7 @@
 //! layer too (Ctrl-C must stop a run within half a second even when one
 //! layer of a dense volume with huge planes takes longer than that).
 
-use crate::volume::{Access, LentPlane, SampleSource, ScalarType, SourceNotes};
+use crate::volume::{Access, LentPlane, SampleSource, ScalarType, SharedPlane, SourceNotes};
 use crate::{Error, Grid, Result};
 use std::ops::Range;
 use std::path::Path;
@@ -46,6 +46,13 @@ impl SampleSource for Cancellable<'_> {
             return None;
         }
         self.inner.lend_plane(z)
+    }
+
+    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
+        if self.cancelled() {
+            return None;
+        }
+        self.inner.share_plane(z)
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

@@ -25,7 +25,7 @@ use crate::mesh::{Chunk, MeshInfo, MeshSink};
 use crate::normals::FillPending;
 use crate::params::{ExtractParams, PipelineOptions, Progress};
 use crate::slab::{chunk_bytes, process_slab, Spares};
-use crate::volume::{Access, LentPlane, Padded, SampleSource, ScalarType};
+use crate::volume::{Access, HeldPlanes, LentPlane, Padded, SampleSource, ScalarType, SharedPlane};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
 use std::sync::atomic::Ordering;
@@ -222,9 +222,17 @@ pub(crate) fn run_pass(
             });
         }
     };
+    let planes = dims[2];
     let run = |layers: Range<usize>| {
         check_cancel(options)?;
         source.check_unchanged()?;
+        // The slab's planes, and one more on each side for the normals'
+        // gradients, lent from a chunked source's decoded layers.
+        let held = HeldPlanes::new(
+            source,
+            layers.start.saturating_sub(1)..(layers.end + 3).min(planes),
+        );
+        let source: &dyn SampleSource = &held;
         let mut results = match &work {
             Some(work) => (work.run)(source, layers, &spares)?,
             None => slab_for_each(source, params, layers, &spares)?,
@@ -361,6 +369,10 @@ impl SampleSource for KeepResident<'_> {
 
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
         self.inner.lend_plane(z)
+    }
+
+    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
+        self.inner.share_plane(z)
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

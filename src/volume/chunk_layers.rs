@@ -18,7 +18,8 @@
 //! another worker's decode could: the decoding thread may itself wait on
 //! the pool.
 
-use crate::Result;
+use super::{decode_samples, Endian, Grid, ScalarType, SharedPlane};
+use crate::{Error, Result};
 use std::sync::{Arc, Mutex};
 
 /// One decoded layer.
@@ -92,6 +93,64 @@ impl ChunkLayers {
             used: *clock,
         });
         Ok(data)
+    }
+
+    /// Plane `z` of a volume on `grid` of `scalar` samples, stored in
+    /// layers of `depth` planes (the last may be thinner): the kept layer
+    /// holding it and the plane's bytes in it; `decode(k)` makes layer `k`
+    /// (its planes, x fastest, native byte order) if it is not kept.
+    pub(crate) fn shared(
+        &self,
+        grid: &Grid,
+        scalar: ScalarType,
+        depth: usize,
+        z: usize,
+        decode: impl FnOnce(usize) -> Result<Vec<u8>>,
+    ) -> Result<SharedPlane> {
+        let nz = grid.dims[2];
+        if z >= nz || depth == 0 {
+            return Err(Error::Invalid(format!("plane {z} of {nz}")));
+        }
+        let plane_bytes = grid.plane_len() * scalar.size();
+        let k = z / depth;
+        let planes = depth.min(nz - k * depth);
+        let data = self.get(k, planes, z - k * depth, || decode(k))?;
+        let at = (z - k * depth) * plane_bytes;
+        if data.len() < at + plane_bytes {
+            return Err(Error::Invalid(format!(
+                "layer {k} holds {} bytes, plane {z} needs {}",
+                data.len(),
+                at + plane_bytes
+            )));
+        }
+        Ok(SharedPlane {
+            data,
+            bytes: at..at + plane_bytes,
+            scalar,
+        })
+    }
+
+    /// [`ChunkLayers::shared`]'s plane `z` as `f64`s into `out` (a plane
+    /// long).
+    pub(crate) fn read(
+        &self,
+        grid: &Grid,
+        scalar: ScalarType,
+        depth: usize,
+        z: usize,
+        out: &mut [f64],
+        decode: impl FnOnce(usize) -> Result<Vec<u8>>,
+    ) -> Result<()> {
+        let plane = grid.plane_len();
+        if out.len() != plane {
+            return Err(Error::Invalid(format!(
+                "a plane of {plane} samples into a buffer of {}",
+                out.len()
+            )));
+        }
+        let shared = self.shared(grid, scalar, depth, z, decode)?;
+        decode_samples(scalar, Endian::native(), &shared.data[shared.bytes], out);
+        Ok(())
     }
 
     /// The kept layer `layer`, marking plane `plane` read.

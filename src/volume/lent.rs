@@ -13,6 +13,31 @@
 //! loops look at its type once per plane.
 
 use super::ScalarType;
+use std::ops::Range;
+use std::sync::Arc;
+
+/// A plane held in a shared buffer: a decoded layer of chunks (Zarr,
+/// HDF5) that the source's cache may drop while the plane is still in use,
+/// so the holder keeps the buffer alive (see
+/// [`SampleSource::share_plane`](super::SampleSource::share_plane) and
+/// [`HeldPlanes`](super::HeldPlanes)).
+#[derive(Debug, Clone)]
+pub struct SharedPlane {
+    /// The layer holding the plane, native byte order.
+    pub data: Arc<Vec<u8>>,
+    /// The plane's bytes in `data`, x fastest.
+    pub bytes: Range<usize>,
+    /// The type of its samples.
+    pub scalar: ScalarType,
+}
+
+impl SharedPlane {
+    /// The plane, lent in its own type (`None` if its bytes do not hold a
+    /// whole number of samples).
+    pub fn lent(&self) -> Option<LentPlane<'_>> {
+        LentPlane::from_bytes(self.scalar, self.data.get(self.bytes.clone())?)
+    }
+}
 
 /// The samples of one plane, x fastest, in the type they are stored in.
 #[derive(Debug, Clone, Copy)]

@@ -12,6 +12,8 @@ mod chunk_layers;
 pub mod dicom;
 mod dicom_lengths;
 mod guarded;
+pub mod hdf5;
+mod held;
 pub mod histogram;
 pub mod info;
 mod labels;
@@ -50,11 +52,12 @@ pub(crate) use crate::grid::set_direction;
 pub use crate::grid::{Grid, IDENTITY};
 pub use array::ArrayVolume;
 pub use guarded::in_guarded_call;
+pub use held::HeldPlanes;
 pub use info::{
     automatic_plane_step, describe, volume_info, VolumeInfo, HISTOGRAM_BUDGET, MAX_BINS, MIN_BINS,
 };
 pub use labels::{plane_runs, scan_labels, LabelCounts};
-pub use lent::LentPlane;
+pub use lent::{LentPlane, SharedPlane};
 pub use notes::{ChunkNotes, SourceNotes, ValueFrom};
 pub use open::{format_name, open, open_cancellable, open_selected, Format};
 pub use padded::Padded;

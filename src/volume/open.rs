@@ -2,7 +2,7 @@
 //! [`SampleSource`] that reads it.
 
 use super::zarr::{self, ZarrSelect};
-use super::{dicom, metaimage, nifti, npy, nrrd, raw, tiff_stack, vti, vtk_legacy};
+use super::{dicom, hdf5, metaimage, nifti, npy, nrrd, raw, tiff_stack, vti, vtk_legacy};
 use super::{RawOptions, SampleSource};
 use crate::files::{check_input_kind, lowercase_extension};
 use crate::Result;
@@ -32,6 +32,8 @@ pub enum Format {
     Dicom,
     /// A Zarr v2 or v3 array or group, OME-Zarr included (a directory).
     Zarr,
+    /// A dataset of an HDF5 file (`.h5`, `.hdf5`, `.nxs`, ...).
+    Hdf5,
 }
 
 impl Format {
@@ -39,14 +41,18 @@ impl Format {
     /// named `*.zarr` or holding Zarr metadata is Zarr; one holding DICOM files is a DICOM series, another directory or a glob
     /// pattern a TIFF stack; otherwise by extension (`.npy`, `.nrrd`,
     /// `.nhdr`, `.nii`, `.nii.gz`, `.hdr`, `.mhd`, `.mha`, `.vtk`, `.vti`,
-    /// `.tif`/`.tiff`, `.dcm`), and a file with the DICOM magic is DICOM
-    /// whatever its name. `None` if no reader fits.
+    /// `.tif`/`.tiff`, `.dcm`, `.h5`, `.hdf5`, `.hdf`, `.he5`, `.nxs`), a
+    /// file with the DICOM magic is DICOM and one with the HDF5 signature
+    /// HDF5 whatever its name. `None` if no reader fits.
     pub fn detect(path: &Path, raw: bool) -> Option<Format> {
         if raw {
             return Some(Format::Raw);
         }
         if zarr::is_zarr(path) {
             return Some(Format::Zarr);
+        }
+        if path.is_file() && hdf5::is_hdf5(path) {
+            return Some(Format::Hdf5);
         }
         if path.is_dir() && dicom::dir_has_dicom(path) {
             return Some(Format::Dicom);
@@ -84,6 +90,7 @@ impl Format {
             Format::TiffStack => "TIFF stack",
             Format::Dicom => "DICOM",
             Format::Zarr => "Zarr",
+            Format::Hdf5 => "HDF5",
         }
     }
 }
@@ -106,18 +113,37 @@ pub fn open_cancellable(
 }
 
 /// [`open_cancellable`] with the array of a Zarr group chosen by `select`
-/// (`--array`, `--level`); `select` must be empty for other formats.
+/// (`--array`, `--level`) or the dataset of an HDF5 file (`--dataset`, or
+/// `path` given as `FILE:/path/to/dataset`); `select` must be empty for
+/// other formats.
 pub fn open_selected(
     path: &Path,
     raw: Option<&RawOptions>,
     select: &ZarrSelect,
     cancel: &AtomicBool,
 ) -> Result<Box<dyn SampleSource>> {
+    if raw.is_none() {
+        if let Some((file, dataset)) = hdf5::split_path(path) {
+            if select.dataset.is_some() {
+                return Err(crate::Error::Invalid(format!(
+                    "{}: give the dataset as FILE:PATH or with --dataset, not both",
+                    path.display()
+                )));
+            }
+            return Ok(Box::new(hdf5::open(&file, Some(&dataset))?));
+        }
+    }
     check_input_kind(path)?;
-    if *select != ZarrSelect::default() && Format::detect(path, raw.is_some()) != Some(Format::Zarr)
-    {
+    let format = Format::detect(path, raw.is_some());
+    if (select.array.is_some() || select.level.is_some()) && format != Some(Format::Zarr) {
         return Err(crate::Error::Invalid(format!(
             "{}: --array and --level choose an array of a Zarr store, and this is not one",
+            path.display()
+        )));
+    }
+    if select.dataset.is_some() && format != Some(Format::Hdf5) {
+        return Err(crate::Error::Invalid(format!(
+            "{}: --dataset chooses a dataset of an HDF5 file, and this is not one",
             path.display()
         )));
     }
@@ -140,7 +166,7 @@ pub fn open_selected(
     }
     let format = Format::detect(path, false).ok_or_else(|| {
         crate::Error::Invalid(format!(
-            "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff, .dcm, a Zarr store, a directory of TIFFs or DICOM files, or give --dims and --dtype for raw data)",
+            "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff, .dcm, .h5/.hdf5/.nxs, a Zarr store, a directory of TIFFs or DICOM files, or give --dims and --dtype for raw data)",
             path.display()
         ))
     })?;
@@ -160,6 +186,7 @@ pub fn open_selected(
         Format::TiffStack => Box::new(tiff_stack::open(path)?),
         Format::Dicom => Box::new(dicom::open(path)?),
         Format::Zarr => Box::new(zarr::open(path, select)?),
+        Format::Hdf5 => Box::new(hdf5::open(path, select.dataset.as_deref())?),
     })
 }
 
@@ -168,6 +195,9 @@ pub fn open_selected(
 /// file is named by its version, read from the first bytes of the header
 /// (`None` if they cannot be read).
 pub fn format_name(path: &Path, raw: Option<&RawOptions>) -> Option<&'static str> {
+    if hdf5::split_path(path).is_some() {
+        return Some(Format::Hdf5.name());
+    }
     check_input_kind(path).ok()?;
     match Format::detect(path, raw.is_some())? {
         Format::Nifti => nifti_name(path),

@@ -8,7 +8,7 @@
 //! and the position of sample (0, 0, 0) change. The samples are untouched,
 //! so every other question is passed on to the source.
 
-use super::{Access, LentPlane, SampleSource, ScalarType, SourceNotes, ValueFrom};
+use super::{Access, LentPlane, SampleSource, ScalarType, SharedPlane, SourceNotes, ValueFrom};
 use crate::grid::Grid;
 use crate::{Error, Result};
 use std::ops::Range;
@@ -84,6 +84,10 @@ impl SampleSource for Regridded {
 
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
         self.inner.lend_plane(z)
+    }
+
+    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
+        self.inner.share_plane(z)
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

@@ -1,7 +1,7 @@
 //! [`SampleSource`]: the one interface between the readers and the pipeline
 //! ([`crate::stream`], [`crate::slab`]).
 
-use super::{LentPlane, ScalarType, SourceNotes};
+use super::{LentPlane, ScalarType, SharedPlane, SourceNotes};
 use crate::grid::Grid;
 use crate::Result;
 use std::ops::Range;
@@ -24,6 +24,19 @@ pub trait SampleSource: Sync {
     /// `None` (the default) makes the caller use [`SampleSource::read_plane`].
     /// Both must give the same values.
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        let _ = z;
+        None
+    }
+
+    /// Plane `z` as stored, in a buffer shared with the source's cache, for
+    /// sources that decode layers of chunks and cannot lend a plane for as
+    /// long as `&self` lives (the cache drops layers); the pipeline holds
+    /// the planes of a slab this way ([`HeldPlanes`](super::HeldPlanes)) and
+    /// lends them to the slab loop. `None` (the default) when the source
+    /// has no such buffer, or could not decode the layer (then
+    /// [`SampleSource::read_plane`] reports the error). Same values as
+    /// `read_plane`.
+    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
         let _ = z;
         None
     }

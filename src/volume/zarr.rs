@@ -15,12 +15,13 @@
 //! first plane asked for in a layer of chunks decodes all of that layer's
 //! chunks, in parallel on scoped threads, and the layer is kept while its
 //! planes are read, so each chunk is decompressed once per pass and memory
-//! holds a few layers per worker.
+//! holds a few layers per worker (and, while a slab is triangulated, the
+//! layers its planes lie in: they are lent, see `held.rs`).
 
 use super::chunk_layers::ChunkLayers;
 use super::zarr_ome::{self, OmeLevel};
-use super::{decode_samples, Endian, Grid, SampleSource, ScalarType};
-use super::{ChunkNotes, SourceNotes, ValueFrom};
+use super::{ChunkNotes, SharedPlane, SourceNotes, ValueFrom};
+use super::{Grid, SampleSource, ScalarType};
 use crate::{Error, Result};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -29,13 +30,16 @@ use std::sync::{Arc, Mutex};
 use zarrs::array::{data_type as dt, Array, ArrayBytes, ArrayMetadata, CodecOptions};
 use zarrs::filesystem::FilesystemStore;
 
-/// Which array of a Zarr store to read (`--array`, `--level`).
+/// Which array of a Zarr store to read (`--array`, `--level`), or which
+/// dataset of an HDF5 file (`--dataset`).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct ZarrSelect {
     /// The array's path inside the store (a group's member).
     pub array: Option<String>,
     /// The level of an OME-Zarr pyramid (0, the finest, by default).
     pub level: Option<usize>,
+    /// The dataset's path in an HDF5 file (`--dataset`, or `FILE:PATH`).
+    pub dataset: Option<String>,
 }
 
 /// A Zarr array read plane by plane from its chunk layers.
@@ -466,24 +470,17 @@ impl SampleSource for ZarrVolume {
     }
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
-        let nz = self.grid.dims[2];
-        let plane = self.grid.plane_len();
-        if z >= nz || out.len() != plane {
-            return Err(Error::Invalid(format!(
-                "plane {z} of {nz} into a buffer of {} samples (a plane has {plane})",
-                out.len()
-            )));
-        }
-        let cz = self.chunk[0];
-        let k = z / cz;
-        let depth = cz.min(nz - k * cz);
-        let data = self
-            .layers
-            .get(k, depth, z - k * cz, || self.decode_layer(k))?;
-        let bytes = plane * self.scalar.size();
-        let at = (z - k * cz) * bytes;
-        decode_samples(self.scalar, Endian::native(), &data[at..at + bytes], out);
-        Ok(())
+        let (grid, scalar) = (&self.grid, self.scalar);
+        self.layers.read(grid, scalar, self.chunk[0], z, out, |k| {
+            self.decode_layer(k)
+        })
+    }
+
+    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
+        let (grid, scalar) = (&self.grid, self.scalar);
+        self.layers
+            .shared(grid, scalar, self.chunk[0], z, |k| self.decode_layer(k))
+            .ok()
     }
 
     fn data_files(&self) -> Vec<&Path> {

@@ -206,3 +206,16 @@ pub fn uniform_npy(dir: &Path, dims: [usize; 3]) -> PathBuf {
     std::fs::write(&path, bytes).unwrap();
     path
 }
+
+/// `tmc extract` of `input` (at iso 40, with `extra` options) fails with
+/// one line holding `words`, and writes nothing.
+pub fn refused(input: &Path, extra: &[&str], words: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("m.ply");
+    let mut args = vec!["extract", s(input), "--iso", "40", "-o", s(&out)];
+    args.extend_from_slice(extra);
+    let line = assert_one_line(&tmc(&args), 1);
+    assert!(line.contains(words), "{line}");
+    assert!(!out.exists());
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}

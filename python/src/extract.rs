@@ -242,9 +242,11 @@ pub(crate) fn extract<'py>(
 
 /// Streams the isosurface of `input` (array or path) into the file
 /// `output`, whose extension chooses the format, without holding the mesh;
-/// the file appears whole or not at all. Returns the report JSON.
+/// the file appears whole or not at all; with `normals`, the vertex
+/// normals go into it too (formats that carry them), as `tmc extract
+/// --normals` writes them. Returns the report JSON.
 #[pyfunction]
-#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads))]
+#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_to(
     py: Python<'_>,
@@ -258,8 +260,9 @@ pub(crate) fn extract_to(
     inside: &str,
     close: bool,
     threads: usize,
+    normals: bool,
 ) -> PyResult<String> {
-    let params = params(iso, method, inside, close, threads, false)?;
+    let params = params(iso, method, inside, close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped)?;
     input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, Some(&output), cancel)?;

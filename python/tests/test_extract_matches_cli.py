@@ -114,6 +114,40 @@ def test_extract_to_writes_what_the_cli_writes(tmp_path, suffix):
     assert (tmp_path / f"array{suffix}").read_bytes() == (tmp_path / f"cli{suffix}").read_bytes()
 
 
+@pytest.mark.parametrize("suffix", [".ply", ".tmesh", ".obj"])
+def test_extract_to_with_normals_writes_what_the_cli_writes(tmp_path, suffix):
+    # Integer noise with many ties at the isovalue: gradient normals and,
+    # where the gradient vanishes, the triangles' normals.
+    volume = noise_volume("u2")
+    npy = tmp_path / "v.npy"
+    np.save(npy, volume)
+    cli = tmp_path / f"cli{suffix}"
+    run_cli("extract", str(npy), "--iso", "3", "--normals", "-o", str(cli), "--quiet")
+    tmc.extract_to(npy, 3.0, tmp_path / f"py{suffix}", normals=True)
+    assert (tmp_path / f"py{suffix}").read_bytes() == cli.read_bytes()
+    tmc.extract_to(volume, 3.0, tmp_path / f"array{suffix}", normals=True, threads=2)
+    assert (tmp_path / f"array{suffix}").read_bytes() == cli.read_bytes()
+    # Without normals, the file has none: the bytes of the CLI without
+    # --normals, and different from the file with them.
+    plain = tmp_path / f"plain{suffix}"
+    tmc.extract_to(npy, 3.0, plain)
+    run_cli("extract", str(npy), "--iso", "3", "-o", str(tmp_path / f"cli_plain{suffix}"), "--quiet")
+    assert plain.read_bytes() == (tmp_path / f"cli_plain{suffix}").read_bytes()
+    assert plain.read_bytes() != cli.read_bytes()
+    if suffix == ".ply":
+        # The normals in the file are those of tmc.extract(normals=True),
+        # parsed from the PLY's declared layout with numpy.
+        data = cli.read_bytes()
+        end = data.index(b"end_header\n") + len(b"end_header\n")
+        header = data[:end].decode("ascii")
+        assert "property float nx" in header
+        n = int(header.split("element vertex ")[1].split()[0])
+        rows = np.frombuffer(data[end : end + n * 24], dtype="<f4").reshape(n, 6)
+        mesh = tmc.extract(npy, 3.0, normals=True)
+        np.testing.assert_array_equal(rows[:, 3:], mesh.normals)
+        np.testing.assert_array_equal(rows[:, :3], mesh.vertices.astype(np.float32))
+
+
 def test_write_read_and_check_round_trip(tmp_path):
     mesh = tmc.extract(noise_volume("u2"), 3.0, close=True)
     for suffix in (".ply", ".obj", ".off"):

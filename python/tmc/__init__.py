@@ -288,6 +288,7 @@ def extract_to(
     inside: str = "high",
     close: bool = False,
     threads: int = 0,
+    normals: bool = False,
 ) -> Dict[str, Any]:
     """Streams the isosurface at ``iso`` into the file ``output`` without
     holding the mesh in memory (the CLI's memory bound, for volumes of any
@@ -295,13 +296,16 @@ def extract_to(
 
     ``output``'s extension chooses the format: ``.tmesh``, ``.ply``,
     ``.obj``, ``.off`` or ``.stl``. The file appears whole or not at all (an
-    error or Ctrl-C leaves nothing at ``output``). The other arguments are
-    those of :func:`extract`. Returns the run's report (``tmc extract
-    --json``'s keys that describe the run).
+    error or Ctrl-C leaves nothing at ``output``). With ``normals=True`` the
+    unit outward vertex normals from the field's gradient are written too,
+    the bytes ``tmc extract --normals`` writes: PLY ``nx ny nz``, OBJ ``vn``,
+    the ``.tmesh`` normals attribute (OFF and STL carry none). The other
+    arguments are those of :func:`extract`. Returns the run's report
+    (``tmc extract --json``'s keys that describe the run).
     """
     array, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
-    report = _tmc.extract_to(array, os.fspath(output), *rest, *options)
+    report = _tmc.extract_to(array, os.fspath(output), *rest, *options, bool(normals))
     return json.loads(report)
 
 

@@ -56,8 +56,10 @@ def extract_to(
     inside: str = ...,
     close: bool = ...,
     threads: int = ...,
+    normals: bool = ...,
 ) -> Dict[str, Any]:
-    """Streams the isosurface into a mesh file without holding the mesh."""
+    """Streams the isosurface into a mesh file without holding the mesh
+    (with ``normals``, the vertex normals too, as ``tmc extract --normals``)."""
 
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a .tmesh, PLY, OBJ or OFF file."""

@@ -33,8 +33,9 @@ def extract_to(
     inside: str,
     close: bool,
     threads: int,
+    normals: bool,
 ) -> str:
-    """Streams into a file; returns the report JSON."""
+    """Streams into a file (with vertex normals if ``normals``); returns the report JSON."""
 
 def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
     """Reads a mesh file: (vertices float64, triangles uint32)."""

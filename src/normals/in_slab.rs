@@ -3,7 +3,8 @@
 //! finished.
 
 use super::gradient::Layer;
-use super::locate::{Locator, SNAP};
+use super::locate::Locator;
+use super::on_edge::on_edge;
 use super::pending::PENDING;
 use super::samples::{with_planes, Samples, Visit};
 use super::vector::unit;
@@ -72,7 +73,7 @@ impl<'a> SlabNormals<'a> {
     ///
     /// The chunk's vertices lie in cell layer `chunk.plane` (the top
     /// plane's, in the layer below it): each is located in that layer from
-    /// its position, offsets within [`SNAP`] of a
+    /// its position, offsets within [`SNAP`](super::locate::SNAP) of a
     /// face taken as on it, so a vertex on a grid edge weighs that edge's
     /// two ends only. A normal depends on the vertex and the samples alone:
     /// the same for any slab, thread or part.
@@ -146,10 +147,11 @@ impl Visit for ChunkNormals<'_> {
             map.gradient_to_world(field.gradient(cell, t))
         };
         let z = layer as f64;
+        let extent = [nx as f64, ny as f64];
         match self.aligned {
             Some((origin, inv)) => self.out.extend(self.vertices.iter().map(|&v| {
                 let p = [0, 1, 2].map(|a| (f64::from(v[a]) - origin[a]) * inv[a]);
-                let g = match on_edge(&field, fz, [p[0], p[1], p[2] - z]) {
+                let g = match on_edge(&field, fz, extent, [p[0], p[1], p[2] - z]) {
                     Some(g) => [g[0] * inv[0], g[1] * inv[1], g[2] * inv[2]],
                     None => general(v),
                 };
@@ -157,7 +159,7 @@ impl Visit for ChunkNormals<'_> {
             })),
             None => self.out.extend(self.vertices.iter().map(|&v| {
                 let p = map.index(v.map(f64::from));
-                let g = match on_edge(&field, fz, [p[0], p[1], p[2] - z]) {
+                let g = match on_edge(&field, fz, extent, [p[0], p[1], p[2] - z]) {
                     Some(g) => map.gradient_to_world(g),
                     None => general(v),
                 };
@@ -165,72 +167,6 @@ impl Visit for ChunkNormals<'_> {
             })),
         }
     }
-}
-
-/// The gradient at a vertex (grid index `p`, z counted from its layer's
-/// lower plane) on a
-/// grid edge whose two ends are not on the border of their plane, the
-/// common case, without locating it in its cell: what
-/// [`Layer::gradient`] computes there (the same differences, factors and
-/// weights, summed in the same order). `None` for any other
-/// vertex (inside a cell, on a plane's border, off the grid) and for a
-/// difference that is NaN (a NaN sample), which [`Layer::gradient`] then
-/// handles.
-#[inline(always)]
-fn on_edge<P: Samples>(field: &Layer<P>, fz: [f64; 2], p: [f64; 3]) -> Option<[f64; 3]> {
-    // Nearest grid line along each axis and whether the vertex is on it.
-    // NaN and far-off positions fail the range tests below.
-    if !(p[0] >= 0.5 && p[1] >= 0.5 && p[2] >= -SNAP && p[2] <= 1.0 + SNAP) {
-        return None;
-    }
-    let near = p.map(|c| (c + 0.5) as i64);
-    let on = [0, 1, 2].map(|a| (p[a] - near[a] as f64).abs() < SNAP);
-    let axis = match on {
-        [false, true, true] => 0,
-        [true, false, true] => 1,
-        [true, true, false] => 2,
-        _ => return None,
-    };
-    // The edge's lower end (`p` is positive along the edge: the cast is
-    // the floor) and the vertex's offset from it.
-    let mut low = near;
-    low[axis] = p[axis] as i64;
-    let t = p[axis] - low[axis] as f64;
-    let mut high = low;
-    high[axis] += 1;
-    // Both ends off the border of their plane (`near`, and so `high`, is
-    // at least 1 along x and y, as `p` is at least 0.5; both ends are on
-    // the layer's planes 0 and 1, as `p[2]` is within `SNAP` of [0, 1]).
-    let (nx, ny) = (field.nx as i64, field.ny as i64);
-    if low[0] < 1 || low[1] < 1 || high[0] + 1 >= nx || high[1] + 1 >= ny {
-        return None;
-    }
-    let (a, b) = (at_sample(field, fz, low), at_sample(field, fz, high));
-    let (w_low, w_high) = (1.0 - t, t);
-    let g = [
-        0.0 + w_low * a[0] + w_high * b[0],
-        0.0 + w_low * a[1] + w_high * b[1],
-        0.0 + w_low * a[2] + w_high * b[2],
-    ];
-    if P::MAY_BE_NAN && (g[0] + g[1] + g[2]).is_nan() {
-        return None;
-    }
-    Some(g)
-}
-
-/// The central difference at sample `e` (its plane 0 or 1 of the layer),
-/// not on the border of its plane.
-#[inline(always)]
-fn at_sample<P: Samples>(field: &Layer<P>, fz: [f64; 2], e: [i64; 3]) -> [f64; 3] {
-    let nx = field.nx;
-    let k = e[2] as usize;
-    let i = e[1] as usize * nx + e[0] as usize;
-    let (below, here, above) = (field.planes[k], field.planes[k + 1], field.planes[k + 2]);
-    [
-        (here.raw(i + 1) - here.raw(i - 1)) * 0.5,
-        (here.raw(i + nx) - here.raw(i - nx)) * 0.5,
-        (above.raw(i) - below.raw(i)) * fz[k],
-    ]
 }
 
 /// `g` (a world gradient) times `sign`, normalized, as `f32`; [`PENDING`]

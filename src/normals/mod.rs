@@ -17,8 +17,9 @@
 //!   inverse map, then normalized and pointed outward: toward lower values
 //!   for [`Inside::High`](crate::params::Inside::High), higher for
 //!   [`Inside::Low`](crate::params::Inside::Low) ([`in_slab`]), chunk by
-//!   chunk, each vertex located in its chunk's layer ([`locate`]) and the
-//!   planes around that layer held by a [`window`];
+//!   chunk, a vertex on an inner grid edge taken from its position straight
+//!   to the edge's two ends ([`on_edge`]), any other located in its chunk's
+//!   layer ([`locate`]), the planes around that layer held by a [`window`];
 //! * where the gradient vanishes or is not finite (plateaus, ties), the
 //!   angle-weighted average of the normals of the vertex's triangles,
 //!   which needs the chunks on both sides: [`pending`] resolves them one
@@ -30,6 +31,7 @@
 pub mod gradient;
 pub mod in_slab;
 pub mod locate;
+pub mod on_edge;
 pub mod pending;
 pub mod samples;
 pub mod vector;

@@ -33,8 +33,9 @@ fn is_pending(normal: &[f32; 3]) -> bool {
 /// A vertex of chunk `k` is a corner of triangles of chunks `k - 1` (those
 /// that point into the next chunk) and `k` only, whose corners are
 /// vertices of chunks `k - 1`, `k` and `k + 1`; so chunk `k` is forwarded
-/// when chunk `k + 1` arrives (or at the end), the wrapper holding copies
-/// of two chunks. The triangles are visited in stream order, so the result
+/// when chunk `k + 1` arrives (or at the end), the wrapper holding two
+/// chunks: handed over by value ([`FillPending::push`], what the stream
+/// does), or copied ([`MeshSink::chunk`]). The triangles are visited in stream order, so the result
 /// is that of one pass over the whole mesh: the same for any slab, thread
 /// or part. A part run hands it one chunk beyond each end of its range for
 /// that context, and `keep` drops them.
@@ -52,8 +53,6 @@ pub struct FillPending<'a> {
     previous: Option<Chunk>,
     /// The chunk waiting for its successor.
     current: Option<Chunk>,
-    /// The chunk before `previous`, whose vectors the next copy reuses.
-    spare: Option<Chunk>,
     /// What was forwarded.
     totals: Totals,
 }
@@ -67,7 +66,6 @@ impl<'a> FillPending<'a> {
             normals: false,
             previous: None,
             current: None,
-            spare: None,
             totals: Totals::default(),
         }
     }
@@ -78,17 +76,36 @@ impl<'a> FillPending<'a> {
     }
 
     /// Resolves the pending normals of `current` (with `next`, if any, for
-    /// the positions its triangles point at) and forwards it if kept.
-    fn release(&mut self, next: Option<&Chunk>, cancel: Option<&AtomicBool>) -> Result<()> {
+    /// the positions its triangles point at) and forwards it if kept;
+    /// returns the chunk before it, which nothing needs any more.
+    fn release(
+        &mut self,
+        next: Option<&Chunk>,
+        cancel: Option<&AtomicBool>,
+    ) -> Result<Option<Chunk>> {
         let Some(mut current) = self.current.take() else {
-            return Ok(());
+            return Ok(None);
         };
-        if self.normals && current.normals.iter().any(is_pending) {
+        if current.normals.iter().any(is_pending) {
             resolve(self.previous.as_ref(), &mut current, next);
         }
         self.forward(&current, cancel)?;
-        self.spare = self.previous.replace(current);
-        Ok(())
+        Ok(self.previous.replace(current))
+    }
+
+    /// Takes the next chunk of the stream by value (no copy); returns a
+    /// chunk it is done with, whose vectors the caller may reuse: `chunk`
+    /// itself without normals (forwarded at once), else the chunk two
+    /// behind it, once the one before it is forwarded.
+    pub fn push(&mut self, chunk: Chunk, cancel: Option<&AtomicBool>) -> Result<Option<Chunk>> {
+        if !self.normals {
+            // Nothing to wait for.
+            self.forward(&chunk, cancel)?;
+            return Ok(Some(chunk));
+        }
+        let done = self.release(Some(&chunk), cancel)?;
+        self.current = Some(chunk);
+        Ok(done)
     }
 
     /// Hands `chunk` to the wrapped sink if its plane is kept.
@@ -107,24 +124,13 @@ impl<'a> FillPending<'a> {
         Ok(())
     }
 
-    /// [`MeshSink::chunk`] with an optional cancel flag.
+    /// [`MeshSink::chunk`] with an optional cancel flag: [`push`](Self::push)
+    /// of a copy (only with normals, which wait for the next chunk).
     fn take(&mut self, chunk: &Chunk, cancel: Option<&AtomicBool>) -> Result<()> {
         if !self.normals {
-            // Nothing to wait for.
             return self.forward(chunk, cancel);
         }
-        self.release(Some(chunk), cancel)?;
-        // Reuse the vectors of the chunk two behind (copied as bytes).
-        let mut copy = self.spare.take().unwrap_or_default();
-        copy.plane = chunk.plane;
-        copy.vertices.clear();
-        copy.vertices.extend_from_slice(&chunk.vertices);
-        copy.triangles.clear();
-        copy.triangles.extend_from_slice(&chunk.triangles);
-        copy.normals.clear();
-        copy.normals.extend_from_slice(&chunk.normals);
-        self.current = Some(copy);
-        Ok(())
+        self.push(chunk.clone(), cancel).map(drop)
     }
 }
 
@@ -144,12 +150,14 @@ impl MeshSink for FillPending<'_> {
 
     fn finish(&mut self, _totals: &Totals) -> Result<()> {
         self.release(None, None)?;
+        self.previous = None;
         let totals = self.totals;
         self.inner.finish(&totals)
     }
 
     fn finish_cancellable(&mut self, _totals: &Totals, cancel: &AtomicBool) -> Result<()> {
         self.release(None, Some(cancel))?;
+        self.previous = None;
         let totals = self.totals;
         self.inner.finish_cancellable(&totals, cancel)
     }

@@ -13,6 +13,14 @@ pub trait Samples: Copy {
     /// Sample `i` as an `f64`, NaN as it is.
     fn raw(self, i: usize) -> f64;
 
+    /// Samples `start..start + N` as `f64`, NaN as they are: what `N`
+    /// calls of [`raw`](Self::raw) give, with one bounds check for a
+    /// typed slice instead of `N`.
+    #[inline(always)]
+    fn run<const N: usize>(self, start: usize) -> [f64; N] {
+        std::array::from_fn(|j| self.raw(start + j))
+    }
+
     /// Sample `i` as an `f64`, NaN as `tie` (NaN is outside, a tie at the
     /// isovalue, as in the extraction: so a difference across a NaN sample,
     /// such as the border `Padded` adds for `--close`, stays finite).
@@ -36,6 +44,14 @@ macro_rules! typed_samples {
             #[inline(always)]
             fn raw(self, i: usize) -> f64 {
                 f64::from(self[i])
+            }
+
+            #[inline(always)]
+            fn run<const N: usize>(self, start: usize) -> [f64; N] {
+                let run: &[$t; N] = self[start..start + N]
+                    .try_into()
+                    .expect("a range of N samples");
+                std::array::from_fn(|j| f64::from(run[j]))
             }
         })*
     };

@@ -9,15 +9,17 @@
 //! counts of the parts before).
 
 use crate::mesh::{Chunk, MeshSink, Totals};
+use crate::normals::FillPending;
 use crate::slab::Spares;
 use crate::{Result, Stats};
 use std::collections::BTreeMap;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-/// Reorders finished slabs and forwards their chunks to a sink in plane order.
-pub struct Seam<'a> {
-    sink: &'a mut dyn MeshSink,
+/// Reorders finished slabs and forwards their chunks to a sink in plane
+/// order, through the sink's [`FillPending`], which takes them by value.
+pub struct Seam<'a, 's> {
+    sink: &'a mut FillPending<'s>,
     pending: BTreeMap<usize, (Vec<Chunk>, Stats)>,
     next: usize,
     totals: Totals,
@@ -26,9 +28,9 @@ pub struct Seam<'a> {
     spares: Option<&'a Spares>,
 }
 
-impl<'a> Seam<'a> {
+impl<'a, 's> Seam<'a, 's> {
     /// A seam feeding `sink`, expecting slab 0 first.
-    pub fn new(sink: &'a mut dyn MeshSink) -> Self {
+    pub fn new(sink: &'a mut FillPending<'s>) -> Self {
         Seam {
             sink,
             pending: BTreeMap::new(),
@@ -64,15 +66,9 @@ impl<'a> Seam<'a> {
             let start = Instant::now();
             for chunk in chunks {
                 let (vertices, triangles) = (chunk.vertices.len(), chunk.triangles.len());
-                match self.cancel {
-                    Some(cancel) => {
-                        self.sink
-                            .chunk_cancellable(self.totals.vertices, &chunk, cancel)?
-                    }
-                    None => self.sink.chunk(self.totals.vertices, &chunk)?,
-                }
-                if let Some(spares) = self.spares {
-                    spares.give_chunk(chunk);
+                let done = self.sink.push(chunk, self.cancel)?;
+                if let (Some(spares), Some(done)) = (self.spares, done) {
+                    spares.give_chunk(done);
                 }
                 self.totals.vertices += vertices as u64;
                 self.totals.triangles += triangles as u64;

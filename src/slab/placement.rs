@@ -170,6 +170,10 @@ fn interior_tie_margin(grid: &Grid) -> f64 {
 /// `|origin| + Σ dims` below 2^12); false for NaN or infinite
 /// coordinates.
 fn resolves_offset(grid: &Grid, offset: f64) -> bool {
+    if grid.origin.iter().any(|o| !o.is_finite()) {
+        // `f64::max` below would skip a NaN.
+        return false;
+    }
     let reach: f64 = (0..3)
         .map(|j| grid.dims[j] as f64 * grid.spacing[j].abs())
         .sum();

@@ -24,8 +24,11 @@ pub(super) struct Placement {
     /// The x and y grid index of the slab's sample (0, 0) (not zero only
     /// when the slab is a [`Window`] of the grid), added to
     /// every index before it is placed, so that a window places its
-    /// vertices bit for bit where the whole grid does.
-    pub(super) offset: [f64; 2],
+    /// vertices bit for bit where the whole grid does. An integer, added
+    /// before the index turns into `f64` (one integer add in the vertex
+    /// loops, folded into their address arithmetic, where an `f64` offset
+    /// cost a float add per coordinate).
+    pub(super) offset: [usize; 2],
 }
 
 impl Placement {
@@ -35,7 +38,7 @@ impl Placement {
             axis_aligned: grid.direction == IDENTITY,
             resolves_ties: resolves_offset(grid, TIE_OFFSET),
             interior_margin: interior_tie_margin(grid),
-            offset: [0.0; 2],
+            offset: [0; 2],
         }
     }
 
@@ -49,7 +52,7 @@ impl Placement {
             axis_aligned: grid.direction == IDENTITY,
             resolves_ties: resolves_offset(&window.full, TIE_OFFSET),
             interior_margin: interior_tie_margin(&window.full),
-            offset: window.offset.map(|o| o as f64),
+            offset: window.offset,
         }
     }
 
@@ -58,17 +61,29 @@ impl Placement {
     #[inline(always)]
     pub(super) fn index(&self, x: usize, y: usize, z: usize) -> [f64; 3] {
         [
-            x as f64 + self.offset[0],
-            y as f64 + self.offset[1],
-            z as f64,
+            exact_f64(x + self.offset[0]),
+            exact_f64(y + self.offset[1]),
+            exact_f64(z),
         ]
     }
 
     /// The world position of a (fractional) grid index.
     #[inline]
     pub(super) fn at(&self, index: [f64; 3]) -> [f32; 3] {
-        let g = &self.grid;
         if self.axis_aligned {
+            self.at_in::<true>(index)
+        } else {
+            self.at_in::<false>(index)
+        }
+    }
+
+    /// [`Placement::at`] where `ALIGNED` is [`Placement::axis_aligned`]:
+    /// the vertex loops test it once per plane, not once per vertex.
+    #[inline(always)]
+    fn at_in<const ALIGNED: bool>(&self, index: [f64; 3]) -> [f32; 3] {
+        debug_assert_eq!(ALIGNED, self.axis_aligned);
+        let g = &self.grid;
+        if ALIGNED {
             std::array::from_fn(|i| (g.origin[i] + index[i] * g.spacing[i]) as f32)
         } else {
             g.world(index).map(|c| c as f32)
@@ -78,10 +93,30 @@ impl Placement {
     /// The world position of the vertex on the crossed edge from grid index
     /// `start` along `axis`, whose values are `a` at `start` and `b` at the
     /// other end: `start` moved along `axis` by [`Placement::crossing`].
+    #[cfg(test)]
+    fn edge(&self, start: [f64; 3], axis: usize, a: f64, b: f64) -> [f32; 3] {
+        if self.axis_aligned {
+            self.edge_in::<true>(start, axis, a, b)
+        } else {
+            self.edge_in::<false>(start, axis, a, b)
+        }
+    }
+
+    /// The world position of the vertex on the crossed edge from grid index
+    /// `start` along `axis`, whose values are `a` at `start` and `b` at the
+    /// other end: `start` moved along `axis` by [`Placement::crossing`].
+    /// `ALIGNED` is [`Placement::axis_aligned`], which the vertex loops
+    /// test once per plane (each loop is compiled for both).
     #[inline(always)]
-    pub(super) fn edge(&self, mut start: [f64; 3], axis: usize, a: f64, b: f64) -> [f32; 3] {
+    pub(super) fn edge_in<const ALIGNED: bool>(
+        &self,
+        mut start: [f64; 3],
+        axis: usize,
+        a: f64,
+        b: f64,
+    ) -> [f32; 3] {
         start[axis] += self.crossing(start, axis, a, b);
-        self.at(start)
+        self.at_in::<ALIGNED>(start)
     }
 
     /// Where the vertex of the crossed edge from `start` along `axis`
@@ -139,6 +174,15 @@ impl Placement {
             offset *= 2.0;
         }
     }
+}
+
+/// A grid index as `f64`, the same value as `i as f64`: through `i64`,
+/// which x86-64 converts in one instruction where `usize` takes six (an
+/// index is below `isize::MAX`, so the conversion is the same rounding of
+/// the same integer; exact below 2^53).
+#[inline(always)]
+fn exact_f64(i: usize) -> f64 {
+    i as i64 as f64
 }
 
 /// The margin an interior vertex of a tie cell keeps from the cell's

@@ -168,6 +168,24 @@ impl<'s> Plane<'s> {
             Some(LentPlane::F32Bytes(s)) => by_bands::<f32, 4>(&mut self.inside, s, nx, level),
             Some(LentPlane::F64Bytes(s)) => by_bands::<f64, 8>(&mut self.inside, s, nx, level),
         }
+        if place.axis_aligned {
+            self.edge_vertices::<true>(place, owned)?;
+        } else {
+            self.edge_vertices::<false>(place, owned)?;
+        }
+        check_local_indices(owned.len())
+    }
+
+    /// Appends the positions of the loaded plane's edge vertices to `owned`
+    /// (x-edges, then y-edges, in raster order) and notes each row's first;
+    /// `ALIGNED` is `place.axis_aligned`.
+    fn edge_vertices<const ALIGNED: bool>(
+        &mut self,
+        place: &Placement,
+        owned: &mut Vec<[f32; 3]>,
+    ) -> Result<()> {
+        let [nx, ny, _] = place.grid.dims;
+        let (z, level) = (self.z, self.level);
         let (lent, read) = (self.lent, &self.read);
         let rel = |i: usize| rel_at(lent, read, level, i);
         let words = self.inside.words() - 1;
@@ -183,7 +201,7 @@ impl<'s> Plane<'s> {
             for k in 0..words {
                 each_bit(x_crossings(row, k, nx), k, |x| {
                     let (a, b) = (rel(y * nx + x), rel(y * nx + x + 1));
-                    owned.push(place.edge(place.index(x, y, z), 0, a, b));
+                    owned.push(place.edge_in::<ALIGNED>(place.index(x, y, z), 0, a, b));
                     Ok::<(), Error>(())
                 })?;
             }
@@ -198,12 +216,12 @@ impl<'s> Plane<'s> {
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     let (a, b) = (rel(y * nx + x), rel((y + 1) * nx + x));
-                    owned.push(place.edge(place.index(x, y, z), 1, a, b));
+                    owned.push(place.edge_in::<ALIGNED>(place.index(x, y, z), 1, a, b));
                     Ok::<(), Error>(())
                 })?;
             }
         }
-        check_local_indices(owned.len())
+        Ok(())
     }
 }
 

@@ -96,24 +96,22 @@ pub fn process_window(
             &mut stats,
         )?;
         // z-edges between the two planes.
-        let words = bottom.inside.words() - 1;
-        for (y, first) in z_first.iter_mut().enumerate() {
-            *first = block.vertices.len() as u32;
-            if uniform_alike([bottom.inside.kind(y), top.inside.kind(y)]) {
-                continue;
-            }
-            let (lower, upper) = (bottom.inside.row(y), top.inside.row(y));
-            make_room(&mut block.vertices, nx, VERTICES)?;
-            for k in 0..words {
-                each_bit(lower[k] ^ upper[k], k, |x| {
-                    let i = y * nx + x;
-                    let (a, b) = (bottom.rel(i), top.rel(i));
-                    block
-                        .vertices
-                        .push(place.edge(place.index(x, y, z), 2, a, b));
-                    Ok::<(), Error>(())
-                })?;
-            }
+        if place.axis_aligned {
+            z_edges::<true>(
+                &place,
+                [&bottom, &top],
+                z,
+                &mut z_first,
+                &mut block.vertices,
+            )?;
+        } else {
+            z_edges::<false>(
+                &place,
+                [&bottom, &top],
+                z,
+                &mut z_first,
+                &mut block.vertices,
+            )?;
         }
         check_local_indices(block.vertices.len())?;
         let layer = Layer {
@@ -162,6 +160,37 @@ pub fn process_window(
     source.advise(layers.start..layers.end, Access::Done);
     stats.cell_seconds = start.elapsed().as_secs_f64() - stats.read_seconds;
     Ok((chunks, stats))
+}
+
+/// Appends the positions of the vertices on the z-edges between planes
+/// `bottom` and `top` (cell layer `z`) to `vertices` and notes each row's first in
+/// `z_first`; `ALIGNED` is `place.axis_aligned` (tested once per layer).
+fn z_edges<const ALIGNED: bool>(
+    place: &Placement,
+    [bottom, top]: [&Plane; 2],
+    z: usize,
+    z_first: &mut [u32],
+    vertices: &mut Vec<[f32; 3]>,
+) -> Result<()> {
+    let nx = place.grid.dims[0];
+    let words = bottom.inside.words() - 1;
+    for (y, first) in z_first.iter_mut().enumerate() {
+        *first = vertices.len() as u32;
+        if uniform_alike([bottom.inside.kind(y), top.inside.kind(y)]) {
+            continue;
+        }
+        let (lower, upper) = (bottom.inside.row(y), top.inside.row(y));
+        make_room(vertices, nx, VERTICES)?;
+        for k in 0..words {
+            each_bit(lower[k] ^ upper[k], k, |x| {
+                let i = y * nx + x;
+                let (a, b) = (bottom.rel(i), top.rel(i));
+                vertices.push(place.edge_in::<ALIGNED>(place.index(x, y, z), 2, a, b));
+                Ok::<(), Error>(())
+            })?;
+        }
+    }
+    Ok(())
 }
 
 /// Bytes of planes [`ReadAhead`] keeps advised ahead of the plane being

@@ -12,7 +12,10 @@ As a module:
     # vertices: float32 (N, 3); triangles: uint64 (M, 3), global indices,
     # counter-clockwise seen from outside; info: dict (grid, iso, ...);
     # info["normals"]: float32 (N, 3) unit outward vertex normals when the
-    # file has them (version 2, the normals attribute), else None
+    # file has them (version 2, the normals attribute), else None;
+    # info["labels"]: uint32 (M,) the label of each triangle when the file
+    # holds several labels' surfaces (tmc extract --labels -o ONE.tmesh,
+    # the labels attribute), else None
 
 As a command:
 
@@ -38,9 +41,11 @@ MAGIC = b"\x89TMESH\r\n"
 END_MAGIC = b"TMESHEND"
 VERSION = 1
 # Version 2: header byte 99 holds attribute bits (bit 0: vertex normals,
-# stored after the triangles in each chunk's payload).
+# stored after the triangles in each chunk's payload; bit 1: a uint32 label
+# per triangle, stored after the normals).
 VERSION_ATTRIBUTES = 2
 ATTRIBUTE_NORMALS = 1
+ATTRIBUTE_LABELS = 2
 HEADER_BYTES = 128
 CHUNK_HEADER_BYTES = 48
 INDEX_ENTRY_BYTES = 32
@@ -89,7 +94,7 @@ def _header(h):
     attributes = h[99]
     if version == VERSION and any(h[99:124]):
         raise TmeshError("not a valid .tmesh file: reserved header bytes 99..124 are not zero")
-    if attributes & ~ATTRIBUTE_NORMALS:
+    if attributes & ~(ATTRIBUTE_NORMALS | ATTRIBUTE_LABELS):
         raise TmeshError(f"not a valid .tmesh file: unknown attribute bits {attributes:#04x}")
     if any(h[100:124]):
         raise TmeshError("not a valid .tmesh file: reserved header bytes 100..124 are not zero")
@@ -102,6 +107,7 @@ def _header(h):
         "inside": "low" if h[97] == 1 else "high",
         "close": h[98] == 1,
         "has_normals": bool(attributes & ATTRIBUTE_NORMALS),
+        "has_labels": bool(attributes & ATTRIBUTE_LABELS),
     }
 
 
@@ -110,10 +116,13 @@ def _plane_bounds(info):
 
     As tmc's reader computes them (plane_bounds in src/meshfile/reader.rs):
     11 vertices (3 edges, 8 interior) and 32 triangles per sample of the
-    plane, padded by 2 along x and y with close.
+    plane, padded by 2 along x and y with close; 8 times that with labels
+    (at most 8 labels meet in a cell).
     """
     pad = 2 if info["close"] else 0
     samples = (info["dims"][0] + pad) * (info["dims"][1] + pad)
+    if info["has_labels"]:
+        samples *= 8
     return 11 * samples, 32 * samples
 
 
@@ -184,10 +193,11 @@ def _index(f, length, info):
     return (vertices, triangles), entries, index_offset
 
 
-def _chunk(f, i, e, next_nv, limit, decompressor, has_normals):
+def _chunk(f, i, e, next_nv, limit, decompressor, has_normals, has_labels):
     """Reads chunk i, whose payload must end by byte limit (where the next
     chunk or the index starts); returns (vertices float32 (n, 3), relative
-    triangles uint32 (m, 3), normals float32 (n, 3) or None)."""
+    triangles uint32 (m, 3), normals float32 (n, 3) or None, labels uint32
+    (m,) or None)."""
     name = f"chunk {i} (plane {int(e['plane'])}, byte {int(e['offset'])})"
     h = _read_at(f, int(e["offset"]), CHUNK_HEADER_BYTES, name)
     if h[0:4] != b"CHNK" or struct.unpack_from("<I", h, 40)[0] != _crc(h[:40]):
@@ -205,7 +215,7 @@ def _chunk(f, i, e, next_nv, limit, decompressor, has_normals):
     payload = _read_at(f, int(e["offset"]) + CHUNK_HEADER_BYTES, size, name)
     if _crc(payload) != crc:
         raise TmeshError(f"{name}: payload checksum mismatch (the data is damaged)")
-    expect = 12 * (nv + nt + (nv if has_normals else 0))
+    expect = 12 * (nv + nt + (nv if has_normals else 0)) + (4 * nt if has_labels else 0)
     # The frame must state exactly that size before it is inflated: when a
     # frame states its size, zstandard allocates that much and ignores
     # max_output_size (which bounds frames that do not).
@@ -229,14 +239,19 @@ def _chunk(f, i, e, next_nv, limit, decompressor, has_normals):
         raise TmeshError(f"{name}: a triangle points beyond the next chunk")
     normals = None
     if has_normals:
-        normals = np.frombuffer(raw, dtype="<f4", offset=12 * (nv + nt)).reshape(nv, 3)
+        normals = np.frombuffer(raw, dtype="<f4", offset=12 * (nv + nt), count=3 * nv)
+        normals = normals.reshape(nv, 3)
         bad = np.flatnonzero(~np.isfinite(normals).all(axis=1))
         if len(bad):
             raise TmeshError(
                 f"{name}: the normal of vertex {int(bad[0])} has a component "
                 "that is not a finite number"
             )
-    return vertices, triangles, normals
+    labels = None
+    if has_labels:
+        at = 12 * (nv + nt + (nv if has_normals else 0))
+        labels = np.frombuffer(raw, dtype="<u4", offset=at, count=nt)
+    return vertices, triangles, normals, labels
 
 
 def read_tmesh(path):
@@ -246,7 +261,9 @@ def read_tmesh(path):
     triangles uint64 of shape (M, 3) with global vertex indices, and a dict
     with the grid (dims, spacing, origin), iso, method, inside, close, the
     counts (vertices, triangles, chunks) and normals: float32 (N, 3) unit
-    outward vertex normals when the file has them, else None. Raises TmeshError on a damaged or
+    outward vertex normals when the file has them, else None, and labels:
+    uint32 (M,) the label of each triangle when the file has them, else
+    None. Raises TmeshError on a damaged or
     truncated file.
     """
     with open(path, "rb") as f:
@@ -260,20 +277,26 @@ def read_tmesh(path):
         triangles = np.empty((nt, 3), dtype=np.uint64)
         has_normals = info.pop("has_normals")
         normals = np.empty((nv, 3), dtype=np.float32) if has_normals else None
+        has_labels = info.pop("has_labels")
+        labels = np.empty(nt, dtype=np.uint32) if has_labels else None
         decompressor = zstandard.ZstdDecompressor()
         t = 0
         for i, e in enumerate(entries):
             last = i + 1 == len(entries)
             next_nv = 0 if last else int(entries[i + 1]["nv"])
             limit = index_offset if last else int(entries[i + 1]["offset"])
-            v, tri, n = _chunk(f, i, e, next_nv, limit, decompressor, has_normals)
+            v, tri, n, lab = _chunk(
+                f, i, e, next_nv, limit, decompressor, has_normals, has_labels
+            )
             base = int(e["base"])
             vertices[base : base + len(v)] = v
             if n is not None:
                 normals[base : base + len(v)] = n
             triangles[t : t + len(tri)] = tri.astype(np.uint64) + np.uint64(base)
+            if lab is not None:
+                labels[t : t + len(tri)] = lab
             t += len(tri)
-    info.update(vertices=nv, triangles=nt, chunks=len(entries), normals=normals)
+    info.update(vertices=nv, triangles=nt, chunks=len(entries), normals=normals, labels=labels)
     return vertices, triangles, info
 
 
@@ -328,7 +351,8 @@ def main(argv=None):
         f"{info['chunks']} chunks; grid {dims}, spacing {info['spacing']}, "
         f"origin {info['origin']}; iso {info['iso']}, method {info['method']}, "
         f"inside {info['inside']}, close {info['close']}, "
-        f"normals {info['normals'] is not None}"
+        f"normals {info['normals'] is not None}, "
+        f"labels {'none' if info['labels'] is None else len(np.unique(info['labels']))}"
     )
     return 0
 

@@ -188,6 +188,7 @@ fn info() -> MeshInfo {
         inside: Default::default(),
         close: false,
         normals: false,
+        labels: false,
     }
 }
 
@@ -197,6 +198,7 @@ fn chunk(plane: u64, vertices: usize, triangles: &[[u32; 3]]) -> Chunk {
         vertices: vec![[plane as f32, 0.5, 0.25]; vertices],
         triangles: triangles.to_vec(),
         normals: Vec::new(),
+        labels: Vec::new(),
     }
 }
 

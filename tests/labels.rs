@@ -9,12 +9,12 @@
 mod common;
 
 use common::cli::{assert_one_line, s, tmc};
+use common::labels::{
+    assert_indicators, label_map, labels_of, ok, parse_labelled_ply, parse_plain_ply, write,
+};
 use common::oracle;
-use rand::{Rng, SeedableRng};
-use rand_pcg::Pcg64;
 use std::path::{Path, PathBuf};
 use tmc::volume::{write_volume, ArrayVolume, ScalarType};
-use tmc::Grid;
 
 /// `tmc extract input --labels all --close --json -o dir/{label}.tmesh`:
 /// the JSON report.
@@ -44,111 +44,6 @@ fn assert_volume_within_the_shell(r: &serde_json::Value) {
         r["area"].as_f64().unwrap(),
     );
     assert!(v > 0.0 && (v - n).abs() <= 0.75 * area, "{r}");
-}
-
-/// Runs `tmc` with `args`, asserting success; returns stdout.
-fn ok(args: &[&str]) -> Vec<u8> {
-    let out = tmc(args);
-    assert!(out.status.success(), "{args:?}: {out:?}");
-    out.stdout
-}
-
-/// Writes `values` on a grid of `dims` (spacing 1, 1, 1.5, so that the
-/// world map is not the identity) as an NRRD of `scalar`.
-fn write(path: &Path, dims: [usize; 3], values: Vec<f64>, scalar: ScalarType) {
-    let grid = Grid {
-        spacing: [1.0, 1.0, 1.5],
-        ..Grid::unit(dims)
-    };
-    let volume = ArrayVolume::new(grid, values).unwrap();
-    write_volume(path, &volume, scalar, None).unwrap();
-}
-
-/// A label map: Voronoi regions of random seeds (labels 1..=regions,
-/// touching each other and the border), background 0 where a random
-/// field is low, a few one-voxel labels, and a torus (a label with a
-/// tunnel).
-fn label_map(dims: [usize; 3], regions: usize, seed: u64) -> Vec<f64> {
-    let mut rng = Pcg64::seed_from_u64(seed);
-    let seeds: Vec<[f64; 3]> = (0..regions)
-        .map(|_| std::array::from_fn(|i| rng.gen_range(0.0..dims[i] as f64)))
-        .collect();
-    let mut out = Vec::with_capacity(dims.iter().product());
-    for z in 0..dims[2] {
-        for y in 0..dims[1] {
-            for x in 0..dims[0] {
-                let p = [x as f64, y as f64, z as f64];
-                let d2 = |c: &[f64; 3]| (0..3).map(|i| (p[i] - c[i]).powi(2)).sum::<f64>();
-                let (k, _) = seeds
-                    .iter()
-                    .enumerate()
-                    .map(|(k, c)| (k, d2(c)))
-                    .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-                let background = rng.gen_bool(0.08);
-                out.push(if background { 0.0 } else { (k + 1) as f64 });
-            }
-        }
-    }
-    let at = |x: usize, y: usize, z: usize| x + dims[0] * (y + dims[1] * z);
-    // One-voxel labels, one on the border.
-    for (i, p) in [[3, 4, 5], [0, 7, 2], [dims[0] - 2, 2, dims[2] / 2]]
-        .iter()
-        .enumerate()
-    {
-        out[at(p[0], p[1], p[2])] = (200 + i) as f64;
-    }
-    // A torus around the z axis through the grid's centre.
-    let c = dims.map(|n| n as f64 / 2.0);
-    for z in 0..dims[2] {
-        for y in 0..dims[1] {
-            for x in 0..dims[0] {
-                let (dx, dy, dz) = (x as f64 - c[0], y as f64 - c[1], z as f64 - c[2]);
-                let ring = ((dx * dx + dy * dy).sqrt() - 5.0).powi(2) + dz * dz;
-                if ring < 2.3 {
-                    out[at(x, y, z)] = 150.0;
-                }
-            }
-        }
-    }
-    out
-}
-
-/// The values present, but 0.
-fn labels_of(values: &[f64]) -> Vec<i64> {
-    let mut l: Vec<i64> = values
-        .iter()
-        .map(|&v| v as i64)
-        .filter(|&v| v != 0)
-        .collect();
-    l.sort_unstable();
-    l.dedup();
-    l
-}
-
-/// Extracts each of `labels` from `values` as its own u8 indicator volume
-/// at 0.5 (with `extra`) and asserts that `dir/{label}.EXT` has its bytes.
-fn assert_indicators(
-    dir: &Path,
-    dims: [usize; 3],
-    values: &[f64],
-    labels: &[i64],
-    ext: &str,
-    extra: &[&str],
-) {
-    let volume = dir.join("indicator.nrrd");
-    let mesh = dir.join(format!("indicator.{ext}"));
-    for &l in labels {
-        let indicator = values.iter().map(|&v| f64::from(v == l as f64)).collect();
-        write(&volume, dims, indicator, ScalarType::U8);
-        let mut args = vec!["extract", s(&volume), "--iso", "0.5", "-o", s(&mesh), "-q"];
-        args.extend_from_slice(extra);
-        ok(&args);
-        let label = dir.join(format!("{l}.{ext}"));
-        assert!(
-            std::fs::read(&mesh).unwrap() == std::fs::read(&label).unwrap(),
-            "label {l} ({ext}, {extra:?}) differs from its indicator's extraction"
-        );
-    }
 }
 
 #[test]
@@ -286,8 +181,15 @@ fn whole_floats_are_labels_and_fractions_are_refused() {
     assert_eq!(std::fs::read_dir(&fresh).unwrap().count(), 0);
 }
 
+/// `tmc extract input --labels all EXTRA -o out`, quiet.
+fn labels_run(input: &Path, out: &Path, extra: &[&str]) {
+    let mut args = vec!["extract", s(input), "--labels", "all", "-o", s(out), "-q"];
+    args.extend_from_slice(extra);
+    ok(&args);
+}
+
 #[test]
-fn one_ply_holds_every_label_with_its_faces_labelled() {
+fn one_file_holds_every_label_with_its_faces_labelled() {
     let dir = tempfile::tempdir().unwrap();
     let dims = [17, 15, 13];
     let values = label_map(dims, 7, 6);
@@ -295,45 +197,31 @@ fn one_ply_holds_every_label_with_its_faces_labelled() {
     let input = dir.path().join("labels.nrrd");
     write(&input, dims, values, ScalarType::U8);
     let union = dir.path().join("all.ply");
-    ok(&[
-        "extract",
-        s(&input),
-        "--labels",
-        "all",
-        "--close",
-        "-o",
-        s(&union),
-        "-q",
-    ]);
+    let tmesh = dir.path().join("all.tmesh");
     let each = dir.path().join("{label}.ply");
-    ok(&[
-        "extract",
-        s(&input),
-        "--labels",
-        "all",
-        "--close",
-        "-o",
-        s(&each),
-        "-q",
-    ]);
+    for out in [&union, &tmesh, &each] {
+        labels_run(&input, out, &["--close"]);
+    }
     let (vertices, faces) = parse_labelled_ply(&std::fs::read(&union).unwrap());
-    let (mut v_at, mut f_at) = (0, 0);
+    let mut seen = 0;
     for &l in &labels {
         let one = std::fs::read(dir.path().join(format!("{l}.ply"))).unwrap();
-        let (v, f) = parse_plain_ply(&one);
-        assert_eq!(&vertices[v_at..v_at + v.len()], &v[..], "label {l}");
-        for (i, face) in f.iter().enumerate() {
-            let (got, label) = faces[f_at + i];
-            assert_eq!(got, face.map(|k| k + v_at as u32), "label {l}");
-            assert_eq!(label, l as u32);
-        }
-        v_at += v.len();
-        f_at += f.len();
+        assert_eq!(
+            label_part(&vertices, &faces, l as u32),
+            parse_plain_ply(&one),
+            "label {l}"
+        );
+        seen += faces.iter().filter(|f| f.1 == l as u32).count();
     }
-    assert_eq!((v_at, f_at), (vertices.len(), faces.len()));
+    assert_eq!(seen, faces.len());
+    // The .tmesh is the same mesh: converted, the PLY's bytes.
+    let converted = dir.path().join("converted.ply");
+    ok(&["convert", s(&tmesh), "-o", s(&converted)]);
+    assert!(std::fs::read(&converted).unwrap() == std::fs::read(&union).unwrap());
     // Touching labels share positions, so only the union's topology is
     // checked; each label alone is sound too.
     assert!(tmc(&["check", s(&union)]).status.success());
+    assert!(tmc(&["check", s(&tmesh)]).status.success());
     for l in &labels {
         let one = dir.path().join(format!("{l}.ply"));
         let out = tmc(&["check", s(&one), "--strict"]);
@@ -341,69 +229,134 @@ fn one_ply_holds_every_label_with_its_faces_labelled() {
     }
 }
 
-/// The body of a binary PLY after `end_header\n`, and the header.
-fn split_ply(bytes: &[u8]) -> (String, &[u8]) {
-    let end = bytes
-        .windows(11)
-        .position(|w| w == b"end_header\n")
-        .unwrap()
-        + 11;
-    (
-        String::from_utf8_lossy(&bytes[..end]).into_owned(),
-        &bytes[end..],
-    )
+/// Label `l`'s vertices (in order) and faces (renumbered into them) of the
+/// one-file mesh.
+fn label_part(
+    vertices: &[[u8; 12]],
+    faces: &[([u32; 3], u32)],
+    l: u32,
+) -> (Vec<[u8; 12]>, Vec<[u32; 3]>) {
+    let mine: Vec<[u32; 3]> = faces.iter().filter(|f| f.1 == l).map(|f| f.0).collect();
+    let mut used: Vec<u32> = mine.iter().flatten().copied().collect();
+    used.sort_unstable();
+    used.dedup();
+    let at = |k: u32| used.binary_search(&k).unwrap() as u32;
+    let v = used.iter().map(|&k| vertices[k as usize]).collect();
+    (v, mine.iter().map(|f| f.map(at)).collect())
 }
 
-fn count(header: &str, element: &str) -> usize {
-    let line = header
-        .lines()
-        .find(|l| l.starts_with(&format!("element {element} ")))
+#[test]
+fn read_tmesh_py_reads_the_labels() {
+    if !common::cli::python_ready() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let dims = [16, 14, 12];
+    let values = label_map(dims, 6, 8);
+    let input = dir.path().join("labels.nrrd");
+    write(&input, dims, values.clone(), ScalarType::U8);
+    labels_run(&input, &dir.path().join("all.tmesh"), &["--normals"]);
+    labels_run(&input, &dir.path().join("{label}.tmesh"), &["--normals"]);
+    // numpy: each label's triangles, vertices and normals in the one file
+    // are those of the label's own file.
+    let script = format!(
+        "import sys, numpy as np; sys.path.insert(0, {scripts:?})\n\
+         from read_tmesh import read_tmesh\n\
+         v, t, info = read_tmesh({dir:?} + '/all.tmesh')\n\
+         labels = info['labels']; assert labels.shape == (len(t),)\n\
+         for l in np.unique(labels):\n\
+         \x20   lv, lt, linfo = read_tmesh(f'{dir}/{{l}}.tmesh')\n\
+         \x20   mine = t[labels == l]; used = np.unique(mine)\n\
+         \x20   assert np.array_equal(v[used], lv) and np.array_equal(info['normals'][used], linfo['normals'])\n\
+         \x20   assert np.array_equal(np.searchsorted(used, mine), lt)\n\
+         \x20   assert linfo['labels'] is None\n\
+         print(len(np.unique(labels)))",
+        scripts = common::cli::read_tmesh_script().parent().unwrap().to_str().unwrap(),
+        dir = s(dir.path()),
+    );
+    let out = std::process::Command::new("python3")
+        .args(["-c", &script])
+        .output()
         .unwrap();
-    line.rsplit(' ').next().unwrap().parse().unwrap()
+    assert!(out.status.success(), "{out:?}");
+    let printed = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(printed.trim(), labels_of(&values).len().to_string());
 }
 
-fn u32_at(b: &[u8], at: usize) -> u32 {
-    u32::from_le_bytes(b[at..at + 4].try_into().unwrap())
+#[test]
+fn parts_merge_into_the_one_run_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let dims = [18, 16, 21];
+    let values = label_map(dims, 8, 9);
+    let labels = labels_of(&values);
+    let input = dir.path().join("labels.nrrd");
+    write(&input, dims, values, ScalarType::U8);
+    for extra in [vec![], vec!["--close", "--normals"]] {
+        let [one, parts, merged] = ["one", "parts", "merged"].map(|d| dir.path().join(d));
+        for d in [&one, &parts, &merged] {
+            let _ = std::fs::remove_dir_all(d);
+            std::fs::create_dir(d).unwrap();
+        }
+        labels_run(&input, &one.join("{label}.tmesh"), &extra);
+        labels_run(&input, &one.join("all.ply"), &extra);
+        for i in 1..=3 {
+            let part = format!("{i}/3");
+            let mut args = extra.clone();
+            args.extend(["--part", &part, "--threads", "2"]);
+            labels_run(&input, &parts.join(format!("{{label}}.{i}.tmesh")), &args);
+        }
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&parts)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        files.sort();
+        assert_eq!(files.len(), 3 * labels.len());
+        files.reverse();
+        let mut args: Vec<&str> = vec!["merge"];
+        args.extend(files.iter().map(|p| s(p)));
+        for out in [merged.join("{label}.tmesh"), merged.join("all.ply")] {
+            ok(&[&args[..], &["-o", s(&out)][..]].concat());
+        }
+        for name in labels
+            .iter()
+            .map(|l| format!("{l}.tmesh"))
+            .chain(["all.ply".into()])
+        {
+            let (a, b) = (one.join(&name), merged.join(&name));
+            assert!(
+                std::fs::read(a).unwrap() == std::fs::read(b).unwrap(),
+                "{name} {extra:?}"
+            );
+        }
+        // One label's parts missing: refused, nothing written.
+        let out = merged.join("again.ply");
+        let short = [&["merge"][..], &args[2..], &["-o", s(&out)][..]].concat();
+        let err = assert_one_line(&tmc(&short), 1);
+        assert!(err.contains("missing"), "{err}");
+        assert!(!out.exists());
+    }
 }
 
-/// Vertices (12 bytes each) and faces of tmc's PLY.
-fn parse_plain_ply(bytes: &[u8]) -> (Vec<[u8; 12]>, Vec<[u32; 3]>) {
-    let (header, body) = split_ply(bytes);
-    let (nv, nf) = (count(&header, "vertex"), count(&header, "face"));
-    let v = (0..nv)
-        .map(|i| body[i * 12..i * 12 + 12].try_into().unwrap())
-        .collect();
-    let f = (0..nf)
-        .map(|i| {
-            let at = nv * 12 + i * 13;
-            assert_eq!(body[at], 3);
-            std::array::from_fn(|k| u32_at(body, at + 1 + 4 * k))
-        })
-        .collect();
-    (v, f)
-}
-
-/// A face of the one-file PLY and its label.
-type LabelledFace = ([u32; 3], u32);
-
-/// Vertices and (face, label) of the one-file PLY.
-fn parse_labelled_ply(bytes: &[u8]) -> (Vec<[u8; 12]>, Vec<LabelledFace>) {
-    let (header, body) = split_ply(bytes);
-    assert!(header.contains("property list uchar uint vertex_indices\nproperty uint label\n"));
-    let (nv, nf) = (count(&header, "vertex"), count(&header, "face"));
-    assert_eq!(body.len(), nv * 12 + nf * 17);
-    let v = (0..nv)
-        .map(|i| body[i * 12..i * 12 + 12].try_into().unwrap())
-        .collect();
-    let f = (0..nf)
-        .map(|i| {
-            let at = nv * 12 + i * 17;
-            assert_eq!(body[at], 3);
-            let face = std::array::from_fn(|k| u32_at(body, at + 1 + 4 * k));
-            (face, u32_at(body, at + 13))
-        })
-        .collect();
-    (v, f)
+#[test]
+fn normals_are_those_of_each_indicator() {
+    let dir = tempfile::tempdir().unwrap();
+    let dims = [19, 17, 15];
+    let values = label_map(dims, 6, 10);
+    let labels = labels_of(&values);
+    let input = dir.path().join("labels.nrrd");
+    write(&input, dims, values.clone(), ScalarType::U8);
+    let slabs = [
+        "--normals",
+        "--close",
+        "--threads",
+        "2",
+        "--slab-depth",
+        "3",
+    ];
+    for extra in [&["--normals"][..], &slabs[..]] {
+        labels_run(&input, &dir.path().join("{label}.ply"), extra);
+        assert_indicators(dir.path(), dims, &values, &labels, "ply", extra);
+    }
 }
 
 #[test]

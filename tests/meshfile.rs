@@ -273,6 +273,7 @@ fn unchecked_fields_are_refused() {
             vertices: vec![[0.0, bad, 0.0]; 3],
             triangles: vec![[0, 1, 2]],
             normals: Vec::new(),
+            labels: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {
@@ -360,6 +361,7 @@ fn a_chunk_larger_than_a_plane_is_refused() {
             vertices: vec![[0.0, 0.0, 0.0]; count],
             triangles: vec![[0, 1, 2]],
             normals: Vec::new(),
+            labels: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {

@@ -115,6 +115,7 @@ pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult
                     true => mesh.normals[base..base + v].to_vec(),
                     false => Vec::new(),
                 },
+                labels: Vec::new(),
             };
             sink.chunk(base as u64, &chunk)?;
             base += v;

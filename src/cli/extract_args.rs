@@ -37,13 +37,16 @@ pub(crate) struct ExtractArgs {
     /// labels in one pass. 'all' is every value present but the background
     /// (--background, 0 by default), found by a first reading of the
     /// volume; or a list L1,L2,... -o must contain {label} (one file per
-    /// label) or be one .ply (every label, a per-face uint32 'label').
-    /// Float inputs must hold whole numbers (the first sample that does
-    /// not is an error). --stats/--json give per label triangles,
-    /// components, genus, area and enclosed volume beside the label's
-    /// voxel count times the voxel volume.
+    /// label) or be one .ply or .tmesh (every label, a per-face uint32
+    /// 'label'). With --part I/N, -o must be 'DIR/{label}...tmesh' (one
+    /// part file per label; 'tmc merge' of all of them writes what one run
+    /// writes). With --normals, each label's normals are those of its
+    /// indicator's gradient. Float inputs must hold whole numbers (the first
+    /// sample that does not is an error). --stats/--json give per label
+    /// triangles, components, genus, area and enclosed volume beside the
+    /// label's voxel count times the voxel volume.
     #[arg(long, value_name = "all|L1,L2,...",
-          conflicts_with_all = ["iso", "manifest", "part", "normals", "require_surface"])]
+          conflicts_with_all = ["iso", "manifest", "require_surface"])]
     pub labels: Option<String>,
 
     /// With --labels all: the value that is no label (0 by default).

@@ -1,6 +1,7 @@
 //! `tmc extract --labels`: the boundary surface of each label of a
 //! segmentation in one pass ([`tmc::stream::extract_labels_to`]), one file
-//! per label (`{label}` in `-o`) or one PLY with a per-face label.
+//! per label (`{label}` in `-o`) or one PLY or `.tmesh` with a per-face
+//! label; with `--part I/N`, one part file per label.
 //!
 //! The values are counted first ([`tmc::volume::scan_labels`]: one reading
 //! of the volume, plane by plane, which also refuses a sample that is not a
@@ -70,12 +71,28 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let background = args.background.unwrap_or(0);
     let text = template.to_string_lossy();
     let per_label = text.contains("{label}");
-    if !per_label && template.extension().is_none_or(|e| e != "ply") {
+    let one_file = template
+        .extension()
+        .is_some_and(|e| e == "ply" || e == "tmesh");
+    if !per_label && !one_file {
         return Err(Error::Invalid(format!(
-            "{}: with --labels, -o must contain {{label}} (one file per label) or be one .ply (a per-face 'label' property)",
+            "{}: with --labels, -o must contain {{label}} (one file per label) or be one .ply or .tmesh (a per-face label)",
             template.display()
         )));
     }
+    if args.part.is_some() && (!per_label || template.extension().is_none_or(|e| e != "tmesh")) {
+        return Err(Error::Invalid(format!(
+            "{}: --labels with --part writes one part file per label for 'tmc merge': -o must contain {{label}} and end in .tmesh",
+            template.display()
+        )));
+    }
+    if args.part.is_some() && (args.stats || args.json) {
+        return Err(Error::Invalid(
+            "--labels with --part writes part files: --stats and --json need the merged meshes"
+                .into(),
+        ));
+    }
+    args.check_normals_output(template)?;
     let source = super::raw_input::open_input(input, &args.raw, cancel, args.quiet)?;
     let grid = *source.grid();
     check_grid(input, &grid, args.close)?;
@@ -102,7 +119,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     } else {
         if let Some(l) = labels.iter().find(|&&l| u32::try_from(l).is_err()) {
             return Err(Error::Invalid(format!(
-                "label {l} does not fit the PLY's uint32 'label' property; write one file per label with {{label}}"
+                "label {l} does not fit the uint32 per-face label of one file; write one file per label with {{label}}"
             )));
         }
         vec![template.clone()]
@@ -115,7 +132,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         tmc::export::check_output_path(output)?;
     }
     // One file: each label goes to a .tmesh in a temporary directory beside
-    // the output, assembled into the PLY at the end.
+    // the output, assembled into the one file at the end.
     let spool = match per_label {
         true => None,
         false => {
@@ -138,10 +155,31 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         None => outputs.clone(),
     };
     let measure = args.stats || args.json;
+    // With --part, one part file per label, recording its label.
+    let record = match args.part {
+        Some(spec) => {
+            let reading = args.raw.options().map(|r| format!("{r:?}"));
+            let source = source.as_ref();
+            Some(tmc::part::PartRecord::new(
+                spec, input, source, args.close, reading,
+            )?)
+        }
+        None => None,
+    };
     let mut sinks = Vec::with_capacity(labels.len());
-    for target in &targets {
+    for (target, &label) in targets.iter().zip(&labels) {
+        let inner: Box<dyn MeshSink> = match &record {
+            Some(record) => {
+                let record = tmc::part::PartRecord {
+                    label: Some(label),
+                    ..record.clone()
+                };
+                Box::new(tmc::part::PartWriter::create(target, record)?)
+            }
+            None => tmc::export::create_sink(target)?,
+        };
         sinks.push(Measured {
-            inner: tmc::export::create_sink(target)?,
+            inner,
             mesh: measure.then(MeshBuilder::default),
         });
     }
@@ -152,12 +190,13 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
     let options = args.pipeline_options(&on_progress, cancel);
     let pass_start = Instant::now();
+    let part = args.part.map(|p| (p.index, p.count));
     let stats = tmc::stream::extract_labels_to(
         source.as_ref(),
         &labels,
         &params,
         &options,
-        None,
+        part,
         &mut dyn_sinks,
     )?;
     monitor.finish();
@@ -168,7 +207,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             .map(|(&l, t)| (l as u32, t.as_path()))
             .collect();
         let never = AtomicBool::new(false);
-        tmc::export::write_labeled_ply(template, &parts, cancel.unwrap_or(&never))?;
+        tmc::export::write_labelled(template, &parts, cancel.unwrap_or(&never))?;
         dir.close().map_err(|e| Error::io(template, e))?;
     }
     let pass_seconds = pass_start.elapsed().as_secs_f64();

@@ -17,7 +17,7 @@
 //! file. STL cannot share vertices: every facet stores its own three corners.
 
 mod by_extension;
-mod labeled_ply;
+mod labelled;
 mod numbering;
 mod obj;
 mod off;
@@ -30,7 +30,7 @@ mod stl;
 // used them when they lived here.
 pub use crate::files::{check_output_file, fatal_cleanup, write_atomically, AtomicFile};
 pub use by_extension::{check_output_path, create_sink, write_mesh, Format};
-pub use labeled_ply::write_labeled_ply;
+pub use labelled::write_labelled;
 pub use obj::{write_obj, Obj, ObjSink};
 pub use off::{write_off, Off, OffSink};
 pub use ply::{write_ply, Ply, PlySink};

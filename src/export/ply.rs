@@ -50,6 +50,30 @@ impl Layout for Ply {
         }
         w.write_all(&bytes)
     }
+
+    const LABELS: bool = true;
+
+    /// The faces end in `property uint label`.
+    fn header_with_labels(
+        w: &mut impl Write,
+        vertices: u64,
+        faces: u64,
+        normals: bool,
+    ) -> io::Result<()> {
+        let extra = if normals { NORMAL_PROPERTIES } else { "" };
+        write_header_with(w, vertices, faces, extra, LABEL_PROPERTY)
+    }
+
+    /// The face, then its label as a little-endian `uint`.
+    fn face_with_label(
+        w: &mut impl Write,
+        t: [u64; 3],
+        _normals: bool,
+        label: u32,
+    ) -> io::Result<()> {
+        Self::face(w, t)?;
+        w.write_all(&label.to_le_bytes())
+    }
 }
 
 /// Streams a PLY file, byte-identical to [`write_ply`] of the same mesh.
@@ -60,6 +84,9 @@ pub fn write_ply(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
     write_whole::<Ply>(w, mesh)
 }
 
+/// The face property of a labelled mesh, after the vertex indices.
+const LABEL_PROPERTY: &str = "property uint label\n";
+
 /// The vertex properties of the normals, after x, y and z.
 const NORMAL_PROPERTIES: &str = "property float nx\nproperty float ny\nproperty float nz\n";
 
@@ -69,9 +96,8 @@ fn write_header(w: &mut impl Write, vertices: u64, faces: u64, extra: &str) -> i
 }
 
 /// The header of tmc's binary PLY; `extra` follows the z property and
-/// `face_extra` the face's `vertex_indices` (a label's, see
-/// `labeled_ply.rs`).
-pub(super) fn write_header_with(
+/// `face_extra` the face's `vertex_indices`.
+fn write_header_with(
     w: &mut impl Write,
     vertices: u64,
     faces: u64,

@@ -50,6 +50,35 @@ pub trait Layout {
     fn face_with_normals(w: &mut impl Write, t: [u64; 3]) -> io::Result<()> {
         Self::face(w, t)
     }
+
+    /// Whether the format holds a label per face; a format that does not
+    /// writes the faces of a labelled mesh and drops the labels.
+    const LABELS: bool = false;
+    /// The header of a file whose faces carry labels (and whose vertices
+    /// carry normals when `normals`).
+    fn header_with_labels(
+        w: &mut impl Write,
+        vertices: u64,
+        faces: u64,
+        normals: bool,
+    ) -> io::Result<()> {
+        match normals {
+            true => Self::header_with_normals(w, vertices, faces),
+            false => Self::header(w, vertices, faces),
+        }
+    }
+    /// One triangle and its label.
+    fn face_with_label(
+        w: &mut impl Write,
+        t: [u64; 3],
+        normals: bool,
+        _label: u32,
+    ) -> io::Result<()> {
+        match normals {
+            true => Self::face_with_normals(w, t),
+            false => Self::face(w, t),
+        }
+    }
 }
 
 /// Writes a whole mesh in layout `L`, with its normals when it has one per
@@ -83,6 +112,8 @@ pub struct SpooledSink<L> {
     body: Option<Spooled>,
     /// The chunks carry normals and `L` holds them.
     normals: bool,
+    /// The chunks carry labels and `L` holds them.
+    labels: bool,
     layout: PhantomData<L>,
 }
 
@@ -92,6 +123,7 @@ impl<L: Layout> SpooledSink<L> {
         Ok(SpooledSink {
             body: Some(Spooled::create(path)?),
             normals: false,
+            labels: false,
             layout: PhantomData,
         })
     }
@@ -100,6 +132,7 @@ impl<L: Layout> SpooledSink<L> {
 impl<L: Layout> MeshSink for SpooledSink<L> {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
         self.normals = info.normals && L::NORMALS;
+        self.labels = info.labels && L::LABELS;
         Ok(())
     }
 
@@ -125,12 +158,20 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
                 chunk.normals.len()
             )));
         }
+        if self.labels && chunk.labels.len() != chunk.triangles.len() {
+            return Err(body.numbering().error(format!(
+                "a chunk of {} triangles has {} labels",
+                chunk.triangles.len(),
+                chunk.labels.len()
+            )));
+        }
         let interrupted = || cancel.load(Ordering::Relaxed);
         let mut stopped = false;
-        let normals = self.normals;
+        let (normals, labels) = (self.normals, self.labels);
         body.chunk(base, chunk, |vertices, faces| {
-            if normals {
-                return write_with_normals::<L>(chunk, base, vertices, faces, &interrupted)
+            if normals || labels {
+                let attributes = (normals, labels);
+                return write_with::<L>(chunk, base, attributes, vertices, faces, &interrupted)
                     .map(|done| stopped = !done);
             }
             for step in chunk.vertices.chunks(WRITE_STEP) {
@@ -167,39 +208,53 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
     /// the spools copied into the output.
     fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
         let body = self.body.take().ok_or_else(used_after_finish)?;
-        let normals = self.normals;
-        body.finish(totals, cancel, |w, vertices, faces| match normals {
-            true => L::header_with_normals(w, vertices, faces),
-            false => L::header(w, vertices, faces),
+        let (normals, labels) = (self.normals, self.labels);
+        body.finish(totals, cancel, |w, vertices, faces| {
+            match (normals, labels) {
+                (_, true) => L::header_with_labels(w, vertices, faces, normals),
+                (true, false) => L::header_with_normals(w, vertices, faces),
+                (false, false) => L::header(w, vertices, faces),
+            }
         })
     }
 }
 
-/// Appends `chunk` (starting at global vertex `base`), its vertices with
-/// their normals, to the spools; false when `interrupted` stopped it
+/// Appends `chunk` (starting at global vertex `base`) to the spools with
+/// its attributes `(normals, labels)`: the vertices with their normals,
+/// the faces with their labels; false when `interrupted` stopped it
 /// (asked before every [`WRITE_STEP`] vertices or faces).
-fn write_with_normals<L: Layout>(
+fn write_with<L: Layout>(
     chunk: &Chunk,
     base: u64,
+    (normals, labels): (bool, bool),
     vertices: &mut impl Write,
     faces: &mut impl Write,
     interrupted: &impl Fn() -> bool,
 ) -> io::Result<bool> {
-    let normals = chunk.normals.chunks(WRITE_STEP);
-    for (step, normals) in chunk.vertices.chunks(WRITE_STEP).zip(normals) {
+    for (k, step) in chunk.vertices.chunks(WRITE_STEP).enumerate() {
         if interrupted() {
             return Ok(false);
         }
-        for (v, n) in step.iter().zip(normals) {
-            L::vertex_with_normal(vertices, v, n)?;
+        match normals {
+            true => {
+                let n = &chunk.normals[k * WRITE_STEP..];
+                for (v, n) in step.iter().zip(n) {
+                    L::vertex_with_normal(vertices, v, n)?;
+                }
+            }
+            false => step.iter().try_for_each(|v| L::vertex(vertices, v))?,
         }
     }
-    for step in chunk.triangles.chunks(WRITE_STEP) {
+    for (k, step) in chunk.triangles.chunks(WRITE_STEP).enumerate() {
         if interrupted() {
             return Ok(false);
         }
-        for t in step {
-            L::face_with_normals(faces, t.map(|i| base + u64::from(i)))?;
+        for (j, t) in step.iter().enumerate() {
+            let t = t.map(|i| base + u64::from(i));
+            match labels {
+                true => L::face_with_label(faces, t, normals, chunk.labels[k * WRITE_STEP + j])?,
+                false => L::face_with_normals(faces, t)?,
+            }
         }
     }
     Ok(true)
@@ -316,6 +371,7 @@ mod tests {
             vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
             triangles: vec![[0, 1, 2]],
             normals: Vec::new(),
+            labels: Vec::new(),
         };
         body.chunk(0, &chunk, |vertices, faces| {
             for v in &chunk.vertices {

@@ -20,4 +20,8 @@ pub struct Chunk {
     /// [`MeshInfo::normals`](crate::MeshInfo::normals) is set; empty
     /// otherwise.
     pub normals: Vec<[f32; 3]>,
+    /// The label of each triangle, one per triangle, when the sink's
+    /// [`MeshInfo::labels`](crate::MeshInfo::labels) is set (the surfaces
+    /// of several labels in one mesh); empty otherwise.
+    pub labels: Vec<u32>,
 }

@@ -27,6 +27,9 @@ pub struct MeshInfo {
     pub close: bool,
     /// Whether every chunk carries vertex normals (`Chunk::normals`).
     pub normals: bool,
+    /// Whether every chunk carries a label per triangle (`Chunk::labels`):
+    /// the mesh is the union of several labels' surfaces.
+    pub labels: bool,
 }
 
 /// Totals known when the last chunk has been sent.

@@ -17,7 +17,7 @@
 //!  97   1  inside (0 high, 1 low)
 //!  98   1  close (0 or 1)
 //!  99   1  attributes (version 2; zero in version 1): bit 0 normals,
-//!          the other bits zero
+//!          bit 1 labels, the other bits zero
 //! 100  24  zero
 //! 124   4  CRC-32 of bytes 0..124
 //! chunk    (one per grid plane that owns vertices or triangles, in plane order)
@@ -34,7 +34,9 @@
 //!            then triangle count x 3 u32: vertex indices relative to the
 //!            vertex base; they may point into the next chunk, never beyond;
 //!            then, with the normals attribute, vertex count x 3 f32
-//!            (nx, ny, nz): unit outward vertex normals, or 0 0 0
+//!            (nx, ny, nz): unit outward vertex normals, or 0 0 0;
+//!            then, with the labels attribute, triangle count x u32: the
+//!            label of each triangle (`tmc extract --labels` into one file)
 //! index
 //!   0   4  tag "INDX"
 //!   4   4  CRC-32 of the entries
@@ -52,10 +54,13 @@
 //! other than 0 and 1, nonzero reserved bytes, chunks not in increasing
 //! plane order or with a plane beyond the grid (`dims[2] + 2` planes with
 //! close), chunks claiming more vertices or triangles than one plane of the
-//! grid can have (11 and 32 per sample of a plane), and non-finite vertex
+//! grid can have (11 and 32 per sample of a plane, 8 times that with the
+//! labels attribute: at most 8 labels meet in a cell), and non-finite vertex
 //! coordinates or normals. A file without attributes is written as version
 //! 1, byte for byte what builds before version 2 wrote; this build reads
-//! both.
+//! both. The labels bit came after the normals bit without a new version:
+//! a build that knows only the normals refuses a labelled file by its
+//! unknown attribute bit, and files without labels are unchanged.
 //!
 //! Global vertex indices are 64-bit, so a file holds more than 2^32
 //! vertices; the index lets a reader seek to any chunk; the checksums let a
@@ -82,6 +87,8 @@ pub const VERSION: u32 = 1;
 pub const VERSION_ATTRIBUTES: u32 = 2;
 /// Bit of header byte 99 saying the chunks carry vertex normals.
 pub const ATTRIBUTE_NORMALS: u8 = 1;
+/// Bit of header byte 99 saying the chunks carry a label per triangle.
+pub const ATTRIBUTE_LABELS: u8 = 2;
 /// Bytes in the file header.
 pub const HEADER_BYTES: usize = 128;
 /// Bytes in a chunk header.
@@ -126,7 +133,7 @@ fn le_f64(b: &[u8]) -> f64 {
 fn encode_header(info: &MeshInfo) -> [u8; HEADER_BYTES] {
     let mut h = [0u8; HEADER_BYTES];
     h[0..8].copy_from_slice(&MAGIC);
-    let version = if info.normals {
+    let version = if info.normals || info.labels {
         VERSION_ATTRIBUTES
     } else {
         VERSION
@@ -142,7 +149,8 @@ fn encode_header(info: &MeshInfo) -> [u8; HEADER_BYTES] {
     h[96] = u8::from(info.method == Method::Mc);
     h[97] = u8::from(info.inside == Inside::Low);
     h[98] = u8::from(info.close);
-    h[99] = if info.normals { ATTRIBUTE_NORMALS } else { 0 };
+    h[99] = if info.normals { ATTRIBUTE_NORMALS } else { 0 }
+        | if info.labels { ATTRIBUTE_LABELS } else { 0 };
     let crc = crc32fast::hash(&h[..124]);
     h[124..128].copy_from_slice(&crc.to_le_bytes());
     h
@@ -179,7 +187,7 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
     if version == VERSION && h[99..124].iter().any(|&b| b != 0) {
         return Err(bad("reserved header bytes 99..124 are not zero"));
     }
-    if attributes & !ATTRIBUTE_NORMALS != 0 {
+    if attributes & !(ATTRIBUTE_NORMALS | ATTRIBUTE_LABELS) != 0 {
         return Err(bad(&format!("unknown attribute bits {attributes:#04x}")));
     }
     if h[100..124].iter().any(|&b| b != 0) {
@@ -201,5 +209,6 @@ fn decode_header(h: &[u8]) -> Result<MeshInfo> {
         },
         close: h[98] == 1,
         normals: attributes & ATTRIBUTE_NORMALS != 0,
+        labels: attributes & ATTRIBUTE_LABELS != 0,
     })
 }

@@ -33,10 +33,13 @@ pub struct TmeshReader {
 /// (a strip) and one interior vertex, and a tunnel or a 12-vertex contour
 /// three more vertices and one more triangle. A file that claims more is
 /// damaged or crafted, and is refused before its chunks are inflated.
+/// A labelled file holds the surfaces of several labels: each is bounded
+/// so, and at most 8 labels have a corner in a cell.
 fn plane_bounds(info: &MeshInfo) -> (u64, u64) {
     let pad = if info.close { 2 } else { 0 };
     let [nx, ny, _] = info.grid.dims.map(|d| d as u64 + pad);
-    let samples = nx.saturating_mul(ny);
+    let labels = if info.labels { 8 } else { 1 };
+    let samples = nx.saturating_mul(ny).saturating_mul(labels);
     (samples.saturating_mul(3 + 8), samples.saturating_mul(32))
 }
 
@@ -225,7 +228,8 @@ impl TmeshReader {
         }
         let (nv, nt) = (e.vertex_count as usize, e.triangle_count as usize);
         let nn = if self.info.normals { nv } else { 0 };
-        let expect = nv * 12 + nt * 12 + nn * 12;
+        let nl = if self.info.labels { nt } else { 0 };
+        let expect = nv * 12 + nt * 12 + nn * 12 + nl * 4;
         // The frame must say it holds exactly that many bytes before room
         // for them is reserved (the counts come from the file).
         match zstd::zstd_safe::get_frame_content_size(&payload) {
@@ -244,7 +248,8 @@ impl TmeshReader {
                 "vertex {k} has a coordinate that is not a finite number"
             ))
         })?;
-        let normals = finite_triples(&raw[nv * 12 + nt * 12..]).map_err(|k| {
+        let at_labels = nv * 12 + nt * 12 + nn * 12;
+        let normals = finite_triples(&raw[nv * 12 + nt * 12..at_labels]).map_err(|k| {
             bad(&format!(
                 "the normal of vertex {k} has a component that is not a finite number"
             ))
@@ -258,11 +263,13 @@ impl TmeshReader {
             }
             triangles.push(tri);
         }
+        let labels = raw[at_labels..].chunks_exact(4).map(le_u32).collect();
         Ok(Chunk {
             plane: e.plane,
             vertices,
             triangles,
             normals,
+            labels,
         })
     }
 }

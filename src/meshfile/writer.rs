@@ -30,6 +30,8 @@ pub struct TmeshWriter {
     compressor: zstd::bulk::Compressor<'static>,
     /// The chunks carry normals ([`MeshInfo::normals`]).
     normals: bool,
+    /// The chunks carry a label per triangle ([`MeshInfo::labels`]).
+    labels: bool,
 }
 
 impl TmeshWriter {
@@ -47,6 +49,7 @@ impl TmeshWriter {
             bytes: 0,
             compressor,
             normals: false,
+            labels: false,
         })
     }
 
@@ -75,10 +78,12 @@ impl TmeshWriter {
 }
 
 /// The payload of a chunk before compression: positions, then relative
-/// indices, then the normals if it has any.
+/// indices, then the normals if it has any, then the triangles' labels if
+/// it has any.
 pub(crate) fn raw_payload(chunk: &Chunk) -> Result<Vec<u8>> {
-    let len =
-        (chunk.vertices.len() + chunk.triangles.len() + chunk.normals.len()).saturating_mul(12);
+    let len = (chunk.vertices.len() + chunk.triangles.len() + chunk.normals.len())
+        .saturating_mul(12)
+        .saturating_add(chunk.labels.len().saturating_mul(4));
     let mut raw = crate::error::try_vec::<u8>("a .tmesh chunk", len)?;
     for v in &chunk.vertices {
         for c in v {
@@ -95,12 +100,16 @@ pub(crate) fn raw_payload(chunk: &Chunk) -> Result<Vec<u8>> {
             raw.extend_from_slice(&c.to_le_bytes());
         }
     }
+    for l in &chunk.labels {
+        raw.extend_from_slice(&l.to_le_bytes());
+    }
     Ok(raw)
 }
 
 impl MeshSink for TmeshWriter {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
         self.normals = info.normals;
+        self.labels = info.labels;
         let header = encode_header(info);
         debug_assert_eq!(header.len(), HEADER_BYTES);
         self.write(&header)
@@ -121,6 +130,19 @@ impl MeshSink for TmeshWriter {
                 chunk.vertices.len(),
                 chunk.normals.len(),
                 if self.normals { "one each" } else { "none" }
+            )));
+        }
+        let labels = if self.labels {
+            chunk.triangles.len()
+        } else {
+            0
+        };
+        if chunk.labels.len() != labels {
+            return Err(Error::Invalid(format!(
+                "a chunk of {} triangles has {} labels, the file {}",
+                chunk.triangles.len(),
+                chunk.labels.len(),
+                if self.labels { "one each" } else { "none" }
             )));
         }
         let payload = self

@@ -6,16 +6,17 @@ use crate::mesh::{MeshInfo, Totals};
 use crate::meshfile::{ChunkEntry, TmeshReader};
 use crate::params::Method;
 use crate::{Error, Result};
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A part file, as its header, index and record describe it.
-struct Part {
-    path: PathBuf,
-    record: PartRecord,
-    info: MeshInfo,
+pub(super) struct Part {
+    pub(super) path: PathBuf,
+    pub(super) record: PartRecord,
+    pub(super) info: MeshInfo,
     /// Its first chunk, which the previous part's last chunk may point into.
-    first: Option<ChunkEntry>,
+    pub(super) first: Option<ChunkEntry>,
 }
 
 impl Part {
@@ -38,7 +39,24 @@ impl Part {
 ///
 /// Setting `cancel` (from a signal handler, say) stops the merge before the
 /// next chunk with [`Error::Interrupted`]; the output is then not written.
+///
+/// Parts of `tmc extract --labels --part I/N` (their records name a label)
+/// are grouped by label and merged label by label: `output` containing
+/// `{label}` gets one mesh per label, otherwise it is one `.ply` or
+/// `.tmesh` holding every label in increasing order with a per-face label,
+/// as one run writes it.
 pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<Totals> {
+    let scanned: Vec<Part> = parts.iter().map(|p| Part::scan(p)).collect::<Result<_>>()?;
+    if scanned.iter().any(|p| p.record.label.is_some()) {
+        return merge_labels(scanned, output, cancel);
+    }
+    crate::export::check_output_path(output)?;
+    let parts = order(scanned)?;
+    stitch(&parts, output, cancel)
+}
+
+/// Writes the ordered parts of one run into the mesh at `output`.
+pub(super) fn stitch(parts: &[Part], output: &Path, cancel: &AtomicBool) -> Result<Totals> {
     let interrupted = || {
         if cancel.load(Ordering::Relaxed) {
             Err(Error::Interrupted)
@@ -46,9 +64,6 @@ pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<To
             Ok(())
         }
     };
-    crate::export::check_output_path(output)?;
-    let scanned = parts.iter().map(|p| Part::scan(p)).collect::<Result<_>>()?;
-    let parts = order(scanned)?;
     let mut sink = crate::export::create_sink(output)?;
     sink.begin(&parts[0].info)?;
     let mut totals = Totals::default();
@@ -86,48 +101,18 @@ pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<To
 
 /// Checks that the parts are all the parts of one run, once each, and puts
 /// them in order.
-fn order(mut parts: Vec<Part>) -> Result<Vec<Part>> {
+pub(super) fn order(mut parts: Vec<Part>) -> Result<Vec<Part>> {
     let invalid = |m: String| Err(Error::Invalid(m));
     let Some(first) = parts.first() else {
         return invalid("no part files given".into());
     };
     let n = first.record.count;
     for p in &parts {
-        let (a, b) = (&first.record, &p.record);
-        let name = |q: &Part| q.path.display().to_string();
-        let differ = |what: &str| {
-            invalid(format!(
-                "{} and {} are parts of different runs: {what} differ",
-                name(first),
-                name(p)
-            ))
-        };
-        if a.tmc_version != b.tmc_version {
-            return differ(&format!(
-                "tmc versions ({} vs {})",
-                a.tmc_version, b.tmc_version
-            ));
-        }
-        if a.count != b.count {
-            return differ(&format!("part counts ({} vs {})", a.count, b.count));
-        }
-        let (x, y) = (&first.info, &p.info);
-        if let Some(options) = options_differ(x, y) {
-            return differ(&options);
-        }
-        if x.grid != y.grid {
-            return differ("grids");
-        }
-        // 0 and -0 are the same isovalue.
-        if x.iso != y.iso {
-            return differ(&format!("isovalues ({} vs {})", x.iso, y.iso));
-        }
-        if a.reading != b.reading {
-            return differ("the options reading headerless samples (--dtype, --dims, --endian, --header-bytes)");
-        }
-        if a.input != b.input || a.total_layers != b.total_layers {
-            return differ(&format!("inputs ({} vs {})", a.input_name, b.input_name));
-        }
+        same_run(first, p)?;
+    }
+    let name = |q: &Part| q.path.display().to_string();
+    for p in &parts {
+        let b = &p.record;
         let expect = super::layer_range(b.total_layers, b.index, b.count)?;
         if b.layers != [expect.start, expect.end] {
             return invalid(format!(
@@ -170,6 +155,57 @@ fn order(mut parts: Vec<Part>) -> Result<Vec<Part>> {
     Ok(parts)
 }
 
+/// Checks that `p` is a part of the same run as `first`: same tmc version,
+/// part count, options, grid, isovalue, input and label.
+pub(super) fn same_run(first: &Part, p: &Part) -> Result<()> {
+    let (a, b) = (&first.record, &p.record);
+    let name = |q: &Part| q.path.display().to_string();
+    let differ = |what: &str| {
+        Err(Error::Invalid(format!(
+            "{} and {} are parts of different runs: {what} differ",
+            name(first),
+            name(p)
+        )))
+    };
+    if a.tmc_version != b.tmc_version {
+        return differ(&format!(
+            "tmc versions ({} vs {})",
+            a.tmc_version, b.tmc_version
+        ));
+    }
+    if a.count != b.count {
+        return differ(&format!("part counts ({} vs {})", a.count, b.count));
+    }
+    let (x, y) = (&first.info, &p.info);
+    if let Some(options) = options_differ(x, y) {
+        return differ(&options);
+    }
+    if x.grid != y.grid {
+        return differ("grids");
+    }
+    // 0 and -0 are the same isovalue.
+    if x.iso != y.iso {
+        return differ(&format!("isovalues ({} vs {})", x.iso, y.iso));
+    }
+    if a.reading != b.reading {
+        return differ(
+            "the options reading headerless samples (--dtype, --dims, --endian, --header-bytes)",
+        );
+    }
+    if a.input != b.input || a.total_layers != b.total_layers {
+        return differ(&format!("inputs ({} vs {})", a.input_name, b.input_name));
+    }
+    if a.label != b.label {
+        let label = |l: Option<i64>| l.map_or("none".to_string(), |l| l.to_string());
+        return differ(&format!(
+            "labels ({} vs {})",
+            label(a.label),
+            label(b.label)
+        ));
+    }
+    Ok(())
+}
+
 /// The extraction options (`--method`, `--inside`, `--close`, `--normals`) in which `x`
 /// and `y` differ, as "options (--close: on vs off)", if any.
 fn options_differ(x: &MeshInfo, y: &MeshInfo) -> Option<String> {
@@ -193,4 +229,95 @@ fn options_differ(x: &MeshInfo, y: &MeshInfo) -> Option<String> {
         differ.push(format!("--normals: {} vs {}", on(x.normals), on(y.normals)));
     }
     (!differ.is_empty()).then(|| format!("options ({})", differ.join(", ")))
+}
+
+/// Merges label part files (each record names its label), given in any
+/// order: every label needs all its parts, and all are of one run.
+/// `output` containing `{label}` gets one mesh per label (`{label}`
+/// replaced by the label), each byte for byte what one run writes there;
+/// otherwise `output` is one `.ply` or `.tmesh` holding every label with a
+/// per-face label, in increasing label order: what one run with `--labels
+/// all` (or an increasing list) writes. Returns the totals of all labels.
+fn merge_labels(parts: Vec<Part>, output: &Path, cancel: &AtomicBool) -> Result<Totals> {
+    let mut groups: BTreeMap<i64, Vec<Part>> = BTreeMap::new();
+    for part in parts {
+        let Some(label) = part.record.label else {
+            return Err(Error::Invalid(format!(
+                "{}: an isosurface part among label parts (of 'tmc extract --labels')",
+                part.path.display()
+            )));
+        };
+        groups.entry(label).or_default().push(part);
+    }
+    let groups: Vec<(i64, Vec<Part>)> = groups
+        .into_iter()
+        .map(|(label, group)| Ok((label, order(group)?)))
+        .collect::<Result<_>>()?;
+    let first = &groups[0].1[0];
+    for (_, group) in &groups {
+        let other = &group[0];
+        // One run: everything but the label agrees.
+        let relabelled = Part {
+            path: other.path.clone(),
+            record: super::PartRecord {
+                label: first.record.label,
+                ..other.record.clone()
+            },
+            info: other.info.clone(),
+            first: other.first,
+        };
+        same_run(first, &relabelled)?;
+    }
+    let text = output.to_string_lossy();
+    let mut totals = Totals::default();
+    if text.contains("{label}") {
+        let outputs: Vec<PathBuf> = groups
+            .iter()
+            .map(|(l, _)| PathBuf::from(text.replace("{label}", &l.to_string())))
+            .collect();
+        for path in &outputs {
+            crate::export::check_output_path(path)?;
+        }
+        for ((_, group), path) in groups.iter().zip(&outputs) {
+            let t = stitch(group, path, cancel)?;
+            totals.vertices += t.vertices;
+            totals.triangles += t.triangles;
+            totals.chunks += t.chunks;
+        }
+        return Ok(totals);
+    }
+    if output
+        .extension()
+        .is_none_or(|e| e != "ply" && e != "tmesh")
+    {
+        return Err(Error::Invalid(format!(
+            "{}: label parts merge into one file per label ({{label}} in the output) or one .ply or .tmesh",
+            output.display()
+        )));
+    }
+    if let Some((l, _)) = groups.iter().find(|(l, _)| u32::try_from(*l).is_err()) {
+        return Err(Error::Invalid(format!(
+            "label {l} does not fit the uint32 per-face label of one file; merge into one file per label with {{label}}"
+        )));
+    }
+    crate::export::check_output_path(output)?;
+    // Each label merged into a .tmesh beside the output, then assembled.
+    let dir = output
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let spool = tempfile::Builder::new()
+        .prefix(".tmc-merge-labels-")
+        .tempdir_in(dir)
+        .map_err(|e| Error::io(dir, e))?;
+    let mut merged = Vec::with_capacity(groups.len());
+    for (label, group) in &groups {
+        let path = spool.path().join(format!("{label}.tmesh"));
+        stitch(group, &path, cancel)?;
+        merged.push((*label as u32, path));
+    }
+    let parts: Vec<(u32, &Path)> = merged.iter().map(|(l, p)| (*l, p.as_path())).collect();
+    let totals = crate::export::write_labelled(output, &parts, cancel)?;
+    spool.close().map_err(|e| Error::io(output, e))?;
+    Ok(totals)
 }

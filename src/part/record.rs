@@ -43,6 +43,10 @@ pub struct PartRecord {
     pub seam_crc: [u32; 2],
     /// The input's path as given (for messages only).
     pub input_name: String,
+    /// The label whose surface the part holds (`tmc extract --labels`),
+    /// `None` for an isosurface (and absent from its JSON).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label: Option<i64>,
 }
 
 impl PartRecord {
@@ -68,6 +72,7 @@ impl PartRecord {
             reading,
             seam_crc: seam_checksums(source, close, range)?,
             input_name: input.display().to_string(),
+            label: None,
         })
     }
 }

@@ -46,6 +46,7 @@ impl Block {
             triangles: self.triangles,
             vertices: self.vertices,
             normals: Vec::new(),
+            labels: Vec::new(),
         }
     }
 

@@ -27,6 +27,7 @@ use super::pass::{run_pass, SlabWork};
 use crate::error::try_filled;
 use crate::grid::Grid;
 use crate::mesh::{Chunk, MeshSink};
+use crate::normals::SlabNormals;
 use crate::params::{ExtractParams, Inside, PipelineOptions};
 use crate::slab::{process_window, Spares, Window};
 use crate::volume::{plane_runs, Access, LentPlane, SampleSource};
@@ -52,7 +53,9 @@ pub const MOST_LABELS: usize = u16::MAX as usize - 1;
 /// indicator, with the sign convention's ties. Samples that are not whole
 /// numbers belong to no label; check the map with
 /// [`scan_labels`](crate::volume::scan_labels) first to refuse them.
-/// `params.iso`, `inside` and `normals` are not used (normals are refused).
+/// `params.iso` and `inside` are not used; with `params.normals` each
+/// label's vertices get the normals of its indicator's gradient, as that
+/// extraction with normals gives them.
 /// The output does not depend on the threads, the slab depth or the part
 /// (`part` as in [`extract_part_to`](super::extract_part_to)).
 pub fn extract_labels_to(
@@ -63,11 +66,6 @@ pub fn extract_labels_to(
     part: Option<(usize, usize)>,
     sinks: &mut [&mut dyn MeshSink],
 ) -> Result<Vec<Stats>> {
-    if params.normals {
-        return Err(Error::Invalid(
-            "vertex normals are not made for label surfaces".into(),
-        ));
-    }
     if labels.is_empty() {
         return Err(Error::Invalid("no label to extract".into()));
     }
@@ -92,7 +90,6 @@ pub fn extract_labels_to(
     let each = ExtractParams {
         iso: 0.5,
         inside: Inside::High,
-        normals: false,
         ..params.clone()
     };
     let all = vec![each; labels.len()];
@@ -101,10 +98,11 @@ pub fn extract_labels_to(
     };
     // Codes of the slab's planes (2 bytes a sample, a slab of up to 64
     // layers) and one indicator (1 byte): counted as 4 of the slab loop's
-    // planes of 17 bytes.
+    // planes of 17 bytes; normals add the whole planes' indicator (1 byte)
+    // and the gradients' window (up to four planes of 8 bytes).
     let work = SlabWork {
         run: &run,
-        budget_planes: 4,
+        budget_planes: if params.normals { 8 } else { 4 },
     };
     run_pass(source, &all, options, part, sinks, Some(work))
 }
@@ -149,19 +147,32 @@ fn label_slab(
 ) -> Result<Vec<(Vec<Chunk>, Stats)>> {
     // The source is padded with NaN for `--close` (see `run_pass`).
     let close = params.first().is_some_and(|p| p.close);
+    let normals = params.first().is_some_and(|p| p.normals);
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
     let area = nx * ny;
-    let planes = layers.len() + 1;
+    // The slab's planes, and with normals one more on each side (their
+    // gradients need them).
+    let codes_from = match normals {
+        true => layers.start.saturating_sub(1),
+        false => layers.start,
+    };
+    let codes_to = match normals {
+        true => (layers.end + 1).min(nz - 1),
+        false => layers.end,
+    };
+    let planes = codes_to + 1 - codes_from;
     let mut codes: Vec<u16> = try_filled("the label codes of a slab", planes * area, 0)?;
     let mut rects: Vec<Option<Rect>> = vec![None; params.len()];
     let mut values = Vec::new();
-    for (k, z) in (layers.start..=layers.end).enumerate() {
+    for (k, z) in (codes_from..=codes_to).enumerate() {
         let plane = &mut codes[k * area..(k + 1) * area];
+        // Only the slab's own planes bound a label's cells.
+        let own = layers.start <= z && z <= layers.end;
         plane_runs(source, z, &mut values, |y, x, end, v| {
             let code = code_of(lookup, v);
             plane[y * nx + x..y * nx + end].fill(code);
-            if code != 0 {
+            if code != 0 && own {
                 let run = [x, end - 1];
                 match &mut rects[usize::from(code) - 1] {
                     Some(rect) => rect.grow(run, y),
@@ -171,17 +182,7 @@ fn label_slab(
             Ok(())
         })?;
         if close {
-            // `--close`'s border of NaN: a tie for every label.
-            if z == 0 || z == nz - 1 {
-                plane.fill(TIE);
-            } else {
-                for row in plane.chunks_exact_mut(nx) {
-                    row[0] = TIE;
-                    row[nx - 1] = TIE;
-                }
-                plane[..nx].fill(TIE);
-                plane[area - nx..].fill(TIE);
-            }
+            tie_border(plane, nx, z == 0 || z == nz - 1);
         }
         if source.interrupted() {
             return Err(Error::Interrupted);
@@ -191,7 +192,20 @@ fn label_slab(
     // The planes are coded: the source's pages may go (the slab above
     // releases the last plane, as in the slab loop).
     source.advise(layers.start..layers.end, Access::Done);
+    let slab_planes = layers.len() + 1;
+    let skip = (layers.start - codes_from) * area;
     let mut indicator: Vec<u8> = Vec::new();
+    // With normals, every label's indicator over the whole planes: ties
+    // where the codes say so, each label's 1s written over its window and
+    // taken out again after its normals.
+    let mut whole = match normals {
+        true => {
+            let mut whole = crate::error::try_vec("the indicator of a slab's planes", codes.len())?;
+            whole.extend(codes.iter().map(|&c| indicator_of(c, 0)));
+            Some(whole)
+        }
+        false => None,
+    };
     let mut results = Vec::with_capacity(params.len());
     for (i, (rect, p)) in rects.iter().zip(params).enumerate() {
         let Some(rect) = rect else {
@@ -203,15 +217,12 @@ fn label_slab(
         let ys = rect.y[0].saturating_sub(1)..(rect.y[1] + 2).min(ny);
         let (wx, wy) = (xs.len(), ys.len());
         indicator.clear();
-        crate::error::make_room(&mut indicator, planes * wx * wy, "a label's indicator")?;
-        for k in 0..planes {
+        crate::error::make_room(&mut indicator, slab_planes * wx * wy, "a label's indicator")?;
+        for k in 0..slab_planes {
             for y in ys.clone() {
-                let row = &codes[k * area + y * nx..][xs.clone()];
+                let row = &codes[skip + k * area + y * nx..][xs.clone()];
                 // Without a branch, so that it runs in vector registers.
-                indicator.extend(
-                    row.iter()
-                        .map(|&c| u8::from(c == code) | (u8::from(c == TIE) << 1)),
-                );
+                indicator.extend(row.iter().map(|&c| indicator_of(c, code)));
             }
         }
         // Ties are the border's, where the window reaches it.
@@ -236,15 +247,48 @@ fn label_slab(
             ties,
             outer: source,
         };
-        results.push(process_window(
-            &view,
-            p,
-            layers.clone(),
-            spares,
-            Some(&window),
-        )?);
+        let mut result = process_window(&view, p, layers.clone(), spares, Some(&window))?;
+        if let Some(whole) = &mut whole {
+            mark(whole, &codes, code, [nx, area], [&xs, &ys]);
+            let view = Indicator {
+                grid,
+                planes: whole,
+                first: codes_from,
+                ties: close,
+                outer: source,
+            };
+            let mut gradients = SlabNormals::new(&view, p);
+            result
+                .0
+                .iter_mut()
+                .try_for_each(|chunk| gradients.fill(chunk))?;
+            mark(whole, &codes, 0, [nx, area], [&xs, &ys]);
+        }
+        results.push(result);
     }
     Ok(results)
+}
+
+/// A sample's byte in a label's indicator: 1 on label `code`, 2 on a tie
+/// ([`TIE`]), 0 elsewhere (`code` 0: only the ties).
+fn indicator_of(c: u16, code: u16) -> u8 {
+    u8::from(c == code && code != 0) | (u8::from(c == TIE) << 1)
+}
+
+/// Codes `--close`'s border of NaN in `plane` (rows of `nx`): a tie for
+/// every label; the whole plane when it is the first or last.
+fn tie_border(plane: &mut [u16], nx: usize, cap: bool) {
+    if cap {
+        plane.fill(TIE);
+        return;
+    }
+    for row in plane.chunks_exact_mut(nx) {
+        row[0] = TIE;
+        row[nx - 1] = TIE;
+    }
+    plane[..nx].fill(TIE);
+    let area = plane.len();
+    plane[area - nx..].fill(TIE);
 }
 
 /// The chunks of cell layers `layers` of a grid of `nz` planes without a
@@ -289,13 +333,7 @@ impl SampleSource for Indicator<'_> {
     }
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
-        for (o, &b) in out.iter_mut().zip(self.plane(z)) {
-            *o = match b {
-                0 => 0.0,
-                1 => 1.0,
-                _ => f64::NAN,
-            };
-        }
+        read_indicator(self.plane(z), out);
         Ok(())
     }
 
@@ -309,5 +347,38 @@ impl SampleSource for Indicator<'_> {
 
     fn sample_bytes(&self) -> usize {
         1
+    }
+}
+
+/// Writes label `code`'s indicator (0: none, only the ties) into `whole`,
+/// the indicator bytes of `codes` (planes of `area` samples, rows of
+/// `nx`), over rows `ys`, columns `xs` of every plane: outside its window
+/// a label has no sample, so this makes `whole` that label's indicator.
+fn mark(
+    whole: &mut [u8],
+    codes: &[u16],
+    code: u16,
+    [nx, area]: [usize; 2],
+    [xs, ys]: [&Range<usize>; 2],
+) {
+    for k in 0..whole.len() / area {
+        for y in ys.clone() {
+            let at = k * area + y * nx;
+            let row = &codes[at..][xs.clone()];
+            for (o, &c) in whole[at..][xs.clone()].iter_mut().zip(row) {
+                *o = indicator_of(c, code);
+            }
+        }
+    }
+}
+
+/// The samples of indicator bytes: 0, 1, and NaN for a tie (2).
+fn read_indicator(bytes: &[u8], out: &mut [f64]) {
+    for (o, &b) in out.iter_mut().zip(bytes) {
+        *o = match b {
+            0 => 0.0,
+            1 => 1.0,
+            _ => f64::NAN,
+        };
     }
 }

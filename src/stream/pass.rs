@@ -69,8 +69,10 @@ pub(crate) fn extract_many_part_to(
 /// pass's source (padded with `--close`, cancellable) and the slab's cell
 /// layers, the chunks and counts of every output, in the order of the
 /// pass's `params`, each exactly what a single run of that output writes
-/// for those layers. Its planes per sample of a plane are `budget_planes`
-/// (as the budget counts a plane of the slab loop).
+/// for those layers, normals included where the params ask for them (the
+/// pass computes none for a work: its outputs are not the source's
+/// isosurfaces). Its planes per sample of a plane are `budget_planes` (as
+/// the budget counts a plane of the slab loop).
 pub(crate) struct SlabWork<'w> {
     /// The slab's chunks and counts, per output.
     pub(crate) run: &'w SlabFn<'w>,
@@ -125,6 +127,7 @@ pub(crate) fn run_pass(
         inside: p.inside,
         close: p.close,
         normals: p.normals,
+        labels: false,
     };
     let padded;
     let source: &dyn SampleSource = if first.close {
@@ -233,13 +236,16 @@ pub(crate) fn run_pass(
             layers.start.saturating_sub(1)..(layers.end + 3).min(planes),
         );
         let source: &dyn SampleSource = &held;
-        let mut results = match &work {
+        let results = match &work {
             Some(work) => (work.run)(source, layers, &spares)?,
-            None => slab_for_each(source, params, layers, &spares)?,
+            None => {
+                let mut results = slab_for_each(source, params, layers, &spares)?;
+                if normals {
+                    slab_normals(source, params, &mut results)?;
+                }
+                results
+            }
         };
-        if normals {
-            slab_normals(source, params, &mut results)?;
-        }
         Ok(results)
     };
     // Hands slab `i` to every seam; returns how many slabs got written

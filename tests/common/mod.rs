@@ -5,6 +5,7 @@
 pub mod cli;
 pub mod fields;
 pub mod formats;
+pub mod labels;
 pub mod oracle;
 pub mod signals;
 

@@ -8,7 +8,9 @@ its mesh in memory, so the figures compare the extraction itself:
 
 * tmc 1T / 2T, mc 1T / 2T: tmc::extract with --method tmc or mc and 1 or 2
   threads, timed inside the example `time_extract` (which holds the volume as
-  float32, like the peers), driven over a pipe;
+  float32, like the peers), driven over a pipe; tmc+n 1T / 2T: the same with
+  vertex normals (`time_extract --normals`), the library's part of
+  tmc.marching_cubes;
 * pass 1T / 2T: no extraction, one pass over the same samples (their maximum),
   the memory-bandwidth floor a sparse surface is compared with;
 * FE 1T / 2T: VTK vtkFlyingEdges3D (normals, gradients and scalars off), with
@@ -162,6 +164,13 @@ def make_tools(vol: np.ndarray, path: Path, iso: float, args) -> tuple[dict, lis
             tools[f"{method} {threads}T"] = (
                 lambda m=method, t=threads: tmc_server.ask(f"{m} {t}")
             )
+    # The same extraction with vertex normals: the library's share of
+    # tmc.marching_cubes, which returns normals.
+    normals_server = Server([str(args.time_extract), str(path), "--iso", repr(iso), "--serve",
+                             "--normals"])
+    closers.append(normals_server.close)
+    for threads in (1, 2):
+        tools[f"tmc+n {threads}T"] = lambda t=threads: normals_server.ask(f"tmc {t}")
 
     try:
         from vtkmodules.util.numpy_support import numpy_to_vtk
@@ -344,23 +353,29 @@ def tables(results: list[dict], args) -> str:
                "only: the work of 'tmc' above) and `tmc.marching_cubes` (scikit-image's "
                "return values: also normals and values); median seconds, and ratios: "
                "extract / the Rust library's extraction (the binding's cost; target at "
-               "most 1.2), scikit-image / marching_cubes (target at least 5), and the peers "
-               "/ marching_cubes at 1 thread:")
+               "most 1.2), marching_cubes / the library's extraction with normals "
+               "('tmc+n', the same work) and without, scikit-image / marching_cubes "
+               "(target at least 5), and the peers / marching_cubes at 1 thread:")
     out.append("")
-    out.append("| volume | py.extract 1T | py.extract 2T | py.mc 1T | py.mc 2T "
-               "| py.extract/tmc 1T | py.extract/tmc 2T | py.mc/tmc 1T "
-               "| skimage/py.mc 1T | FE 1T/py.mc 1T | PyMCubes/py.mc 1T |")
-    out.append("|" + "---|" * 11)
+    out.append("| volume | tmc+n 1T | tmc+n 2T | py.extract 1T | py.extract 2T | py.mc 1T "
+               "| py.mc 2T | py.extract/tmc 1T | py.extract/tmc 2T | py.mc/tmc+n 1T "
+               "| py.mc/tmc+n 2T | py.mc/tmc 1T "
+               "| skimage/py.mc 1T | skimage/py.mc 2T | FE 1T/py.mc 1T | PyMCubes/py.mc 1T |")
+    out.append("|" + "---|" * 16)
     for r in results:
         m = r["median"]
         out.append(
-            f"| {r['volume']} | {fmt_s(m.get('py.extract 1T'))} | "
+            f"| {r['volume']} | {fmt_s(m.get('tmc+n 1T'))} | {fmt_s(m.get('tmc+n 2T'))} | "
+            f"{fmt_s(m.get('py.extract 1T'))} | "
             f"{fmt_s(m.get('py.extract 2T'))} | {fmt_s(m.get('py.mc 1T'))} | "
             f"{fmt_s(m.get('py.mc 2T'))} | "
             f"{fmt_ratio(m.get('py.extract 1T'), m.get('tmc 1T'))} | "
             f"{fmt_ratio(m.get('py.extract 2T'), m.get('tmc 2T'))} | "
+            f"{fmt_ratio(m.get('py.mc 1T'), m.get('tmc+n 1T'))} | "
+            f"{fmt_ratio(m.get('py.mc 2T'), m.get('tmc+n 2T'))} | "
             f"{fmt_ratio(m.get('py.mc 1T'), m.get('tmc 1T'))} | "
             f"{fmt_ratio(m.get('skimage'), m.get('py.mc 1T'))} | "
+            f"{fmt_ratio(m.get('skimage'), m.get('py.mc 2T'))} | "
             f"{fmt_ratio(m.get('FE 1T'), m.get('py.mc 1T'))} | "
             f"{fmt_ratio(m.get('PyMCubes'), m.get('py.mc 1T'))} |"
         )

@@ -2,11 +2,10 @@
 //! file of any output format (`extract_to`), from an array or a path.
 
 use crate::array::{self, MappedAt};
-use crate::errors::OrPyErr;
 use crate::interrupt;
-use crate::output::{arrays, Layout, Positions};
+use crate::output::{arrays, rows};
 use crate::record::{Record, Recorder};
-use crate::values;
+use crate::skimage::SkimageArrays;
 use numpy::PyUntypedArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -144,34 +143,25 @@ fn report(
     serde_json::to_string(&report).map_err(|e| tmc::Error::Invalid(e.to_string()))
 }
 
-/// One extraction collected in memory with vertices as `V`: the vertices,
-/// the triangles, the normals (empty without `params.normals`), the report
-/// JSON and the record a `.tmesh` needs.
-type Collected<V> = (Vec<V>, Vec<[u32; 3]>, Vec<[f32; 3]>, String, Option<Record>);
-
-/// Runs the extraction into a [`Recorder`] of `V` vertices.
-fn collect<V: tmc::mesh::Vertex>(
-    source: &dyn SampleSource,
-    path: Option<&Path>,
-    params: &ExtractParams,
-    options: &PipelineOptions,
-) -> tmc::Result<Collected<V>> {
-    let mut recorder = Recorder::<V>::default();
-    let stats = tmc::extract_to(source, params, options, &mut recorder)?;
-    let report = report(path, None, source, params, &stats)?;
-    let record = recorder.record();
-    let (vertices, triangles, normals) = recorder.collector.into_parts();
-    Ok((vertices, triangles, normals, report, record))
-}
+/// One extraction collected in memory: the vertices (f64), the triangles,
+/// the normals (empty without `params.normals`), the report JSON and the
+/// record a `.tmesh` needs.
+type Collected = (
+    Vec<[f64; 3]>,
+    Vec<[u32; 3]>,
+    Vec<[f32; 3]>,
+    String,
+    Option<Record>,
+);
 
 /// Extracts the isosurface of `input` (a 3-D numpy array indexed
-/// `[z][y][x]`, or a path) into memory. Returns `(vertices, triangles,
-/// normals or None, values or None, report JSON, record)`, the record
-/// being what `Mesh.write` needs for a `.tmesh` file (see `record.rs`); `index_order` gives
-/// scikit-image's arrays (see `output::Layout::Index`) and, for an array,
-/// its per-vertex values (see `values.rs`).
+/// `[z][y][x]`, or a path) into memory, with tmc's conventions. Returns
+/// `(vertices, triangles, normals or None, report JSON, record)`, the
+/// record being what `Mesh.write` needs for a `.tmesh` file (see
+/// `record.rs`). The vertices are widened to f64 as the chunks come (on
+/// the writing thread, while the workers triangulate).
 #[pyfunction]
-#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, index_order))]
+#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract<'py>(
     py: Python<'py>,
@@ -185,57 +175,71 @@ pub(crate) fn extract<'py>(
     close: bool,
     threads: usize,
     normals: bool,
-    index_order: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    // The normals come from the workers, with the triangles.
     let params = params(iso, method, inside, close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped)?;
-    // tmc's layout takes f64 vertices as the chunks come (the writer
-    // thread widens them while the workers triangulate); scikit-image's
-    // layout works from the f32 mesh.
-    let wide = !index_order;
-    let (positions, triangles, normals, report, record) =
+    let (vertices, triangles, n, report, record): Collected =
         input.run(py, |source, path, cancel| {
             let options = preflight(source, path, &params, None, cancel)?;
-            let some = |n: Vec<[f32; 3]>| normals.then_some(n);
-            if wide {
-                let (vertices, triangles, n, report, record) =
-                    collect::<[f64; 3]>(source, path, &params, &options)?;
-                return Ok((
-                    Positions::Wide(vertices),
-                    triangles,
-                    some(n),
-                    report,
-                    record,
-                ));
-            }
-            let (vertices, triangles, n, report, record) =
-                collect::<[f32; 3]>(source, path, &params, &options)?;
-            Ok((
-                Positions::Narrow(vertices),
-                triangles,
-                some(n),
-                report,
-                record,
-            ))
+            let mut recorder = Recorder::<[f64; 3]>::default();
+            let stats = tmc::extract_to(source, &params, &options, &mut recorder)?;
+            let report = report(path, None, source, &params, &stats)?;
+            let record = recorder.record();
+            let (vertices, triangles, normals) = recorder.collector.into_parts();
+            Ok((vertices, triangles, normals, report, record))
         })?;
-    // scikit-image's per-vertex values, for its layout and an array.
-    let values = match (&input, index_order, &positions) {
-        (Input::Array(volume), true, Positions::Narrow(vertices)) => {
-            let values = py
-                .detach(|| values::cell_maxima(volume, vertices, threads))
-                .or_py()?;
-            Some(numpy::PyArray1::from_vec(py, values))
-        }
-        _ => None,
+    let (v, t, n) = arrays(py, vertices, triangles, normals.then_some(n))?;
+    (v, t, n, report, record)
+        .into_pyobject(py)
+        .map(|t| t.into_any())
+}
+
+/// `skimage.measure.marching_cubes` of the 3-D numpy array `input`
+/// (indexed `[z][y][x]`, samples `spacing` apart in `[x, y, z]`, first
+/// sample at the origin): `(verts, faces, normals, values)` in scikit-image's
+/// layout and types, written by the extraction's sink as the chunks come
+/// (see `skimage.rs`); the normals point toward lower values whatever
+/// `inside`.
+#[pyfunction]
+#[pyo3(signature = (input, iso, spacing, mapped, method, inside, threads))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn marching_cubes<'py>(
+    py: Python<'py>,
+    input: &Bound<'py, PyAny>,
+    iso: f64,
+    spacing: [f64; 3],
+    mapped: MappedAt,
+    method: &str,
+    inside: &str,
+    threads: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let params = params(iso, method, inside, false, threads, true)?;
+    let Input::Array(volume) = Input::new(input, spacing, [0.0; 3], mapped)? else {
+        return Err(PyValueError::new_err(
+            "marching_cubes takes a numpy array, not a path",
+        ));
     };
-    let layout = if index_order {
-        Layout::Index
-    } else {
-        Layout::Tmc
-    };
-    let (v, t, n) = arrays(py, positions, triangles, normals, layout)?;
-    (v, t, n, values, report, record)
+    let flip = params.inside == Inside::Low;
+    let volume = volume.as_ref();
+    let arrays = interrupt::run(py, |cancel| {
+        let options = preflight(volume, None, &params, None, cancel)?;
+        let mut sink = SkimageArrays::new(volume, flip);
+        tmc::extract_to(volume, &params, &options, &mut sink)?;
+        Ok(sink)
+    })?;
+    let SkimageArrays {
+        verts,
+        faces,
+        normals,
+        values,
+        ..
+    } = arrays;
+    (
+        rows(py, verts)?,
+        rows(py, faces)?,
+        rows(py, normals)?,
+        numpy::PyArray1::from_vec(py, values),
+    )
         .into_pyobject(py)
         .map(|t| t.into_any())
 }

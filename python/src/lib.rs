@@ -4,7 +4,8 @@
 //! [`tmc::volume::StridedVolume`]s without a copy (`array.rs`), paths open
 //! with the CLI's readers, every extraction runs with the GIL released and
 //! stops on Ctrl-C (`interrupt.rs`), and meshes go back to numpy without a
-//! copy where the types allow (`output.rs`). The Python API (argument
+//! copy where the types allow (`output.rs`), or are written in
+//! scikit-image's layout by the extraction's sink (`skimage.rs`). The Python API (argument
 //! handling, `Mesh`, `marching_cubes`) is in `python/tmc/__init__.py`.
 
 #![deny(clippy::undocumented_unsafe_blocks)]
@@ -16,6 +17,7 @@ mod interrupt;
 mod mesh_io;
 mod output;
 mod record;
+mod skimage;
 mod values;
 
 use pyo3::prelude::*;
@@ -25,6 +27,7 @@ use pyo3::prelude::*;
 fn _tmc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(extract::extract, m)?)?;
     m.add_function(wrap_pyfunction!(extract::extract_to, m)?)?;
+    m.add_function(wrap_pyfunction!(extract::marching_cubes, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::write_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::check_mesh, m)?)?;

@@ -3,7 +3,7 @@
 
 use crate::errors::OrPyErr;
 use crate::interrupt;
-use crate::output::{mesh_arrays, rows_from, Layout};
+use crate::output::{mesh_arrays, rows_from};
 use crate::record::{write_tmesh, Record};
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -13,7 +13,7 @@ use std::path::PathBuf;
 #[pyfunction]
 pub(crate) fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyAny>> {
     let mesh = py.detach(|| tmc::check::read_mesh(&path)).or_py()?;
-    let (v, t, _) = mesh_arrays(py, mesh, None, Layout::Tmc)?;
+    let (v, t, _) = mesh_arrays(py, mesh)?;
     (v, t).into_pyobject(py).map(|t| t.into_any())
 }
 

@@ -269,8 +269,8 @@ def extract(
     """
     source = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
-    vertices, triangles, vertex_normals, _, report, record = _tmc.extract(
-        *source, *options, bool(normals), False
+    vertices, triangles, vertex_normals, report, record = _tmc.extract(
+        *source, *options, bool(normals)
     )
     mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
     mesh._record = record
@@ -426,25 +426,21 @@ def marching_cubes(
     spacing_ijk = tuple(float(s) * step for s in spacing)
     if step > 1:
         array = array[::step, ::step, ::step]
-    verts, faces, normals, values, _, _ = _tmc.extract(
+    # The arrays come in scikit-image's layout and types, normals toward
+    # lower values whatever ``inside``: nothing left to convert here.
+    verts, faces, normals, values = _tmc.marching_cubes(
         array,
         float(level),
         spacing_ijk[::-1],
-        (0.0, 0.0, 0.0),
         _mapped_file(array),
         _method(method),
         inside,
-        False,
         _threads(threads),
-        True,
-        True,
     )
     if len(faces) == 0:
         if not float(array.min()) <= float(level) <= float(array.max()):
             raise ValueError("Surface level must be within volume data range.")
         raise RuntimeError("No surface found at the given iso value.")
-    if inside == "low":
-        np.negative(normals, out=normals)
     if not allow_degenerate:
         verts, faces, normals, values = _without_degenerate(verts, faces, normals, values)
     return verts, faces, normals, values

@@ -18,9 +18,21 @@ def extract(
     close: bool,
     threads: int,
     normals: bool,
-    index_order: bool,
-) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], Optional[np.ndarray], str, Any]:
-    """Extracts into arrays: (vertices, triangles, normals, values, report JSON, record)."""
+) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]:
+    """Extracts into arrays in tmc's layout: (vertices float64, triangles
+    uint32, normals float32 or None, report JSON, record)."""
+
+def marching_cubes(
+    input: np.ndarray,
+    iso: float,
+    spacing: Tuple[float, float, float],
+    mapped: Optional[Tuple[str, int]],
+    method: str,
+    inside: str,
+    threads: int,
+) -> Tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """scikit-image's (verts float32 [z, y, x], faces int32, normals float32
+    toward lower values, values float32) of an array; spacing in [x, y, z]."""
 
 def extract_to(
     input: Any,

@@ -3,6 +3,7 @@
 //! Python package collects `f64` vertices as the chunks come, instead of
 //! converting a finished mesh).
 
+use super::room::{fit, reserve_for_planes};
 use super::{Chunk, Mesh, MeshInfo, MeshSink, Totals};
 use crate::error::make_room;
 use crate::{Error, Result};
@@ -36,7 +37,8 @@ impl Vertex for [f64; 3] {
 /// is written again instead of new pages being faulted in (joining kept
 /// chunks at the end wrote the whole mesh to fresh pages twice). When the
 /// vectors are full they grow to what the planes so far predict for the
-/// whole grid, so that they are rarely copied.
+/// whole grid, and by remapping rather than copying (see
+/// [`reserve_for_planes`]).
 #[derive(Debug)]
 pub struct Collector<V> {
     vertices: Vec<V>,
@@ -73,7 +75,12 @@ impl<V> Collector<V> {
 
     /// The vertices, triangles and normals (empty when the chunks had
     /// none) collected so far.
-    pub fn into_parts(self) -> (Vec<V>, Vec<[u32; 3]>, Vec<[f32; 3]>) {
+    /// Their vectors hold no more than an eighth of room beyond their
+    /// length (see [`fit`]).
+    pub fn into_parts(mut self) -> (Vec<V>, Vec<[u32; 3]>, Vec<[f32; 3]>) {
+        fit(&mut self.vertices);
+        fit(&mut self.triangles);
+        fit(&mut self.normals);
         (self.vertices, self.triangles, self.normals)
     }
 }
@@ -88,30 +95,6 @@ impl MeshBuilder {
             normals,
         }
     }
-}
-
-/// Makes room in `v` for `n` more items, growing it, when it is full, to
-/// the extrapolation of its length after plane `plane` of `planes` (a
-/// quarter more), or to what the allocator's doubling gives if that is
-/// more or cannot be had.
-fn make_room_for_all<T>(
-    v: &mut Vec<T>,
-    n: usize,
-    plane: u64,
-    planes: u64,
-    what: &str,
-) -> Result<()> {
-    if v.capacity() - v.len() >= n {
-        return Ok(());
-    }
-    let needed = (v.len() + n) as u64;
-    let done = plane.saturating_add(1).min(planes).max(1);
-    let predicted = needed.saturating_mul(planes.max(done)) / done;
-    let wanted = predicted.saturating_add(predicted / 4) as usize;
-    if wanted > v.capacity() * 2 && v.try_reserve_exact(wanted - v.len()).is_ok() {
-        return Ok(());
-    }
-    make_room(v, n, what)
 }
 
 impl<V: Vertex> MeshSink for Collector<V> {
@@ -132,13 +115,13 @@ impl<V: Vertex> MeshSink for Collector<V> {
         let (vertices, triangles) = (&mut self.vertices, &mut self.triangles);
         let (plane, planes) = (chunk.plane, self.planes);
         let what = "the mesh's vertices";
-        make_room_for_all(vertices, chunk.vertices.len(), plane, planes, what)?;
+        reserve_for_planes(vertices, chunk.vertices.len(), plane, planes, what)?;
         let what = "the mesh's triangles";
-        make_room_for_all(triangles, chunk.triangles.len(), plane, planes, what)?;
+        reserve_for_planes(triangles, chunk.triangles.len(), plane, planes, what)?;
         vertices.extend(chunk.vertices.iter().map(|&v| V::from_f32(v)));
         if !chunk.normals.is_empty() {
             let what = "the mesh's normals";
-            make_room_for_all(&mut self.normals, chunk.normals.len(), plane, planes, what)?;
+            reserve_for_planes(&mut self.normals, chunk.normals.len(), plane, planes, what)?;
             self.normals.extend_from_slice(&chunk.normals);
         }
         // May point into the next chunk, whose own check bounds it.

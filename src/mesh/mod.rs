@@ -8,10 +8,12 @@
 mod builder;
 mod chunk;
 mod indexed;
+mod room;
 mod sink;
 
 pub use builder::{Collector, MeshBuilder, Vertex};
 pub use chunk::Chunk;
 pub use indexed::Mesh;
+pub use room::{fit, reserve_for_planes, FIRST_ROOM};
 pub(crate) use sink::used_after_finish;
 pub use sink::{MeshInfo, MeshSink, Totals};

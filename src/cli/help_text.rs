@@ -35,9 +35,11 @@ Input formats:
   DICOM  a directory of slice files (DICM magic or .dcm; other files skipped),
          one slice file (its series in its directory) or a multi-frame .dcm;
          slices sorted by position along the normal, RescaleSlope/Intercept
-         applied per slice (CT in HU), patient (LPS) coordinates; one series
-         per directory; uncompressed, deflate, RLE and JPEG baseline and
-         lossless (not JPEG 2000/JPEG-LS)
+         applied per slice (CT in HU), patient (LPS) coordinates; several
+         series: 'tmc info DIR' lists them, --series N|UID picks one (other
+         series, reports, plans, strays skipped: --verbose names them);
+         RT Dose in its Dose Units (Gy); uncompressed, deflate, RLE, JPEG
+         baseline/lossless and JPEG 2000 (not JPEG-LS/HTJ2K)
   Zarr   a Zarr v2 or v3 array in a directory store (STORE, or STORE/PATH for
          an array of a group, or --array PATH); blosc, zstd, gzip, zlib,
          bytes (either order), transpose, sharding; missing chunks read as

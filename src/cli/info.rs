@@ -53,6 +53,8 @@ JSON keys (--json; one object on one line):
                          \"default\"} (the file states none), or {\"kind\":
                          \"option\", \"file\": [x, y, z] or null} (--spacing,
                          --origin; file = the value they override)
+  units                  the unit of the values where the file states one
+                         (DICOM RT Dose: GY or RELATIVE), else null
   chunks                 chunked formats (Zarr, HDF5): chunk_shape [x, y, z],
                          codec, stored_bytes, chunks, chunks_stored; else null
   direction              3x3, rows = world axes, column j = index axis j
@@ -105,6 +107,15 @@ pub(crate) struct InfoArgs {
 /// Runs `tmc info`; setting `cancel` (SIGINT, SIGTERM, SIGHUP) stops the
 /// streamed passes at the next plane with [`tmc::Error::Interrupted`].
 pub(crate) fn run(args: &InfoArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    if let Some(series) = super::dicom_series::several(&args.input, &args.raw)? {
+        return super::output::to_stdout(|out| {
+            if args.json {
+                super::dicom_series::write_json(out, &args.input, &series)
+            } else {
+                super::dicom_series::write_text(out, &args.input, &series)
+            }
+        });
+    }
     let raw = args.raw.options();
     let source = super::raw_input::open_input(&args.input, &args.raw, cancel, false)?;
     let never = AtomicBool::new(false);
@@ -207,6 +218,9 @@ fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
             _ => "",
         };
         rows.push((label, line));
+    }
+    if let Some(units) = &info.units {
+        rows.push(("units", units.clone()));
     }
     rows.push(("min", optional(info.min)));
     rows.push(("max", optional(info.max)));

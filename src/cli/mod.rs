@@ -12,6 +12,7 @@ mod batch;
 mod check;
 mod compare;
 mod convert;
+mod dicom_series;
 mod extract;
 mod extract_args;
 mod help_text;

@@ -70,6 +70,17 @@ pub(crate) struct RawArgs {
     /// the input.
     #[arg(long, value_name = "PATH", help_heading = "HDF5 input")]
     pub dataset: Option<String>,
+
+    /// DICOM: the series of a directory to read, by its SeriesNumber or
+    /// SeriesInstanceUID (tmc info DIR lists them).
+    #[arg(long, value_name = "N|UID", help_heading = "DICOM input")]
+    pub series: Option<String>,
+
+    /// Name the files of the input that were not read, and why (a DICOM
+    /// directory's other series, non-image objects, unreadable files,
+    /// copies and slices left out of the series).
+    #[arg(long)]
+    pub verbose: bool,
 }
 
 /// `--endian`.
@@ -120,12 +131,18 @@ pub(crate) fn open_input(
         array: args.array.clone(),
         level: args.level,
         dataset: args.dataset.clone(),
+        series: args.series.clone(),
     };
     let source = tmc::volume::open_selected(input, raw, &select, cancel.unwrap_or(&never))?;
     let (source, notes) = tmc::volume::regrid(source, args.spacing, args.origin)?;
     if !quiet {
         for note in notes {
             say!("tmc: note: {}: {note}", input.display());
+        }
+    }
+    if args.verbose {
+        for skipped in source.notes().skipped {
+            say!("tmc: skipped {skipped}");
         }
     }
     if let Some(options) = raw {

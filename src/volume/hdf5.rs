@@ -231,6 +231,8 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
             spacing_from,
             origin_from: ValueFrom::Default,
             chunks,
+            units: None,
+            skipped: Vec::new(),
         },
     })
 }

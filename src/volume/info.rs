@@ -57,6 +57,9 @@ pub struct VolumeInfo {
     /// Chunk shape, codec and stored size of a chunked source (Zarr,
     /// HDF5), else `None`.
     pub chunks: Option<ChunkNotes>,
+    /// The unit of the values, where the file states one (an RT Dose's
+    /// `DoseUnits`, GY or RELATIVE); `null` otherwise.
+    pub units: Option<String>,
     /// Direction cosines: rows are world axes, column `j` is index axis `j`.
     pub direction: [[f64; 3]; 3],
     /// The 4x4 index-to-world matrix: `world = affine * [i, j, k, 1]`.
@@ -142,6 +145,7 @@ pub fn describe(
         spacing_from: notes.spacing_from,
         origin_from: notes.origin_from,
         chunks: notes.chunks,
+        units: notes.units,
         direction: grid.direction,
         affine: affine(grid),
         min: summary.min,

@@ -10,7 +10,6 @@ mod array;
 mod ascii;
 mod chunk_layers;
 pub mod dicom;
-mod dicom_lengths;
 mod guarded;
 pub mod hdf5;
 mod held;

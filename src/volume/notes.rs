@@ -78,6 +78,14 @@ pub struct SourceNotes {
     pub origin_from: ValueFrom,
     /// How the samples are chunked and compressed, for chunked formats.
     pub chunks: Option<ChunkNotes>,
+    /// The unit of the values, where the file states one (an RT Dose's
+    /// `DoseUnits`: GY or RELATIVE).
+    pub units: Option<String>,
+    /// Files of the input that were not read, and why, one line each (a
+    /// DICOM directory's other series, non-image objects, strays); printed
+    /// by `--verbose`, not part of `tmc info --json`.
+    #[serde(skip)]
+    pub skipped: Vec<String>,
 }
 
 impl Default for SourceNotes {
@@ -87,6 +95,8 @@ impl Default for SourceNotes {
             spacing_from: ValueFrom::header(),
             origin_from: ValueFrom::header(),
             chunks: None,
+            units: None,
+            skipped: Vec::new(),
         }
     }
 }
@@ -98,6 +108,8 @@ impl SourceNotes {
             spacing_from: ValueFrom::Default,
             origin_from: ValueFrom::Default,
             chunks: None,
+            units: None,
+            skipped: Vec::new(),
         }
     }
 }

@@ -114,8 +114,8 @@ pub fn open_cancellable(
 
 /// [`open_cancellable`] with the array of a Zarr group chosen by `select`
 /// (`--array`, `--level`) or the dataset of an HDF5 file (`--dataset`, or
-/// `path` given as `FILE:/path/to/dataset`); `select` must be empty for
-/// other formats.
+/// `path` given as `FILE:/path/to/dataset`) or the series of a DICOM
+/// directory (`--series`); `select` must be empty for other formats.
 pub fn open_selected(
     path: &Path,
     raw: Option<&RawOptions>,
@@ -144,6 +144,12 @@ pub fn open_selected(
     if select.dataset.is_some() && format != Some(Format::Hdf5) {
         return Err(crate::Error::Invalid(format!(
             "{}: --dataset chooses a dataset of an HDF5 file, and this is not one",
+            path.display()
+        )));
+    }
+    if select.series.is_some() && format != Some(Format::Dicom) {
+        return Err(crate::Error::Invalid(format!(
+            "{}: --series chooses a series of a DICOM directory, and this is not one",
             path.display()
         )));
     }
@@ -184,7 +190,7 @@ pub fn open_selected(
         Format::VtkLegacy => Box::new(vtk_legacy::open(path)?),
         Format::Vti => Box::new(vti::open(path)?),
         Format::TiffStack => Box::new(tiff_stack::open(path)?),
-        Format::Dicom => Box::new(dicom::open(path)?),
+        Format::Dicom => Box::new(dicom::open_series(path, select.series.as_deref())?),
         Format::Zarr => Box::new(zarr::open(path, select)?),
         Format::Hdf5 => Box::new(hdf5::open(path, select.dataset.as_deref())?),
     })

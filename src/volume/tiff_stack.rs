@@ -398,6 +398,8 @@ impl SampleSource for TiffStack {
             },
             origin_from: ValueFrom::Default,
             chunks: None,
+            units: None,
+            skipped: Vec::new(),
         }
     }
 }

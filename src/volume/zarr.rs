@@ -40,6 +40,9 @@ pub struct ZarrSelect {
     pub level: Option<usize>,
     /// The dataset's path in an HDF5 file (`--dataset`, or `FILE:PATH`).
     pub dataset: Option<String>,
+    /// The series of a DICOM directory (`--series`): a
+    /// `SeriesInstanceUID` or a `SeriesNumber`.
+    pub series: Option<String>,
 }
 
 /// A Zarr array read plane by plane from its chunk layers.
@@ -261,6 +264,8 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         spacing_from,
         origin_from,
         chunks: Some(chunk_notes(path, &node, array.metadata(), chunk, chunks)),
+        units: None,
+        skipped: Vec::new(),
     };
     Ok(ZarrVolume {
         root: path.to_path_buf(),

@@ -104,17 +104,19 @@ fn fill(tile: &mut [u64], [p0, p1, p2]: [[f32; 3]; 3], shade: u8) {
     if area == 0.0 || !area.is_finite() {
         return;
     }
-    let lo = |i: usize| (p0[i].min(p1[i]).min(p2[i]) - 0.5).ceil().max(0.0);
-    let hi = |i: usize| {
-        (p0[i].max(p1[i]).max(p2[i]) - 0.5)
-            .floor()
-            .min(TILE as f32 - 1.0)
-    };
-    let (x0, x1, y0, y1) = (lo(0), hi(0), lo(1), hi(1));
+    // Pixel centres x + 0.5 within the box, clamped to the tile; a box
+    // off the tile (or not finite) ends empty.
+    let top = TILE as f32 - 1.0;
+    let lo = |i: usize| ceil((p0[i].min(p1[i]).min(p2[i]) - 0.5).clamp(0.0, TILE as f32));
+    let hi = |i: usize| (p0[i].max(p1[i]).max(p2[i]) - 0.5).min(top);
+    let (xh, yh) = (hi(0), hi(1));
+    if xh.is_nan() || yh.is_nan() || xh < 0.0 || yh < 0.0 {
+        return;
+    }
+    let (x0, x1, y0, y1) = (lo(0), xh as usize, lo(1), yh as usize);
     if x0 > x1 || y0 > y1 {
         return;
     }
-    let (x0, x1, y0, y1) = (x0 as usize, x1 as usize, y0 as usize, y1 as usize);
     let inv_area = 1.0 / area;
     let edge = |a: [f32; 3], b: [f32; 3], x: f32, y: f32| {
         ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) * inv_area
@@ -134,6 +136,18 @@ fn fill(tile: &mut [u64], [p0, p1, p2]: [[f32; 3]; 3], shade: u8) {
             let k = (u64::from(depth.to_bits()) << 8) | u64::from(shade);
             *key = (*key).min(k);
         }
+    }
+}
+
+/// The smallest integer at least `v`, for `v` in `0..=TILE` (`f32::ceil`
+/// is a libm call where SSE4.1 is not assumed).
+#[inline]
+fn ceil(v: f32) -> usize {
+    let t = v as usize;
+    if (t as f32) < v {
+        t + 1
+    } else {
+        t
     }
 }
 

@@ -46,6 +46,7 @@ pub mod meshfile;
 pub mod normals;
 pub mod params;
 pub mod part;
+pub mod preview;
 pub mod slab;
 pub mod stats;
 pub mod stream;

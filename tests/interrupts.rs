@@ -98,6 +98,21 @@ fn sigint_and_sigterm_stop_the_extraction_and_remove_the_output() {
 }
 
 #[test]
+fn sigint_stops_an_extraction_with_a_preview_and_leaves_neither_file() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let input = volume().join("noise.raw");
+    let (dir, output) = out_dir("mesh.tmesh");
+    let picture = dir.path().join("mesh.png");
+    let mut child = start_command(
+        "extract",
+        &input,
+        &["-o", s(&output), "--preview", s(&picture)],
+    );
+    still_running_after(&mut child, 0.5);
+    stop(child, "INT", 130, dir.path());
+}
+
+#[test]
 fn sigint_stops_compare() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let input = volume().join("noise.raw");

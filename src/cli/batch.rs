@@ -57,6 +57,14 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         (None, Some(template)) => manifest::from_args(&args.input, &args.iso, template)?,
         (None, None) => return Err(Error::Invalid("no output given (-o)".into())),
     };
+    if let Some(template) = &args.preview {
+        if items.len() > 1 && !template.to_string_lossy().contains("{stem}") {
+            return Err(Error::Invalid(format!(
+                "{}: with several inputs the preview must contain {{stem}} (e.g. --preview 'out/{{stem}}_{{iso}}.png')",
+                template.display()
+            )));
+        }
+    }
     if let Some(path) = &args.batch.report {
         check_report_path(path, args.batch.manifest.as_deref(), &items)?;
     }
@@ -226,6 +234,17 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     for output in &item.outputs {
         tmc::export::check_output_path(output)?;
     }
+    let pictures = match &args.preview {
+        Some(template) => {
+            let pictures = super::manifest::outputs(template, &item.input, &item.isos);
+            let meshes: Vec<&Path> = item.outputs.iter().map(PathBuf::as_path).collect();
+            for picture in &pictures {
+                super::with_preview::check_picture(picture, &item.input, &meshes)?;
+            }
+            pictures
+        }
+        None => Vec::new(),
+    };
     let params: Vec<_> = item.isos.iter().map(|&iso| args.params(iso)).collect();
     let mut monitor = Monitor::new(&grid, args, &item.input);
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
@@ -239,7 +258,18 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     let mut files = item
         .outputs
         .iter()
-        .map(|o| tmc::export::create_sink(o))
+        .enumerate()
+        .map(|(i, o)| {
+            let sink = tmc::export::create_sink(o)?;
+            Ok(match pictures.get(i) {
+                Some(picture) => {
+                    let title = super::with_preview::title_of(&item.input);
+                    let threads = args.threads.unwrap_or(0);
+                    super::with_preview::WithPreview::wrap(sink, o, picture, title, threads)
+                }
+                None => sink,
+            })
+        })
         .collect::<Result<Vec<_>>>()?;
     let triangles = vec![Cell::new(0); item.isos.len()];
     let messages: Vec<String> = item

@@ -30,6 +30,19 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         )));
     }
     args.check_normals_output(output)?;
+    let preview = match &args.preview {
+        Some(_) if args.part.is_some() => {
+            return Err(Error::Invalid(
+                "--preview draws the whole mesh, a part file holds a piece of it: merge the parts and run 'tmc preview' on the merged .tmesh".into(),
+            ))
+        }
+        Some(template) => {
+            let picture = super::manifest::outputs(template, input, &[iso]).remove(0);
+            super::with_preview::check_picture(&picture, input, &[output.as_path()])?;
+            Some(picture)
+        }
+        None => None,
+    };
     let started = Instant::now();
     let raw = args.raw.options();
     check_distinct(input, output)?;
@@ -54,6 +67,11 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         }
         None => tmc::export::create_sink(output)?,
     };
+    if let Some(picture) = &preview {
+        let title = super::with_preview::title_of(input);
+        let threads = args.threads.unwrap_or(0);
+        sink = super::with_preview::WithPreview::wrap(sink, output, picture, title, threads);
+    }
     let part = args.part.map(|p| (p.index, p.count));
     let no_surface = format!(
         "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",

@@ -71,6 +71,15 @@ pub(crate) struct ExtractArgs {
     )]
     pub output: Option<PathBuf>,
 
+    /// Also draw the mesh into a PNG picture (1024x1064: three orthogonal
+    /// views and one oblique, shaded, captioned with the input's name, the
+    /// isovalue, the triangle count and closed/genus), rendered while the
+    /// mesh streams; written atomically. {stem} and {iso} as in -o. The
+    /// same bytes for any --threads and --slab-depth, and those of 'tmc
+    /// preview MESH.tmesh --title INPUT-NAME'.
+    #[arg(long, value_name = "FILE.png")]
+    pub preview: Option<PathBuf>,
+
     /// Cell algorithm.
     #[arg(long, value_enum, default_value_t = MethodArg::Tmc)]
     pub method: MethodArg,

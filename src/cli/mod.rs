@@ -23,6 +23,7 @@ mod memory;
 mod merge;
 mod monitor;
 mod output;
+mod preview;
 mod progress;
 mod raw_input;
 mod report;
@@ -30,6 +31,7 @@ mod require_surface;
 mod signals;
 mod synth;
 mod values;
+mod with_preview;
 
 use help_text::CONVENTIONS;
 use output::one_line;
@@ -68,6 +70,7 @@ enum Command {
     Check(check::CheckArgs),
     Compare(compare::CompareArgs),
     Info(info::InfoArgs),
+    Preview(preview::PreviewArgs),
     Synth(synth::SynthArgs),
 }
 
@@ -88,6 +91,7 @@ pub fn main() -> ExitCode {
         | Command::Merge(_)
         | Command::Synth(_)
         | Command::Compare(_)
+        | Command::Preview(_)
         | Command::Info(_) => match signals::Interrupts::install() {
             Ok(i) => Some(i),
             Err(e) => {
@@ -104,6 +108,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::run(&args),
         Command::Compare(args) => compare::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Info(args) => info::run(&args, interrupts.as_ref().map(|i| i.flag())),
+        Command::Preview(args) => preview::run(&args, interrupts.as_ref().map(|i| i.flag())),
         Command::Synth(args) => synth::run(&args, interrupts.as_ref().map(|i| i.flag())),
     }));
     match result {

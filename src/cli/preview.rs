@@ -1,0 +1,90 @@
+//! `tmc preview`: the picture `tmc extract --preview` draws, of an existing
+//! mesh file.
+
+use super::values;
+use clap::Args;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use tmc::meshfile::TmeshReader;
+use tmc::preview::{Bounds, PreviewSink};
+use tmc::{Error, MeshInfo, MeshSink, Result, Totals};
+
+/// Draw a mesh into a PNG picture: three orthogonal views and one oblique.
+///
+/// A .tmesh file is read one chunk at a time, so any size works, and the
+/// picture is framed by the volume's box recorded in it: the bytes are
+/// those 'tmc extract --preview' wrote for the same mesh (give --title the
+/// input's name). PLY, OBJ and OFF files are read whole and framed by
+/// their vertices' box.
+#[derive(Debug, Args)]
+pub(crate) struct PreviewArgs {
+    /// The mesh: .tmesh (streamed), .ply, .obj or .off (read whole).
+    #[arg(value_name = "MESH")]
+    pub input: PathBuf,
+
+    /// The picture, a .png file; written atomically.
+    #[arg(short, long, value_name = "FILE.png")]
+    pub output: PathBuf,
+
+    /// The first caption line (default: the mesh's file name).
+    #[arg(long, value_name = "TEXT")]
+    pub title: Option<String>,
+
+    /// Drawing threads; 0 (the default) uses all cores. The bytes do not
+    /// depend on it.
+    #[arg(long, value_name = "N", value_parser = values::threads)]
+    pub threads: Option<usize>,
+}
+
+/// Runs `tmc preview`; setting `cancel` stops it before the next chunk with
+/// [`Error::Interrupted`], leaving no picture.
+pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    tmc::files::check_input_kind(&args.input)?;
+    tmc::preview::check_png_path(&args.output)?;
+    tmc::files::check_distinct(&args.input, &args.output)?;
+    let title = args
+        .title
+        .clone()
+        .unwrap_or_else(|| super::with_preview::title_of(&args.input));
+    let threads = args.threads.unwrap_or(0);
+    let never = AtomicBool::new(false);
+    let cancel = cancel.unwrap_or(&never);
+    if tmc::files::lowercase_extension(&args.input) == "tmesh" {
+        tmc::part::PartRecord::refuse_part(&args.input)?;
+        let mut reader = TmeshReader::open(&args.input)?;
+        let mut sink = PreviewSink::new(args.output.clone(), title, None, threads);
+        tmc::export::replay_cancellable(&mut reader, &mut sink, cancel)?;
+        return Ok(());
+    }
+    let mesh = tmc::check::read_mesh(&args.input)?;
+    let bounds =
+        Bounds::of_points(mesh.vertices.iter().map(|v| v.map(f64::from))).ok_or_else(|| {
+            Error::Invalid(format!(
+                "{}: no vertices, or a vertex that is not finite: nothing to frame",
+                args.input.display()
+            ))
+        })?;
+    let mut sink = PreviewSink::new(args.output.clone(), title, Some(bounds), threads);
+    let info = MeshInfo {
+        grid: tmc::Grid::unit([1, 1, 1]),
+        iso: f64::NAN,
+        method: tmc::Method::Tmc,
+        inside: tmc::Inside::High,
+        close: false,
+        normals: false,
+    };
+    sink.begin(&info)?;
+    let chunk = tmc::Chunk {
+        plane: 0,
+        vertices: mesh.vertices,
+        triangles: mesh.triangles,
+        normals: Vec::new(),
+    };
+    sink.chunk_cancellable(0, &chunk, cancel)?;
+    let totals = Totals {
+        vertices: chunk.vertices.len() as u64,
+        triangles: chunk.triangles.len() as u64,
+        chunks: 1,
+    };
+    sink.finish_cancellable(&totals, cancel)
+}

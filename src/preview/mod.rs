@@ -1,0 +1,28 @@
+//! Preview pictures of meshes (`tmc extract --preview`, `tmc preview`,
+//! `tmc compare --preview`): a PNG with four shaded views of the mesh
+//! (three orthogonal, one oblique) and a caption (name, isovalue,
+//! triangles, closed or open and the genus), drawn in software while the
+//! chunks stream, so the mesh is never held whole.
+//!
+//! The files, in the order a chunk meets them: [`views`] (the projections,
+//! fitted to bounds known before the first triangle), [`sink`] (the
+//! [`MeshSink`](crate::MeshSink) that hands chunks to workers),
+//! [`raster`] (depth buffers keeping the smallest `(depth, shade)` key per
+//! pixel: the pixels do not depend on the order of the triangles, hence
+//! not on threads, slabs or parts), [`topology`] (the closed/genus verdict,
+//! counted over a window of two chunks), [`picture`] (colours and the
+//! caption, in the hand-drawn [`font`]) and [`png_out`] (the file, written
+//! atomically).
+
+pub mod font;
+pub mod picture;
+pub mod png_out;
+pub mod raster;
+pub mod sink;
+pub mod topology;
+pub mod views;
+
+pub use png_out::{check_png_path, write_png};
+pub use sink::PreviewSink;
+pub use topology::Verdict;
+pub use views::Bounds;

@@ -1,0 +1,96 @@
+//! The picture: the four views' depth buffers turned into colours, the
+//! tiles' names, and a caption band under them, written with the hand-drawn
+//! font ([`super::font`]).
+
+use super::font;
+use super::raster::{Raster, BACK, EMPTY};
+use super::views::{GRID, SIZE, TILE, VIEW_NAMES};
+
+/// Height of the caption band under the tiles, in pixels.
+pub const CAPTION: usize = 40;
+
+/// Width and height of the picture.
+pub const DIMENSIONS: (usize, usize) = (SIZE, SIZE + CAPTION);
+
+/// Background colour.
+const BACKGROUND: [u8; 3] = [30, 32, 36];
+/// Colour of a fully lit face seen from outside (bone).
+const OUTSIDE: [f32; 3] = [232.0, 214.0, 180.0];
+/// Colour of a fully lit face seen from inside (an open surface's back).
+const INSIDE: [f32; 3] = [110.0, 150.0, 215.0];
+/// Text and tile border colours.
+const TEXT: [u8; 3] = [240, 240, 240];
+const BORDER: [u8; 3] = [80, 84, 92];
+
+/// Scale of the font (pixels per font pixel).
+const FONT_SCALE: usize = 2;
+
+/// The RGB bytes (row by row, [`DIMENSIONS`]) of the picture of `raster`
+/// with `caption`'s lines (at most two fit) in the band under the tiles.
+pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
+    let (w, h) = DIMENSIONS;
+    let mut rgb = vec![0u8; w * h * 3];
+    let mut put = |x: usize, y: usize, c: [u8; 3]| {
+        if x < w && y < h {
+            rgb[(y * w + x) * 3..(y * w + x) * 3 + 3].copy_from_slice(&c);
+        }
+    };
+    for view in 0..4 {
+        let (tx, ty) = ((view % GRID) * TILE, (view / GRID) * TILE);
+        for y in 0..TILE {
+            for x in 0..TILE {
+                put(tx + x, ty + y, colour(raster.key(view, x, y)));
+            }
+        }
+    }
+    for y in 0..h {
+        for x in 0..w {
+            let edge = |v: usize| v.is_multiple_of(TILE) || v % TILE == TILE - 1;
+            if (edge(x) || (y < SIZE && edge(y))) && (y < SIZE || x == 0 || x == w - 1) {
+                put(x, y, BORDER);
+            }
+        }
+    }
+    for y in SIZE..h {
+        for x in 0..w {
+            put(x, y, BACKGROUND);
+        }
+    }
+    for (view, name) in VIEW_NAMES.iter().enumerate() {
+        let (tx, ty) = ((view % GRID) * TILE, (view / GRID) * TILE);
+        font::draw(name, tx + 8, ty + 6, FONT_SCALE, |x, y| put(x, y, TEXT));
+    }
+    let line_height = (font::GLYPH.1 + 3) * FONT_SCALE;
+    for (i, line) in caption.iter().take(2).enumerate() {
+        let fit: String = line
+            .chars()
+            .take(w / (font::ADVANCE * FONT_SCALE) - 2)
+            .collect();
+        font::draw(&fit, 8, SIZE + 3 + i * line_height, FONT_SCALE, |x, y| {
+            put(x, y, TEXT)
+        });
+    }
+    rgb
+}
+
+/// The colour of a pixel's key.
+fn colour(key: u64) -> [u8; 3] {
+    if key == EMPTY {
+        return BACKGROUND;
+    }
+    let shade = key as u8;
+    let light = f32::from(shade & !BACK) / 127.0;
+    let base = if shade & BACK == 0 { OUTSIDE } else { INSIDE };
+    base.map(|c| (c * light) as u8)
+}
+
+/// Pixels of the tiles that are not background: how much the picture shows.
+pub fn covered(raster: &Raster) -> usize {
+    (0..4)
+        .map(|v| {
+            (0..TILE * TILE)
+                .filter(|i| raster.key(v, i % TILE, i / TILE) != EMPTY)
+                .count()
+        })
+        .sum()
+}

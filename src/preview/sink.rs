@@ -1,0 +1,271 @@
+//! [`PreviewSink`]: a [`MeshSink`] that draws the mesh while it streams and
+//! writes the picture when the mesh is complete.
+//!
+//! The sink holds one chunk at a time (its triangles may use the next
+//! chunk's first vertices) and hands each chunk, with the prefix of the next
+//! one it needs, to worker threads: raster workers that draw it into their
+//! own depth buffers ([`Raster`], merged by the per-pixel minimum at the
+//! end, so the picture does not depend on which worker drew what), and one
+//! topology worker that counts it, in plane order, for the verdict
+//! ([`Topology`]). Channels between them are bounded, so memory is a few
+//! chunks and one depth buffer per worker, whatever the mesh.
+
+use super::picture;
+use super::raster::Raster;
+use super::topology::{Topology, Verdict};
+use super::views::{Bounds, View};
+use crate::{Chunk, Error, MeshInfo, MeshSink, Result, Totals};
+use crossbeam::channel::{bounded, Sender};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::thread::JoinHandle;
+
+/// Raster workers at most, whatever the threads asked for.
+const MAX_WORKERS: usize = 8;
+
+/// A chunk with the next chunk's vertices its triangles use.
+struct Job {
+    /// The chunk's own vertices, then the next chunk's first `next`.
+    vertices: Vec<[f32; 3]>,
+    /// How many of `vertices` are the chunk's own.
+    own: u32,
+    /// Triangles, indices into `vertices`.
+    triangles: Vec<[u32; 3]>,
+}
+
+/// The worker threads and the channels that feed them.
+struct Workers {
+    raster_tx: Option<Sender<Arc<Job>>>,
+    topology_tx: Option<Sender<Arc<Job>>>,
+    rasters: Vec<JoinHandle<Raster>>,
+    topology: Option<JoinHandle<Verdict>>,
+}
+
+impl Workers {
+    /// Starts `threads` raster workers and the topology worker.
+    fn start(views: [View; 4], threads: usize) -> Workers {
+        let (raster_tx, raster_rx) = bounded::<Arc<Job>>(2 * threads + 2);
+        let rasters = (0..threads)
+            .map(|_| {
+                let rx = raster_rx.clone();
+                std::thread::spawn(move || {
+                    let mut raster = Raster::new();
+                    for job in rx {
+                        raster.draw(&views, &job.vertices, &job.triangles);
+                    }
+                    raster
+                })
+            })
+            .collect();
+        let (topology_tx, topology_rx) = bounded::<Arc<Job>>(2 * threads + 2);
+        let topology = std::thread::spawn(move || {
+            let mut count = Topology::default();
+            for job in topology_rx {
+                let next = job.vertices.len() as u32 - job.own;
+                count.chunk(job.own, next, &job.triangles);
+            }
+            count.finish()
+        });
+        Workers {
+            raster_tx: Some(raster_tx),
+            topology_tx: Some(topology_tx),
+            rasters,
+            topology: Some(topology),
+        }
+    }
+
+    /// Hands `job` to the workers.
+    fn send(&self, job: Job) -> Result<()> {
+        let job = Arc::new(job);
+        let gone = || Error::Invalid("a preview worker stopped".into());
+        let (Some(raster), Some(topology)) = (&self.raster_tx, &self.topology_tx) else {
+            return Err(gone());
+        };
+        raster.send(Arc::clone(&job)).map_err(|_| gone())?;
+        topology.send(job).map_err(|_| gone())
+    }
+
+    /// Waits for the workers; the merged depth buffers and the verdict.
+    fn join(&mut self) -> (Raster, Verdict) {
+        self.raster_tx = None;
+        self.topology_tx = None;
+        let mut merged: Option<Raster> = None;
+        for handle in self.rasters.drain(..) {
+            let raster = handle
+                .join()
+                .unwrap_or_else(|p| std::panic::resume_unwind(p));
+            match &mut merged {
+                Some(m) => m.merge(&raster),
+                None => merged = Some(raster),
+            }
+        }
+        let verdict = self
+            .topology
+            .take()
+            .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .unwrap_or_default();
+        (merged.unwrap_or_default(), verdict)
+    }
+}
+
+impl Drop for Workers {
+    fn drop(&mut self) {
+        // Closing the channels ends the workers; their results are dropped.
+        self.raster_tx = None;
+        self.topology_tx = None;
+        for handle in self.rasters.drain(..) {
+            let _ = handle.join();
+        }
+        if let Some(h) = self.topology.take() {
+            let _ = h.join();
+        }
+    }
+}
+
+/// Draws the mesh it is given into a PNG picture at `path`: four views
+/// (three orthogonal, one oblique), a caption naming `title`, the
+/// isovalue, the triangle count and the topology verdict. The file is
+/// written atomically in [`MeshSink::finish`]; a sink dropped before that
+/// leaves nothing.
+pub struct PreviewSink {
+    path: PathBuf,
+    title: String,
+    bounds: Option<Bounds>,
+    threads: usize,
+    iso: f64,
+    workers: Option<Workers>,
+    /// The chunk waiting for the next one's vertices, and how many of those
+    /// its triangles use.
+    pending: Option<(Job, u32)>,
+    /// What the finished picture showed: covered pixels and the verdict.
+    summary: Option<(usize, Verdict)>,
+}
+
+impl PreviewSink {
+    /// A sink that writes the picture to `path`. `bounds` frames the views;
+    /// `None` takes the grid of [`MeshInfo`] widened by a cell (the
+    /// volume's box, known before any triangle). `threads` raster workers
+    /// draw (0: one per core; at most 8); the bytes do not depend on it.
+    /// A NaN isovalue in [`MeshInfo`] (a mesh file without one) is left
+    /// out of the caption.
+    pub fn new(path: PathBuf, title: String, bounds: Option<Bounds>, threads: usize) -> Self {
+        let threads = match threads {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+            n => n,
+        };
+        PreviewSink {
+            path,
+            title,
+            bounds,
+            // Each worker holds a depth buffer of 8 MiB.
+            threads: threads.clamp(1, MAX_WORKERS),
+            iso: f64::NAN,
+            workers: None,
+            pending: None,
+            summary: None,
+        }
+    }
+
+    /// After `finish`: the pixels of the tiles that are not background, and
+    /// the topology verdict.
+    pub fn summary(&self) -> Option<(usize, Verdict)> {
+        self.summary
+    }
+
+    /// Sends the pending chunk with the first `next` vertices of `after`.
+    fn flush(&mut self, after: &[[f32; 3]]) -> Result<()> {
+        let Some((mut job, next)) = self.pending.take() else {
+            return Ok(());
+        };
+        let next = next as usize;
+        if next > after.len() {
+            return Err(Error::Invalid(format!(
+                "{}: a triangle refers to a vertex past the next chunk's",
+                self.path.display()
+            )));
+        }
+        job.vertices.extend_from_slice(&after[..next]);
+        match &self.workers {
+            Some(w) => w.send(job),
+            None => Err(Error::Invalid("preview: chunk before begin".into())),
+        }
+    }
+}
+
+impl MeshSink for PreviewSink {
+    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
+        let bounds = match self.bounds.or_else(|| Bounds::of_grid(&info.grid)) {
+            Some(b) => b,
+            None => {
+                return Err(Error::Invalid(format!(
+                    "{}: the mesh has no finite bounds to frame a preview",
+                    self.path.display()
+                )))
+            }
+        };
+        self.iso = info.iso;
+        self.workers = Some(Workers::start(View::four(&bounds), self.threads));
+        Ok(())
+    }
+
+    fn chunk(&mut self, _base: u64, chunk: &Chunk) -> Result<()> {
+        self.flush(&chunk.vertices)?;
+        let own = chunk.vertices.len();
+        let Ok(own32) = u32::try_from(own) else {
+            return Err(Error::Invalid("preview: chunk too large".into()));
+        };
+        let mut past = 0u32;
+        for t in &chunk.triangles {
+            for &i in t {
+                past = past.max((i + 1).saturating_sub(own32));
+            }
+        }
+        let job = Job {
+            vertices: chunk.vertices.clone(),
+            own: own32,
+            triangles: chunk.triangles.clone(),
+        };
+        self.pending = Some((job, past));
+        Ok(())
+    }
+
+    fn finish(&mut self, totals: &Totals) -> Result<()> {
+        self.flush(&[])?;
+        let mut workers = self
+            .workers
+            .take()
+            .ok_or_else(|| Error::Invalid("preview: finish before begin".into()))?;
+        let (raster, verdict) = workers.join();
+        let caption = [
+            self.title.clone(),
+            format!(
+                "{}{} triangles   {}",
+                if self.iso.is_nan() {
+                    String::new()
+                } else {
+                    format!("iso {}   ", self.iso)
+                },
+                thousands(totals.triangles),
+                verdict.describe()
+            ),
+        ];
+        let rgb = picture::compose(&raster, &caption);
+        let (w, h) = picture::DIMENSIONS;
+        super::png_out::write_png(&self.path, w, h, &rgb)?;
+        self.summary = Some((picture::covered(&raster), verdict));
+        Ok(())
+    }
+}
+
+/// `n` with a comma between groups of three digits.
+fn thousands(n: u64) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}

@@ -2,7 +2,7 @@
 (`tmc info --json`) against the reference readers, pynrrd (with teem's
 rule that a spacing keeps its sign: position = spacing * index) and
 nibabel (whose affine uses |pixdim|, the header fixed on load). The files
-are written by those libraries; the Rust side is tests/edge_values.rs."""
+are written by those libraries; the Rust side is tests/surface/edge_values.rs."""
 
 from __future__ import annotations
 

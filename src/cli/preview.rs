@@ -72,6 +72,7 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
         inside: tmc::Inside::High,
         close: false,
         normals: false,
+        labels: false,
     };
     sink.begin(&info)?;
     let chunk = tmc::Chunk {
@@ -79,6 +80,7 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
         vertices: mesh.vertices,
         triangles: mesh.triangles,
         normals: Vec::new(),
+        labels: Vec::new(),
     };
     sink.chunk_cancellable(0, &chunk, cancel)?;
     let totals = Totals {

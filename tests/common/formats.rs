@@ -1,4 +1,4 @@
-//! Helpers of the reader tests (`tests/formats_*.rs`): the fixture
+//! Helpers of the reader tests (`tests/formats/`): the fixture
 //! directory, the manifests written with the fixtures, reading every sample
 //! of a source, and small numeric and error checks.
 

@@ -1,0 +1,19 @@
+//! The `tmc` binary's behaviour: help and I/O errors, the mesh file and its
+//! exports, split and merge, batch runs, compare, previews and the scripts
+//! that read its outputs.
+//!
+//! One test binary per stage keeps `cargo test --release` from linking (and
+//! LTO-optimising) the library once per test file.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod batch;
+mod compare;
+mod export_stream;
+mod io;
+mod meshfile;
+mod normals;
+mod preview;
+mod scripts;
+mod split_merge;

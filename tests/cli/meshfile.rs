@@ -1,0 +1,406 @@
+//! `.tmesh` round trips: what the pipeline streams into the file reads back
+//! as the same mesh, the bytes do not depend on threads or slab depth, and
+//! damage is detected and located.
+
+use crate::common;
+
+use tmc::meshfile::{TmeshReader, TmeshWriter};
+use tmc::{
+    extract, extract_to, synth, ExtractParams, MeshBuilder, MeshSink, PipelineOptions, Totals,
+};
+
+fn params(threads: usize) -> ExtractParams {
+    ExtractParams {
+        iso: 0.0,
+        close: true,
+        threads,
+        ..Default::default()
+    }
+}
+
+fn write(path: &std::path::Path, threads: usize, depth: usize) -> tmc::Stats {
+    let vol = synth::noise(30, 12, 1);
+    let mut writer = TmeshWriter::create(path).expect("create");
+    let options = PipelineOptions {
+        slab_depth: depth,
+        ..Default::default()
+    };
+    extract_to(&vol, &params(threads), &options, &mut writer).expect("extract")
+}
+
+fn read_all(path: &std::path::Path) -> tmc::Mesh {
+    let mut reader = TmeshReader::open(path).expect("open");
+    let mut builder = MeshBuilder::default();
+    let entries = reader.entries().to_vec();
+    for (i, e) in entries.iter().enumerate() {
+        let chunk = reader.chunk(i).expect("chunk");
+        builder.chunk(e.vertex_base, &chunk).expect("build");
+    }
+    builder.finish(&Totals::default()).expect("finish");
+    builder.into_mesh()
+}
+
+#[test]
+fn round_trip_and_determinism() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let first = dir.path().join("a.tmesh");
+    let stats = write(&first, 1, 0);
+    let mesh = read_all(&first);
+    let (expected, _) = extract(&synth::noise(30, 12, 1), &params(1)).expect("in memory");
+    assert!(mesh == expected);
+    assert_eq!(stats.triangles as usize, mesh.triangles.len());
+    let reader = TmeshReader::open(&first).expect("open");
+    assert_eq!(reader.vertices() as usize, mesh.vertices.len());
+    assert_eq!(reader.info().iso, 0.0);
+    assert!(reader.info().close);
+    let bytes = std::fs::read(&first).expect("read");
+    for (threads, depth) in [(2, 1), (3, 7), (2, 64)] {
+        let other = dir.path().join(format!("b{threads}-{depth}.tmesh"));
+        write(&other, threads, depth);
+        assert!(
+            std::fs::read(&other).expect("read") == bytes,
+            "{threads} threads, depth {depth}"
+        );
+    }
+}
+
+/// The writer holds up to 1 MiB before it writes: a file of many MiB,
+/// with chunks larger than that and thousands of small ones, reads back as
+/// the mesh made in memory.
+#[test]
+fn large_and_many_chunks_round_trip() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let cases = [
+        (
+            "noise",
+            tmc::volume::ArrayVolume::from_fn([220, 220, 3], |x, y, z| {
+                let h = ((x * 73_856_093) ^ (y * 19_349_663) ^ (z * 83_492_791)) % 1_000_003;
+                h as f64 / 1_000_003.0 - 0.5
+            }),
+        ),
+        (
+            "tall",
+            tmc::volume::ArrayVolume::from_fn([3, 2, 4000], |x, y, z| {
+                ((x * 7 + y * 13 + z * 29) % 11) as f64 - 5.0
+            }),
+        ),
+    ];
+    for (name, vol) in cases {
+        let path = dir.path().join(format!("{name}.tmesh"));
+        let mut writer = TmeshWriter::create(&path).expect("create");
+        let p = params(2);
+        extract_to(&vol, &p, &PipelineOptions::default(), &mut writer).expect("extract");
+        let (expected, _) = extract(&vol, &p).expect("in memory");
+        assert!(read_all(&path) == expected, "{name}");
+        let reader = TmeshReader::open(&path).expect("open");
+        let offsets: Vec<u64> = reader.entries().iter().map(|e| e.offset).collect();
+        let largest = offsets.windows(2).map(|w| w[1] - w[0]).max().unwrap_or(0);
+        match name {
+            "noise" => assert!(largest > 1 << 20, "{name}: largest chunk {largest} bytes"),
+            _ => assert!(offsets.len() > 3000, "{name}: {} chunks", offsets.len()),
+        }
+    }
+}
+
+#[test]
+fn damage_is_detected_and_located() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let good = std::fs::read(&path).expect("read");
+    let reader = TmeshReader::open(&path).expect("open");
+    let target = reader.entries()[3];
+    // Flip a byte inside the payload of chunk 3.
+    let mut bad = good.clone();
+    bad[target.offset as usize + 60] ^= 0x55;
+    std::fs::write(&path, &bad).expect("write");
+    let mut reader = TmeshReader::open(&path).expect("index intact");
+    let err = reader.chunk(3).expect_err("damage").to_string();
+    assert!(err.contains("chunk 3") && err.contains("checksum"), "{err}");
+    // A truncated file has no end marker.
+    std::fs::write(&path, &good[..good.len() - 10]).expect("write");
+    let err = TmeshReader::open(&path)
+        .err()
+        .expect("truncated")
+        .to_string();
+    assert!(err.contains("truncated"), "{err}");
+    // Not a mesh file at all.
+    std::fs::write(&path, vec![7u8; 500]).expect("write");
+    assert!(TmeshReader::open(&path).is_err());
+}
+
+/// A chunk header (checksum recomputed, so only the bounds can catch it)
+/// claiming a payload far past the chunk's room: the last chunk (bounded
+/// by the index offset) and a size whose sum with the offset overflows.
+/// `tmc check` and `tmc convert` give one line naming the chunk, no panic,
+/// no huge allocation, nothing at the output path; so does
+/// `scripts/read_tmesh.py` (when python3 has numpy and zstandard), which
+/// asked Python for that many bytes.
+#[test]
+fn a_chunk_size_past_its_room_is_a_clean_error() {
+    use common::cli::{assert_one_line, python_ready, read_tmesh_py_error, s, tmc};
+    let python = python_ready();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let good = std::fs::read(&path).expect("read");
+    let reader = TmeshReader::open(&path).expect("open");
+    let last = reader.entries().len() - 1;
+    let at = reader.entries()[last].offset as usize;
+    for size in [1u64 << 40, u64::MAX - 8] {
+        let mut bad = good.clone();
+        bad[at + 32..at + 40].copy_from_slice(&size.to_le_bytes());
+        let crc = crc32fast::hash(&bad[at..at + 40]);
+        bad[at + 40..at + 44].copy_from_slice(&crc.to_le_bytes());
+        std::fs::write(&path, &bad).expect("write");
+        let err = TmeshReader::open(&path)
+            .expect("index intact")
+            .chunk(last)
+            .expect_err("damage")
+            .to_string();
+        let name = format!("chunk {last} ");
+        assert!(err.contains(&name) && err.contains("runs past"), "{err}");
+        let out = tmc(&["check", s(&path)]);
+        let line = assert_one_line(&out, 1);
+        assert!(line.contains(&name) && line.contains("runs past"), "{line}");
+        let ply = dir.path().join("m.ply");
+        let line = assert_one_line(&tmc(&["convert", s(&path), "-o", s(&ply)]), 1);
+        assert!(line.contains(&name) && line.contains("runs past"), "{line}");
+        assert!(!ply.exists());
+        if python {
+            let line = read_tmesh_py_error(&path);
+            let room = format!("payload of {size} bytes runs past the chunk's room");
+            assert!(line.contains(&name) && line.contains(&room), "{line}");
+        }
+    }
+}
+
+/// Fields that checksums do not vouch for (or that a writer could get
+/// wrong) are refused with one line by the reader, `tmc check` and `tmc
+/// convert`, and by `scripts/read_tmesh.py` (when python3 has numpy and
+/// zstandard) with the same words: a zero dimension, a NaN or infinite
+/// isovalue, unknown method, inside and close bytes, nonzero reserved
+/// header and chunk header bytes, a repeated plane, a plane far beyond the
+/// grid, and non-finite vertex coordinates.
+#[test]
+fn unchecked_fields_are_refused() {
+    use common::cli::{assert_one_line, python_ready, read_tmesh_py_error, s, tmc};
+    let python = python_ready();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let good = std::fs::read(&path).expect("read");
+    let reader = TmeshReader::open(&path).expect("open");
+    let entries = reader.entries().to_vec();
+    let n = good.len();
+    let index = u64::from_le_bytes(good[n - 32..n - 24].try_into().unwrap()) as usize;
+    let header = |f: &dyn Fn(&mut Vec<u8>)| {
+        let mut b = good.clone();
+        f(&mut b);
+        let crc = crc32fast::hash(&b[..124]);
+        b[124..128].copy_from_slice(&crc.to_le_bytes());
+        b
+    };
+    let plane = |i: usize, p: u64| {
+        let mut b = good.clone();
+        let at = index + 16 + 32 * i + 24;
+        b[at..at + 8].copy_from_slice(&p.to_le_bytes());
+        let crc = crc32fast::hash(&b[index + 16..n - 32]);
+        b[index + 4..index + 8].copy_from_slice(&crc.to_le_bytes());
+        b
+    };
+    let mut reserved = good.clone();
+    reserved[entries[2].offset as usize + 44] = 1;
+    let cases: Vec<(Vec<u8>, &str)> = vec![
+        (header(&|b| b[16..24].fill(0)), "dimension is 0"),
+        (
+            header(&|b| b[88..96].copy_from_slice(&f64::NAN.to_le_bytes())),
+            "not a finite",
+        ),
+        (
+            header(&|b| b[88..96].copy_from_slice(&f64::NEG_INFINITY.to_le_bytes())),
+            "not a finite",
+        ),
+        (header(&|b| b[96] = 7), "unknown method byte 7"),
+        (header(&|b| b[97] = 2), "unknown inside byte 2"),
+        (header(&|b| b[98] = 255), "unknown close byte 255"),
+        (header(&|b| b[123] = 1), "reserved header bytes 99..124"),
+        (header(&|b| b[99] = 1), "reserved header bytes 99..124"),
+        (
+            header(&|b| {
+                b[8..12].copy_from_slice(&2u32.to_le_bytes());
+                b[99] = 3;
+            }),
+            "unknown attribute bits 0x03",
+        ),
+        (
+            header(&|b| {
+                b[8..12].copy_from_slice(&2u32.to_le_bytes());
+                b[123] = 1;
+            }),
+            "reserved header bytes 100..124",
+        ),
+        (plane(4, entries[3].plane), "not after the previous"),
+        (plane(entries.len() - 1, 1 << 63), "beyond the grid"),
+        (reserved, "bytes 44..48 are not zero"),
+    ];
+    let ply = dir.path().join("m.ply");
+    for (bytes, needle) in &cases {
+        std::fs::write(&path, bytes).expect("write");
+        for args in [
+            vec!["check", s(&path)],
+            vec!["convert", s(&path), "-o", s(&ply)],
+        ] {
+            let line = assert_one_line(&tmc(&args), 1);
+            assert!(line.contains(needle), "{args:?}: {line:?} lacks {needle:?}");
+            assert!(!ply.exists());
+        }
+        if python {
+            let line = read_tmesh_py_error(&path);
+            assert!(
+                line.contains(needle),
+                "read_tmesh.py: {line:?} lacks {needle:?}"
+            );
+        }
+    }
+    // A NaN or infinite coordinate, written as it comes (the pipeline never
+    // makes one).
+    for bad in [f32::NAN, f32::INFINITY] {
+        let mut writer = TmeshWriter::create(&path).expect("create");
+        writer.begin(reader.info()).expect("begin");
+        let chunk = tmc::Chunk {
+            plane: 1,
+            vertices: vec![[0.0, bad, 0.0]; 3],
+            triangles: vec![[0, 1, 2]],
+            normals: Vec::new(),
+            labels: Vec::new(),
+        };
+        writer.chunk(0, &chunk).expect("chunk");
+        let totals = Totals {
+            vertices: 3,
+            triangles: 1,
+            ..Default::default()
+        };
+        writer.finish(&totals).expect("finish");
+        let line = assert_one_line(&tmc(&["check", s(&path)]), 1);
+        assert!(line.contains("not a finite number"), "{line}");
+        if python {
+            let line = read_tmesh_py_error(&path);
+            let needle = "chunk 0 (plane 1, byte 128): vertex 0 has a coordinate that is not a finite number";
+            assert!(line.contains(needle), "read_tmesh.py: {line}");
+        }
+    }
+}
+
+/// A file claiming more vertices in all than any address space holds (3000
+/// chunks of 2^32 - 1 vertices each on a 65536 x 65536 grid: 144 TB of
+/// coordinates, in a 96 kB index that passes every check made before the
+/// chunks are read) makes `scripts/read_tmesh.py` run out of memory when
+/// it allocates the mesh: one line on stderr and exit 1, not a traceback.
+#[test]
+fn read_tmesh_py_out_of_memory_is_one_line() {
+    use common::cli::{python_ready, read_tmesh_py_error};
+    if !python_ready() {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let mut bytes = std::fs::read(&path).expect("read")[..128].to_vec();
+    let chunks = 3000u64;
+    let count = u32::MAX;
+    bytes[16..40].copy_from_slice(&[[0, 0, 1, 0, 0, 0, 0, 0]; 3].concat());
+    bytes[32..40].copy_from_slice(&chunks.to_le_bytes());
+    bytes[98] = 0; // no close: the grid as it is
+    let crc = crc32fast::hash(&bytes[..124]);
+    bytes[124..128].copy_from_slice(&crc.to_le_bytes());
+    // Room for a chunk header at byte 128, which nothing reads.
+    bytes.resize(128 + 48, 0);
+    let mut entries = Vec::new();
+    for i in 0..chunks {
+        entries.extend_from_slice(&128u64.to_le_bytes()); // offset
+        entries.extend_from_slice(&(i * u64::from(count)).to_le_bytes()); // base
+        entries.extend_from_slice(&count.to_le_bytes());
+        entries.extend_from_slice(&0u32.to_le_bytes()); // triangles
+        entries.extend_from_slice(&i.to_le_bytes()); // plane
+    }
+    let index = bytes.len() as u64;
+    bytes.extend_from_slice(b"INDX");
+    bytes.extend_from_slice(&crc32fast::hash(&entries).to_le_bytes());
+    bytes.extend_from_slice(&chunks.to_le_bytes());
+    bytes.extend_from_slice(&entries);
+    bytes.extend_from_slice(&index.to_le_bytes());
+    bytes.extend_from_slice(&(chunks * u64::from(count)).to_le_bytes());
+    bytes.extend_from_slice(&0u64.to_le_bytes());
+    bytes.extend_from_slice(b"TMESHEND");
+    std::fs::write(&path, &bytes).expect("write");
+    let line = read_tmesh_py_error(&path);
+    assert!(line.contains("m.tmesh: out of memory"), "{line}");
+}
+
+/// A chunk claiming more vertices than one plane of the grid can have (a
+/// small file inflating to gigabytes) is refused from the index, before
+/// any chunk is inflated, by the reader, `tmc check`, `tmc convert` and
+/// `scripts/read_tmesh.py` (when python3 has numpy and zstandard).
+#[test]
+fn a_chunk_larger_than_a_plane_is_refused() {
+    use common::cli::{assert_one_line, python_ready, read_tmesh_py, read_tmesh_py_error, s, tmc};
+    let python = python_ready();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("m.tmesh");
+    write(&path, 1, 0);
+    let info = TmeshReader::open(&path).expect("open").info().clone();
+    let [nx, ny, _] = info.grid.dims;
+    let pad = if info.close { 2 } else { 0 };
+    let most = 11 * (nx + pad) * (ny + pad);
+    for count in [most, most + 1] {
+        let mut writer = TmeshWriter::create(&path).expect("create");
+        writer.begin(&info).expect("begin");
+        let chunk = tmc::Chunk {
+            plane: 1,
+            vertices: vec![[0.0, 0.0, 0.0]; count],
+            triangles: vec![[0, 1, 2]],
+            normals: Vec::new(),
+            labels: Vec::new(),
+        };
+        writer.chunk(0, &chunk).expect("chunk");
+        let totals = Totals {
+            vertices: count as u64,
+            triangles: 1,
+            ..Default::default()
+        };
+        writer.finish(&totals).expect("finish");
+        let opened = TmeshReader::open(&path);
+        if count == most {
+            opened.expect("as many as a plane can have");
+            if python {
+                let out = read_tmesh_py(&path);
+                let stderr = String::from_utf8_lossy(&out.stderr);
+                assert!(out.status.success(), "read_tmesh.py: {stderr}");
+            }
+            continue;
+        }
+        let err = opened.err().expect("refused").to_string();
+        assert!(
+            err.contains("more than one plane of the grid can have"),
+            "{err}"
+        );
+        let ply = dir.path().join("m.ply");
+        for args in [
+            vec!["check", s(&path)],
+            vec!["convert", s(&path), "-o", s(&ply)],
+        ] {
+            let line = assert_one_line(&tmc(&args), 1);
+            assert!(line.contains("chunk 0 claims"), "{args:?}: {line}");
+        }
+        assert!(!ply.exists());
+        if python {
+            let stderr = read_tmesh_py_error(&path);
+            let bound = format!(
+                "chunk 0 claims {count} vertices and 1 triangles, more than one plane of the grid can have ({most} and {})",
+                most / 11 * 32
+            );
+            assert!(stderr.contains(&bound), "{stderr}");
+        }
+    }
+}

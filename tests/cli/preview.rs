@@ -1,0 +1,377 @@
+//! Preview pictures (`tmc extract --preview`, `tmc preview`): the PNG
+//! decodes (the `png` crate, and Pillow through `TMC_PYTHON` when set), has
+//! the stated size, shows the mesh, has the same bytes for any threads,
+//! slab depth, a merged split and `tmc preview` of the written `.tmesh`,
+//! expands batch templates, and fails on bad paths with one line and no
+//! file.
+
+use crate::common;
+
+use common::cli::{assert_one_line, names, s, synth, tmc};
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Width and height of every preview.
+const SIZE: (u32, u32) = (1024, 1064);
+
+/// Background colour of the tiles.
+const BACKGROUND: [u8; 3] = [30, 32, 36];
+
+/// Decodes `path` with the `png` crate: (width, height, RGB bytes).
+fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    assert_eq!(info.bit_depth, png::BitDepth::Eight);
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
+}
+
+/// Pixels of the four tiles (above the caption band) that are not
+/// background and not the grey of the tile borders or the white text.
+fn shown(path: &Path) -> usize {
+    let (w, _, rgb) = decode(path);
+    let tiles = (w * w) as usize;
+    rgb.chunks(3)
+        .take(tiles)
+        .filter(|p| *p != BACKGROUND && *p != [80, 84, 92] && *p != [240, 240, 240])
+        .count()
+}
+
+/// With `TMC_PYTHON` set: Pillow's size, mode and non-background count of
+/// `path` (it must agree with ours); without it, a SKIPPED line.
+fn check_with_pillow(path: &Path) {
+    let Ok(python) = std::env::var("TMC_PYTHON") else {
+        println!("SKIPPED: Pillow check: TMC_PYTHON is not set (see .ci/run)");
+        return;
+    };
+    let script = "import sys\nfrom PIL import Image\nim = Image.open(sys.argv[1])\nim.load()\n\
+                  w, h = im.size\nbg = {(30, 32, 36), (80, 84, 92), (240, 240, 240)}\n\
+                  px = im.convert('RGB').getdata()\n\
+                  n = sum(1 for i, p in enumerate(px) if i < w * w and p not in bg)\n\
+                  print(im.format, im.mode, w, h, n)";
+    let out = Command::new(python)
+        .args(["-c", script, s(path)])
+        .output()
+        .expect("run TMC_PYTHON");
+    assert!(out.status.success(), "{out:?}");
+    let text = String::from_utf8(out.stdout).unwrap();
+    let expected = format!("PNG RGB {} {} {}", SIZE.0, SIZE.1, shown(path));
+    assert_eq!(text.trim(), expected);
+}
+
+/// A sphere volume in `dir`.
+fn sphere(dir: &Path) -> PathBuf {
+    synth(dir, "sphere", "40,36,44", "f32", "ball.nrrd")
+}
+
+/// `tmc extract INPUT --iso ISO -o MESH --preview PICTURE` plus `extra`.
+fn extract(input: &Path, iso: &str, mesh: &Path, picture: &Path, extra: &[&str]) {
+    let mut args = vec![
+        "extract",
+        s(input),
+        "--iso",
+        iso,
+        "-o",
+        s(mesh),
+        "--preview",
+        s(picture),
+        "-q",
+    ];
+    args.extend_from_slice(extra);
+    let out = tmc(&args);
+    assert!(out.status.success(), "{out:?}");
+}
+
+#[test]
+fn a_sphere_preview_decodes_has_its_size_and_shows_the_ball() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere(dir.path());
+    let picture = dir.path().join("ball.png");
+    extract(&input, "0", &dir.path().join("ball.ply"), &picture, &[]);
+    let (w, h, _) = decode(&picture);
+    assert_eq!((w, h), SIZE);
+    // The ball's radius is 0.8 of half the shortest side: its disc covers
+    // a good part of each view.
+    let n = shown(&picture);
+    assert!(n > 4 * 50_000, "{n} pixels shown");
+    check_with_pillow(&picture);
+}
+
+#[test]
+fn threads_slabs_a_merged_split_and_tmc_preview_give_the_same_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = synth(d, "gyroid", "37,30,41", "f32", "gyroid.npy");
+    let reference = d.join("ref.png");
+    extract(
+        &input,
+        "0.1",
+        &d.join("ref.tmesh"),
+        &reference,
+        &["--threads", "1"],
+    );
+    let bytes = fs::read(&reference).unwrap();
+    for (i, extra) in [
+        &["--threads", "2"][..],
+        &["--threads", "2", "--slab-depth", "1"],
+        &["--threads", "1", "--slab-depth", "5"],
+    ]
+    .iter()
+    .enumerate()
+    {
+        let picture = d.join(format!("p{i}.png"));
+        extract(&input, "0.1", &d.join(format!("m{i}.ply")), &picture, extra);
+        assert!(fs::read(&picture).unwrap() == bytes, "{extra:?} differs");
+    }
+    // The written mesh, and the same mesh split in three and merged.
+    let again = d.join("again.png");
+    let preview = |mesh: &Path, picture: &Path, threads: &str| {
+        let out = tmc(&[
+            "preview",
+            s(mesh),
+            "-o",
+            s(picture),
+            "--title",
+            "gyroid.npy",
+            "--threads",
+            threads,
+        ]);
+        assert!(out.status.success(), "{out:?}");
+    };
+    preview(&d.join("ref.tmesh"), &again, "2");
+    assert!(fs::read(&again).unwrap() == bytes, "tmc preview differs");
+    let mut parts = Vec::new();
+    for i in 1..=3 {
+        let part = d.join(format!("part{i}.tmesh"));
+        let spec = format!("{i}/3");
+        let out = tmc(&[
+            "extract",
+            s(&input),
+            "--iso",
+            "0.1",
+            "--part",
+            &spec,
+            "-o",
+            s(&part),
+            "-q",
+        ]);
+        assert!(out.status.success(), "{out:?}");
+        parts.push(part);
+    }
+    let merged = d.join("merged.tmesh");
+    let mut args = vec!["merge"];
+    args.extend(parts.iter().map(|p| s(p)));
+    args.extend(["-o", s(&merged)]);
+    let out = tmc(&args);
+    assert!(out.status.success(), "{out:?}");
+    let from_parts = d.join("parts.png");
+    preview(&merged, &from_parts, "1");
+    assert!(
+        fs::read(&from_parts).unwrap() == bytes,
+        "merged split differs"
+    );
+}
+
+#[test]
+fn the_streamed_verdict_matches_the_checker() {
+    // The caption's counts (components, edges, boundary edges, genus),
+    // counted over a window of two chunks, against `tmc::check` on the
+    // whole mesh: closed and open meshes with many components and handles.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases = [
+        ("torus", "30,30,20", "0", true),
+        ("gyroid", "33,29,31", "0.2", true),
+        ("gyroid", "33,29,31", "-0.1", false),
+        ("noise", "40,37,23", "0.05", false),
+    ];
+    for (i, (kind, dims, iso, close)) in cases.into_iter().enumerate() {
+        let input = synth(d, kind, dims, "f32", &format!("v{i}.npy"));
+        let tmesh = d.join(format!("v{i}.tmesh"));
+        let mut extra = vec!["--slab-depth", "3"];
+        if close {
+            extra.push("--close");
+        }
+        extract(&input, iso, &tmesh, &d.join(format!("v{i}.png")), &extra);
+        let mut reader = tmc::meshfile::TmeshReader::open(&tmesh).unwrap();
+        let mut sink = tmc::preview::PreviewSink::new(d.join("again.png"), "t".into(), None, 2);
+        tmc::export::replay(&mut reader, &mut sink).unwrap();
+        let (_, verdict) = sink.summary().unwrap();
+        let report = tmc::check::check_mesh(&tmc::check::read_mesh(&tmesh).unwrap());
+        let case = format!("{kind} {iso} close={close}");
+        assert_eq!(verdict.components, report.components as u64, "{case}");
+        assert_eq!(verdict.edges, report.edges as u64, "{case}");
+        assert_eq!(
+            verdict.boundary_edges, report.boundary_edges as u64,
+            "{case}"
+        );
+        assert_eq!(verdict.euler(), report.euler, "{case}");
+        assert_eq!(verdict.closed(), close, "{case}");
+        if close {
+            assert_eq!(verdict.genus(), report.total_genus(), "{case}");
+        }
+        if kind == "noise" {
+            assert!(report.components > 1, "{case}: {report:?}");
+        }
+    }
+}
+
+#[test]
+fn a_batch_expands_stem_and_iso_in_the_preview_template() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let a = synth(d, "sphere", "20,20,20", "f32", "a.npy");
+    let b = synth(d, "torus", "20,20,16", "f32", "b.npy");
+    let out_dir = d.join("out");
+    fs::create_dir(&out_dir).unwrap();
+    let mesh = out_dir.join("{stem}_{iso}.ply");
+    let picture = out_dir.join("{stem}_{iso}.png");
+    let out = tmc(&[
+        "extract",
+        s(&a),
+        s(&b),
+        "--iso",
+        "0",
+        "--iso",
+        "0.2",
+        "-o",
+        s(&mesh),
+        "--preview",
+        s(&picture),
+        "-q",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let got = names(&out_dir);
+    for name in ["a_0.png", "a_0.2.png", "b_0.png", "b_0.2.png"] {
+        assert!(got.contains(&name.to_string()), "{got:?}");
+        assert_eq!(decode(&out_dir.join(name)).0, SIZE.0);
+    }
+    // Several inputs and one picture path: refused before any work.
+    let dir2 = tempfile::tempdir().unwrap();
+    let out = tmc(&[
+        "extract",
+        s(&a),
+        s(&b),
+        "--iso",
+        "0",
+        "-o",
+        s(&dir2.path().join("{stem}.ply")),
+        "--preview",
+        s(&dir2.path().join("all.png")),
+    ]);
+    let line = assert_one_line(&out, 1);
+    assert!(line.contains("{stem}"), "{line}");
+    assert!(names(dir2.path()).is_empty());
+}
+
+#[test]
+fn bad_paths_give_one_line_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = synth(d, "sphere", "12,12,12", "f32", "s.npy");
+    let mesh = d.join("s.tmesh");
+    let ok = tmc(&["extract", s(&input), "--iso", "0", "-o", s(&mesh), "-q"]);
+    assert!(ok.status.success());
+    let before = names(d);
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                "preview".into(),
+                s(&mesh).into(),
+                "-o".into(),
+                s(&d.join("s.jpg")).into(),
+            ],
+            "must end in .png",
+        ),
+        (
+            vec![
+                "preview".into(),
+                s(&mesh).into(),
+                "-o".into(),
+                s(&d.join("no/s.png")).into(),
+            ],
+            "does not exist",
+        ),
+        (
+            vec![
+                "preview".into(),
+                s(&d.join("missing.tmesh")).into(),
+                "-o".into(),
+                s(&d.join("m.png")).into(),
+            ],
+            "missing.tmesh",
+        ),
+        (
+            vec![
+                "preview".into(),
+                s(&input).into(),
+                "-o".into(),
+                s(&d.join("v.png")).into(),
+            ],
+            "s.npy",
+        ),
+        (
+            vec![
+                "extract".into(),
+                s(&input).into(),
+                "--iso".into(),
+                "0".into(),
+                "-o".into(),
+                s(&d.join("x.ply")).into(),
+                "--preview".into(),
+                s(&d.join("x.gif")).into(),
+            ],
+            "must end in .png",
+        ),
+        (
+            vec![
+                "extract".into(),
+                s(&input).into(),
+                "--iso".into(),
+                "0".into(),
+                "--part".into(),
+                "1/2".into(),
+                "-o".into(),
+                s(&d.join("p.tmesh")).into(),
+                "--preview".into(),
+                s(&d.join("p.png")).into(),
+            ],
+            "tmc preview",
+        ),
+    ];
+    for (args, needle) in cases {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let line = assert_one_line(&tmc(&args), 1);
+        assert!(line.contains(needle), "{args:?}: {line}");
+        assert_eq!(names(d), before, "{args:?} left a file");
+    }
+    // A damaged .tmesh: the picture is not written.
+    let mut bytes = fs::read(&mesh).unwrap();
+    let n = bytes.len();
+    bytes[n - 40] ^= 0xff;
+    let damaged = d.join("damaged.tmesh");
+    fs::write(&damaged, bytes).unwrap();
+    let out = tmc(&["preview", s(&damaged), "-o", s(&d.join("d.png"))]);
+    assert_one_line(&out, 1);
+    assert!(!d.join("d.png").exists());
+}
+
+#[test]
+fn a_real_ct_preview_shows_the_skull() {
+    let input = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/cthead.nrrd");
+    if !input.exists() {
+        println!("SKIPPED: {} is not there", input.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let picture = dir.path().join("cthead.png");
+    extract(&input, "1600", &dir.path().join("ct.tmesh"), &picture, &[]);
+    let n = shown(&picture);
+    // The skull fills more than a quarter of each 512x512 view.
+    assert!(n > 4 * 65_000, "{n} pixels shown");
+    check_with_pillow(&picture);
+}

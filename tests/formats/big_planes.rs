@@ -1,0 +1,217 @@
+//! What a worker holds does not grow with the plane: planes of 2048^2 and
+//! 6144^2 samples (9x the samples) take about the same anonymous memory,
+//! from NRRD, NIfTI and MetaImage files (unscaled, native byte order: lent
+//! planes, the same mesh as the samples read into `f64`s), and a plane whose samples are not aligned for their type (a NRRD header
+//! of odd length before 16-bit samples) gives the same mesh as an aligned
+//! one.
+//!
+//! Before planes at any alignment were lent (`volume::Packed`), a
+//! misaligned plane was read into `f64`s: 8 bytes per sample, two planes per
+//! worker, so two workers on 6144^2 planes held some 1.2 GB more than on
+//! 2048^2 planes, where this test allows 96 MiB.
+
+use crate::common;
+
+use common::cli::{json_number, s, synth, tmc};
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Writes an `n x n x nz` u16 NRRD of a small ball (2000 inside, 1000
+/// outside, radius 20 samples) whose header is padded to `header_len`
+/// bytes (odd: the samples are not 2-byte aligned in the file).
+fn ball(dir: &Path, n: usize, nz: usize, header_len: usize) -> PathBuf {
+    let path = dir.join(format!("ball{n}.nrrd"));
+    let header = nrrd_header(&format!("{n} {n} {nz}"), header_len);
+    write_ball(&path, &header, n, nz);
+    path
+}
+
+/// Writes `header` and then the little-endian u16 samples of [`ball`] to
+/// `path`.
+fn write_ball(path: &Path, header: &[u8], n: usize, nz: usize) {
+    let mut out = BufWriter::new(fs::File::create(path).unwrap());
+    out.write_all(header).unwrap();
+    let c = (n / 2) as f64;
+    let mut plane = vec![0u8; 2 * n * n];
+    for z in 0..nz {
+        let dz = z as f64 - nz as f64 / 2.0;
+        for y in 0..n {
+            for x in 0..n {
+                let (dx, dy) = (x as f64 - c, y as f64 - c);
+                let v: u16 = if dx * dx + dy * dy + dz * dz < 400.0 {
+                    2000
+                } else {
+                    1000
+                };
+                plane[2 * (y * n + x)..][..2].copy_from_slice(&v.to_le_bytes());
+            }
+        }
+        out.write_all(&plane).unwrap();
+    }
+    out.flush().unwrap();
+}
+
+/// [`ball`] as a single-file NIfTI-1 (`.nii`, uint16, unscaled: slope 0).
+fn ball_nifti(dir: &Path, n: usize, nz: usize) -> PathBuf {
+    let path = dir.join(format!("ball{n}.nii"));
+    let mut h = vec![0u8; 352];
+    h[0..4].copy_from_slice(&348i32.to_le_bytes());
+    for (i, d) in [3, n, n, nz, 1, 1, 1, 1].into_iter().enumerate() {
+        h[40 + 2 * i..][..2].copy_from_slice(&(d as i16).to_le_bytes());
+    }
+    h[70..72].copy_from_slice(&512i16.to_le_bytes()); // uint16
+    h[72..74].copy_from_slice(&16i16.to_le_bytes()); // bitpix
+    for i in 0..4 {
+        h[76 + 4 * i..][..4].copy_from_slice(&1f32.to_le_bytes()); // pixdim
+    }
+    h[108..112].copy_from_slice(&352f32.to_le_bytes()); // vox_offset
+    h[344..348].copy_from_slice(b"n+1\0");
+    write_ball(&path, &h, n, nz);
+    path
+}
+
+/// [`ball`] as a MetaImage: a `.mhd` header and its `.raw` samples.
+fn ball_metaimage(dir: &Path, n: usize, nz: usize) -> PathBuf {
+    let path = dir.join(format!("ball{n}.mhd"));
+    let raw = format!("ball{n}.raw");
+    let header = format!(
+        "ObjectType = Image\nNDims = 3\nDimSize = {n} {n} {nz}\nElementType = MET_USHORT\n\
+         ElementByteOrderMSB = False\nElementDataFile = {raw}\n"
+    );
+    fs::write(&path, header).unwrap();
+    write_ball(&dir.join(raw), &[], n, nz);
+    path
+}
+
+/// A little-endian u16 raw NRRD header for `sizes`, padded with a comment
+/// to exactly `len` bytes.
+fn nrrd_header(sizes: &str, len: usize) -> Vec<u8> {
+    let fields = format!(
+        "NRRD0004\ntype: uint16\ndimension: 3\nsizes: {sizes}\nendian: little\nencoding: raw\n"
+    );
+    // "#" + padding + "\n" before the blank line that ends the header.
+    let pad = len
+        .checked_sub(fields.len() + 3)
+        .expect("header length too short");
+    format!("{fields}#{}\n\n", " ".repeat(pad)).into_bytes()
+}
+
+/// Peak anonymous memory of `tmc extract` on `input` at two threads, slabs
+/// of one layer (so both workers hold planes at once).
+fn peak_anon(input: &Path, output: &Path) -> f64 {
+    let out = tmc(&[
+        "extract",
+        s(input),
+        "--iso",
+        "1500",
+        "-o",
+        s(output),
+        "--threads",
+        "2",
+        "--slab-depth",
+        "1",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    assert!(json_number(&out.stdout, "triangles") > 0.0, "no surface");
+    json_number(&out.stdout, "peak_rss_anon_bytes")
+}
+
+/// NRRD (with a misaligned header), NIfTI and MetaImage: each lends its
+/// planes (`SampleSource::lend_plane`) rather than read them into `f64`s.
+#[test]
+fn anonymous_memory_does_not_grow_with_the_plane() {
+    type Writer = fn(&Path, usize, usize) -> PathBuf;
+    let formats: [(&str, Writer); 3] = [
+        ("NRRD", |dir, n, nz| ball(dir, n, nz, 301)),
+        ("NIfTI", ball_nifti),
+        ("MetaImage", ball_metaimage),
+    ];
+    let (small, large) = (2048, 6144);
+    for (name, write) in formats {
+        let mut peaks = Vec::new();
+        for n in [small, large] {
+            // One volume at a time on disk (the large one is 450 MB).
+            let dir = tempfile::tempdir().unwrap();
+            let mesh = dir.path().join("mesh.tmesh");
+            peaks.push(peak_anon(&write(dir.path(), n, 6), &mesh));
+        }
+        let mib = |b: f64| b / f64::from(1 << 20);
+        println!(
+            "{name}: peak anonymous memory {:.1} MiB at {small}^2, {:.1} MiB at {large}^2",
+            mib(peaks[0]),
+            mib(peaks[1])
+        );
+        assert!(
+            peaks[1] - peaks[0] < 96.0 * f64::from(1 << 20),
+            "{name}: {large}^2 planes took {:.1} MiB more than {small}^2 planes",
+            mib(peaks[1] - peaks[0])
+        );
+    }
+}
+
+/// NIfTI and MetaImage planes lent give the mesh their samples read into
+/// `f64`s gave: that of the same samples as NRRD.
+#[test]
+fn lent_nifti_and_metaimage_planes_give_the_nrrd_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut meshes = Vec::new();
+    for input in [
+        ball(dir.path(), 96, 48, 300),
+        ball_nifti(dir.path(), 96, 48),
+        ball_metaimage(dir.path(), 96, 48),
+    ] {
+        let mesh = mesh_of(&input, &dir.path().join("mesh.tmesh"), "2");
+        meshes.push((input.display().to_string(), mesh));
+    }
+    assert_all_alike(&meshes);
+}
+
+/// The `.tmesh` bytes of `tmc extract input --iso 1500 --threads threads`.
+fn mesh_of(input: &Path, output: &Path, threads: &str) -> Vec<u8> {
+    let out = tmc(&[
+        "extract",
+        s(input),
+        "--iso",
+        "1500",
+        "-o",
+        s(output),
+        "--threads",
+        threads,
+        "-q",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    fs::read(output).unwrap()
+}
+
+/// The meshes (named) are one mesh, with a surface.
+fn assert_all_alike(meshes: &[(String, Vec<u8>)]) {
+    let (_, first) = &meshes[0];
+    assert!(first.len() > 10_000, "a surface");
+    for (name, mesh) in meshes {
+        assert!(mesh == first, "{name}: another mesh");
+    }
+}
+
+#[test]
+fn a_misaligned_plane_gives_the_mesh_of_an_aligned_one() {
+    let dir = tempfile::tempdir().unwrap();
+    // The head phantom's samples behind headers of odd and even length.
+    let head = synth(dir.path(), "head", "96,80,40", "u16", "head.nrrd");
+    let bytes = fs::read(&head).unwrap();
+    let data = bytes.len() - 96 * 80 * 40 * 2;
+    let mut meshes = Vec::new();
+    for len in [301, 302, 304, 299] {
+        let input = dir.path().join(format!("head{len}.nrrd"));
+        let mut file = nrrd_header("96 80 40", len);
+        file.extend_from_slice(&bytes[data..]);
+        fs::write(&input, file).unwrap();
+        let output = dir.path().join(format!("head{len}.tmesh"));
+        for threads in ["1", "2"] {
+            let mesh = mesh_of(&input, &output, threads);
+            meshes.push((format!("header of {len} bytes"), mesh));
+        }
+    }
+    assert_all_alike(&meshes);
+}

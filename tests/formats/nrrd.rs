@@ -1,0 +1,420 @@
+//! The NRRD reader against fixtures written by pynrrd and, for the
+//! multi-file and skip variants pynrrd cannot write, by hand with numpy
+//! data (`scripts/fixtures/make_nrrd.py`): attached and detached headers,
+//! `data file` as one name, `LIST` (one slice or a block of slices per
+//! file) and a printf pattern; raw, gzip, bzip2 and ascii encodings; line
+//! and byte skips. Each gives the grid, samples and mesh of its `.npy` twin
+//! (vertices mapped through the full affine), and every bad input one clear
+//! line.
+
+use crate::common;
+
+use common::formats::{all_samples, check_grid, close, data_dir, fixtures, open_err};
+use std::fs;
+use std::path::Path;
+use tmc::volume::{self, nrrd, ScalarType};
+use tmc::{ExtractParams, SampleSource};
+
+#[test]
+fn manifest_lists_every_kind() {
+    let all = fixtures("nrrd_manifest.json");
+    assert!(all.len() >= 10, "{}", all.len());
+    assert!(all.iter().any(|f| f.file.extension().unwrap() == "nhdr"));
+    assert!(all.iter().any(|f| f.file.extension().unwrap() == "nrrd"));
+    assert!(all.iter().any(|f| f.files > 1));
+}
+
+#[test]
+fn fixtures_match_their_npy_twins() {
+    for f in fixtures("nrrd_manifest.json") {
+        let vol = volume::open(&f.file, None).unwrap_or_else(|e| panic!("{}: {e}", f.name));
+        let twin = data_dir().join(format!("{}.expected.npy", f.name));
+        let npy = volume::open(&twin, None).unwrap();
+        let grid = *vol.grid();
+        check_grid(&grid, &f, 1e-5, 1e-9);
+        assert_eq!(npy.grid().dims, f.dims, "{}", f.name);
+        let got = all_samples(vol.as_ref());
+        let want = all_samples(npy.as_ref());
+        assert_eq!(got, want, "{}: samples differ", f.name);
+
+        // Same mesh once the affine is applied; a mirror reverses winding.
+        let (lo, hi) = want
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        let params = ExtractParams {
+            iso: lo + (hi - lo) * 0.4123,
+            ..ExtractParams::default()
+        };
+        let (mesh, _) = tmc::extract(vol.as_ref(), &params).unwrap();
+        let (mesh_npy, _) = tmc::extract(npy.as_ref(), &params).unwrap();
+        assert!(!mesh.triangles.is_empty(), "{}: empty mesh", f.name);
+        let expected: Vec<[u32; 3]> = if grid.is_mirrored() {
+            mesh_npy
+                .triangles
+                .iter()
+                .map(|t| [t[0], t[2], t[1]])
+                .collect()
+        } else {
+            mesh_npy.triangles.clone()
+        };
+        assert_eq!(mesh.triangles, expected, "{}", f.name);
+        assert_eq!(mesh.vertices.len(), mesh_npy.vertices.len(), "{}", f.name);
+        for (v, w) in mesh.vertices.iter().zip(&mesh_npy.vertices) {
+            let scaled = [0, 1, 2].map(|j| f64::from(w[j]) * f.spacing[j]);
+            for i in 0..3 {
+                let mapped =
+                    f.origin[i] + (0..3).map(|j| f.direction[i][j] * scaled[j]).sum::<f64>();
+                assert!(
+                    close(f64::from(v[i]), mapped, 1e-5),
+                    "{}: vertex {v:?} vs {w:?} mapped {mapped}",
+                    f.name
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn header_details() {
+    for f in fixtures("nrrd_manifest.json") {
+        let vol = nrrd::open(&f.file).unwrap();
+        assert_eq!(vol.data_files(), f.files, "{}", f.name);
+    }
+    let mirrored = nrrd::open(&data_dir().join("nrrd_gzip_be_i16.nrrd")).unwrap();
+    assert!(mirrored.grid().is_mirrored());
+    assert_eq!(mirrored.space(), Some("right-anterior-superior"));
+    assert_eq!(mirrored.scalar(), ScalarType::I16);
+    assert_eq!(mirrored.endian(), volume::Endian::Big);
+    let list = nrrd::open(&data_dir().join("nrrd_list3_gz_u16.nhdr")).unwrap();
+    assert_eq!(list.scalar(), ScalarType::U16);
+    assert_eq!(list.sample_bytes(), 2);
+    let skips = nrrd::open(&data_dir().join("nrrd_skips_u16.nrrd")).unwrap();
+    assert_eq!(skips.space(), None);
+}
+
+#[test]
+fn absolute_data_file_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let header = fs::read_to_string(data_dir().join("nrrd_detached_rot_f64.nhdr")).unwrap();
+    let raw = data_dir().join("nrrd_detached_rot_f64.raw");
+    let header = header.replace(
+        "data file: nrrd_detached_rot_f64.raw",
+        &format!("data file: {}", raw.display()),
+    );
+    assert!(header.contains(&raw.display().to_string()));
+    let path = dir.path().join("abs.nhdr");
+    fs::write(&path, header).unwrap();
+    let vol = volume::open(&path, None).unwrap();
+    let twin = volume::open(&data_dir().join("nrrd_detached_rot_f64.expected.npy"), None).unwrap();
+    assert_eq!(all_samples(vol.as_ref()), all_samples(twin.as_ref()));
+}
+
+/// Copies the fixture files whose names start with `prefix` into `dir`.
+fn copy_set(dir: &Path, prefix: &str) {
+    for entry in fs::read_dir(data_dir()).unwrap() {
+        let entry = entry.unwrap();
+        let name = entry.file_name().to_string_lossy().to_string();
+        if name.starts_with(prefix) && !name.ends_with(".npy") {
+            fs::copy(entry.path(), dir.join(&name)).unwrap();
+        }
+    }
+}
+
+/// Rewrites the header `path`, replacing `from` by `to` (which must occur).
+fn edit(path: &Path, from: &str, to: &str) {
+    let bytes = fs::read(path).unwrap();
+    let at = bytes
+        .windows(from.len())
+        .position(|w| w == from.as_bytes())
+        .unwrap_or_else(|| panic!("'{from}' not in {}", path.display()));
+    let mut out = bytes[..at].to_vec();
+    out.extend_from_slice(to.as_bytes());
+    out.extend_from_slice(&bytes[at + from.len()..]);
+    fs::write(path, out).unwrap();
+}
+
+/// Each case: the fixture set to copy, the header to open, the edit to
+/// make, and the phrases the error must contain.
+type Case<'a> = (&'a str, &'a str, &'a str, &'a str, &'a [&'a str]);
+
+#[test]
+fn bad_headers_and_data_give_one_line_errors() {
+    let cases: &[Case] = &[
+        (
+            "nrrd_raw_le_f32",
+            "nrrd_raw_le_f32.nrrd",
+            "sizes: 9 7 6\n",
+            "",
+            &["missing 'sizes' field"],
+        ),
+        (
+            "nrrd_raw_le_f32",
+            "nrrd_raw_le_f32.nrrd",
+            "type: float",
+            "type: quaternion",
+            &["type 'quaternion' is not supported"],
+        ),
+        (
+            "nrrd_raw_le_f32",
+            "nrrd_raw_le_f32.nrrd",
+            "type: float",
+            "type: unsigned long long int",
+            &["64-bit integers"],
+        ),
+        (
+            "nrrd_raw_le_f32",
+            "nrrd_raw_le_f32.nrrd",
+            "encoding: raw",
+            "encoding: hex",
+            &["encoding 'hex' is not supported"],
+        ),
+        (
+            "nrrd_raw_le_f32",
+            "nrrd_raw_le_f32.nrrd",
+            "encoding: raw\n",
+            "",
+            &["missing 'encoding' field"],
+        ),
+        (
+            "nrrd_raw_le_f32",
+            "nrrd_raw_le_f32.nrrd",
+            "type: float\n",
+            "",
+            &["missing 'type' field"],
+        ),
+        (
+            "nrrd_raw_le_f32",
+            "nrrd_raw_le_f32.nrrd",
+            "dimension: 3\n",
+            "",
+            &["missing 'dimension' field"],
+        ),
+        (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0,-1,0)",
+            "none",
+            &["'space directions' entry 2 is 'none'"],
+        ),
+        (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0.5,0,0) (0,-1,0) (0,0,2)",
+            "(1,0,0) (1,0,0) (0,0,1)",
+            &["'space directions': the direction matrix is singular (axes are parallel)"],
+        ),
+        (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0.5,0,0) (0,-1,0) (0,0,2)",
+            "(1,0,0) (0,1,0) (1,1,0)",
+            &["the direction matrix is singular"],
+        ),
+        (
+            "nrrd_gzip_be_i16",
+            "nrrd_gzip_be_i16.nrrd",
+            "(0,-1,0)",
+            "(0,0,0)",
+            &["'space directions': direction of axis 1 (0, 0, 0) is not a usable vector"],
+        ),
+        (
+            "nrrd_detached_rot_f64",
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "sizes: 9 7 7",
+            &["nrrd_detached_rot_f64.raw: file has 3024 bytes"],
+        ),
+        (
+            "nrrd_detached_rot_f64",
+            "nrrd_detached_rot_f64.nhdr",
+            "data file: nrrd_detached_rot_f64.raw",
+            "data file: elsewhere.raw",
+            &["cannot open data file", "elsewhere.raw"],
+        ),
+        (
+            "nrrd_list_i8",
+            "nrrd_list_i8.nhdr",
+            "nrrd_list_i8_3.raw",
+            "nrrd_list_i8_missing.raw",
+            &["cannot open data file", "nrrd_list_i8_missing.raw"],
+        ),
+        (
+            "nrrd_list_i8",
+            "nrrd_list_i8.nhdr",
+            "nrrd_list_i8_5.raw\n",
+            "",
+            &["'data file: LIST' names 5 files, sizes need 6"],
+        ),
+        (
+            "nrrd_list3_gz_u16",
+            "nrrd_list3_gz_u16.nhdr",
+            "LIST 3",
+            "LIST 1",
+            &["subdimension 1 is not supported"],
+        ),
+        (
+            "nrrd_list3_gz_u16",
+            "nrrd_list3_gz_u16.nhdr",
+            "sizes: 9 7 6",
+            "sizes: 9 7 5",
+            &["do not split the 5 z-slices evenly"],
+        ),
+        (
+            "nrrd_pattern_f64",
+            "nrrd_pattern_f64.nhdr",
+            "%03d.raw 7 2 -1 2",
+            "%03d.raw 8 3 -1 2",
+            &["cannot open data file", "nrrd_pattern_f64_008.raw"],
+        ),
+        (
+            "nrrd_pattern_f64",
+            "nrrd_pattern_f64.nhdr",
+            "%03d.raw 7 2 -1 2",
+            "%03d.raw 2 7 -1 2",
+            &["names 0 files"],
+        ),
+        (
+            "nrrd_pattern_f64",
+            "nrrd_pattern_f64.nhdr",
+            "%03d.raw 7 2 -1 2",
+            "%s.raw 7 2 -1 2",
+            &["bad 'data file' format"],
+        ),
+        (
+            "nrrd_pattern_f64",
+            "nrrd_pattern_f64.nhdr",
+            "%03d.raw 7 2 -1 2",
+            "%03d.raw 7 2 0 2",
+            &["zero step"],
+        ),
+    ];
+    for (set, header, from, to, phrases) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        copy_set(dir.path(), set);
+        let path = dir.path().join(header);
+        edit(&path, from, to);
+        let e = open_err(&path);
+        for phrase in *phrases {
+            assert!(e.contains(phrase), "{header} ({from} -> {to}): {e}");
+        }
+    }
+}
+
+#[test]
+fn bad_data_files_give_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+
+    // A truncated gzip data file.
+    copy_set(d, "nrrd_detached_gz_u16");
+    let gz = d.join("nrrd_detached_gz_u16.raw.gz");
+    let bytes = fs::read(&gz).unwrap();
+    fs::write(&gz, &bytes[..bytes.len() / 2]).unwrap();
+    let e = open_err(&d.join("nrrd_detached_gz_u16.nhdr"));
+    assert!(e.contains("nrrd_detached_gz_u16.raw.gz: "), "{e}");
+    assert!(e.contains("gzip data"), "{e}");
+
+    // A LIST slice file too short for its slice.
+    copy_set(d, "nrrd_list_i8");
+    let slice = d.join("nrrd_list_i8_2.raw");
+    let bytes = fs::read(&slice).unwrap();
+    fs::write(&slice, &bytes[..bytes.len() - 1]).unwrap();
+    let e = open_err(&d.join("nrrd_list_i8.nhdr"));
+    assert!(e.contains("nrrd_list_i8_2.raw: file has 83 bytes"), "{e}");
+
+    // A pattern file with fewer samples than its skip-to-the-end needs.
+    copy_set(d, "nrrd_pattern_f64");
+    fs::write(d.join("nrrd_pattern_f64_004.raw"), b"short").unwrap();
+    let e = open_err(&d.join("nrrd_pattern_f64.nhdr"));
+    assert!(
+        e.contains("nrrd_pattern_f64_004.raw: file has 5 bytes"),
+        "{e}"
+    );
+
+    // A pattern naming a billion files that are not there: refused at the
+    // first (its names are not all built first: that took gigabytes).
+    let billion = d.join("billion.nhdr");
+    fs::write(
+        &billion,
+        "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 4 4 1000000000\nencoding: raw\ndata file: s%03d.raw 0 999999999 1 2\n\n",
+    )
+    .unwrap();
+    let e = open_err(&billion);
+    assert!(
+        e.contains("cannot open data file") && e.contains("s000.raw (file 1 of the 1000000000"),
+        "{e}"
+    );
+
+    // Truncated ascii data.
+    copy_set(d, "nrrd_ascii_i8");
+    let ascii = d.join("nrrd_ascii_i8.nrrd");
+    let bytes = fs::read(&ascii).unwrap();
+    fs::write(&ascii, &bytes[..bytes.len() - 200]).unwrap();
+    let e = open_err(&ascii);
+    assert!(e.contains("ascii data holds"), "{e}");
+}
+
+/// An attached ascii NRRD of 4x4x4 samples of `type_name`: 63 zeros, then
+/// `last`.
+fn ascii_nrrd(dir: &Path, type_name: &str, last: &str) -> std::path::PathBuf {
+    let mut text =
+        format!("NRRD0004\ntype: {type_name}\ndimension: 3\nsizes: 4 4 4\nencoding: ascii\n\n");
+    text.push_str(&"0 ".repeat(63));
+    text.push_str(last);
+    text.push('\n');
+    let path = dir.join(format!("{type_name}.nrrd"));
+    fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn ascii_values_must_fit_the_declared_type() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (type_name, last, phrase) in [
+        (
+            "uint8",
+            "300",
+            "ascii value '300' at sample 63 does not fit u8",
+        ),
+        (
+            "uint8",
+            "-1",
+            "ascii value '-1' at sample 63 does not fit u8",
+        ),
+        (
+            "uint8",
+            "1.5",
+            "ascii value '1.5' at sample 63 does not fit u8",
+        ),
+        ("int16", "40000", "'40000' at sample 63 does not fit i16"),
+        (
+            "uint8",
+            "x7",
+            "ascii value 'x7' at sample 63 is not a number",
+        ),
+        (
+            "float",
+            "1e300",
+            "'1e300' at sample 63 is outside the range of f32",
+        ),
+    ] {
+        let e = open_err(&ascii_nrrd(d, type_name, last));
+        assert!(e.contains(phrase), "{type_name} {last}: {e}");
+    }
+    // The extremes of a type are values of it; float values are rounded
+    // to float.
+    for (type_name, last, scalar) in [
+        ("uint8", "255", ScalarType::U8),
+        ("int8", "-128", ScalarType::I8),
+        ("uint32", "4294967295", ScalarType::U32),
+        ("float", "0.1", ScalarType::F32),
+    ] {
+        let vol = volume::open(&ascii_nrrd(d, type_name, last), None).unwrap();
+        let want: f64 = match scalar {
+            ScalarType::F32 => f64::from(0.1f32),
+            _ => last.parse().unwrap(),
+        };
+        assert_eq!(all_samples(vol.as_ref())[63], want, "{type_name}");
+    }
+}

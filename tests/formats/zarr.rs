@@ -1,0 +1,225 @@
+//! Zarr v2 and v3 and OME-Zarr against fixtures written by zarr-python 3
+//! (`scripts/fixtures/make_zarr.py`): the same samples and the same mesh,
+//! in the same physical coordinates, as the `.npy` of the same samples;
+//! missing chunks read as the fill value; each chunk is decompressed once
+//! per pass; damaged stores give one clear line and no output.
+
+use crate::common;
+
+use common::cli::{refused, s, tmc};
+use common::formats::{all_samples, data_dir};
+use std::path::{Path, PathBuf};
+use tmc::volume::zarr::{self, ZarrSelect};
+use tmc::volume::{self, ValueFrom};
+use tmc::{extract, ExtractParams, SampleSource};
+
+fn data(name: &str) -> PathBuf {
+    data_dir().join(name)
+}
+
+/// The mesh of `src` at a few isovalues equals the twin's, placed on
+/// `spacing` and `origin`.
+fn same_mesh(src: &dyn SampleSource, twin: &dyn SampleSource, spacing: [f64; 3], origin: [f64; 3]) {
+    for iso in [20.5, 41.0, 60.5] {
+        let params = ExtractParams {
+            iso,
+            ..ExtractParams::default()
+        };
+        let (mesh, _) = extract(src, &params).unwrap();
+        let (want, _) = extract(twin, &params).unwrap();
+        assert!(!want.triangles.is_empty());
+        assert_eq!(mesh.triangles, want.triangles, "iso {iso}");
+        for (v, w) in mesh.vertices.iter().zip(&want.vertices) {
+            for a in 0..3 {
+                let mapped = origin[a] + f64::from(w[a]) * spacing[a];
+                assert!((f64::from(v[a]) - mapped).abs() < 1e-5, "{v:?} vs {w:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn v2_and_v3_arrays_with_every_codec_read_as_the_npy() {
+    let twin = volume::open(&data("vt_twin.npy"), None).unwrap();
+    for name in [
+        "zr_v3_zstd.zarr",
+        "zr_v3_blosc_lz4.zarr",
+        "zr_v3_blosc_zlib_bitshuffle.zarr",
+        "zr_v3_gzip_big.zarr",
+        "zr_v3_transpose.zarr",
+        "zr_v3_shard.zarr",
+        "zr_v2_blosc.zarr",
+        "zr_v2_zlib_be.zarr",
+    ] {
+        let src = volume::open(&data(name), None).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(src.grid().dims, [9, 7, 6], "{name}");
+        assert_eq!(all_samples(&*src), all_samples(&*twin), "{name}");
+        same_mesh(&*src, &*twin, [1.0; 3], [0.0; 3]);
+        let notes = src.notes();
+        let chunks = notes.chunks.unwrap();
+        assert_eq!(chunks.chunk_shape, [4, 3, 2], "{name}");
+        assert!(chunks.stored_bytes.unwrap() > 0);
+    }
+}
+
+#[test]
+fn missing_chunks_read_as_the_fill_value() {
+    let src = volume::open(&data("zr_v3_missing.zarr"), None).unwrap();
+    let want = volume::open(&data("zr_v3_missing.expected.npy"), None).unwrap();
+    let got = all_samples(&*src);
+    assert_eq!(got, all_samples(&*want));
+    assert!(got[9 * 7 * 2..].iter().all(|&v| v == 7.0));
+    assert!(got[..9 * 7 * 2].iter().any(|&v| v != 7.0));
+}
+
+#[test]
+fn groups_by_path_or_array_option_and_ome_levels() {
+    let twin = volume::open(&data("vt_twin.npy"), None).unwrap();
+    let by_path = volume::open(&data("zr_group.zarr/scans/ct"), None).unwrap();
+    assert_eq!(all_samples(&*by_path), all_samples(&*twin));
+    let select = ZarrSelect {
+        array: Some("scans/ct".into()),
+        ..ZarrSelect::default()
+    };
+    let by_option = zarr::open(&data("zr_group.zarr"), &select).unwrap();
+    assert_eq!(all_samples(&by_option), all_samples(&*twin));
+    for name in ["zr_ome_04.zarr", "zr_ome_05.zarr"] {
+        let src = volume::open(&data(name), None).unwrap();
+        let g = *src.grid();
+        assert_eq!(g.spacing, [0.5, 1.0, 2.0], "{name}");
+        assert_eq!(g.origin, [1.5, -2.0, 3.25], "{name}");
+        assert!(matches!(src.notes().spacing_from, ValueFrom::File { .. }));
+        same_mesh(&*src, &*twin, [0.5, 1.0, 2.0], [1.5, -2.0, 3.25]);
+        let coarse = ZarrSelect {
+            level: Some(1),
+            ..ZarrSelect::default()
+        };
+        let l1 = zarr::open(&data(name), &coarse).unwrap();
+        assert_eq!(l1.grid().dims, [5, 4, 3]);
+        assert_eq!(l1.grid().spacing, [1.0, 2.0, 4.0]);
+    }
+}
+
+#[test]
+fn each_chunk_is_decompressed_once_per_pass() {
+    let twin = volume::open(&data("zr_count.npy"), None).unwrap();
+    for threads in [1, 2] {
+        let src = zarr::open(&data("zr_count.zarr"), &ZarrSelect::default()).unwrap();
+        let params = ExtractParams {
+            iso: 100.5,
+            threads,
+            ..ExtractParams::default()
+        };
+        let (mesh, _) = extract(&src, &params).unwrap();
+        let (want, _) = extract(&*twin, &params).unwrap();
+        assert!(!want.triangles.is_empty());
+        assert_eq!(mesh.triangles, want.triangles);
+        assert_eq!(mesh.vertices, want.vertices);
+        // 5 x 3 x 3 chunks. Two workers that miss the same layer at the
+        // same moment may both decode it, at most once more per slab.
+        let decoded = src.chunks_decoded();
+        if threads == 1 {
+            assert_eq!(decoded, 45);
+        } else {
+            assert!((45..=90).contains(&decoded), "{decoded}");
+        }
+    }
+}
+
+/// A copy of the fixture `name` in a temporary directory.
+fn copy(name: &str, dir: &Path) -> PathBuf {
+    fn walk(from: &Path, to: &Path) {
+        std::fs::create_dir_all(to).unwrap();
+        for e in std::fs::read_dir(from).unwrap() {
+            let e = e.unwrap();
+            let target = to.join(e.file_name());
+            if e.path().is_dir() {
+                walk(&e.path(), &target);
+            } else {
+                std::fs::copy(e.path(), target).unwrap();
+            }
+        }
+    }
+    let to = dir.join(name);
+    walk(&data(name), &to);
+    to
+}
+
+#[test]
+fn damaged_stores_give_one_line_and_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    // A truncated chunk.
+    let t = copy("zr_v3_zstd.zarr", dir.path());
+    let chunk = t.join("c/1/1/1");
+    let bytes = std::fs::read(&chunk).unwrap();
+    std::fs::write(&chunk, &bytes[..bytes.len() / 2]).unwrap();
+    refused(&t, &[], "chunk [1, 1, 1]");
+    // An unknown codec.
+    let w = copy("zr_v2_blosc.zarr", dir.path());
+    let meta = std::fs::read_to_string(w.join(".zarray")).unwrap();
+    std::fs::write(
+        w.join(".zarray"),
+        meta.replace("\"blosc\"", "\"nosuchcodec\""),
+    )
+    .unwrap();
+    refused(&w, &[], "cannot open the Zarr array");
+    // No metadata.
+    let m = copy("zr_v3_gzip_big.zarr", dir.path());
+    std::fs::remove_file(m.join("zarr.json")).unwrap();
+    refused(&m, &[], "no zarr.json (v3) or .zarray/.zgroup (v2)");
+    // A group without naming its array, an array that is not there, a
+    // level that is not there, an axis of two entries.
+    refused(&data("zr_group.zarr"), &[], "--array PATH");
+    refused(
+        &data("zr_group.zarr"),
+        &["--array", "scans/mr"],
+        "cannot open the Zarr array at '/scans/mr'",
+    );
+    refused(
+        &data("zr_ome_04.zarr"),
+        &["--level", "2"],
+        "2 levels (0 to 1)",
+    );
+    refused(&data("zr_t2.zarr"), &[], "has 2 entries");
+    refused(&data("vt_twin.npy"), &["--array", "a"], "not one");
+}
+
+#[test]
+fn cli_extracts_a_zarr_like_the_npy_and_info_tells_the_chunks() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |input: &Path, extra: &[&str], name: &str| {
+        let out = dir.path().join(name);
+        let mut args = vec!["extract", s(input), "--iso", "41", "-o", s(&out), "-q"];
+        args.extend_from_slice(extra);
+        let r = tmc(&args);
+        assert!(r.status.success(), "{r:?}");
+        std::fs::read(out).unwrap()
+    };
+    let want = run(
+        &data("vt_twin.npy"),
+        &["--spacing", "0.5,1,2", "--origin", "1.5,-2,3.25"],
+        "a.ply",
+    );
+    assert_eq!(run(&data("zr_ome_05.zarr"), &[], "b.ply"), want);
+    assert_eq!(
+        run(
+            &data("zr_group.zarr"),
+            &[
+                "--array",
+                "scans/ct",
+                "--spacing",
+                "0.5,1,2",
+                "--origin",
+                "1.5,-2,3.25"
+            ],
+            "c.ply"
+        ),
+        want
+    );
+    let info = tmc(&["info", "--json", s(&data("zr_v3_shard.zarr"))]);
+    let j: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert_eq!(j["format"], "Zarr");
+    assert_eq!(j["chunks"]["chunk_shape"], serde_json::json!([4, 3, 2]));
+    assert!(j["chunks"]["codec"].as_str().unwrap().contains("sharding"));
+    assert_eq!(j["chunks"]["chunks"], 8);
+}

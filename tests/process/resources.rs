@@ -1,0 +1,139 @@
+//! Running out of resources: a full disk is one clean error with nothing
+//! left behind, and `--max-memory` bounds the pipeline without changing the
+//! output (its refusal when too small is a row of `bad_inputs.rs`).
+
+use crate::common;
+
+use common::cli::{assert_one_line, json_number, names, s, synth, tmc};
+use std::fs;
+use std::path::Path;
+use std::process::Command;
+
+/// A small tmpfs mounted on a directory, unmounted when dropped (also
+/// when the test fails).
+struct SmallDisk {
+    dir: tempfile::TempDir,
+}
+
+impl SmallDisk {
+    /// Mounts a tmpfs of `size` (e.g. `1m`), or `None` if this process may
+    /// not mount (not root, or in a container without the capability).
+    fn mount(size: &str) -> Option<SmallDisk> {
+        let dir = tempfile::tempdir().unwrap();
+        let status = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(dir.path())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .ok()?;
+        status.success().then_some(SmallDisk { dir })
+    }
+
+    fn path(&self) -> &Path {
+        self.dir.path()
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        let unmounted = Command::new("umount")
+            .arg(self.dir.path())
+            .status()
+            .is_ok_and(|s| s.success());
+        if !unmounted {
+            eprintln!("could not unmount {}", self.dir.path().display());
+        }
+    }
+}
+
+#[test]
+fn a_full_disk_is_one_clean_error_with_nothing_left() {
+    let Some(disk) = SmallDisk::mount("1m") else {
+        println!("skipped: cannot mount a tmpfs here (needs root)");
+        return;
+    };
+    let work = tempfile::tempdir().unwrap();
+    // Dense noise: a mesh of several MiB in every format, .tmesh included.
+    let input = synth(work.path(), "noise", "96,96,96", "f32", "noise.npy");
+    for name in ["mesh.ply", "mesh.obj", "mesh.off", "mesh.stl", "mesh.tmesh"] {
+        let output = disk.path().join(name);
+        let out = tmc(&["extract", s(&input), "--iso", "0", "-o", s(&output)]);
+        let line = assert_one_line(&out, 1);
+        assert!(
+            line.contains(name) && line.contains("No space left on device"),
+            "{line}"
+        );
+        assert!(
+            names(disk.path()).is_empty(),
+            "{name}: left {:?}",
+            names(disk.path())
+        );
+    }
+    // The same mesh fits elsewhere: the failure was the disk.
+    let output = work.path().join("mesh.tmesh");
+    let out = tmc(&["extract", s(&input), "--iso", "0", "-o", s(&output)]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(fs::metadata(&output).unwrap().len() > 1 << 20);
+}
+
+/// The `"slabs"` figure of `--json` output.
+fn slabs(json: &[u8]) -> u64 {
+    let text = String::from_utf8_lossy(json);
+    let at = text.find("\"slabs\":").expect("slabs in JSON") + "\"slabs\":".len();
+    let digits: String = text[at..]
+        .chars()
+        .take_while(char::is_ascii_digit)
+        .collect();
+    digits.parse().unwrap()
+}
+
+#[test]
+fn max_memory_thins_the_slabs_and_keeps_the_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = synth(dir.path(), "gyroid", "200,200,100", "f32", "gyroid.npy");
+    let run = |name: &str, extra: &[&str]| {
+        let output = dir.path().join(name);
+        let mut argv = vec!["extract", s(&input), "--iso", "0", "-o", s(&output)];
+        argv.extend(["--json", "--threads", "2"]);
+        argv.extend(extra);
+        let out = tmc(&argv);
+        assert_eq!(out.status.code(), Some(0), "{extra:?}: {out:?}");
+        (fs::read(&output).unwrap(), slabs(&out.stdout))
+    };
+    let (free, free_slabs) = run("free.ply", &[]);
+    // 20 MiB: 16 MiB of buffers, two workers on 200x200 planes, and slabs
+    // of 4 layers instead of 8 (99 layers, the thinnest default slabs).
+    let (bounded, bounded_slabs) = run("bounded.ply", &["--max-memory", "20M"]);
+    assert_eq!(free_slabs, 13);
+    assert!(bounded_slabs > free_slabs, "{bounded_slabs} slabs");
+    assert!(free == bounded, "--max-memory changed the output");
+    let (roomy, roomy_slabs) = run("roomy.ply", &["--max-memory", "4G"]);
+    assert_eq!(roomy_slabs, free_slabs);
+    assert!(roomy == free);
+}
+
+#[test]
+fn max_memory_holds_on_the_densest_surface() {
+    // Uniform random samples: about 3.8 triangles a cell, some 25 times
+    // what the budget's first estimate of a slab's mesh assumed.
+    let dir = tempfile::tempdir().unwrap();
+    let input = common::cli::uniform_npy(dir.path(), [256, 256, 48]);
+    let run = |name: &str, extra: &[&str]| {
+        let output = dir.path().join(name);
+        let mut argv = vec!["extract", s(&input), "--iso", "0.5", "-o", s(&output)];
+        argv.extend(["--json", "-q", "--threads", "2"]);
+        argv.extend(extra);
+        let out = tmc(&argv);
+        assert_eq!(out.status.code(), Some(0), "{extra:?}: {out:?}");
+        (fs::read(&output).unwrap(), out.stdout)
+    };
+    let (free, free_json) = run("free.tmesh", &[]);
+    let (bounded, bounded_json) = run("bounded.tmesh", &["--max-memory", "48M"]);
+    assert!(free == bounded, "--max-memory changed the output");
+    let peak = json_number(&bounded_json, "peak_rss_anon_bytes");
+    let free_peak = json_number(&free_json, "peak_rss_anon_bytes");
+    assert!(
+        peak <= 48.0 * (1 << 20) as f64,
+        "peak {peak} bytes beyond --max-memory 48M (without it: {free_peak})"
+    );
+}

@@ -229,9 +229,9 @@ fn unchecked_fields_are_refused() {
         (
             header(&|b| {
                 b[8..12].copy_from_slice(&2u32.to_le_bytes());
-                b[99] = 3;
+                b[99] = 5;
             }),
-            "unknown attribute bits 0x03",
+            "unknown attribute bits 0x05",
         ),
         (
             header(&|b| {

@@ -7,20 +7,25 @@
 //! request decodes the whole layer (its chunks in parallel, by the caller)
 //! and keeps it; the other planes of the layer, and the worker of the next
 //! slab that starts in it, are copied from memory. Only a few layers are
-//! kept, two per worker and two more: a layer whose planes have all been
+//! kept, one per worker and two more: a layer whose planes have all been
 //! read goes first (the lowest such, as the pass moves up in z), else the
 //! one used longest ago. So memory is bounded by a few layers per worker,
 //! never by the volume.
 //!
-//! No lock is held while a layer decodes: two workers that miss the same
-//! layer at the same moment both decode it (the second copy is dropped),
-//! which costs time but cannot deadlock the worker pool. Waiting for
-//! another worker's decode could: the decoding thread may itself wait on
-//! the pool.
+//! No lock is held while a layer decodes. A worker that misses a layer
+//! another worker is decoding waits for that decode (on a condition
+//! variable, holding nothing) instead of decoding it a second time: with
+//! slabs as deep as a chunk layer, two workers reach the next layer at
+//! about the same moment, and before this wait most chunks of a 32 GiB
+//! volume were decompressed twice. The wait cannot deadlock: a decode runs
+//! on the caller's thread and threads of its own (Zarr's scoped threads),
+//! never on the pass's worker pool, and waits for no worker; a decode that
+//! fails or panics still wakes its waiters, which then decode the layer
+//! themselves (and meet the error themselves).
 
 use super::{decode_samples, Endian, Grid, ScalarType, SharedPlane};
 use crate::{Error, Result};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 
 /// One decoded layer.
 struct Slot {
@@ -34,23 +39,63 @@ struct Slot {
     used: u64,
 }
 
+/// The kept layers and the clock of their use (see the module
+/// documentation), and the layers being decoded.
+#[derive(Default)]
+struct Kept {
+    slots: Vec<Slot>,
+    clock: u64,
+    /// Layers a worker is decoding now; no layer is here twice.
+    decoding: Vec<usize>,
+}
+
 /// The kept layers (see the module documentation).
 pub(crate) struct ChunkLayers {
-    slots: Mutex<(Vec<Slot>, u64)>,
+    kept: Mutex<Kept>,
+    /// Signalled whenever a decode ends (kept, failed or panicked).
+    decoded: Condvar,
+}
+
+/// A layer in flight: ends its decode, whatever happens to it, and wakes
+/// the workers waiting for it.
+struct InFlight<'a> {
+    layers: &'a ChunkLayers,
+    layer: usize,
+}
+
+impl Drop for InFlight<'_> {
+    fn drop(&mut self) {
+        let mut kept = self.layers.lock();
+        kept.decoding.retain(|&l| l != self.layer);
+        drop(kept);
+        self.layers.decoded.notify_all();
+    }
 }
 
 impl ChunkLayers {
     /// No layer kept.
     pub(crate) fn new() -> ChunkLayers {
         ChunkLayers {
-            slots: Mutex::new((Vec::new(), 0)),
+            kept: Mutex::new(Kept::default()),
+            decoded: Condvar::new(),
         }
     }
 
-    /// How many layers are kept at most: two per thread of the pool the
-    /// caller runs on, and two more.
+    /// The kept layers, locked (a panic elsewhere leaves them usable: every
+    /// change below is whole before the lock is released).
+    fn lock(&self) -> MutexGuard<'_, Kept> {
+        self.kept.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// How many layers are kept at most: one per thread of the pool the
+    /// caller runs on, and two more (a worker reads its layer, and at the
+    /// top of its slab the first plane of the next, which the worker above
+    /// may have read whole already). Memory is this many layers, and those
+    /// a worker's slab still holds (`HeldPlanes`), which are mostly the
+    /// same. (Before missed layers were waited for, it was two per worker
+    /// and two more.)
     fn capacity() -> usize {
-        2 * rayon::current_num_threads() + 2
+        rayon::current_num_threads() + 2
     }
 
     /// The samples of layer `layer` (of `planes` planes), marking plane
@@ -62,19 +107,26 @@ impl ChunkLayers {
         plane: usize,
         decode: impl FnOnce() -> Result<Vec<u8>>,
     ) -> Result<Arc<Vec<u8>>> {
-        if let Some(data) = self.find(layer, plane) {
-            return Ok(data);
+        let mut kept = self.lock();
+        loop {
+            if let Some(data) = Self::find(&mut kept, layer, plane) {
+                return Ok(data);
+            }
+            if !kept.decoding.contains(&layer) {
+                kept.decoding.push(layer);
+                break;
+            }
+            kept = self.decoded.wait(kept).unwrap_or_else(|p| p.into_inner());
         }
+        drop(kept);
+        let flight = InFlight {
+            layers: self,
+            layer,
+        };
         let data = Arc::new(decode()?);
-        let mut guard = self.slots.lock().unwrap_or_else(|p| p.into_inner());
-        let (slots, clock) = &mut *guard;
+        let mut kept = self.lock();
+        let Kept { slots, clock, .. } = &mut *kept;
         *clock += 1;
-        if let Some(s) = slots.iter_mut().find(|s| s.layer == layer) {
-            // Another worker decoded it meanwhile: keep one copy.
-            s.read[plane] = true;
-            s.used = *clock;
-            return Ok(Arc::clone(&s.data));
-        }
         if slots.len() >= Self::capacity() {
             let done = (0..slots.len())
                 .filter(|&i| slots[i].read.iter().all(|&r| r))
@@ -92,6 +144,8 @@ impl ChunkLayers {
             read,
             used: *clock,
         });
+        drop(kept);
+        drop(flight);
         Ok(data)
     }
 
@@ -154,13 +208,12 @@ impl ChunkLayers {
     }
 
     /// The kept layer `layer`, marking plane `plane` read.
-    fn find(&self, layer: usize, plane: usize) -> Option<Arc<Vec<u8>>> {
-        let mut guard = self.slots.lock().unwrap_or_else(|p| p.into_inner());
-        let (slots, clock) = &mut *guard;
-        *clock += 1;
-        let s = slots.iter_mut().find(|s| s.layer == layer)?;
+    fn find(kept: &mut Kept, layer: usize, plane: usize) -> Option<Arc<Vec<u8>>> {
+        kept.clock += 1;
+        let clock = kept.clock;
+        let s = kept.slots.iter_mut().find(|s| s.layer == layer)?;
         s.read[plane] = true;
-        s.used = *clock;
+        s.used = clock;
         Some(Arc::clone(&s.data))
     }
 }
@@ -190,14 +243,54 @@ mod tests {
             layers.get(layer, 4, 0, || Ok(vec![1])).unwrap();
         }
         let kept: Vec<usize> = layers
-            .slots
             .lock()
-            .unwrap()
-            .0
+            .slots
             .iter()
             .map(|s| s.layer)
             .collect();
         assert_eq!(kept.len(), cap);
         assert!(!kept.contains(&0), "{kept:?}");
+    }
+
+    #[test]
+    fn a_layer_two_workers_miss_at_once_is_decoded_once() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let layers = ChunkLayers::new();
+        let decodes = AtomicUsize::new(0);
+        let start = std::sync::Barrier::new(4);
+        std::thread::scope(|s| {
+            for plane in 0..4 {
+                let (layers, decodes, start) = (&layers, &decodes, &start);
+                s.spawn(move || {
+                    start.wait();
+                    let d = layers
+                        .get(3, 4, plane, || {
+                            decodes.fetch_add(1, Ordering::SeqCst);
+                            std::thread::sleep(std::time::Duration::from_millis(200));
+                            Ok(vec![5; 16])
+                        })
+                        .unwrap();
+                    assert_eq!(*d, vec![5; 16]);
+                });
+            }
+        });
+        assert_eq!(decodes.load(Ordering::SeqCst), 1);
+        assert!(layers.lock().decoding.is_empty());
+    }
+
+    #[test]
+    fn a_failed_or_panicking_decode_wakes_its_waiters() {
+        let layers = ChunkLayers::new();
+        let err = layers.get(0, 2, 0, || Err(Error::Invalid("bad chunk".into())));
+        assert!(err.is_err());
+        assert!(layers.lock().decoding.is_empty());
+        let panicked = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let _ = layers.get(1, 2, 0, || panic!("decoder panicked"));
+        }));
+        assert!(panicked.is_err());
+        assert!(layers.lock().decoding.is_empty());
+        // Both layers can still be decoded afterwards.
+        assert_eq!(*layers.get(0, 2, 1, || Ok(vec![1])).unwrap(), vec![1]);
+        assert_eq!(*layers.get(1, 2, 1, || Ok(vec![2])).unwrap(), vec![2]);
     }
 }

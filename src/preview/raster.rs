@@ -271,6 +271,14 @@ mod tests {
     use super::super::views::Bounds;
     use super::*;
 
+    /// The four views of the unit cube.
+    fn unit_views() -> [View; 4] {
+        View::four(&Bounds {
+            min: [0.0; 3],
+            max: [1.0; 3],
+        })
+    }
+
     fn square() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
         let v = vec![
             [0.0, 0.5, 0.0],
@@ -283,11 +291,7 @@ mod tests {
 
     #[test]
     fn order_and_split_do_not_change_the_pixels() {
-        let b = Bounds {
-            min: [0.0; 3],
-            max: [1.0; 3],
-        };
-        let views = View::four(&b);
+        let views = unit_views();
         let (v, t) = square();
         let mut whole = Raster::new();
         whole.draw(&views, &v, &t);
@@ -306,11 +310,7 @@ mod tests {
 
     #[test]
     fn a_face_turned_away_is_marked_back() {
-        let b = Bounds {
-            min: [0.0; 3],
-            max: [1.0; 3],
-        };
-        let views = View::four(&b);
+        let views = unit_views();
         let (v, t) = square();
         // Counter-clockwise seen from -y: the normal (0, -1, 0) faces the
         // front view, which looks along +y.
@@ -325,11 +325,7 @@ mod tests {
 
     #[test]
     fn tiny_triangles_cover_the_centres_they_contain_and_only_those() {
-        let b = Bounds {
-            min: [0.0; 3],
-            max: [1.0; 3],
-        };
-        let views = View::four(&b);
+        let views = unit_views();
         // Many sub-pixel triangles tiling the square: no hole.
         let n = 600;
         let mut v = Vec::new();

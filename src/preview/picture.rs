@@ -1,6 +1,14 @@
 //! The picture: the four views' depth buffers turned into colours, the
 //! tiles' names, and a caption band under them, written with the hand-drawn
 //! font ([`super::font`]).
+//!
+//! Shading is deferred to here: a pixel's normal is that of the depth
+//! buffer's surface, from its slope in x and y (the depth is in pixels, as
+//! x and y are). Of the two one-sided differences on each axis the smaller
+//! is taken, so that a step in depth (one surface in front of another)
+//! does not shade as a steep slope; a pixel with no covered neighbour on an
+//! axis is taken as flat along it. Lambert's cosine against a light at the
+//! viewer's upper left, plus some ambient light.
 
 use super::font;
 use super::raster::{Raster, BACK, EMPTY};
@@ -39,7 +47,7 @@ pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
         let (tx, ty) = ((view % GRID) * TILE, (view / GRID) * TILE);
         for y in 0..TILE {
             for x in 0..TILE {
-                put(tx + x, ty + y, colour(raster.key(view, x, y)));
+                put(tx + x, ty + y, colour(raster, view, x, y));
             }
         }
     }
@@ -73,14 +81,57 @@ pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
     rgb
 }
 
-/// The colour of a pixel's key.
-fn colour(key: u64) -> [u8; 3] {
-    if key == EMPTY {
-        return BACKGROUND;
+/// Direction toward the light in view coordinates (right, up, toward the
+/// viewer's back): from the upper left, a little in front; unit length.
+const LIGHT: [f32; 3] = [-0.4 / 1.233_15, 0.6 / 1.233_15, -1.0 / 1.233_15];
+
+/// The depth of a key, `None` for [`EMPTY`].
+#[inline]
+fn depth(key: u32) -> Option<f32> {
+    (key != EMPTY).then(|| f32::from_bits(key & !BACK))
+}
+
+/// The slope of the depth at `here` from its neighbours `before` and
+/// `after` on one axis: the smaller one-sided difference.
+#[inline]
+fn slope(before: Option<f32>, here: f32, after: Option<f32>) -> f32 {
+    match (before, after) {
+        (Some(b), Some(a)) => {
+            let (l, r) = (here - b, a - here);
+            if l.abs() <= r.abs() {
+                l
+            } else {
+                r
+            }
+        }
+        (Some(b), None) => here - b,
+        (None, Some(a)) => a - here,
+        (None, None) => 0.0,
     }
-    let shade = key as u8;
-    let light = f32::from(shade & !BACK) / 127.0;
-    let base = if shade & BACK == 0 { OUTSIDE } else { INSIDE };
+}
+
+/// The colour of pixel `(x, y)` of `view`.
+fn colour(raster: &Raster, view: usize, x: usize, y: usize) -> [u8; 3] {
+    let key = raster.key(view, x, y);
+    let Some(here) = depth(key) else {
+        return BACKGROUND;
+    };
+    let at = |x: usize, y: usize| depth(raster.key(view, x, y));
+    let gx = slope(
+        x.checked_sub(1).and_then(|x| at(x, y)),
+        here,
+        (x + 1 < TILE).then(|| at(x + 1, y)).flatten(),
+    );
+    let gy = slope(
+        y.checked_sub(1).and_then(|y| at(x, y)),
+        here,
+        (y + 1 < TILE).then(|| at(x, y + 1)).flatten(),
+    );
+    // The normal (gx, -gy, -1): x right, y up (pixel y grows downward),
+    // depth away from the viewer.
+    let cos = (gx * LIGHT[0] - gy * LIGHT[1] - LIGHT[2]) / (gx * gx + gy * gy + 1.0).sqrt();
+    let light = 0.2 + 0.8 * cos.clamp(0.0, 1.0);
+    let base = if key & BACK == 0 { OUTSIDE } else { INSIDE };
     base.map(|c| (c * light) as u8)
 }
 

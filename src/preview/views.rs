@@ -78,17 +78,17 @@ impl Bounds {
     }
 }
 
-/// One view: an orthographic projection onto a tile. `depth` grows away
-/// from the viewer and is never negative inside the bounds.
+/// One view: an orthographic projection onto a tile. Pixel x grows to the
+/// right, pixel y downward; `depth` grows away from the viewer, in pixels
+/// (the same scale as x and y, so that the depth buffer's slope is the
+/// surface's), and is never negative inside the bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct View {
-    /// Rows: screen right, screen up, viewing direction (unit vectors), each
-    /// already multiplied by the scale for the first two.
+    /// Rows: screen right, screen down, viewing direction (unit vectors),
+    /// each multiplied by the view's scale (pixels per world unit).
     axes: [[f32; 3]; 3],
     /// Added after the products: pixel x, pixel y (of the tile) and depth.
     offset: [f32; 3],
-    /// Unit light direction (toward the light), world coordinates.
-    pub light: [f32; 3],
 }
 
 impl View {
@@ -127,33 +127,45 @@ impl View {
         let scale = if span > 0.0 { room / span } else { 1.0 };
         let half = TILE as f64 / 2.0;
         let scaled = |d: [f64; 3], s: f64| d.map(|c| (c * s) as f32);
-        // Light from the viewer's upper left, a little in front.
-        let light = normalize([0, 1, 2].map(|i| -forward[i] + 0.6 * up[i] - 0.4 * right[i]));
         View {
             axes: [
                 scaled(right, scale),
                 scaled(up, -scale),
-                scaled(forward, 1.0),
+                scaled(forward, scale),
             ],
             offset: [
                 (half - (r.0 + r.1) / 2.0 * scale) as f32,
                 (half + (u.0 + u.1) / 2.0 * scale) as f32,
-                (-f.0) as f32,
+                (-f.0 * scale) as f32,
             ],
-            light: light.map(|c| c as f32),
         }
     }
 
-    /// Pixel x, pixel y (tile coordinates, y down) and depth of `p`.
+    /// The four views' projections side by side, for
+    /// [`super::raster::Raster`]: `rows[axis][c][view]` is the coefficient
+    /// of world coordinate `c` (the offset for `c == 3`) in pixel x
+    /// (`axis` 0), pixel y (1) or depth (2), with x and y shifted by half a
+    /// pixel so that pixel centres fall on whole numbers.
+    pub fn rows(views: &[View; 4]) -> [[[f32; 4]; 4]; 3] {
+        let mut rows = [[[0f32; 4]; 4]; 3];
+        for (v, view) in views.iter().enumerate() {
+            for (axis, row) in rows.iter_mut().enumerate() {
+                for (c, coefficient) in row.iter_mut().take(3).enumerate() {
+                    coefficient[v] = view.axes[axis][c];
+                }
+                let centre = if axis < 2 { 0.5 } else { 0.0 };
+                row[3][v] = view.offset[axis] - centre;
+            }
+        }
+        rows
+    }
+
+    /// Pixel x, pixel y (tile coordinates, y down) and depth of `p`; the
+    /// pixel `(i, j)` spans `i..i + 1` and `j..j + 1`.
     #[inline]
     pub fn project(&self, p: [f32; 3]) -> [f32; 3] {
         let a = &self.axes;
         [0, 1, 2].map(|i| a[i][0] * p[0] + a[i][1] * p[1] + a[i][2] * p[2] + self.offset[i])
-    }
-
-    /// Unit viewing direction.
-    pub fn forward(&self) -> [f32; 3] {
-        self.axes[2]
     }
 }
 
@@ -169,12 +181,6 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
         a[2] * b[0] - a[0] * b[2],
         a[0] * b[1] - a[1] * b[0],
     ]
-}
-
-/// `v` scaled to unit length.
-fn normalize(v: [f64; 3]) -> [f64; 3] {
-    let n = dot(v, v).sqrt();
-    v.map(|c| c / n)
 }
 
 #[cfg(test)]

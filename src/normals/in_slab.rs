@@ -2,12 +2,11 @@
 //! the worker that triangulates the slab, chunk by chunk as the layers are
 //! finished.
 
+use super::by_edge::{outward, Aligned, BlockEdges, EdgeNormals, IndexMap};
 use super::gradient::Layer;
 use super::locate::Locator;
 use super::on_edge::on_edge;
-use super::pending::PENDING;
 use super::samples::{with_planes, Samples, Visit};
-use super::vector::unit;
 use super::window::Window;
 use crate::error::make_room;
 use crate::grid::WorldToIndex;
@@ -68,7 +67,7 @@ impl<'a> SlabNormals<'a> {
     /// interpolated linearly to the vertex along its edge (trilinearly in
     /// its cell for a vertex inside a cell), taken to world coordinates
     /// through the grid's inverse map, normalized and pointed outward;
-    /// [`PENDING`] where it is zero or not finite, for
+    /// [`PENDING`](super::PENDING) where it is zero or not finite, for
     /// [`FillPending`](super::FillPending) to resolve from the triangles.
     ///
     /// The chunk's vertices lie in cell layer `chunk.plane` (the top
@@ -78,23 +77,53 @@ impl<'a> SlabNormals<'a> {
     /// two ends only. A normal depends on the vertex and the samples alone:
     /// the same for any slab, thread or part.
     pub fn fill(&mut self, chunk: &mut Chunk) -> Result<()> {
-        chunk.normals.clear();
-        if chunk.vertices.is_empty() {
+        let Chunk {
+            plane,
+            vertices,
+            normals,
+            ..
+        } = chunk;
+        self.fill_vertices(*plane as usize, None, vertices, normals)
+    }
+
+    /// Sets `out` to the normals of a block's `vertices`, as
+    /// [`fill`](Self::fill) gives them, the vertices on grid edges taken
+    /// on the edges `edges` names (in order; see [`BlockEdges`]) instead of
+    /// being located: the slab loop's way, which costs a fraction.
+    pub fn fill_block(
+        &mut self,
+        edges: &BlockEdges,
+        vertices: &[[f32; 3]],
+        out: &mut Vec<[f32; 3]>,
+    ) -> Result<()> {
+        self.fill_vertices(edges.plane, Some(edges), vertices, out)
+    }
+
+    /// The work of [`fill`](Self::fill) and
+    /// [`fill_block`](Self::fill_block) for the vertices of grid plane
+    /// `plane`.
+    fn fill_vertices(
+        &mut self,
+        plane: usize,
+        edges: Option<&BlockEdges>,
+        vertices: &[[f32; 3]],
+        out: &mut Vec<[f32; 3]>,
+    ) -> Result<()> {
+        out.clear();
+        if vertices.is_empty() {
             return Ok(());
         }
-        make_room(
-            &mut chunk.normals,
-            chunk.vertices.len(),
-            "the normals of a slab",
-        )?;
-        let layer = (chunk.plane as usize).min(self.dims[2] - 2);
+        make_room(out, vertices.len(), "the normals of a slab")?;
+        let layer = plane.min(self.dims[2] - 2);
         let (planes, numbers) = self.window.around(layer)?;
         let visit = ChunkNormals {
-            vertices: &chunk.vertices,
-            out: &mut chunk.normals,
-            locator: &self.locator,
+            vertices,
+            edges,
+            out,
             map: &self.map,
+            locator: &self.locator,
             layer,
+            k: plane - layer,
             numbers,
             dims: self.dims,
             tie: self.tie,
@@ -110,10 +139,14 @@ impl<'a> SlabNormals<'a> {
 /// [`SlabNormals::fill`] compiled once per sample type.
 struct ChunkNormals<'c> {
     vertices: &'c [[f32; 3]],
+    /// The edges of the first vertices, when the slab loop names them.
+    edges: Option<&'c BlockEdges<'c>>,
     out: &'c mut Vec<[f32; 3]>,
-    locator: &'c Locator,
     map: &'c WorldToIndex,
+    locator: &'c Locator,
     layer: usize,
+    /// The vertices' plane: the layer's lower (0) or upper (1).
+    k: usize,
     numbers: [usize; 4],
     dims: [usize; 3],
     tie: f64,
@@ -140,44 +173,63 @@ impl Visit for ChunkNormals<'_> {
             _ => 0.5,
         };
         let fz = [across(1), across(2)];
-        let (locator, map, layer, sign) = (self.locator, self.map, self.layer, self.sign);
-        // Elsewhere than on an inner grid edge: locate and interpolate.
-        let general = |v: [f32; 3]| {
-            let (cell, t) = locator.locate_in_layer(v, layer);
-            map.gradient_to_world(field.gradient(cell, t))
-        };
-        let z = layer as f64;
-        let extent = [nx as f64, ny as f64];
         match self.aligned {
-            Some((origin, inv)) => self.out.extend(self.vertices.iter().map(|&v| {
-                let p = [0, 1, 2].map(|a| (f64::from(v[a]) - origin[a]) * inv[a]);
-                let g = match on_edge(&field, fz, extent, [p[0], p[1], p[2] - z]) {
-                    Some(g) => [g[0] * inv[0], g[1] * inv[1], g[2] * inv[2]],
-                    None => general(v),
-                };
-                outward(g, sign)
-            })),
-            None => self.out.extend(self.vertices.iter().map(|&v| {
-                let p = map.index(v.map(f64::from));
-                let g = match on_edge(&field, fz, extent, [p[0], p[1], p[2] - z]) {
-                    Some(g) => map.gradient_to_world(g),
-                    None => general(v),
-                };
-                outward(g, sign)
-            })),
+            Some((origin, inverse)) => self.run(&field, fz, Aligned { origin, inverse }),
+            None => {
+                let map = self.map;
+                self.run(&field, fz, map)
+            }
         }
     }
 }
 
-/// `g` (a world gradient) times `sign`, normalized, as `f32`; [`PENDING`]
-/// when it is zero or not finite. One square root for gradients of
-/// ordinary size; [`unit()`] (which scales first) for tiny or huge ones.
-#[inline(always)]
-fn outward(g: [f64; 3], sign: f64) -> [f32; 3] {
-    let squared = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-    if squared > 1e-200 && squared < 1e200 {
-        let scale = sign / squared.sqrt();
-        return g.map(|c| (c * scale) as f32);
+impl ChunkNormals<'_> {
+    /// The normals, with `map` for index coordinates and world gradients.
+    #[inline(always)]
+    fn run<P: Samples, M: IndexMap>(self, field: &Layer<P>, fz: [f64; 2], map: M) {
+        let mut rest = self.vertices;
+        let out = self.out;
+        if let Some(edges) = self.edges {
+            let by_edge = EdgeNormals {
+                field,
+                fz,
+                layer: self.layer,
+                k: self.k,
+                map,
+                full: self.map,
+                sign: self.sign,
+            };
+            // Ends within the vertices and in order, whatever they say.
+            let z_end = edges.ends[2].min(rest.len());
+            let y_end = edges.ends[1].min(z_end);
+            let x_end = edges.ends[0].min(y_end);
+            let [x_rows, y_rows, z_rows] = edges.rows;
+            let dy = edges.y_offset;
+            by_edge.along::<0>(x_rows, dy, 0, &rest[..x_end], out);
+            by_edge.along::<1>(y_rows, dy, x_end, &rest[x_end..y_end], out);
+            by_edge.along::<2>(z_rows, dy, y_end, &rest[y_end..z_end], out);
+            rest = &rest[z_end..];
+        }
+        // Elsewhere than on a named edge: on an inner grid edge found from
+        // the position, else located and interpolated.
+        let (full, layer, sign) = (self.map, self.layer, self.sign);
+        let locator = self.locator;
+        let general = |v: [f32; 3]| {
+            let (cell, t) = locator.locate_in_layer(v, layer);
+            full.gradient_to_world(field.gradient(cell, t))
+        };
+        let z = layer as f64;
+        let extent = [field.nx as f64, field.ny as f64];
+        out.extend(rest.iter().map(|&v| {
+            let p = map.index(v);
+            let g = match on_edge(field, fz, extent, [p[0], p[1], p[2] - z]) {
+                Some(g) => {
+                    let s = map.scale();
+                    map.to_world([g[0] * s[0], g[1] * s[1], g[2] * s[2]])
+                }
+                None => general(v),
+            };
+            outward(g, sign)
+        }));
     }
-    unit(g.map(|c| sign * c)).unwrap_or(PENDING)
 }

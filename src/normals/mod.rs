@@ -28,6 +28,7 @@
 //! Each normal depends on the samples and the mesh only, so the output is
 //! the same for any number of threads, slab depth or split into parts.
 
+pub mod by_edge;
 pub mod gradient;
 pub mod in_slab;
 pub mod locate;
@@ -37,5 +38,6 @@ pub mod samples;
 pub mod vector;
 pub mod window;
 
+pub use by_edge::BlockEdges;
 pub use in_slab::SlabNormals;
 pub use pending::{FillPending, PENDING};

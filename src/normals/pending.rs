@@ -166,76 +166,124 @@ impl MeshSink for FillPending<'_> {
 /// Gives the pending normals of `current` the angle-weighted normal of
 /// their triangles: those of `previous` that point into `current`, then
 /// those of `current`, in order.
+///
+/// Every triangle of the two chunks is looked at (three lookups in a
+/// table of the chunk's vertices); only one with a pending corner costs
+/// more ([`add_triangle`]).
 fn resolve(previous: Option<&Chunk>, current: &mut Chunk, next: Option<&Chunk>) {
     let own = current.vertices.len();
-    let mut sums: Vec<(usize, [f64; 3])> = Vec::new();
+    let mut sums: Vec<[f64; 3]> = Vec::new();
+    // The slot of each vertex's sum, `NONE` for a vertex not pending.
+    let mut slot = vec![NONE; own];
     for (i, n) in current.normals.iter().enumerate() {
         if is_pending(n) {
-            sums.push((i, [0.0; 3]));
+            slot[i] = sums.len() as u32;
+            sums.push([0.0; 3]);
         }
     }
-    // The pending vertices lie in `first..=last` of the chunk: a triangle
-    // without a corner there is passed over with two comparisons a corner.
-    let (first, last) = match (sums.first(), sums.last()) {
-        (Some(f), Some(l)) => (f.0, l.0),
-        _ => return,
-    };
-    let mut slot = vec![usize::MAX; last + 1 - first];
-    for (s, (i, _)) in sums.iter().enumerate() {
-        slot[i - first] = s;
+    if sums.is_empty() {
+        return;
     }
     // Chunks `previous`, `current`, `next` as one run of vertices:
-    // a position by its index from `previous`'s first vertex.
+    // a triangle's corners by their index from `previous`'s first vertex.
     let before = previous.map_or(0, |c| c.vertices.len());
+    let chunks = [previous, Some(&*current), next];
+    let tables = Tables {
+        chunks,
+        before,
+        own,
+        slot: &slot,
+    };
+    if let Some(previous) = previous {
+        tables.scan(&previous.triangles, 0, &mut sums);
+    }
+    tables.scan(&current.triangles, before, &mut sums);
+    let mut sums = sums.into_iter();
+    for (n, &s) in current.normals.iter_mut().zip(&slot) {
+        if s != NONE {
+            *n = unit(sums.next().unwrap_or_default()).unwrap_or([0.0; 3]);
+        }
+    }
+}
+
+/// No pending vertex (a slot of [`resolve`]).
+const NONE: u32 = u32::MAX;
+
+/// What [`resolve`] looks triangles up in: the three chunks as one run
+/// of vertices (`before` in the first, `own` in the second) and the slot
+/// of each of the second's vertices.
+struct Tables<'a> {
+    chunks: [Option<&'a Chunk>; 3],
+    before: usize,
+    own: usize,
+    slot: &'a [u32],
+}
+
+impl Tables<'_> {
+    /// Adds the triangles (corners offset by `shift` into the run) that
+    /// have a pending corner to `sums`, in order.
+    fn scan(&self, triangles: &[[u32; 3]], shift: usize, sums: &mut [[f64; 3]]) {
+        let (before, own, slot) = (self.before, self.own, self.slot);
+        for tri in triangles {
+            let tri = tri.map(|i| i as usize + shift);
+            let hit = tri.map(|i| {
+                let j = i.wrapping_sub(before);
+                if j < own {
+                    slot[j]
+                } else {
+                    NONE
+                }
+            });
+            if hit != [NONE; 3] {
+                add_triangle(self.chunks, before, own, tri, hit, sums);
+            }
+        }
+    }
+}
+
+/// Adds the angle-weighted unit normal of triangle `tri` (corner indices
+/// into the run of vertices of `chunks`, `before` of them in the first and
+/// `own` in the second) to the sums of its pending corners (`hit`, the
+/// slot of each corner or [`NONE`]). Degenerate triangles and corners
+/// outside the chunks add nothing.
+#[inline(never)]
+fn add_triangle(
+    chunks: [Option<&Chunk>; 3],
+    before: usize,
+    own: usize,
+    tri: [usize; 3],
+    hit: [u32; 3],
+    sums: &mut [[f64; 3]],
+) {
     let position = |i: usize| -> Option<[f64; 3]> {
         let v = if i < before {
-            previous?.vertices.get(i)
+            chunks[0]?.vertices.get(i)
         } else if i < before + own {
-            current.vertices.get(i - before)
+            chunks[1]?.vertices.get(i - before)
         } else {
-            next?.vertices.get(i - before - own)
+            chunks[2]?.vertices.get(i - before - own)
         };
         v.map(|p| p.map(f64::from))
     };
-    let mut add = |tri: [usize; 3]| {
-        let (low, high) = (before + first, before + last);
-        if tri.iter().all(|&i| i < low || i > high) {
-            return;
-        }
-        let mine = tri.map(|i| (low..=high).contains(&i).then(|| slot[i - low]));
-        if mine.iter().all(|s| s.is_none_or(|s| s == usize::MAX)) {
-            return;
-        }
-        let Some(p) = tri.iter().map(|&i| position(i)).collect::<Option<Vec<_>>>() else {
-            return;
-        };
-        let normal = cross(sub(p[1], p[0]), sub(p[2], p[0]));
-        let twice_area = dot(normal, normal).sqrt();
-        if !(twice_area > 0.0 && twice_area.is_finite()) {
-            return;
-        }
-        for k in 0..3 {
-            let Some(s) = mine[k].filter(|&s| s != usize::MAX) else {
-                continue;
-            };
-            let u = sub(p[(k + 1) % 3], p[k]);
-            let v = sub(p[(k + 2) % 3], p[k]);
-            // |u x v| is twice the area at every corner.
-            let angle = twice_area.atan2(dot(u, v));
-            for (sum, n) in sums[s].1.iter_mut().zip(normal) {
-                *sum += angle * n / twice_area;
-            }
-        }
+    let (Some(a), Some(b), Some(c)) = (position(tri[0]), position(tri[1]), position(tri[2])) else {
+        return;
     };
-    if let Some(previous) = previous {
-        for tri in &previous.triangles {
-            add(tri.map(|i| i as usize));
+    let p = [a, b, c];
+    let normal = cross(sub(p[1], p[0]), sub(p[2], p[0]));
+    let twice_area = dot(normal, normal).sqrt();
+    if !(twice_area > 0.0 && twice_area.is_finite()) {
+        return;
+    }
+    for k in 0..3 {
+        if hit[k] == NONE {
+            continue;
         }
-    }
-    for tri in &current.triangles {
-        add(tri.map(|i| i as usize + before));
-    }
-    for (i, sum) in sums {
-        current.normals[i] = unit(sum).unwrap_or([0.0; 3]);
+        let u = sub(p[(k + 1) % 3], p[k]);
+        let v = sub(p[(k + 2) % 3], p[k]);
+        // |u x v| is twice the area at every corner.
+        let angle = twice_area.atan2(dot(u, v));
+        for (sum, n) in sums[hit[k] as usize].iter_mut().zip(normal) {
+            *sum += angle * n / twice_area;
+        }
     }
 }

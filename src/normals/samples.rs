@@ -10,8 +10,30 @@ pub trait Samples: Copy {
     /// Whether a sample can be NaN (integers cannot).
     const MAY_BE_NAN: bool;
 
+    /// A sample as the differences take it: a wider integer for integer
+    /// samples (so a difference is one integer subtraction and one
+    /// conversion), `f64` otherwise.
+    type Wide: Copy;
+
     /// Sample `i` as an `f64`, NaN as it is.
     fn raw(self, i: usize) -> f64;
+
+    /// Samples `start..start + N` as [`Wide`](Self::Wide) values, with one
+    /// bounds check.
+    fn wide<const N: usize>(self, start: usize) -> [Self::Wide; N];
+
+    /// A run of samples cut from a plane by [`sub`](Self::sub).
+    type Run: Copy;
+
+    /// Samples `start..end` (one bounds check for the cut).
+    fn sub(self, start: usize, end: usize) -> Self::Run;
+
+    /// Sample `j` of `run` as a [`Wide`](Self::Wide) value.
+    fn at(run: Self::Run, j: usize) -> Self::Wide;
+
+    /// `a - b` as an `f64`: the same bits as `raw` of each subtracted
+    /// (exact for integers, whose differences `f64` holds).
+    fn minus(a: Self::Wide, b: Self::Wide) -> f64;
 
     /// Samples `start..start + N` as `f64`, NaN as they are: what `N`
     /// calls of [`raw`](Self::raw) give, with one bounds check for a
@@ -35,11 +57,38 @@ pub trait Samples: Copy {
     }
 }
 
-/// Slices of samples of one type, exact as `f64`; NaN only for floats.
+/// Slices of samples of one type, exact as `f64`; NaN only for floats;
+/// differences taken in `$wide`.
 macro_rules! typed_samples {
-    ($may_be_nan:expr => $($t:ty),*) => {
+    ($may_be_nan:expr, $wide:ty => $($t:ty),*) => {
         $(impl Samples for &[$t] {
             const MAY_BE_NAN: bool = $may_be_nan;
+            type Wide = $wide;
+
+            #[inline(always)]
+            fn wide<const N: usize>(self, start: usize) -> [$wide; N] {
+                let run: &[$t; N] = self[start..start + N]
+                    .try_into()
+                    .expect("a range of N samples");
+                std::array::from_fn(|j| <$wide>::from(run[j]))
+            }
+
+            type Run = Self;
+
+            #[inline(always)]
+            fn sub(self, start: usize, end: usize) -> Self {
+                &self[start..end]
+            }
+
+            #[inline(always)]
+            fn at(run: Self, j: usize) -> $wide {
+                <$wide>::from(run[j])
+            }
+
+            #[inline(always)]
+            fn minus(a: $wide, b: $wide) -> f64 {
+                (a - b) as f64
+            }
 
             #[inline(always)]
             fn raw(self, i: usize) -> f64 {
@@ -57,13 +106,38 @@ macro_rules! typed_samples {
     };
 }
 
-typed_samples!(false => u8, i8, u16, i16, u32, i32);
-typed_samples!(true => f32, f64);
+typed_samples!(false, i32 => u8, i8, u16, i16);
+typed_samples!(false, i64 => u32, i32);
+typed_samples!(true, f64 => f32, f64);
 
 /// Any plane, its type looked at per sample: for a layer whose planes are
 /// not all of one type (a source that lends some planes and not others).
 impl Samples for Plane<'_> {
     const MAY_BE_NAN: bool = true;
+    type Wide = f64;
+
+    #[inline(always)]
+    fn wide<const N: usize>(self, start: usize) -> [f64; N] {
+        self.run(start)
+    }
+
+    /// The plane and where the run starts (reads are checked one by one).
+    type Run = (Self, usize);
+
+    #[inline(always)]
+    fn sub(self, start: usize, _end: usize) -> (Self, usize) {
+        (self, start)
+    }
+
+    #[inline(always)]
+    fn at((plane, start): (Self, usize), j: usize) -> f64 {
+        plane.raw(start + j)
+    }
+
+    #[inline(always)]
+    fn minus(a: f64, b: f64) -> f64 {
+        a - b
+    }
 
     #[inline(always)]
     fn raw(self, i: usize) -> f64 {

@@ -20,6 +20,9 @@ pub(super) const NEXT_BLOCK: u32 = 1 << 31;
 pub(super) struct Block {
     pub(super) vertices: Vec<[f32; 3]>,
     pub(super) triangles: Vec<[u32; 3]>,
+    /// One per vertex when the extraction asks for normals, else empty
+    /// (filled once the block is complete, see `slab::normals`).
+    pub(super) normals: Vec<[f32; 3]>,
 }
 
 impl Block {
@@ -45,7 +48,7 @@ impl Block {
             plane: plane as u64,
             triangles: self.triangles,
             vertices: self.vertices,
-            normals: Vec::new(),
+            normals: self.normals,
             labels: Vec::new(),
         }
     }
@@ -59,8 +62,9 @@ impl Block {
         row: (usize, usize),
         spares: &Spares,
     ) -> Result<Block> {
-        let (v, t) = spares.take_block();
+        let (v, t, n) = spares.take_block();
         Ok(Block {
+            normals: n,
             vertices: empty_with_room(v, vertices + vertices / 4 + row.0, VERTICES)?,
             triangles: empty_with_room(t, triangles + triangles / 4 + row.1, TRIANGLES)?,
         })

@@ -39,6 +39,7 @@ mod block;
 mod cells;
 mod edges;
 mod level;
+mod normals;
 mod placement;
 mod plane;
 mod process;

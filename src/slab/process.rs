@@ -5,6 +5,7 @@ use super::bits::{each_bit, uniform_alike};
 use super::block::{check_local_indices, Block, NEXT_BLOCK, VERTICES};
 use super::cells::{layer_cells, Ambiguous, Layer};
 use super::edges::LayerNumbers;
+use super::normals::BlockNormals;
 use super::placement::Placement;
 use super::plane::Plane;
 use super::spares::{Scratch, Spares};
@@ -23,24 +24,30 @@ use std::time::Instant;
 /// chunk of the last plane when the range ends at the top of the grid) and
 /// the counts. Buffers come from `spares` when it has some, and the slab's
 /// work buffers go back there (the chunks' vectors are handed back by
-/// whoever writes them).
+/// whoever writes them). With `params.normals` each chunk gets its
+/// vertices' normals from the gradient of `source`
+/// ([`SlabNormals`](crate::normals::SlabNormals)); the source must then
+/// hold the plane below the slab and the two above it too.
 pub fn process_slab(
     source: &dyn SampleSource,
     params: &ExtractParams,
     layers: Range<usize>,
     spares: &Spares,
 ) -> Result<(Vec<Chunk>, Stats)> {
-    process_window(source, params, layers, spares, None)
+    let gradients = params.normals.then_some(source);
+    process_window(source, params, layers, spares, None, gradients)
 }
 
 /// [`process_slab`] of a source that is a [`Window`] of a larger grid
-/// (`None`: the whole grid).
+/// (`None`: the whole grid), the normals (none when `gradients` is `None`)
+/// from the gradient of `gradients`, a source on the whole grid.
 pub fn process_window(
     source: &dyn SampleSource,
     params: &ExtractParams,
     layers: Range<usize>,
     spares: &Spares,
     window: Option<&Window>,
+    gradients: Option<&dyn SampleSource>,
 ) -> Result<(Vec<Chunk>, Stats)> {
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
@@ -84,6 +91,10 @@ pub fn process_window(
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     let interrupted = || source.interrupted();
+    let mut normals = match gradients {
+        Some(field) => Some(BlockNormals::new(field, params, place.offset[1], ny)),
+        None => None,
+    };
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         ahead.reading(source, z + 1);
@@ -114,6 +125,7 @@ pub fn process_window(
             )?;
         }
         check_local_indices(block.vertices.len())?;
+        let z_end = block.vertices.len();
         let layer = Layer {
             place: &place,
             params,
@@ -139,11 +151,17 @@ pub fn process_window(
             cell: &mut cell,
         };
         layer_cells(&layer, &mut rows, &mut block, &mut ambiguous, &mut stats)?;
+        if let Some(normals) = &mut normals {
+            normals.fill(&bottom, Some((&z_first, z_end)), &mut block)?;
+        }
         finished = (block.vertices.len(), block.triangles.len());
         chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
         std::mem::swap(&mut bottom, &mut top);
     }
     if layers.end == nz - 1 {
+        if let Some(normals) = &mut normals {
+            normals.fill(&bottom, None, &mut block)?;
+        }
         chunks.push(block.into_chunk(nz - 1, mirrored));
     } else {
         spares.give_chunk(block.into_chunk(layers.end, mirrored));

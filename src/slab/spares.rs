@@ -78,12 +78,13 @@ impl Spares {
         let _ = self.scratch.push(scratch);
     }
 
-    /// Empty vectors for a block (with their old capacity), or new ones.
-    pub(super) fn take_block(&self) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    /// Empty vectors for a block's vertices, triangles and normals (with
+    /// their old capacity), or new ones.
+    pub(super) fn take_block(&self) -> (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[f32; 3]>) {
         let chunk = self.blocks.pop().unwrap_or_default();
         self.block_bytes
             .fetch_sub(chunk_bytes(&chunk), Ordering::Relaxed);
-        (chunk.vertices, chunk.triangles)
+        (chunk.vertices, chunk.triangles, chunk.normals)
     }
 
     /// Hands back the vectors of a chunk that has been written.

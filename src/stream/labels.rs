@@ -27,7 +27,6 @@ use super::pass::{run_pass, SlabWork};
 use crate::error::try_filled;
 use crate::grid::Grid;
 use crate::mesh::{Chunk, MeshSink};
-use crate::normals::SlabNormals;
 use crate::params::{ExtractParams, Inside, PipelineOptions};
 use crate::slab::{process_window, Spares, Window};
 use crate::volume::{plane_runs, Access, LentPlane, SampleSource};
@@ -247,23 +246,29 @@ fn label_slab(
             ties,
             outer: source,
         };
-        let mut result = process_window(&view, p, layers.clone(), spares, Some(&window))?;
-        if let Some(whole) = &mut whole {
-            mark(whole, &codes, code, [nx, area], [&xs, &ys]);
-            let view = Indicator {
-                grid,
-                planes: whole,
-                first: codes_from,
-                ties: close,
-                outer: source,
-            };
-            let mut gradients = SlabNormals::new(&view, p);
-            result
-                .0
-                .iter_mut()
-                .try_for_each(|chunk| gradients.fill(chunk))?;
-            mark(whole, &codes, 0, [nx, area], [&xs, &ys]);
-        }
+        let result = match &mut whole {
+            Some(whole) => {
+                mark(whole, &codes, code, [nx, area], [&xs, &ys]);
+                let field = Indicator {
+                    grid,
+                    planes: whole,
+                    first: codes_from,
+                    ties: close,
+                    outer: source,
+                };
+                let result = process_window(
+                    &view,
+                    p,
+                    layers.clone(),
+                    spares,
+                    Some(&window),
+                    Some(&field),
+                );
+                mark(whole, &codes, 0, [nx, area], [&xs, &ys]);
+                result?
+            }
+            None => process_window(&view, p, layers.clone(), spares, Some(&window), None)?,
+        };
         results.push(result);
     }
     Ok(results)

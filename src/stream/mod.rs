@@ -10,7 +10,7 @@
 //! 3. **triangulate** ([`crate::slab`]): a worker turns the slab's layers
 //!    into one chunk per grid plane, for each isovalue while the planes are
 //!    resident, and, with normals, gives the chunks their gradient normals
-//!    (`normals.rs`, [`crate::normals::SlabNormals`]);
+//!    as each block is finished ([`crate::normals::SlabNormals`]);
 //! 4. **stitch** ([`seam`]): finished slabs, in any order, are put back in
 //!    plane order and handed to each isovalue's sink with global vertex
 //!    numbers; nothing is matched by position. Each sink is wrapped in a
@@ -28,7 +28,6 @@ pub mod budget;
 pub mod cancellable;
 pub mod entry;
 pub mod labels;
-mod normals;
 pub mod parts;
 pub mod pass;
 pub mod preflight;

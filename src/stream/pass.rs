@@ -15,7 +15,6 @@
 
 use super::budget;
 use super::cancellable::Cancellable;
-use super::normals::slab_normals;
 use super::parts::layer_range;
 use super::schedule::Schedule;
 use super::seam::Seam;
@@ -238,13 +237,7 @@ pub(crate) fn run_pass(
         let source: &dyn SampleSource = &held;
         let results = match &work {
             Some(work) => (work.run)(source, layers, &spares)?,
-            None => {
-                let mut results = slab_for_each(source, params, layers, &spares)?;
-                if normals {
-                    slab_normals(source, params, &mut results)?;
-                }
-                results
-            }
+            None => slab_for_each(source, params, layers, &spares)?,
         };
         Ok(results)
     };

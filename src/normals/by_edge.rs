@@ -1,4 +1,4 @@
-//! [`BlockEdges`] and [`EdgeNormals`]: the normals of vertices whose grid
+//! [`BlockEdges`] and `EdgeNormals`: the normals of vertices whose grid
 //! edge the slab loop names, so that nothing has to find the edge again
 //! from the vertex's `f32` position.
 //!
@@ -214,7 +214,7 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
                     1 => map.coordinate(v, 1) - y as f64,
                     _ => map.coordinate(v, 2) - layer,
                 };
-                if !(inner_y && x.wrapping_sub(1) < limit_x && w >= SNAP && w <= 1.0 - SNAP) {
+                if !(inner_y && x.wrapping_sub(1) < limit_x && (SNAP..=1.0 - SNAP).contains(&w)) {
                     return self.on_border(AXIS, [x, y], w);
                 }
                 let i = row + x;

@@ -91,10 +91,7 @@ pub fn process_window(
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     let interrupted = || source.interrupted();
-    let mut normals = match gradients {
-        Some(field) => Some(BlockNormals::new(field, params, place.offset[1], ny)),
-        None => None,
-    };
+    let mut normals = gradients.map(|field| BlockNormals::new(field, params, place.offset[1], ny));
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         ahead.reading(source, z + 1);

@@ -36,6 +36,10 @@ pub(super) struct Scratch {
     pub(super) rows: EdgeRows,
 }
 
+/// A block's vertices, triangles and normals, as [`Spares::take_block`]
+/// hands them out.
+pub(super) type BlockVectors = (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[f32; 3]>);
+
 /// The spare buffers of one extraction, shared by its workers and the
 /// thread that writes finished slabs. Bounded: a buffer handed back when
 /// the store is full is freed.
@@ -80,7 +84,7 @@ impl Spares {
 
     /// Empty vectors for a block's vertices, triangles and normals (with
     /// their old capacity), or new ones.
-    pub(super) fn take_block(&self) -> (Vec<[f32; 3]>, Vec<[u32; 3]>, Vec<[f32; 3]>) {
+    pub(super) fn take_block(&self) -> BlockVectors {
         let chunk = self.blocks.pop().unwrap_or_default();
         self.block_bytes
             .fetch_sub(chunk_bytes(&chunk), Ordering::Relaxed);

@@ -242,12 +242,7 @@ mod tests {
         for layer in 1..=cap {
             layers.get(layer, 4, 0, || Ok(vec![1])).unwrap();
         }
-        let kept: Vec<usize> = layers
-            .lock()
-            .slots
-            .iter()
-            .map(|s| s.layer)
-            .collect();
+        let kept: Vec<usize> = layers.lock().slots.iter().map(|s| s.layer).collect();
         assert_eq!(kept.len(), cap);
         assert!(!kept.contains(&0), "{kept:?}");
     }

@@ -15,7 +15,7 @@ use tmc::Result;
 /// (the input is then opened as one volume).
 pub(crate) fn several(input: &Path, raw: &RawArgs) -> Result<Option<Vec<SeriesSummary>>> {
     let dicom_dir = input.is_dir() && Format::detect(input, false) == Some(Format::Dicom);
-    if !dicom_dir || raw.series.is_some() || raw.options().is_some() {
+    if !dicom_dir || raw.series.is_some() || raw.segment.is_some() || raw.options().is_some() {
         return Ok(None);
     }
     let series = list_series(input)?;

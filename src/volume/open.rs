@@ -147,6 +147,12 @@ pub fn open_selected(
             path.display()
         )));
     }
+    if select.segment.is_some() && format != Some(Format::Dicom) {
+        return Err(crate::Error::Invalid(format!(
+            "{}: --segment picks a segment of a DICOM Segmentation object, and this is not one",
+            path.display()
+        )));
+    }
     if select.series.is_some() && format != Some(Format::Dicom) {
         return Err(crate::Error::Invalid(format!(
             "{}: --series chooses a series of a DICOM directory, and this is not one",
@@ -190,7 +196,7 @@ pub fn open_selected(
         Format::VtkLegacy => Box::new(vtk_legacy::open(path)?),
         Format::Vti => Box::new(vti::open(path)?),
         Format::TiffStack => Box::new(tiff_stack::open(path)?),
-        Format::Dicom => Box::new(dicom::open_series(path, select.series.as_deref())?),
+        Format::Dicom => dicom::open_source(path, select.series.as_deref(), select.segment)?,
         Format::Zarr => Box::new(zarr::open(path, select)?),
         Format::Hdf5 => Box::new(hdf5::open(path, select.dataset.as_deref())?),
     })

@@ -5,7 +5,7 @@
 
 use super::attributes::{axes, dot, element, first_item, frame_floats, vec3};
 use super::files::format_err;
-use super::{lengths, rt_dose};
+use super::{lengths, rt_dose, segmentation};
 use crate::{Error, Result};
 use dicom_core::VR;
 use dicom_dictionary_std::tags;
@@ -62,6 +62,9 @@ pub(super) struct SeriesMeta {
     pub(super) description: Option<String>,
     /// The transfer syntax's name (its UID if unknown).
     pub(super) transfer_syntax: String,
+    /// Is the file a Segmentation object (read on its own, by
+    /// `seg_volume.rs`, never stacked)?
+    pub(super) segmentation: bool,
 }
 
 /// What the header of one image file says.
@@ -102,7 +105,7 @@ pub(super) enum Probe {
 
 /// A text attribute, unpadded; one stored with VR UN (some converters
 /// write every element so) is read as the text of its bytes.
-fn text(obj: &InMemDicomObject, tag: Tag) -> Option<String> {
+pub(super) fn text(obj: &InMemDicomObject, tag: Tag) -> Option<String> {
     let e = element(obj, tag)?;
     let s = if e.vr() == VR::UN {
         String::from_utf8_lossy(e.value().to_bytes().ok()?.as_ref()).into_owned()
@@ -144,7 +147,10 @@ pub(super) fn probe(path: &Path) -> Probe {
         ));
     }
     let ts_uid = lengths::unpadded(obj.meta().transfer_syntax()).to_string();
+    let segmentation =
+        segmentation::is_segmentation(&obj, obj.meta().media_storage_sop_class_uid());
     let meta = SeriesMeta {
+        segmentation,
         uid: text(&obj, tags::SERIES_INSTANCE_UID).unwrap_or_default(),
         number: text(&obj, tags::SERIES_NUMBER),
         modality: text(&obj, tags::MODALITY),
@@ -163,7 +169,14 @@ pub(super) fn probe(path: &Path) -> Probe {
         ));
     }
     let sop_uid = text(&obj, tags::SOP_INSTANCE_UID).unwrap_or_default();
-    let header = pixels.and_then(|pixels| Header::from_header(path, &obj, &ts_uid, pixels, &meta));
+    let header = if segmentation {
+        Err(format_err(
+            path,
+            "a Segmentation object, read on its own (its segments as a label map)",
+        ))
+    } else {
+        pixels.and_then(|pixels| Header::from_header(path, &obj, &ts_uid, pixels, &meta))
+    };
     Probe::Image {
         meta,
         sop_uid,

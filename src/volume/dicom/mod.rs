@@ -56,10 +56,13 @@ mod files;
 mod header;
 mod lengths;
 mod rt_dose;
+mod seg_volume;
+mod segmentation;
 mod series;
 mod series_index;
 
 pub use files::{dir_has_dicom, has_magic};
+pub use seg_volume::DicomSegmentation;
 pub use series::DicomSeries;
 pub use series_index::SeriesSummary;
-pub use series_index::{list_series, open, open_series};
+pub use series_index::{list_series, open, open_series, open_source};

@@ -20,7 +20,7 @@ fn script() -> PathBuf {
 
 /// A Python with pydicom and numpy, or `None` (said on stderr) when there
 /// is none and `TMC_PYTHON` is not set.
-fn python() -> Option<String> {
+pub(super) fn python() -> Option<String> {
     let given = std::env::var("TMC_PYTHON").ok();
     let python = given.clone().unwrap_or_else(|| "python3".to_string());
     let ready = Command::new(&python)
@@ -40,7 +40,7 @@ fn python() -> Option<String> {
 }
 
 /// Runs the fixture script with `args`; its stdout.
-fn run_script(python: &str, args: &[&str]) -> String {
+pub(super) fn run_script(python: &str, args: &[&str]) -> String {
     let out = Command::new(python)
         .arg(script())
         .args(args)
@@ -55,7 +55,7 @@ fn run_script(python: &str, args: &[&str]) -> String {
 }
 
 /// The folder of pydicom's test files (`pydicom/data/test_files`).
-fn test_files(python: &str) -> PathBuf {
+pub(super) fn test_files(python: &str) -> PathBuf {
     let dir = PathBuf::from(run_script(python, &["testfiles"]));
     assert!(dir.join("CT_small.dcm").is_file(), "{}", dir.display());
     dir

@@ -246,7 +246,7 @@ pub(super) fn read(
         None => thickness.unwrap_or(1.0),
     };
     let count = (extent / step).round() + 1.0;
-    if !(count <= MAX_SLICES as f64) {
+    if count.is_nan() || count > MAX_SLICES as f64 {
         return Err(fail(format!(
             "frames spanning {extent} mm at a slice step of {step} mm make {count} slices, more than the {MAX_SLICES} tmc reads"
         )));

@@ -10,7 +10,7 @@ use tmc::volume::{Endian, RawOptions, RawVolume, SampleSource, ScalarType};
 use tmc::{Error, Result};
 
 /// How to read headerless samples; all absent for a file with a header.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args)]
 pub(crate) struct RawArgs {
     /// Raw input: samples along x, y, z (e.g. 256,256,128); needs --dtype.
     #[arg(long, value_name = "X,Y,Z", value_parser = values::dims, requires = "dtype", help_heading = "Raw input (headerless samples, x fastest)")]

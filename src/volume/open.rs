@@ -202,6 +202,17 @@ pub fn open_selected(
     })
 }
 
+/// The series of `path` when it is a DICOM directory of more than one
+/// series, one of which must be chosen (`--series`); `None` for any other
+/// input, which opens as one volume. What `tmc info DIR` lists.
+pub fn dicom_series_to_choose(path: &Path) -> Result<Option<Vec<dicom::SeriesSummary>>> {
+    if !path.is_dir() || Format::detect(path, false) != Some(Format::Dicom) {
+        return Ok(None);
+    }
+    let series = dicom::list_series(path)?;
+    Ok((series.len() > 1).then_some(series))
+}
+
 /// The name of the format [`open`] reads `path` as ("NRRD", "NIfTI-1",
 /// "TIFF stack", "raw", ...), or `None` if `open` would refuse it. A NIfTI
 /// file is named by its version, read from the first bytes of the header

@@ -39,6 +39,10 @@
 //!   one `ImagePositionPatient` moved along the normal by Grid Frame
 //!   Offset Vector (RT Dose, `rt_dose.rs`: values scaled by Dose Grid
 //!   Scaling) or stepped by `SpacingBetweenSlices` (or `SliceThickness`).
+//! * Segmentation objects (SEG) are read on their own, as the label map of
+//!   their segments or one segment alone ([`DicomSegmentation`],
+//!   `segmentation.rs` and `seg_volume.rs`); [`open_source`] opens either
+//!   kind.
 //! * Only the headers are read at open. A plane is decoded when it is asked
 //!   for, by parsing its file again. The last file parsed is kept, so the
 //!   frames of a multi-frame file come from one parse of it (parsed for

@@ -64,6 +64,7 @@ mod seg_volume;
 mod segmentation;
 mod series;
 mod series_index;
+mod walker;
 
 pub use files::{dir_has_dicom, has_magic};
 pub use seg_volume::DicomSegmentation;

@@ -5,7 +5,7 @@
 
 use super::attributes::{axes, dot, element, first_item, frame_floats, vec3};
 use super::files::format_err;
-use super::{lengths, rt_dose, segmentation};
+use super::{lengths, rt_dose, segmentation, unknown_vr};
 use crate::{Error, Result};
 use dicom_core::VR;
 use dicom_dictionary_std::tags;
@@ -128,7 +128,7 @@ pub(super) fn probe(path: &Path) -> Probe {
         return Probe::Skip(e);
     }
     let pixels = pixels.map_err(|(_, e)| e);
-    let obj =
+    let mut obj =
         match OpenFileOptions::new()
             .read_until(tags::PIXEL_DATA)
             .open_file(path)
@@ -140,6 +140,7 @@ pub(super) fn probe(path: &Path) -> Probe {
                 }))
             }
         };
+    unknown_vr::resolve(&mut obj);
     if obj.meta().media_storage_sop_class_uid() == MEDIA_STORAGE_DIRECTORY {
         return Probe::Skip(format_err(
             path,
@@ -223,12 +224,6 @@ impl Header {
                     )
                 })
         };
-        if element(obj, tags::ROWS).is_some_and(|e| e.vr() == VR::UN) {
-            return Err(format_err(
-                path,
-                "its header stores attributes with VR UN (unknown), whose binary values tmc does not interpret",
-            ));
-        }
         let rows = uint(tags::ROWS, "Rows")?;
         let columns = uint(tags::COLUMNS, "Columns")?;
         let bits_allocated = uint(tags::BITS_ALLOCATED, "BitsAllocated")?;

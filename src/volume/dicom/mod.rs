@@ -52,7 +52,8 @@
 //!   endian, deflate, RLE lossless, JPEG baseline/extended/lossless and
 //!   JPEG 2000 (lossless and lossy, through the pure-Rust OpenJPEG port).
 //!   JPEG-LS, HTJ2K and JPEG XL need codecs tmc leaves out and are refused
-//!   at open. Samples must be greyscale (1 sample per pixel) of 8, 16 or 32
+//!   at open. Attributes stored with VR UN are re-read under their
+//!   dictionary VR (`unknown_vr.rs`). Samples must be greyscale (1 sample per pixel) of 8, 16 or 32
 //!   bits, unsigned or signed.
 
 mod attributes;
@@ -64,6 +65,7 @@ mod seg_volume;
 mod segmentation;
 mod series;
 mod series_index;
+mod unknown_vr;
 mod walker;
 
 pub use files::{dir_has_dicom, has_magic};

@@ -21,8 +21,8 @@
 //! compressed): a SEG is a fraction of the size of the CT it was drawn on.
 
 use super::files::format_err;
-use super::lengths;
 use super::segmentation::{self, Kind, SegHeader};
+use super::{lengths, unknown_vr};
 use crate::volume::{guarded, Grid, SampleSource, ScalarType, SegmentNote, SourceNotes};
 use crate::{Error, Result};
 use dicom_dictionary_std::tags;
@@ -50,9 +50,10 @@ impl DicomSegmentation {
     /// segment).
     pub fn open(path: &Path, segment: Option<u32>) -> Result<DicomSegmentation> {
         lengths::check(path).map_err(|e| format_err(path, e))?;
-        let obj = OpenFileOptions::new()
+        let mut obj = OpenFileOptions::new()
             .open_file(path)
             .map_err(|e| format_err(path, format!("not a readable DICOM file: {e}")))?;
+        unknown_vr::resolve(&mut obj);
         let pixel_data = obj
             .element_opt(tags::PIXEL_DATA)
             .ok()

@@ -247,3 +247,42 @@ fn rt_dose_isodose_is_in_place_and_in_gray() {
     }
     assert_eq!(meshes[0], meshes[1], "relative and absolute offsets differ");
 }
+
+/// A series whose every attribute pydicom stored with VR UN (the bytes of
+/// their own VR, as some converters write them) reads as the same series
+/// stored plainly: grid, rescaled samples and mesh.
+#[test]
+fn attributes_stored_as_vr_un_read_as_their_own() {
+    let Some(python) = python() else { return };
+    let tmp = tempfile::tempdir().unwrap();
+    run_script(&python, &["unknown_vr", tmp.path().to_str().unwrap()]);
+    let read = |kind: &str| {
+        let vol = volume::open(&tmp.path().join(kind), None).unwrap();
+        let g = *vol.grid();
+        let mut all = vec![0.0; g.plane_len() * g.dims[2]];
+        for (z, plane) in all.chunks_exact_mut(g.plane_len()).enumerate() {
+            vol.read_plane(z, plane).unwrap();
+        }
+        (g, all)
+    };
+    let (plain, un) = (read("plain"), read("un"));
+    assert_eq!(plain.0, un.0);
+    assert_eq!(plain.0.dims, [20, 16, 12]);
+    assert_eq!(plain.1, un.1);
+    assert!(plain.1.iter().any(|&v| v != plain.1[0]));
+    let mesh = |kind: &str| {
+        let out = tmp.path().join(format!("{kind}.ply"));
+        let input = tmp.path().join(kind);
+        let run = tmc(&[
+            "extract",
+            input.to_str().unwrap(),
+            "--iso",
+            "-500",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(run.status.success(), "{run:?}");
+        std::fs::read(out).unwrap()
+    };
+    assert_eq!(mesh("plain"), mesh("un"));
+}

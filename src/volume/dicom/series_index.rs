@@ -421,7 +421,7 @@ pub fn open(path: &Path) -> Result<DicomSeries> {
     open_series(path, None)
 }
 
-/// Opens what `path` holds, as [`crate::volume::open`] does: a
+/// Opens what `path` holds, as [`crate::volume::open()`] does: a
 /// Segmentation object (a SEG file, or the SEG series `series` of a
 /// directory) as its label map, or its segment `segment` alone
 /// ([`DicomSegmentation`]); any other series as [`open_series`] does,

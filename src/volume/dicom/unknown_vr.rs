@@ -45,7 +45,7 @@ pub(super) fn resolve(obj: &mut InMemDicomObject) {
 /// bytes fit it.
 fn reread(vr: VR, bytes: &[u8]) -> Option<PrimitiveValue> {
     fn numbers<const N: usize, T>(bytes: &[u8], f: fn([u8; N]) -> T) -> Option<C<T>> {
-        (bytes.len() % N == 0).then(|| {
+        bytes.len().is_multiple_of(N).then(|| {
             bytes
                 .chunks_exact(N)
                 .map(|c| f(c.try_into().expect("chunks of N")))

@@ -3,11 +3,10 @@
 //! where each of its frames lies. Only the header is parsed (up to the
 //! pixel data), never the samples.
 
-use super::attributes::{axes, dot, element, first_item, frame_floats, vec3};
+use super::attributes::{axes, dot, element, first_item, frame_floats, text, vec3};
 use super::files::format_err;
 use super::{lengths, rt_dose, segmentation, unknown_vr};
 use crate::{Error, Result};
-use dicom_core::VR;
 use dicom_dictionary_std::tags;
 use dicom_encoding::TransferSyntaxIndex;
 use dicom_object::{InMemDicomObject, OpenFileOptions, Tag};
@@ -101,18 +100,6 @@ pub(super) enum Probe {
         sop_uid: String,
         header: Result<Header>,
     },
-}
-
-/// A text attribute, unpadded; one stored with VR UN (some converters
-/// write every element so) is read as the text of its bytes.
-pub(super) fn text(obj: &InMemDicomObject, tag: Tag) -> Option<String> {
-    let e = element(obj, tag)?;
-    let s = if e.vr() == VR::UN {
-        String::from_utf8_lossy(e.value().to_bytes().ok()?.as_ref()).into_owned()
-    } else {
-        e.to_str().ok()?.into_owned()
-    };
-    Some(lengths::unpadded(s.trim()).to_string()).filter(|s| !s.is_empty())
 }
 
 /// Reads the header of `path` (never its pixel data) and says what the

@@ -22,9 +22,8 @@
 //! ones 8 bits, a fraction of `MaximumFractionalValue`. How the frames
 //! become samples is `seg_volume.rs`.
 
-use super::attributes::{axes, dot, element, first_item, frame_floats, vec3};
+use super::attributes::{axes, dot, element, first_item, frame_floats, text, vec3};
 use super::files::format_err;
-use super::header::text;
 use crate::volume::{Grid, SegmentNote};
 use crate::Result;
 use dicom_dictionary_std::tags;

@@ -11,12 +11,14 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
+use tmc::volume::zarr::ZarrSelect;
 use tmc::{ExtractParams, Inside, Method, PipelineOptions, SampleSource};
 
-/// The volume argument: an array (with its grid) or a path to open.
+/// The volume argument: an array (with its grid) or a path to open, with
+/// what to read of it (a DICOM series or segment).
 enum Input<'a> {
     Array(Box<tmc::volume::StridedVolume<'a>>),
-    Path(PathBuf),
+    Path(PathBuf, ZarrSelect),
 }
 
 impl<'a> Input<'a> {
@@ -25,12 +27,16 @@ impl<'a> Input<'a> {
         spacing: [f64; 3],
         origin: [f64; 3],
         mapped: MappedAt,
+        select: ZarrSelect,
     ) -> PyResult<Self> {
         match input.cast::<PyUntypedArray>() {
+            Ok(_) if select != ZarrSelect::default() => Err(PyValueError::new_err(
+                "series and segment choose what to read of a DICOM path, not of an array",
+            )),
             Ok(array) => Ok(Input::Array(Box::new(array::volume(
                 array, spacing, origin, mapped,
             )?))),
-            Err(_) => Ok(Input::Path(input.extract::<PathBuf>()?)),
+            Err(_) => Ok(Input::Path(input.extract::<PathBuf>()?, select)),
         }
     }
 
@@ -43,12 +49,22 @@ impl<'a> Input<'a> {
     ) -> PyResult<T> {
         interrupt::run(py, |cancel| match self {
             Input::Array(volume) => work(volume.as_ref(), None, cancel),
-            Input::Path(path) => {
+            Input::Path(path, select) => {
                 tmc::files::check_input_kind(path)?;
-                let source = tmc::volume::open_cancellable(path, None, cancel)?;
+                let source = tmc::volume::open_selected(path, None, select, cancel)?;
                 work(source.as_ref(), Some(path), cancel)
             }
         })
+    }
+}
+
+/// What to read of a path: the DICOM series (number or UID) and the
+/// Segmentation segment, if given.
+pub(crate) fn select(series: Option<String>, segment: Option<u32>) -> ZarrSelect {
+    ZarrSelect {
+        series,
+        segment,
+        ..ZarrSelect::default()
     }
 }
 
@@ -161,7 +177,7 @@ type Collected = (
 /// `record.rs`). The vertices are widened to f64 as the chunks come (on
 /// the writing thread, while the workers triangulate).
 #[pyfunction]
-#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals))]
+#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, series = None, segment = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract<'py>(
     py: Python<'py>,
@@ -175,9 +191,11 @@ pub(crate) fn extract<'py>(
     close: bool,
     threads: usize,
     normals: bool,
+    series: Option<String>,
+    segment: Option<u32>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped)?;
+    let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
     let (vertices, triangles, n, report, record): Collected =
         input.run(py, |source, path, cancel| {
             let options = preflight(source, path, &params, None, cancel)?;
@@ -214,7 +232,8 @@ pub(crate) fn marching_cubes<'py>(
     threads: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, false, threads, true)?;
-    let Input::Array(volume) = Input::new(input, spacing, [0.0; 3], mapped)? else {
+    let Input::Array(volume) = Input::new(input, spacing, [0.0; 3], mapped, ZarrSelect::default())?
+    else {
         return Err(PyValueError::new_err(
             "marching_cubes takes a numpy array, not a path",
         ));
@@ -250,7 +269,7 @@ pub(crate) fn marching_cubes<'py>(
 /// normals go into it too (formats that carry them), as `tmc extract
 /// --normals` writes them. Returns the report JSON.
 #[pyfunction]
-#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals))]
+#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, series = None, segment = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_to(
     py: Python<'_>,
@@ -265,9 +284,11 @@ pub(crate) fn extract_to(
     close: bool,
     threads: usize,
     normals: bool,
+    series: Option<String>,
+    segment: Option<u32>,
 ) -> PyResult<String> {
     let params = params(iso, method, inside, close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped)?;
+    let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
     input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, Some(&output), cancel)?;
         let mut sink = tmc::export::create_sink(&output)?;

@@ -78,18 +78,34 @@ pub(crate) fn check_mesh(
         .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
 }
 
-/// What `tmc info --json` prints for the volume at `path`, as JSON text.
+/// What `tmc info --json` prints for the volume at `path` (the DICOM
+/// series `series`, the Segmentation segment `segment`), as JSON text; for
+/// a DICOM directory of several series and no `series`, their listing
+/// (`input`, `format`, `series`), as `tmc info --json` prints it.
 #[pyfunction]
-#[pyo3(signature = (path, bins = 1024, plane_step = 0))]
+#[pyo3(signature = (path, bins = 1024, plane_step = 0, series = None, segment = None))]
 pub(crate) fn info(
     py: Python<'_>,
     path: PathBuf,
     bins: usize,
     plane_step: usize,
+    series: Option<String>,
+    segment: Option<u32>,
 ) -> PyResult<String> {
     interrupt::run(py, |cancel| {
         tmc::files::check_input_kind(&path)?;
-        let source = tmc::volume::open_cancellable(&path, None, cancel)?;
+        if series.is_none() && segment.is_none() {
+            if let Some(listed) = tmc::volume::dicom_series_to_choose(&path)? {
+                let value = serde_json::json!({
+                    "input": path.display().to_string(),
+                    "format": "DICOM",
+                    "series": listed,
+                });
+                return Ok(value.to_string());
+            }
+        }
+        let select = crate::extract::select(series, segment);
+        let source = tmc::volume::open_selected(&path, None, &select, cancel)?;
         let info = tmc::volume::volume_info(&path, None, source.as_ref(), bins, plane_step)?;
         serde_json::to_string(&info).map_err(|e| tmc::Error::Invalid(e.to_string()))
     })

@@ -227,6 +227,8 @@ def extract(
     close: bool = False,
     threads: int = 0,
     normals: bool = False,
+    series: Optional[Union[int, str]] = None,
+    segment: Optional[int] = None,
 ) -> Mesh:
     """Extracts the isosurface at ``iso`` into a :class:`Mesh`, with the
     ``tmc extract`` conventions.
@@ -254,6 +256,13 @@ def extract(
         Worker threads; 0 uses every core.
     normals : bool
         Also compute unit outward vertex normals from the field's gradient.
+    series : int or str, optional
+        The series of a DICOM directory to read, by its SeriesNumber or
+        SeriesInstanceUID (``info(path)`` lists them), as ``--series``.
+    segment : int, optional
+        The segment of a DICOM Segmentation object to read alone, as 0 to
+        1 (so ``iso=0.5`` is its surface), as ``--segment``; without it a
+        SEG reads as the label map of its segments.
 
     Returns
     -------
@@ -270,7 +279,7 @@ def extract(
     source = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
     vertices, triangles, vertex_normals, report, record = _tmc.extract(
-        *source, *options, bool(normals)
+        *source, *options, bool(normals), *_select(series, segment)
     )
     mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
     mesh._record = record
@@ -289,6 +298,8 @@ def extract_to(
     close: bool = False,
     threads: int = 0,
     normals: bool = False,
+    series: Optional[Union[int, str]] = None,
+    segment: Optional[int] = None,
 ) -> Dict[str, Any]:
     """Streams the isosurface at ``iso`` into the file ``output`` without
     holding the mesh in memory (the CLI's memory bound, for volumes of any
@@ -305,7 +316,9 @@ def extract_to(
     """
     array, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
-    report = _tmc.extract_to(array, os.fspath(output), *rest, *options, bool(normals))
+    report = _tmc.extract_to(
+        array, os.fspath(output), *rest, *options, bool(normals), *_select(series, segment)
+    )
     return json.loads(report)
 
 
@@ -316,11 +329,36 @@ def read_mesh(path: PathLike) -> Mesh:
     return Mesh(vertices, triangles)
 
 
-def info(path: PathLike, *, bins: int = 1024, plane_step: int = 0) -> Dict[str, Any]:
+def info(
+    path: PathLike,
+    *,
+    bins: int = 1024,
+    plane_step: int = 0,
+    series: Optional[Union[int, str]] = None,
+    segment: Optional[int] = None,
+) -> Dict[str, Any]:
     """What ``tmc info --json`` prints for a volume file: format, grid,
     index-to-world affine, value range, NaN count, and Otsu's suggested
-    isovalues (``suggested_iso``, ``suggested_iso_single``)."""
-    return json.loads(_tmc.info(os.fspath(path), int(bins), int(plane_step)))
+    isovalues (``suggested_iso``, ``suggested_iso_single``); a DICOM
+    Segmentation's ``segments``. ``series`` and ``segment`` are those of
+    :func:`extract`; a DICOM directory of several series without ``series``
+    gives their listing instead (``input``, ``format``, ``series``: one
+    dict per series with ``number``, ``uid``, ``modality``, ``description``,
+    ``dims``, ``readable`` ...)."""
+    return json.loads(
+        _tmc.info(os.fspath(path), int(bins), int(plane_step), *_select(series, segment))
+    )
+
+
+def _select(series: Any, segment: Any) -> Tuple[Optional[str], Optional[int]]:
+    """The series (as text: a number or a UID) and segment arguments."""
+    if series is not None and not isinstance(series, (int, str)):
+        raise TypeError(f"series must be a number or a UID string, not {series!r}")
+    if segment is not None:
+        segment = int(segment)
+        if segment < 1:
+            raise ValueError(f"segment must be a segment number (1 or more), not {segment}")
+    return (None if series is None else str(series)), segment
 
 
 def marching_cubes(

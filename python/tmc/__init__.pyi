@@ -42,6 +42,8 @@ def extract(
     close: bool = ...,
     threads: int = ...,
     normals: bool = ...,
+    series: Optional[Union[int, str]] = ...,
+    segment: Optional[int] = ...,
 ) -> Mesh:
     """Extracts the isosurface at ``iso`` into a Mesh (tmc's conventions)."""
 
@@ -57,6 +59,8 @@ def extract_to(
     close: bool = ...,
     threads: int = ...,
     normals: bool = ...,
+    series: Optional[Union[int, str]] = ...,
+    segment: Optional[int] = ...,
 ) -> Dict[str, Any]:
     """Streams the isosurface into a mesh file without holding the mesh
     (with ``normals``, the vertex normals too, as ``tmc extract --normals``)."""
@@ -64,8 +68,16 @@ def extract_to(
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a .tmesh, PLY, OBJ or OFF file."""
 
-def info(path: PathLike, *, bins: int = ..., plane_step: int = ...) -> Dict[str, Any]:
-    """What ``tmc info --json`` prints for a volume file."""
+def info(
+    path: PathLike,
+    *,
+    bins: int = ...,
+    plane_step: int = ...,
+    series: Optional[Union[int, str]] = ...,
+    segment: Optional[int] = ...,
+) -> Dict[str, Any]:
+    """What ``tmc info --json`` prints for a volume file (a DICOM series or
+    segment chosen, or the series of a DICOM directory listed)."""
 
 def marching_cubes(
     volume: npt.ArrayLike,

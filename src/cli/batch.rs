@@ -36,6 +36,10 @@ struct Line<'a> {
     seconds: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
     line: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    series: Option<&'a str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    segment: Option<u32>,
 }
 
 /// Runs a batch; fails with the item's own error when it holds one input,
@@ -207,6 +211,8 @@ fn report_line(item: &Item, result: &Result<Vec<Stats>>, seconds: f64) -> String
         vertices: stats.iter().map(|s| s.vertices).collect(),
         seconds,
         line: item.line,
+        series: item.series.as_deref(),
+        segment: item.segment,
     };
     let mut text = serde_json::to_string(&line).expect("a report line serialises");
     text.push('\n');
@@ -221,7 +227,14 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
         args.check_normals_output(output)?;
         check_distinct(&item.input, output)?;
     }
-    let source = super::raw_input::open_input(&item.input, &args.raw, cancel, args.quiet)?;
+    let mut raw = args.raw.clone();
+    if item.series.is_some() {
+        raw.series = item.series.clone();
+    }
+    if item.segment.is_some() {
+        raw.segment = item.segment;
+    }
+    let source = super::raw_input::open_input(&item.input, &raw, cancel, args.quiet)?;
     for (data, output) in source
         .data_files()
         .iter()

@@ -6,20 +6,18 @@
 use super::raw_input::RawArgs;
 use std::io::{self, Write};
 use std::path::Path;
-use tmc::volume::dicom::{list_series, SeriesSummary};
-use tmc::volume::Format;
+use tmc::volume::dicom::SeriesSummary;
+use tmc::volume::dicom_series_to_choose;
 use tmc::Result;
 
 /// The series of `input` when it is a DICOM directory of more than one
 /// series and no `--series` (nor raw option) was given; `None` otherwise
 /// (the input is then opened as one volume).
 pub(crate) fn several(input: &Path, raw: &RawArgs) -> Result<Option<Vec<SeriesSummary>>> {
-    let dicom_dir = input.is_dir() && Format::detect(input, false) == Some(Format::Dicom);
-    if !dicom_dir || raw.series.is_some() || raw.options().is_some() {
+    if raw.series.is_some() || raw.segment.is_some() || raw.options().is_some() {
         return Ok(None);
     }
-    let series = list_series(input)?;
-    Ok((series.len() > 1).then_some(series))
+    dicom_series_to_choose(input)
 }
 
 /// The listing as `tmc info --json` prints it: one object on one line.

@@ -55,6 +55,10 @@ JSON keys (--json; one object on one line):
                          --origin; file = the value they override)
   units                  the unit of the values where the file states one
                          (DICOM RT Dose: GY or RELATIVE), else null
+  segments               DICOM Segmentation only: [{number, label, property,
+                         algorithm, frames}], the values of its label map
+  overlapping_segments   DICOM Segmentation only, when segments share
+                         samples: [[a, b], ...] (--labels refuses these)
   chunks                 chunked formats (Zarr, HDF5): chunk_shape [x, y, z],
                          codec, stored_bytes, chunks, chunks_stored; else null
   direction              3x3, rows = world axes, column j = index axis j
@@ -221,6 +225,30 @@ fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
     }
     if let Some(units) = &info.units {
         rows.push(("units", units.clone()));
+    }
+    for (i, s) in info.segments.iter().enumerate() {
+        let mut what = vec![format!("{}", s.number)];
+        if !s.label.is_empty() {
+            what.push(format!("\"{}\"", s.label));
+        }
+        what.extend(s.property.clone());
+        what.extend(s.algorithm.clone());
+        what.push(format!("{} frame(s)", s.frames));
+        rows.push((if i == 0 { "segments" } else { "" }, what.join("  ")));
+    }
+    if !info.overlapping_segments.is_empty() {
+        let pairs: Vec<String> = info
+            .overlapping_segments
+            .iter()
+            .map(|[a, b]| format!("{a} and {b}"))
+            .collect();
+        rows.push((
+            "overlapping",
+            format!(
+                "{} (the label map keeps the higher; --labels refuses, --segment N reads each)",
+                pairs.join(", ")
+            ),
+        ));
     }
     rows.push(("min", optional(info.min)));
     rows.push(("max", optional(info.max)));

@@ -56,6 +56,21 @@ struct LabelRun<'a> {
     seconds: f64,
 }
 
+/// Refuses a DICOM Segmentation whose segments overlap: its label map
+/// gives a shared sample to one segment only, so the meshes would not be
+/// the segments'.
+fn refuse_overlaps(input: &Path, pairs: &[[u32; 2]]) -> Result<()> {
+    if pairs.is_empty() {
+        return Ok(());
+    }
+    let pairs: Vec<String> = pairs.iter().map(|[a, b]| format!("{a} and {b}")).collect();
+    Err(Error::Invalid(format!(
+        "{}: segments {} overlap, and a label map holds one segment per sample; extract each with --segment N --iso 0.5",
+        input.display(),
+        pairs.join(", ")
+    )))
+}
+
 /// Runs `tmc extract --labels`.
 pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     let started = Instant::now();
@@ -96,6 +111,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let source = super::raw_input::open_input(input, &args.raw, cancel, args.quiet)?;
     let grid = *source.grid();
     check_grid(input, &grid, args.close)?;
+    refuse_overlaps(input, &source.notes().overlapping_segments)?;
     let scan_start = Instant::now();
     let counts =
         tmc::volume::scan_labels(source.as_ref(), cancel).map_err(|e| name_input(input, e))?;

@@ -17,6 +17,12 @@ pub(crate) struct Item {
     pub outputs: Vec<PathBuf>,
     /// The manifest line the item comes from (1-based), if any.
     pub line: Option<usize>,
+    /// The DICOM series its line chose (`series=N|UID`), which wins over
+    /// `--series`.
+    pub series: Option<String>,
+    /// The DICOM Segmentation segment its line chose (`segment=N`), which
+    /// wins over `--segment`.
+    pub segment: Option<u32>,
 }
 
 /// The items of `inputs` extracted at `isos` into outputs named by
@@ -35,14 +41,18 @@ pub(crate) fn from_args(inputs: &[PathBuf], isos: &[f64], template: &Path) -> Re
             isos: isos.to_vec(),
             outputs: outputs(template, input, isos),
             line: None,
+            series: None,
+            segment: None,
         })
         .collect();
     check_unique(items)
 }
 
 /// Parses a manifest: one item per line, `INPUT ISO[,ISO...] OUTPUT`,
-/// separated by tabs if the line has a tab (paths with spaces), else by
-/// whitespace; blank lines and lines starting with `#` are skipped.
+/// then optional `series=N|UID` and `segment=N` (a DICOM input's series
+/// and a Segmentation's segment), separated by tabs if the line has a tab
+/// (paths with spaces), else by whitespace; blank lines and lines starting
+/// with `#` are skipped.
 pub(crate) fn parse(text: &str, name: &Path) -> Result<Vec<Item>> {
     let mut items = Vec::new();
     for (n, line) in text.lines().enumerate() {
@@ -57,12 +67,32 @@ pub(crate) fn parse(text: &str, name: &Path) -> Result<Vec<Item>> {
         } else {
             trimmed.split_whitespace().collect()
         };
-        let [input, isos, output] = fields[..] else {
+        let (Some(&[input, isos, output]), options) =
+            (fields.first_chunk::<3>(), &fields[3.min(fields.len())..])
+        else {
             return Err(at(format!(
-                "expected 3 fields 'INPUT ISO[,ISO...] OUTPUT', found {}",
+                "expected 3 fields 'INPUT ISO[,ISO...] OUTPUT' (then series=N|UID, segment=N), found {}",
                 fields.len()
             )));
         };
+        let (mut series, mut segment) = (None, None);
+        for option in options {
+            match option.split_once('=') {
+                Some(("series", v)) if !v.is_empty() && series.is_none() => {
+                    series = Some(v.to_string())
+                }
+                Some(("segment", v)) if segment.is_none() => {
+                    segment = Some(v.parse::<u32>().map_err(|_| {
+                        at(format!("bad segment {v:?} (a segment number, 1 or more)"))
+                    })?)
+                }
+                _ => {
+                    return Err(at(format!(
+                        "unexpected field {option:?} after OUTPUT (expected series=N|UID or segment=N, each once)"
+                    )))
+                }
+            }
+        }
         let isos = isos
             .split(',')
             .map(values::finite)
@@ -74,6 +104,8 @@ pub(crate) fn parse(text: &str, name: &Path) -> Result<Vec<Item>> {
             input,
             isos,
             line: Some(n + 1),
+            series,
+            segment,
         });
     }
     if items.is_empty() {
@@ -213,6 +245,26 @@ mod tests {
             err.to_string().starts_with("m.txt:1: bad isovalue"),
             "{err}"
         );
+        let items = parse(
+            "d 1 a.ply series=4 segment=2\nd\t2\tb.ply\tseries=1.2.3\n",
+            Path::new("m"),
+        )
+        .unwrap();
+        assert_eq!(items[0].series.as_deref(), Some("4"));
+        assert_eq!(items[0].segment, Some(2));
+        assert_eq!(
+            (items[1].series.as_deref(), items[1].segment),
+            (Some("1.2.3"), None)
+        );
+        for bad in [
+            "d 1 a.ply series=",
+            "d 1 a.ply seg=2",
+            "d 1 a.ply segment=x",
+            "d 1 a.ply series=1 series=2",
+        ] {
+            let err = parse(bad, Path::new("m")).unwrap_err();
+            assert!(err.to_string().starts_with("m:1: "), "{bad}: {err}");
+        }
         let err = parse("a.npy 1 x.ply\nb.npy 2 x.ply\n", Path::new("m")).unwrap_err();
         assert!(err.to_string().contains("two outputs"), "{err}");
     }

@@ -10,7 +10,7 @@ use tmc::volume::{Endian, RawOptions, RawVolume, SampleSource, ScalarType};
 use tmc::{Error, Result};
 
 /// How to read headerless samples; all absent for a file with a header.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args)]
 pub(crate) struct RawArgs {
     /// Raw input: samples along x, y, z (e.g. 256,256,128); needs --dtype.
     #[arg(long, value_name = "X,Y,Z", value_parser = values::dims, requires = "dtype", help_heading = "Raw input (headerless samples, x fastest)")]
@@ -76,6 +76,13 @@ pub(crate) struct RawArgs {
     #[arg(long, value_name = "N|UID", help_heading = "DICOM input")]
     pub series: Option<String>,
 
+    /// DICOM Segmentation: read segment N alone, as 0 (outside) to 1
+    /// (inside; a FRACTIONAL segment's fraction), so --iso 0.5 is its
+    /// surface; without it a SEG reads as a label map of its segments
+    /// (for --labels).
+    #[arg(long, value_name = "N", help_heading = "DICOM input")]
+    pub segment: Option<u32>,
+
     /// Name the files of the input that were not read, and why (a DICOM
     /// directory's other series, non-image objects, unreadable files,
     /// copies and slices left out of the series).
@@ -132,6 +139,7 @@ pub(crate) fn open_input(
         level: args.level,
         dataset: args.dataset.clone(),
         series: args.series.clone(),
+        segment: args.segment,
     };
     let source = tmc::volume::open_selected(input, raw, &select, cancel.unwrap_or(&never))?;
     let (source, notes) = tmc::volume::regrid(source, args.spacing, args.origin)?;

@@ -233,6 +233,8 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
             chunks,
             units: None,
             skipped: Vec::new(),
+            segments: Vec::new(),
+            overlapping_segments: Vec::new(),
         },
     })
 }

@@ -8,7 +8,7 @@
 //! streamed [`Summary`] with [`describe`].
 
 use super::{format_name, summarize, RawOptions, SampleSource, Summary, SummaryOptions};
-use super::{ChunkNotes, ValueFrom};
+use super::{ChunkNotes, SegmentNote, ValueFrom};
 use crate::grid::Grid;
 use crate::{Error, Result};
 use serde::Serialize;
@@ -60,6 +60,13 @@ pub struct VolumeInfo {
     /// The unit of the values, where the file states one (an RT Dose's
     /// `DoseUnits`, GY or RELATIVE); `null` otherwise.
     pub units: Option<String>,
+    /// The segments of a DICOM Segmentation object (absent for any other
+    /// input).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub segments: Vec<SegmentNote>,
+    /// Pairs of its segments that share samples (absent when none do).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub overlapping_segments: Vec<[u32; 2]>,
     /// Direction cosines: rows are world axes, column `j` is index axis `j`.
     pub direction: [[f64; 3]; 3],
     /// The 4x4 index-to-world matrix: `world = affine * [i, j, k, 1]`.
@@ -146,6 +153,8 @@ pub fn describe(
         origin_from: notes.origin_from,
         chunks: notes.chunks,
         units: notes.units,
+        segments: notes.segments,
+        overlapping_segments: notes.overlapping_segments,
         direction: grid.direction,
         affine: affine(grid),
         min: summary.min,

@@ -57,8 +57,10 @@ pub use info::{
 };
 pub use labels::{plane_runs, scan_labels, LabelCounts};
 pub use lent::{LentPlane, SharedPlane};
-pub use notes::{ChunkNotes, SourceNotes, ValueFrom};
-pub use open::{format_name, open, open_cancellable, open_selected, Format};
+pub use notes::{ChunkNotes, SegmentNote, SourceNotes, ValueFrom};
+pub use open::{
+    dicom_series_to_choose, format_name, open, open_cancellable, open_selected, Format,
+};
 pub use padded::Padded;
 pub use raw::{RawOptions, RawVolume};
 pub use regrid::{regrid, Regridded};

@@ -68,6 +68,24 @@ pub struct ChunkNotes {
     pub chunks_stored: Option<u64>,
 }
 
+/// One segment of a DICOM Segmentation object, as `tmc info` lists it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SegmentNote {
+    /// `SegmentNumber`: the label its samples have in the label map, and
+    /// what `--segment` takes.
+    pub number: u32,
+    /// `SegmentLabel` (empty if the file states none).
+    pub label: String,
+    /// The code meaning of its Segmented Property Type (what it is:
+    /// "Liver", "Tissue" ...), if stated.
+    pub property: Option<String>,
+    /// `SegmentAlgorithmType`: AUTOMATIC, SEMIAUTOMATIC or MANUAL.
+    pub algorithm: Option<String>,
+    /// Frames of the file that hold it (a frame per slice it touches, for
+    /// most writers).
+    pub frames: usize,
+}
+
 /// What a source tells about itself beyond its grid and samples (see
 /// [`super::SampleSource::notes`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -86,6 +104,13 @@ pub struct SourceNotes {
     /// by `--verbose`, not part of `tmc info --json`.
     #[serde(skip)]
     pub skipped: Vec<String>,
+    /// The segments of a DICOM Segmentation object (empty for any other
+    /// source).
+    pub segments: Vec<SegmentNote>,
+    /// Pairs of segments of a DICOM Segmentation that share samples,
+    /// `[lower, higher]` ascending: a label map holds one segment per
+    /// sample (the higher number), so `--labels` refuses such a file.
+    pub overlapping_segments: Vec<[u32; 2]>,
 }
 
 impl Default for SourceNotes {
@@ -97,6 +122,8 @@ impl Default for SourceNotes {
             chunks: None,
             units: None,
             skipped: Vec::new(),
+            segments: Vec::new(),
+            overlapping_segments: Vec::new(),
         }
     }
 }
@@ -110,6 +137,8 @@ impl SourceNotes {
             chunks: None,
             units: None,
             skipped: Vec::new(),
+            segments: Vec::new(),
+            overlapping_segments: Vec::new(),
         }
     }
 }

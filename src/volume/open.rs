@@ -147,6 +147,12 @@ pub fn open_selected(
             path.display()
         )));
     }
+    if select.segment.is_some() && format != Some(Format::Dicom) {
+        return Err(crate::Error::Invalid(format!(
+            "{}: --segment picks a segment of a DICOM Segmentation object, and this is not one",
+            path.display()
+        )));
+    }
     if select.series.is_some() && format != Some(Format::Dicom) {
         return Err(crate::Error::Invalid(format!(
             "{}: --series chooses a series of a DICOM directory, and this is not one",
@@ -190,10 +196,21 @@ pub fn open_selected(
         Format::VtkLegacy => Box::new(vtk_legacy::open(path)?),
         Format::Vti => Box::new(vti::open(path)?),
         Format::TiffStack => Box::new(tiff_stack::open(path)?),
-        Format::Dicom => Box::new(dicom::open_series(path, select.series.as_deref())?),
+        Format::Dicom => dicom::open_source(path, select.series.as_deref(), select.segment)?,
         Format::Zarr => Box::new(zarr::open(path, select)?),
         Format::Hdf5 => Box::new(hdf5::open(path, select.dataset.as_deref())?),
     })
+}
+
+/// The series of `path` when it is a DICOM directory of more than one
+/// series, one of which must be chosen (`--series`); `None` for any other
+/// input, which opens as one volume. What `tmc info DIR` lists.
+pub fn dicom_series_to_choose(path: &Path) -> Result<Option<Vec<dicom::SeriesSummary>>> {
+    if !path.is_dir() || Format::detect(path, false) != Some(Format::Dicom) {
+        return Ok(None);
+    }
+    let series = dicom::list_series(path)?;
+    Ok((series.len() > 1).then_some(series))
 }
 
 /// The name of the format [`open`] reads `path` as ("NRRD", "NIfTI-1",

@@ -400,6 +400,8 @@ impl SampleSource for TiffStack {
             chunks: None,
             units: None,
             skipped: Vec::new(),
+            segments: Vec::new(),
+            overlapping_segments: Vec::new(),
         }
     }
 }

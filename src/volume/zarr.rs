@@ -43,6 +43,9 @@ pub struct ZarrSelect {
     /// The series of a DICOM directory (`--series`): a
     /// `SeriesInstanceUID` or a `SeriesNumber`.
     pub series: Option<String>,
+    /// The segment of a DICOM Segmentation object to read alone, as 0 to
+    /// 1 (`--segment`), instead of the label map of all its segments.
+    pub segment: Option<u32>,
 }
 
 /// A Zarr array read plane by plane from its chunk layers.
@@ -266,6 +269,8 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         chunks: Some(chunk_notes(path, &node, array.metadata(), chunk, chunks)),
         units: None,
         skipped: Vec::new(),
+        segments: Vec::new(),
+        overlapping_segments: Vec::new(),
     };
     Ok(ZarrVolume {
         root: path.to_path_buf(),

@@ -416,3 +416,76 @@ fn progress_lines_name_each_input_and_reach_100_percent() {
         "{e}"
     );
 }
+
+/// A manifest line chooses the series of a DICOM directory (`series=`):
+/// each line writes the bytes of `tmc extract DIR --series UID`, and the
+/// report line names the series; a line's series wins over `--series`.
+#[test]
+fn manifest_lines_choose_dicom_series() {
+    let dir = tempfile::tempdir().unwrap();
+    let two = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dicom_bad_two_series");
+    let uid = |n: u32| format!("1.2.826.0.1.3680043.8.498.7777.{n}");
+    let out = |name: &str| dir.path().join(name);
+    let manifest = out("m.txt");
+    fs::write(
+        &manifest,
+        format!(
+            "{t}\t3.5\t{a}\tseries={u32}\n{t}\t3.5\t{b}\tseries={u31}\n",
+            t = s(&two),
+            a = s(&out("a.off")),
+            b = s(&out("b.off")),
+            u32 = uid(32),
+            u31 = uid(31)
+        ),
+    )
+    .unwrap();
+    let report = out("r.jsonl");
+    let run = tmc(&[
+        "extract",
+        "--manifest",
+        s(&manifest),
+        "--close",
+        "--report",
+        s(&report),
+        "-q",
+        "--series",
+        "no-such-series",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let lines = json_lines(&fs::read(&report).unwrap());
+    assert_eq!(lines[0]["series"], uid(32).as_str());
+    assert_eq!(lines[1]["series"], uid(31).as_str());
+    for (name, n) in [("a.off", 32), ("b.off", 31)] {
+        let single = out(&format!("single_{name}"));
+        let run = tmc(&[
+            "extract",
+            s(&two),
+            "--iso",
+            "3.5",
+            "--close",
+            "--series",
+            &uid(n),
+            "-o",
+            s(&single),
+            "-q",
+        ]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        let mine = fs::read(out(name)).unwrap();
+        assert!(mine.len() > 100, "{name}");
+        assert_eq!(mine, fs::read(&single).unwrap(), "{name}");
+    }
+    let a = fs::read(out("a.off")).unwrap();
+    assert_ne!(a, fs::read(out("b.off")).unwrap());
+    // A bad option of a line is one error naming the line.
+    fs::write(
+        &manifest,
+        format!("{} 3.5 {} series=\n", s(&two), s(&out("c.off"))),
+    )
+    .unwrap();
+    let run = tmc(&["extract", "--manifest", s(&manifest)]);
+    let line = assert_one_line(&run, 1);
+    assert!(
+        line.contains("m.txt:1: unexpected field \"series=\""),
+        "{line}"
+    );
+}

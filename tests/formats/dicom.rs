@@ -5,6 +5,7 @@
 //! full affine, and one clear error per bad series.
 
 mod clinical;
+mod segmentation;
 use crate::common;
 
 use common::formats::{check_grid, data_dir, fixtures, open_err, samples_in_order};

@@ -2,11 +2,25 @@
 //! functional groups of enhanced objects) and the geometry of a slice
 //! orientation.
 
+use super::lengths;
+use dicom_core::VR;
 use dicom_object::mem::InMemElement;
 use dicom_object::{InMemDicomObject, Tag};
 
 pub(super) fn element(obj: &InMemDicomObject, tag: Tag) -> Option<&InMemElement> {
     obj.element_opt(tag).ok().flatten()
+}
+
+/// A text attribute, unpadded; one stored with VR UN (some converters
+/// write every element so) is read as the text of its bytes.
+pub(super) fn text(obj: &InMemDicomObject, tag: Tag) -> Option<String> {
+    let e = element(obj, tag)?;
+    let s = if e.vr() == VR::UN {
+        String::from_utf8_lossy(e.value().to_bytes().ok()?.as_ref()).into_owned()
+    } else {
+        e.to_str().ok()?.into_owned()
+    };
+    Some(lengths::unpadded(s.trim()).to_string()).filter(|s| !s.is_empty())
 }
 
 pub(super) fn floats(obj: &InMemDicomObject, tag: Tag) -> Option<Vec<f64>> {

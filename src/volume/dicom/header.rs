@@ -3,11 +3,10 @@
 //! where each of its frames lies. Only the header is parsed (up to the
 //! pixel data), never the samples.
 
-use super::attributes::{axes, dot, element, first_item, frame_floats, vec3};
+use super::attributes::{axes, dot, element, first_item, frame_floats, text, vec3};
 use super::files::format_err;
-use super::{lengths, rt_dose};
+use super::{lengths, rt_dose, segmentation, unknown_vr};
 use crate::{Error, Result};
-use dicom_core::VR;
 use dicom_dictionary_std::tags;
 use dicom_encoding::TransferSyntaxIndex;
 use dicom_object::{InMemDicomObject, OpenFileOptions, Tag};
@@ -62,6 +61,9 @@ pub(super) struct SeriesMeta {
     pub(super) description: Option<String>,
     /// The transfer syntax's name (its UID if unknown).
     pub(super) transfer_syntax: String,
+    /// Is the file a Segmentation object (read on its own, by
+    /// `seg_volume.rs`, never stacked)?
+    pub(super) segmentation: bool,
 }
 
 /// What the header of one image file says.
@@ -100,18 +102,6 @@ pub(super) enum Probe {
     },
 }
 
-/// A text attribute, unpadded; one stored with VR UN (some converters
-/// write every element so) is read as the text of its bytes.
-fn text(obj: &InMemDicomObject, tag: Tag) -> Option<String> {
-    let e = element(obj, tag)?;
-    let s = if e.vr() == VR::UN {
-        String::from_utf8_lossy(e.value().to_bytes().ok()?.as_ref()).into_owned()
-    } else {
-        e.to_str().ok()?.into_owned()
-    };
-    Some(lengths::unpadded(s.trim()).to_string()).filter(|s| !s.is_empty())
-}
-
 /// Reads the header of `path` (never its pixel data) and says what the
 /// file is.
 pub(super) fn probe(path: &Path) -> Probe {
@@ -125,7 +115,7 @@ pub(super) fn probe(path: &Path) -> Probe {
         return Probe::Skip(e);
     }
     let pixels = pixels.map_err(|(_, e)| e);
-    let obj =
+    let mut obj =
         match OpenFileOptions::new()
             .read_until(tags::PIXEL_DATA)
             .open_file(path)
@@ -137,6 +127,7 @@ pub(super) fn probe(path: &Path) -> Probe {
                 }))
             }
         };
+    unknown_vr::resolve(&mut obj);
     if obj.meta().media_storage_sop_class_uid() == MEDIA_STORAGE_DIRECTORY {
         return Probe::Skip(format_err(
             path,
@@ -144,7 +135,10 @@ pub(super) fn probe(path: &Path) -> Probe {
         ));
     }
     let ts_uid = lengths::unpadded(obj.meta().transfer_syntax()).to_string();
+    let segmentation =
+        segmentation::is_segmentation(&obj, obj.meta().media_storage_sop_class_uid());
     let meta = SeriesMeta {
+        segmentation,
         uid: text(&obj, tags::SERIES_INSTANCE_UID).unwrap_or_default(),
         number: text(&obj, tags::SERIES_NUMBER),
         modality: text(&obj, tags::MODALITY),
@@ -163,7 +157,14 @@ pub(super) fn probe(path: &Path) -> Probe {
         ));
     }
     let sop_uid = text(&obj, tags::SOP_INSTANCE_UID).unwrap_or_default();
-    let header = pixels.and_then(|pixels| Header::from_header(path, &obj, &ts_uid, pixels, &meta));
+    let header = if segmentation {
+        Err(format_err(
+            path,
+            "a Segmentation object, read on its own (its segments as a label map)",
+        ))
+    } else {
+        pixels.and_then(|pixels| Header::from_header(path, &obj, &ts_uid, pixels, &meta))
+    };
     Probe::Image {
         meta,
         sop_uid,
@@ -210,12 +211,6 @@ impl Header {
                     )
                 })
         };
-        if element(obj, tags::ROWS).is_some_and(|e| e.vr() == VR::UN) {
-            return Err(format_err(
-                path,
-                "its header stores attributes with VR UN (unknown), whose binary values tmc does not interpret",
-            ));
-        }
         let rows = uint(tags::ROWS, "Rows")?;
         let columns = uint(tags::COLUMNS, "Columns")?;
         let bits_allocated = uint(tags::BITS_ALLOCATED, "BitsAllocated")?;

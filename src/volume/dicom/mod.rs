@@ -39,6 +39,10 @@
 //!   one `ImagePositionPatient` moved along the normal by Grid Frame
 //!   Offset Vector (RT Dose, `rt_dose.rs`: values scaled by Dose Grid
 //!   Scaling) or stepped by `SpacingBetweenSlices` (or `SliceThickness`).
+//! * Segmentation objects (SEG) are read on their own, as the label map of
+//!   their segments or one segment alone ([`DicomSegmentation`],
+//!   `segmentation.rs` and `seg_volume.rs`); [`open_source`] opens either
+//!   kind.
 //! * Only the headers are read at open. A plane is decoded when it is asked
 //!   for, by parsing its file again. The last file parsed is kept, so the
 //!   frames of a multi-frame file come from one parse of it (parsed for
@@ -48,7 +52,8 @@
 //!   endian, deflate, RLE lossless, JPEG baseline/extended/lossless and
 //!   JPEG 2000 (lossless and lossy, through the pure-Rust OpenJPEG port).
 //!   JPEG-LS, HTJ2K and JPEG XL need codecs tmc leaves out and are refused
-//!   at open. Samples must be greyscale (1 sample per pixel) of 8, 16 or 32
+//!   at open. Attributes stored with VR UN are re-read under their
+//!   dictionary VR (`unknown_vr.rs`). Samples must be greyscale (1 sample per pixel) of 8, 16 or 32
 //!   bits, unsigned or signed.
 
 mod attributes;
@@ -56,10 +61,15 @@ mod files;
 mod header;
 mod lengths;
 mod rt_dose;
+mod seg_volume;
+mod segmentation;
 mod series;
 mod series_index;
+mod unknown_vr;
+mod walker;
 
 pub use files::{dir_has_dicom, has_magic};
+pub use seg_volume::DicomSegmentation;
 pub use series::DicomSeries;
 pub use series_index::SeriesSummary;
-pub use series_index::{list_series, open, open_series};
+pub use series_index::{list_series, open, open_series, open_source};

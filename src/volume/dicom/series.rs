@@ -5,7 +5,7 @@
 use super::attributes::{axes, dot, element};
 use super::files::format_err;
 use super::header::{Format, Header, Plane};
-use super::lengths;
+use super::{lengths, unknown_vr};
 use crate::volume::{guarded, Grid, SampleSource, ScalarType, SourceNotes};
 use crate::{Error, Result};
 use dicom_dictionary_std::tags;
@@ -216,9 +216,10 @@ impl DicomSeries {
         }
         // Checked again: the file may have changed since the header.
         lengths::check(path).map_err(|e| format_err(path, e))?;
-        let obj = OpenFileOptions::new()
+        let mut obj = OpenFileOptions::new()
             .open_file(path)
             .map_err(|e| format_err(path, format!("not a readable DICOM file: {e}")))?;
+        unknown_vr::resolve(&mut obj);
         let obj = Arc::new(obj);
         *last() = Some((path.to_path_buf(), Arc::clone(&obj)));
         Ok(obj)

@@ -27,7 +27,9 @@
 
 use super::files::{dir_files, format_err, is_dicom_file};
 use super::header::{probe, Header, Probe, SeriesMeta};
+use super::seg_volume::{list, DicomSegmentation};
 use super::series::{assemble, DicomSeries};
+use crate::volume::SampleSource;
 use crate::Result;
 use serde::Serialize;
 use std::collections::BTreeSet;
@@ -191,14 +193,14 @@ impl Index {
             .join(", ")
     }
 
-    /// Opens the series `wanted` (a UID or a number), or the only series
-    /// when `None`; several series are then an error listing them.
-    pub(super) fn open(self, wanted: Option<&str>) -> Result<DicomSeries> {
+    /// The UID of the series `wanted` (a UID or a number), or of the only
+    /// series when `None`; several series are then an error listing them.
+    fn chosen(&self, wanted: Option<&str>) -> Result<String> {
         let uids = self.uids();
-        let uid = match wanted {
-            Some(w) => self.choose(w)?,
+        match wanted {
+            Some(w) => self.choose(w),
             None => match &uids[..] {
-                [uid] => uid.clone(),
+                [uid] => Ok(uid.clone()),
                 [] => {
                     let why = match self.skipped.len() {
                         0 => String::new(),
@@ -206,24 +208,42 @@ impl Index {
                             " ({n} DICOM file(s) that hold no image or do not parse; tmc info on one says why)"
                         ),
                     };
-                    return Err(format_err(
+                    Err(format_err(
                         &self.dir,
                         format!("no DICOM image files found{why}"),
-                    ));
-                }
-                _ => {
-                    return Err(format_err(
-                        &self.dir,
-                        format!(
-                            "{} DICOM series in one directory: {}; choose one with --series NUMBER or UID (tmc info lists them) or open one file of it",
-                            uids.len(),
-                            self.list(&uids)
-                        ),
                     ))
                 }
+                _ => Err(format_err(
+                    &self.dir,
+                    format!(
+                        "{} DICOM series in one directory: {}; choose one with --series NUMBER or UID (tmc info lists them) or open one file of it",
+                        uids.len(),
+                        self.list(&uids)
+                    ),
+                )),
             },
-        };
-        self.open_uid(&uid, None)
+        }
+    }
+
+    /// The Segmentation file of series `uid`, if it is a SEG series; an
+    /// error if it holds several (each is a volume of its own).
+    fn segmentation_file(&self, uid: &str) -> Result<Option<PathBuf>> {
+        let segs: Vec<&ImageFile> = self
+            .images
+            .iter()
+            .filter(|f| f.meta.uid == uid && f.meta.segmentation)
+            .collect();
+        match segs[..] {
+            [] => Ok(None),
+            [one] => Ok(Some(one.path.clone())),
+            _ => Err(format_err(
+                &self.dir,
+                format!(
+                    "series {uid} holds {} Segmentation files: open one of them",
+                    segs.len()
+                ),
+            )),
+        }
     }
 
     /// Opens series `uid`, to which file `asked` (already read) belongs if
@@ -262,12 +282,26 @@ impl Index {
                 .iter()
                 .map(|f| f.meta.transfer_syntax.clone())
                 .collect();
-            let (readable, dims, note) = match select(&dir, &uid, mine, None) {
-                Ok(s) => {
+            let seg = mine
+                .iter()
+                .find(|f| f.meta.segmentation)
+                .map(|f| f.path.clone());
+            let opened = match seg {
+                Some(path) => DicomSegmentation::open(&path, None).map(|s| {
+                    let mut note = list(s.segments());
+                    for [a, b] in s.overlapping_segments() {
+                        note.push_str(&format!("; {a} and {b} overlap"));
+                    }
+                    (s.grid().dims, Some(note))
+                }),
+                None => select(&dir, &uid, mine, None).map(|s| {
                     let left = s.skipped.len();
                     let note = (left > 0).then(|| format!("{left} file(s) left out"));
-                    (true, Some(s.grid_dims()), note)
-                }
+                    (s.grid_dims(), note)
+                }),
+            };
+            let (readable, dims, note) = match opened {
+                Ok((dims, note)) => (true, Some(dims), note),
                 Err(e) => (false, None, Some(short(&dir, &e.to_string()))),
             };
             out.push(SeriesSummary {
@@ -387,13 +421,59 @@ pub fn open(path: &Path) -> Result<DicomSeries> {
     open_series(path, None)
 }
 
+/// Opens what `path` holds, as [`crate::volume::open()`] does: a
+/// Segmentation object (a SEG file, or the SEG series `series` of a
+/// directory) as its label map, or its segment `segment` alone
+/// ([`DicomSegmentation`]); any other series as [`open_series`] does,
+/// and then `segment` must be `None`.
+pub fn open_source(
+    path: &Path,
+    series: Option<&str>,
+    segment: Option<u32>,
+) -> Result<Box<dyn SampleSource>> {
+    let seg_file = if path.is_dir() {
+        let index = Index::read(path, None)?;
+        let uid = index.chosen(series)?;
+        match index.segmentation_file(&uid)? {
+            Some(file) => Some(file),
+            None if segment.is_none() => return Ok(Box::new(index.open_uid(&uid, None)?)),
+            None => None,
+        }
+    } else {
+        match probe(path) {
+            Probe::Image { meta, .. } if meta.segmentation => {
+                if let Some(wanted) = series {
+                    if wanted != meta.uid && meta.number.as_deref() != Some(wanted) {
+                        return Err(format_err(
+                            path,
+                            format!("belongs to series {}, not {wanted}", meta.uid),
+                        ));
+                    }
+                }
+                Some(path.to_path_buf())
+            }
+            _ => None,
+        }
+    };
+    match seg_file {
+        Some(file) => Ok(Box::new(DicomSegmentation::open(&file, segment)?)),
+        None if segment.is_some() => Err(format_err(
+            path,
+            "--segment picks a segment of a DICOM Segmentation object (modality SEG), and this is not one",
+        )),
+        None => Ok(Box::new(open_series(path, series)?)),
+    }
+}
+
 /// Opens the series `series` (a `SeriesInstanceUID` or a `SeriesNumber`)
 /// of a directory, or the only series there when `series` is `None`. A
 /// single-frame file stands for its own series in its directory, whatever
 /// else the directory holds; a multi-frame file for itself.
 pub fn open_series(path: &Path, series: Option<&str>) -> Result<DicomSeries> {
     if path.is_dir() {
-        return Index::read(path, None)?.open(series);
+        let index = Index::read(path, None)?;
+        let uid = index.chosen(series)?;
+        return index.open_uid(&uid, None);
     }
     let (meta, sop_uid, header) = match probe(path) {
         Probe::Skip(e) => return Err(e),

@@ -20,7 +20,7 @@ fn script() -> PathBuf {
 
 /// A Python with pydicom and numpy, or `None` (said on stderr) when there
 /// is none and `TMC_PYTHON` is not set.
-fn python() -> Option<String> {
+pub(super) fn python() -> Option<String> {
     let given = std::env::var("TMC_PYTHON").ok();
     let python = given.clone().unwrap_or_else(|| "python3".to_string());
     let ready = Command::new(&python)
@@ -40,7 +40,7 @@ fn python() -> Option<String> {
 }
 
 /// Runs the fixture script with `args`; its stdout.
-fn run_script(python: &str, args: &[&str]) -> String {
+pub(super) fn run_script(python: &str, args: &[&str]) -> String {
     let out = Command::new(python)
         .arg(script())
         .args(args)
@@ -55,7 +55,7 @@ fn run_script(python: &str, args: &[&str]) -> String {
 }
 
 /// The folder of pydicom's test files (`pydicom/data/test_files`).
-fn test_files(python: &str) -> PathBuf {
+pub(super) fn test_files(python: &str) -> PathBuf {
     let dir = PathBuf::from(run_script(python, &["testfiles"]));
     assert!(dir.join("CT_small.dcm").is_file(), "{}", dir.display());
     dir
@@ -246,4 +246,43 @@ fn rt_dose_isodose_is_in_place_and_in_gray() {
         meshes.push(text);
     }
     assert_eq!(meshes[0], meshes[1], "relative and absolute offsets differ");
+}
+
+/// A series whose every attribute pydicom stored with VR UN (the bytes of
+/// their own VR, as some converters write them) reads as the same series
+/// stored plainly: grid, rescaled samples and mesh.
+#[test]
+fn attributes_stored_as_vr_un_read_as_their_own() {
+    let Some(python) = python() else { return };
+    let tmp = tempfile::tempdir().unwrap();
+    run_script(&python, &["unknown_vr", tmp.path().to_str().unwrap()]);
+    let read = |kind: &str| {
+        let vol = volume::open(&tmp.path().join(kind), None).unwrap();
+        let g = *vol.grid();
+        let mut all = vec![0.0; g.plane_len() * g.dims[2]];
+        for (z, plane) in all.chunks_exact_mut(g.plane_len()).enumerate() {
+            vol.read_plane(z, plane).unwrap();
+        }
+        (g, all)
+    };
+    let (plain, un) = (read("plain"), read("un"));
+    assert_eq!(plain.0, un.0);
+    assert_eq!(plain.0.dims, [20, 16, 12]);
+    assert_eq!(plain.1, un.1);
+    assert!(plain.1.iter().any(|&v| v != plain.1[0]));
+    let mesh = |kind: &str| {
+        let out = tmp.path().join(format!("{kind}.ply"));
+        let input = tmp.path().join(kind);
+        let run = tmc(&[
+            "extract",
+            input.to_str().unwrap(),
+            "--iso",
+            "-500",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(run.status.success(), "{run:?}");
+        std::fs::read(out).unwrap()
+    };
+    assert_eq!(mesh("plain"), mesh("un"));
 }

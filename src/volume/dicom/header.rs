@@ -194,7 +194,7 @@ impl Header {
                 return Err(format_err(
                     path,
                     format!(
-                        "transfer syntax {} ({ts_uid}) not supported (tmc decodes uncompressed, deflate, RLE and JPEG baseline/lossless data; JPEG 2000, JPEG-LS and JPEG XL need codecs it leaves out)",
+                        "transfer syntax {} ({ts_uid}) not supported (tmc decodes uncompressed, deflate, RLE, JPEG baseline/lossless and JPEG 2000 data; JPEG-LS, HTJ2K and JPEG XL need C codecs it leaves out)",
                         ts.name()
                     ),
                 ))

@@ -25,23 +25,42 @@ pub(crate) fn push_maxima(volume: &StridedVolume<'_>, vertices: &[[f32; 3]], out
     let last_cell = grid.dims.map(|n| n.saturating_sub(2));
     // A product instead of a division per coordinate: the difference (an
     // ulp) cannot move an index across ON_GRID or an integer.
-    let per_sample = grid.spacing.map(|s| 1.0 / s);
-    out.extend(vertices.iter().map(|v| {
-        let mut span = [true; 3];
-        let corner: [usize; 3] = std::array::from_fn(|a| {
-            // Truncation is floor here (the index is not negative), and
-            // much cheaper than f64::floor and f64::round, which are
-            // calls on baseline x86-64.
-            let index = (f64::from(v[a]) * per_sample[a]).max(0.0);
-            let below = index as usize;
-            let fraction = index - below as f64;
-            if fraction <= ON_GRID || fraction >= 1.0 - ON_GRID {
-                span[a] = false;
-                (below + usize::from(fraction > 0.5)).min(last_cell[a] + 1)
-            } else {
-                below.min(last_cell[a])
-            }
-        });
-        volume.cell_max(corner, span).map_or(f32::NAN, |m| m as f32)
-    }));
+    let [sx, sy, sz] = grid.spacing.map(|s| 1.0 / s);
+    let [lx, ly, lz] = last_cell;
+    let elements = vertices.iter().map(|&[x, y, z]| {
+        let (cx, ox) = locate(x, sx, lx);
+        let (cy, oy) = locate(y, sy, ly);
+        let (cz, oz) = locate(z, sz, lz);
+        ([cx, cy, cz], [ox, oy, oz])
+    });
+    volume.push_element_maxima(elements, out);
+}
+
+/// The lower sample index of a vertex coordinate `v` (times `per_sample`
+/// to index units) along one axis, and whether the vertex lies between
+/// that sample and the next (false: on the sample's grid plane, within
+/// [`ON_GRID`]); `last_cell` is the axis' last cell index.
+#[inline(always)]
+fn locate(v: f32, per_sample: f64, last_cell: usize) -> (usize, bool) {
+    // Adding and subtracting 1.5 * 2^52 rounds to the nearest integer (for
+    // indices below 2^51, far beyond any grid): two additions, where
+    // f64::round and f64::floor are calls on baseline x86-64. `max` also
+    // turns a NaN into 0.
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let index = (f64::from(v) * per_sample).max(0.0);
+    let nearest = (index + ROUND) - ROUND;
+    let off = index - nearest;
+    // Through i64, whose conversion is one instruction and a check, where
+    // usize's needs more; `index` is not negative, nor is `nearest`.
+    let nearest = nearest as i64 as usize;
+    if off.abs() <= ON_GRID {
+        (nearest.min(last_cell + 1), false)
+    } else {
+        (
+            nearest
+                .saturating_sub(usize::from(off < 0.0))
+                .min(last_cell),
+            true,
+        )
+    }
 }

@@ -81,52 +81,99 @@ impl StridedVolume<'_> {
     /// The largest of the samples at `corner` and, along each axis `a`
     /// where `span[a]` is true, at `corner + 1` (none beyond the grid): the
     /// corners of a cell, a face, an edge or one sample. NaN samples are
-    /// ignored; `None` outside the grid or when every one is NaN. One look
-    /// at the sample type for all of them (the Python package's per-vertex
-    /// values).
+    /// ignored; `None` outside the grid or when every one is NaN.
     pub fn cell_max(&self, corner: [usize; 3], span: [bool; 3]) -> Option<f64> {
-        let dims = self.grid.dims;
-        if (0..3).any(|a| corner[a] >= dims[a]) {
-            return None;
+        let mut most = f64::NAN;
+        self.for_each_max(std::iter::once((corner, span)), |m| most = m);
+        (!most.is_nan()).then_some(most)
+    }
+
+    /// [`StridedVolume::cell_max`] of each `(corner, span)` of `elements`,
+    /// as f32 (NaN for `None`), appended to `out`: one look at the sample
+    /// type and byte order for all of them, so that the loop over the
+    /// elements is compiled for each type (the Python package's per-vertex
+    /// values, hundreds of thousands per call).
+    pub fn push_element_maxima<I>(&self, elements: I, out: &mut Vec<f32>)
+    where
+        I: Iterator<Item = ([usize; 3], [bool; 3])>,
+    {
+        out.reserve(elements.size_hint().0);
+        self.for_each_max(elements, |m| out.push(m as f32));
+    }
+
+    /// Calls `emit` with the largest sample (NaN for none) of each element,
+    /// in order, through a loop compiled for the volume's sample type and
+    /// byte order.
+    fn for_each_max<I, E>(&self, elements: I, emit: E)
+    where
+        I: Iterator<Item = ([usize; 3], [bool; 3])>,
+        E: FnMut(f64),
+    {
+        macro_rules! run {
+            ($t:ty) => {
+                match self.layout.endian {
+                    Endian::Little => self.maxima(elements, emit, <$t>::from_le_bytes),
+                    Endian::Big => self.maxima(elements, emit, <$t>::from_be_bytes),
+                }
+            };
         }
-        let cell = corner;
-        let span = [0, 1, 2].map(|a| usize::from(span[a] && cell[a] + 1 < dims[a]));
+        match self.layout.scalar {
+            ScalarType::U8 => run!(u8),
+            ScalarType::I8 => run!(i8),
+            ScalarType::U16 => run!(u16),
+            ScalarType::I16 => run!(i16),
+            ScalarType::U32 => run!(u32),
+            ScalarType::I32 => run!(i32),
+            ScalarType::F32 => run!(f32),
+            ScalarType::F64 => run!(f64),
+        }
+    }
+
+    /// [`StridedVolume::for_each_max`] for samples of `N` bytes that
+    /// `decode` turns into a value.
+    fn maxima<I, E, D, T, const N: usize>(&self, elements: I, mut emit: E, decode: D)
+    where
+        I: Iterator<Item = ([usize; 3], [bool; 3])>,
+        E: FnMut(f64),
+        // A function item, not a pointer: one type per function, so the
+        // call is inlined rather than made through a pointer per sample.
+        D: Fn([u8; N]) -> T,
+        f64: From<T>,
+    {
+        let [nx, ny, nz] = self.grid.dims;
         let bytes = self.bytes();
-        let base = self.offset(cell[0], cell[1], cell[2]) as isize;
         let [sx, sy, sz] = self.layout.strides;
-        let endian = self.layout.endian;
-        macro_rules! most {
-            ($t:ty) => {{
-                const N: usize = std::mem::size_of::<$t>();
+        let sample = |at: isize| -> f64 {
+            let at = at as usize;
+            let raw: [u8; N] = bytes[at..at + N].try_into().expect("N bytes");
+            f64::from(decode(raw))
+        };
+        // Straight-line code per axis: this runs once per vertex of a mesh.
+        for ([x, y, z], [span_x, span_y, span_z]) in elements {
+            if x >= nx || y >= ny || z >= nz {
+                emit(f64::NAN);
+                continue;
+            }
+            // The stride to the element's next sample along each axis, 0
+            // where it does not span (reading a sample twice changes no
+            // maximum).
+            let dx = if span_x && x + 1 < nx { sx } else { 0 };
+            let dy = if span_y && y + 1 < ny { sy } else { 0 };
+            let dz = if span_z && z + 1 < nz { sz } else { 0 };
+            let base = self.offset(x, y, z) as isize;
+            let spans = usize::from(dx != 0) + usize::from(dy != 0) + usize::from(dz != 0);
+            let most = if spans <= 1 {
+                // A sample or an edge (nearly every vertex): two reads.
+                sample(base).max(sample(base + dx + dy + dz))
+            } else {
                 let mut most = f64::NAN;
-                for dz in 0..=span[2] {
-                    for dy in 0..=span[1] {
-                        for dx in 0..=span[0] {
-                            let at = (base + dx as isize * sx + dy as isize * sy + dz as isize * sz)
-                                as usize;
-                            let raw: [u8; N] = bytes[at..at + N].try_into().expect("N bytes");
-                            let v = match endian {
-                                Endian::Little => <$t>::from_le_bytes(raw),
-                                Endian::Big => <$t>::from_be_bytes(raw),
-                            };
-                            most = most.max(f64::from(v));
-                        }
-                    }
+                for row in [base, base + dy, base + dz, base + dy + dz] {
+                    most = most.max(sample(row)).max(sample(row + dx));
                 }
                 most
-            }};
+            };
+            emit(most);
         }
-        let most = match self.layout.scalar {
-            ScalarType::U8 => most!(u8),
-            ScalarType::I8 => most!(i8),
-            ScalarType::U16 => most!(u16),
-            ScalarType::I16 => most!(i16),
-            ScalarType::U32 => most!(u32),
-            ScalarType::I32 => most!(i32),
-            ScalarType::F32 => most!(f32),
-            ScalarType::F64 => most!(f64),
-        };
-        (!most.is_nan()).then_some(most)
     }
 
     fn bytes(&self) -> &[u8] {

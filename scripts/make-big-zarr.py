@@ -8,12 +8,16 @@ samples are smooth shells plus a little noise, so the chunks compress to a
 small fraction (check the size with `du` before and `df` first).
 
     python3 -m pip install 'zarr>=3' numpy
-    python3 scripts/make-big-zarr.py OUT.zarr [NX NY NZ]
+    python3 scripts/make-big-zarr.py OUT.zarr [NX NY NZ] [--nrrd RAW.nrrd]
     tmc info OUT.zarr
     tmc extract OUT.zarr --iso 1300 -o head.tmesh --threads 2 --json
     # --json reports peak_rss_anon_bytes; the chunk layers held are a few
     # per worker (docs/formats.md). Each stored chunk file is opened once
     # per pass: count them with strace -f -e trace=openat.
+
+With `--nrrd RAW.nrrd` the same samples are also written as a raw NRRD (for
+timing the Zarr against the volume memory-mapped raw: scripts/bench-big-volume
+takes either).
 """
 import sys
 
@@ -36,19 +40,35 @@ def layer(z0, depth, nx, ny, nz, rng, rxy):
 
 
 def main():
-    out = sys.argv[1]
-    nx, ny, nz = (int(a) for a in sys.argv[2:5]) if len(sys.argv) > 4 else (2048, 2048, 4096)
+    args = sys.argv[1:]
+    raw = None
+    if "--nrrd" in args:
+        at = args.index("--nrrd")
+        raw = args[at + 1]
+        del args[at:at + 2]
+    out = args[0]
+    nx, ny, nz = (int(a) for a in args[1:4]) if len(args) > 3 else (2048, 2048, 4096)
     chunks = (8, 512, 512)
     a = zarr.create_array(store=out, shape=(nz, ny, nx), dtype=np.uint16,
                           chunks=chunks, compressors=ZstdCodec(level=3))
     rng = np.random.default_rng(29)
     y, x = np.mgrid[0:ny, 0:nx].astype(np.float32)
     rxy = ((x - nx / 2) / (0.42 * nx)) ** 2 + ((y - ny / 2) / (0.45 * ny)) ** 2
+    nrrd = None
+    if raw is not None:
+        nrrd = open(raw, "wb")
+        nrrd.write((f"NRRD0004\ntype: uint16\ndimension: 3\nsizes: {nx} {ny} {nz}\n"
+                    "encoding: raw\nendian: little\n\n").encode())
     for z0 in range(0, nz, chunks[0]):
         depth = min(chunks[0], nz - z0)
-        a[z0:z0 + depth] = layer(z0, depth, nx, ny, nz, rng, rxy)
+        samples = layer(z0, depth, nx, ny, nz, rng, rxy)
+        a[z0:z0 + depth] = samples
+        if nrrd is not None:
+            nrrd.write(samples.astype("<u2").tobytes())
         print(f"\r{z0 + depth}/{nz} planes", end="", file=sys.stderr)
     print(file=sys.stderr)
+    if nrrd is not None:
+        nrrd.close()
 
 
 if __name__ == "__main__":

@@ -102,7 +102,19 @@ pub struct PipelineOptions<'a> {
     /// [`crate::stream::schedule`]).
     /// `None`: no budget.
     pub max_memory: Option<u64>,
+    /// Appends one value per vertex of `vertices` to `values`; called with
+    /// each chunk's vertices and its [`Chunk::values`](crate::Chunk::values)
+    /// on the worker that made the chunk, so that a per-vertex quantity a
+    /// caller wants is computed by all the workers side by side, not by
+    /// the sink on the one writing thread (the Python package's
+    /// scikit-image `values`). Must not depend on which worker calls it.
+    /// `None`: the chunks' `values` stay empty.
+    pub vertex_values: Option<&'a VertexValues<'a>>,
 }
+
+/// The function of [`PipelineOptions::vertex_values`]: a chunk's vertices
+/// in, one value per vertex appended to the vector.
+pub type VertexValues<'a> = dyn Fn(&[[f32; 3]], &mut Vec<f32>) + Sync + 'a;
 
 /// How far an extraction has got.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

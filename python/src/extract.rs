@@ -6,6 +6,7 @@ use crate::interrupt;
 use crate::output::{arrays, rows};
 use crate::record::{Record, Recorder};
 use crate::skimage::SkimageArrays;
+use crate::values;
 use numpy::PyUntypedArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -241,8 +242,16 @@ pub(crate) fn marching_cubes<'py>(
     let flip = params.inside == Inside::Low;
     let volume = volume.as_ref();
     let arrays = interrupt::run(py, |cancel| {
-        let options = preflight(volume, None, &params, None, cancel)?;
-        let mut sink = SkimageArrays::new(volume, flip);
+        // The per-vertex values are read from the array by the workers,
+        // chunk by chunk, beside the extraction (not by the sink on the
+        // one writing thread, which would then bound the speed-up).
+        let values =
+            |vertices: &[[f32; 3]], out: &mut Vec<f32>| values::push_maxima(volume, vertices, out);
+        let options = PipelineOptions {
+            vertex_values: Some(&values),
+            ..preflight(volume, None, &params, None, cancel)?
+        };
+        let mut sink = SkimageArrays::new(flip);
         tmc::extract_to(volume, &params, &options, &mut sink)?;
         Ok(sink)
     })?;

@@ -116,6 +116,7 @@ pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult
                     false => Vec::new(),
                 },
                 labels: Vec::new(),
+                values: Vec::new(),
             };
             sink.chunk(base as u64, &chunk)?;
             base += v;

@@ -5,20 +5,16 @@
 //! layout and types: vertices in array index order `[z, y, x]` as float32,
 //! faces as int32 global indices, normals in the same order (pointing
 //! toward lower values, as scikit-image's), and the per-vertex values
-//! (`values.rs`) read from the array while the chunk's vertices are at
-//! hand. Nothing is converted, copied or visited again after the
-//! extraction; the vectors grow by remapping, not copying
-//! ([`tmc::mesh::reserve_for_planes`]).
+//! (`values.rs`), which the workers computed into each chunk
+//! ([`tmc::PipelineOptions::vertex_values`]). Nothing is converted, copied
+//! or visited again after the extraction; the vectors grow by remapping,
+//! not copying ([`tmc::mesh::reserve_for_planes`]).
 
-use crate::values;
 use tmc::mesh::{fit, reserve_for_planes, Chunk, MeshInfo, MeshSink, Totals};
-use tmc::volume::StridedVolume;
 
 /// The four arrays of `skimage.measure.marching_cubes`, collected from an
-/// extraction with normals of `volume` (the array the values are read
-/// from, on the grid the extraction ran on).
-pub(crate) struct SkimageArrays<'a> {
-    volume: &'a StridedVolume<'a>,
+/// extraction with normals and per-vertex values.
+pub(crate) struct SkimageArrays {
     /// Negate the normals: the extraction's point out of the object, which
     /// is toward higher values when the object is below the level.
     flip: bool,
@@ -35,12 +31,11 @@ pub(crate) struct SkimageArrays<'a> {
     pub values: Vec<f32>,
 }
 
-impl<'a> SkimageArrays<'a> {
-    /// An empty sink for an extraction of `volume`; `flip` negates the
-    /// normals (for an object below the level).
-    pub fn new(volume: &'a StridedVolume<'a>, flip: bool) -> Self {
+impl SkimageArrays {
+    /// An empty sink; `flip` negates the normals (for an object below the
+    /// level).
+    pub fn new(flip: bool) -> Self {
         SkimageArrays {
-            volume,
             flip,
             planes: 0,
             verts: Vec::new(),
@@ -57,7 +52,7 @@ fn reversed([x, y, z]: [f32; 3], sign: f32) -> [f32; 3] {
     [z * sign, y * sign, x * sign]
 }
 
-impl MeshSink for SkimageArrays<'_> {
+impl MeshSink for SkimageArrays {
     fn begin(&mut self, info: &MeshInfo) -> tmc::Result<()> {
         if !info.normals {
             return Err(tmc::Error::Invalid(
@@ -76,9 +71,9 @@ impl MeshSink for SkimageArrays<'_> {
                 i32::MAX
             )));
         }
-        if chunk.normals.len() != n {
+        if chunk.normals.len() != n || chunk.values.len() != n {
             return Err(tmc::Error::Invalid(
-                "internal: a chunk without a normal per vertex".into(),
+                "internal: a chunk without a normal and a value per vertex".into(),
             ));
         }
         let (plane, planes) = (chunk.plane, self.planes);
@@ -92,7 +87,7 @@ impl MeshSink for SkimageArrays<'_> {
         let sign = if self.flip { -1.0 } else { 1.0 };
         self.normals
             .extend(chunk.normals.iter().map(|&v| reversed(v, sign)));
-        values::push_maxima(self.volume, &chunk.vertices, &mut self.values);
+        self.values.extend_from_slice(&chunk.values);
         // Below i32::MAX + 1: a triangle reaches at most into the next
         // chunk, whose own check bounds it.
         let base = base as u32;

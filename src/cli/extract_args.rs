@@ -237,6 +237,7 @@ impl ExtractArgs {
             progress: Some(progress),
             cancel,
             max_memory: self.max_memory,
+            vertex_values: None,
         }
     }
 }

@@ -81,6 +81,7 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
         triangles: mesh.triangles,
         normals: Vec::new(),
         labels: Vec::new(),
+        values: Vec::new(),
     };
     sink.chunk_cancellable(0, &chunk, cancel)?;
     let totals = Totals {

@@ -372,6 +372,7 @@ mod tests {
             triangles: vec![[0, 1, 2]],
             normals: Vec::new(),
             labels: Vec::new(),
+            values: Vec::new(),
         };
         body.chunk(0, &chunk, |vertices, faces| {
             for v in &chunk.vertices {

@@ -24,4 +24,9 @@ pub struct Chunk {
     /// [`MeshInfo::labels`](crate::MeshInfo::labels) is set (the surfaces
     /// of several labels in one mesh); empty otherwise.
     pub labels: Vec<u32>,
+    /// One value per vertex when the extraction's
+    /// [`PipelineOptions::vertex_values`](crate::PipelineOptions::vertex_values)
+    /// computed them (on the worker that made the chunk); empty otherwise.
+    /// No file format writes them.
+    pub values: Vec<f32>,
 }

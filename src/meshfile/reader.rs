@@ -270,6 +270,7 @@ impl TmeshReader {
             triangles,
             normals,
             labels,
+            values: Vec::new(),
         })
     }
 }

@@ -50,6 +50,7 @@ impl Block {
             vertices: self.vertices,
             normals: self.normals,
             labels: Vec::new(),
+            values: Vec::new(),
         }
     }
 

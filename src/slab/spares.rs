@@ -57,7 +57,8 @@ pub fn chunk_bytes(chunk: &Chunk) -> u64 {
     let vertices = chunk.vertices.capacity() * std::mem::size_of::<[f32; 3]>();
     let triangles = chunk.triangles.capacity() * std::mem::size_of::<[u32; 3]>();
     let normals = chunk.normals.capacity() * std::mem::size_of::<[f32; 3]>();
-    (vertices + triangles + normals) as u64
+    let values = chunk.values.capacity() * std::mem::size_of::<f32>();
+    (vertices + triangles + normals + values) as u64
 }
 
 impl Spares {
@@ -96,6 +97,7 @@ impl Spares {
         chunk.vertices.clear();
         chunk.triangles.clear();
         chunk.normals.clear();
+        chunk.values.clear();
         // Counted before it can be taken, so that the count never wraps.
         let bytes = chunk_bytes(&chunk);
         self.block_bytes.fetch_add(bytes, Ordering::Relaxed);

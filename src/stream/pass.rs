@@ -235,10 +235,15 @@ pub(crate) fn run_pass(
             layers.start.saturating_sub(1)..(layers.end + 3).min(planes),
         );
         let source: &dyn SampleSource = &held;
-        let results = match &work {
+        let mut results = match &work {
             Some(work) => (work.run)(source, layers, &spares)?,
             None => slab_for_each(source, params, layers, &spares)?,
         };
+        if let Some(values) = options.vertex_values {
+            for chunk in results.iter_mut().flat_map(|(chunks, _)| chunks) {
+                values(&chunk.vertices, &mut chunk.values);
+            }
+        }
         Ok(results)
     };
     // Hands slab `i` to every seam; returns how many slabs got written

@@ -199,6 +199,7 @@ fn chunk(plane: u64, vertices: usize, triangles: &[[u32; 3]]) -> Chunk {
         triangles: triangles.to_vec(),
         normals: Vec::new(),
         labels: Vec::new(),
+        values: Vec::new(),
     }
 }
 

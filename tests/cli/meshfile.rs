@@ -274,6 +274,7 @@ fn unchecked_fields_are_refused() {
             triangles: vec![[0, 1, 2]],
             normals: Vec::new(),
             labels: Vec::new(),
+            values: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {
@@ -362,6 +363,7 @@ fn a_chunk_larger_than_a_plane_is_refused() {
             triangles: vec![[0, 1, 2]],
             normals: Vec::new(),
             labels: Vec::new(),
+            values: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {

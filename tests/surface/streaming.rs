@@ -119,3 +119,73 @@ fn real_volumes_stream_identically() {
         check_source(vol.as_ref(), iso, file);
     }
 }
+
+/// Collects the chunks' per-vertex values and vertices, in stream order.
+#[derive(Default)]
+struct ValuesOf {
+    vertices: Vec<[f32; 3]>,
+    values: Vec<f32>,
+}
+
+impl MeshSink for ValuesOf {
+    fn begin(&mut self, _info: &tmc::MeshInfo) -> tmc::Result<()> {
+        Ok(())
+    }
+
+    fn chunk(&mut self, _base: u64, chunk: &tmc::Chunk) -> tmc::Result<()> {
+        assert_eq!(
+            chunk.values.len(),
+            chunk.vertices.len(),
+            "a value per vertex"
+        );
+        self.vertices.extend_from_slice(&chunk.vertices);
+        self.values.extend_from_slice(&chunk.values);
+        Ok(())
+    }
+
+    fn finish(&mut self, _totals: &Totals) -> tmc::Result<()> {
+        Ok(())
+    }
+}
+
+/// `PipelineOptions::vertex_values` gives every chunk one value per vertex,
+/// computed from that vertex (here: x + 2y + 3z), for every thread count
+/// and slab depth; the chunks' vertices are the mesh's, in order.
+#[test]
+fn vertex_values_come_with_every_chunk() {
+    let mut rng = Pcg64::seed_from_u64(7);
+    let dims = [13, 11, 29];
+    let values: Vec<f64> = (0..dims.iter().product::<usize>())
+        .map(|_| rng.gen_range(-1.0..1.0))
+        .collect();
+    let vol = ArrayVolume::new(Grid::unit(dims), values).expect("volume");
+    let whole = extract(&vol, &ExtractParams::default()).expect("extract").0;
+    let weigh = |vertices: &[[f32; 3]], out: &mut Vec<f32>| {
+        out.extend(vertices.iter().map(|v| v[0] + 2.0 * v[1] + 3.0 * v[2]));
+    };
+    for threads in [1, 2, 3] {
+        for depth in [1, 2, 7, 64] {
+            let params = ExtractParams {
+                threads,
+                ..Default::default()
+            };
+            let options = PipelineOptions {
+                slab_depth: depth,
+                vertex_values: Some(&weigh),
+                ..Default::default()
+            };
+            let mut sink = ValuesOf::default();
+            extract_to(&vol, &params, &options, &mut sink).expect("extract");
+            assert_eq!(
+                sink.vertices, whole.vertices,
+                "{threads} threads, depth {depth}"
+            );
+            let expected: Vec<f32> = whole
+                .vertices
+                .iter()
+                .map(|v| v[0] + 2.0 * v[1] + 3.0 * v[2])
+                .collect();
+            assert_eq!(sink.values, expected, "{threads} threads, depth {depth}");
+        }
+    }
+}

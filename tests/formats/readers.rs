@@ -30,7 +30,7 @@ fn sample_value(scalar: ScalarType, i: usize) -> f64 {
 }
 
 /// `v` stored as `scalar` in byte order `endian`.
-fn encode(scalar: ScalarType, endian: Endian, v: f64) -> Vec<u8> {
+pub(crate) fn encode(scalar: ScalarType, endian: Endian, v: f64) -> Vec<u8> {
     macro_rules! enc {
         ($t:ty) => {{
             let x = v as $t;
@@ -98,7 +98,7 @@ fn npy_dict(descr: &str, fortran: bool, dims: [usize; 3]) -> String {
 }
 
 /// Writes `bytes` to `name` in `dir`.
-fn write_file(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+pub(crate) fn write_file(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, bytes).unwrap();
     path

@@ -3,9 +3,9 @@
 //! read: the runs and counts of values a direct reading of the samples
 //! gives.
 
-use super::readers::{encode, write_file};
+use super::readers::raw_volume;
 use std::collections::BTreeMap;
-use tmc::volume::{self, plane_runs, scan_labels, Endian, RawOptions, ScalarType};
+use tmc::volume::{plane_runs, scan_labels, Endian, ScalarType};
 use tmc::SampleSource;
 
 /// The label of sample `(x, y, z)`: runs of two to five equal values along
@@ -42,25 +42,10 @@ fn runs_and_counts_match_the_samples_for_every_type_and_alignment() {
             (3, Endian::native()),
             (1, Endian::Big),
         ] {
-            let mut bytes = vec![0u8; header as usize];
-            for z in 0..dims[2] {
-                for y in 0..dims[1] {
-                    for x in 0..dims[0] {
-                        bytes.extend(encode(scalar, endian, label([x, y, z])));
-                    }
-                }
-            }
             let name = format!("labels-{scalar:?}-{header}-{endian:?}.raw");
-            let path = write_file(dir.path(), &name, &bytes);
-            let options = RawOptions {
-                dims,
-                scalar,
-                endian,
-                header_bytes: header,
-                spacing: [1.0; 3],
-                origin: [0.0; 3],
-            };
-            let raw = volume::RawVolume::open(&path, &options).unwrap();
+            let at =
+                |i: usize| label([i % dims[0], i / dims[0] % dims[1], i / (dims[0] * dims[1])]);
+            let raw = raw_volume(dir.path(), &name, (dims, scalar, endian, header), at);
             let what = format!("{scalar:?} header {header} {endian:?}");
             assert_eq!(
                 raw.lend_plane(0).is_some(),

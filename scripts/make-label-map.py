@@ -71,8 +71,15 @@ def main():
     xy = resample_axis(resample_axis(ct, 2, n), 1, n)
     block = (np.arange(n) * b // n).astype(np.int64)
     by, bx = np.meshgrid(block, block, indexing="ij")
+    # The (class, block) key of a sample is at most `keys - 1`: small enough
+    # for a presence table and a lookup table, so that neither a sort of all
+    # the samples (np.unique) nor an int64 copy of the volume is needed.
+    keys = len(thresholds) * b * b * b + 1
+    if keys > 65536:
+        sys.exit("too many classes and blocks for uint16 labels")
     t = np.linspace(0, xy.shape[0] - 1, n)
-    classes = np.empty((n, n, n), dtype=np.int64)
+    classes = np.empty((n, n, n), dtype=np.uint16)
+    present = np.zeros(keys, dtype=bool)
     for z in range(n):
         i = min(int(t[z]), xy.shape[0] - 2)
         w = np.float32(t[z] - i)
@@ -80,11 +87,12 @@ def main():
         c = np.searchsorted(thresholds, plane, side="right")  # 0 = background
         key = ((c - 1) * b + block[z]) * b * b + by * b + bx + 1
         classes[z] = np.where(c > 0, key, 0)
-    present, labels = np.unique(classes, return_inverse=True)
-    # Consecutive labels 1..L (0 stays background).
-    labels = labels.reshape(classes.shape).astype(np.uint16)
-    if present[0] != 0:
-        labels += 1
+        present |= np.bincount(classes[z].ravel(), minlength=keys) > 0
+    # Consecutive labels 1..L in the order of the keys (0 stays background).
+    present[0] = True
+    lookup = (np.cumsum(present) - 1).astype(np.uint16)
+    labels = lookup[classes]
+    count = int(present.sum()) - 1
     with open(args.out, "wb") as f:
         f.write(
             (
@@ -92,8 +100,8 @@ def main():
                 f"sizes: {n} {n} {n}\nspacing: 1 1 1\nendian: little\nencoding: raw\n\n"
             ).encode()
         )
-        f.write(labels.astype("<u2").tobytes())
-    print(len(present) - int(present[0] == 0))
+        f.write(labels.astype("<u2", copy=False).tobytes())
+    print(count)
 
 
 if __name__ == "__main__":

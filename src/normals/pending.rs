@@ -175,10 +175,13 @@ fn resolve(previous: Option<&Chunk>, current: &mut Chunk, next: Option<&Chunk>) 
     let mut sums: Vec<[f64; 3]> = Vec::new();
     // The slot of each vertex's sum, `NONE` for a vertex not pending.
     let mut slot = vec![NONE; own];
+    // The first and last pending vertex.
+    let mut span = [usize::MAX, 0];
     for (i, n) in current.normals.iter().enumerate() {
         if is_pending(n) {
             slot[i] = sums.len() as u32;
             sums.push([0.0; 3]);
+            span = [span[0].min(i), i];
         }
     }
     if sums.is_empty() {
@@ -193,6 +196,7 @@ fn resolve(previous: Option<&Chunk>, current: &mut Chunk, next: Option<&Chunk>) 
         before,
         own,
         slot: &slot,
+        span,
     };
     if let Some(previous) = previous {
         tables.scan(&previous.triangles, 0, &mut sums);
@@ -210,21 +214,38 @@ fn resolve(previous: Option<&Chunk>, current: &mut Chunk, next: Option<&Chunk>) 
 const NONE: u32 = u32::MAX;
 
 /// What [`resolve`] looks triangles up in: the three chunks as one run
-/// of vertices (`before` in the first, `own` in the second) and the slot
-/// of each of the second's vertices.
+/// of vertices (`before` in the first, `own` in the second), the slot
+/// of each of the second's vertices and the first and last of them that
+/// is pending.
 struct Tables<'a> {
     chunks: [Option<&'a Chunk>; 3],
     before: usize,
     own: usize,
     slot: &'a [u32],
+    span: [usize; 2],
 }
 
 impl Tables<'_> {
     /// Adds the triangles (corners offset by `shift` into the run) that
     /// have a pending corner to `sums`, in order.
+    ///
+    /// A triangle none of whose corners lies between the first and the
+    /// last pending vertex is passed over with three comparisons, before
+    /// any lookup: pending vertices are few, and often close together.
     fn scan(&self, triangles: &[[u32; 3]], shift: usize, sums: &mut [[f64; 3]]) {
         let (before, own, slot) = (self.before, self.own, self.slot);
+        // Corner `i` (as stored) is between the two iff
+        // `i - low <= width`, wrapping (`low` is not negative: `shift` is
+        // 0 or `before`).
+        let low = before + self.span[0] - shift;
+        let width = self.span[1] - self.span[0];
         for tri in triangles {
+            let near = tri.iter().fold(false, |near, &i| {
+                near | ((i as usize).wrapping_sub(low) <= width)
+            });
+            if !near {
+                continue;
+            }
             let tri = tri.map(|i| i as usize + shift);
             let hit = tri.map(|i| {
                 let j = i.wrapping_sub(before);

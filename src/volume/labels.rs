@@ -78,29 +78,42 @@ pub fn plane_runs(
     let [nx, ny, _] = source.grid().dims;
     let len = nx * ny;
     match source.lend_plane(z).filter(|p| p.len() == len) {
-        Some(LentPlane::U8(s)) => runs(s, nx, f),
-        Some(LentPlane::I8(s)) => runs(s, nx, f),
-        Some(LentPlane::U16(s)) => runs(s, nx, f),
-        Some(LentPlane::I16(s)) => runs(s, nx, f),
-        Some(LentPlane::U32(s)) => runs(s, nx, f),
-        Some(LentPlane::I32(s)) => runs(s, nx, f),
-        Some(LentPlane::F32(s)) => runs(s, nx, f),
-        Some(LentPlane::F64(s)) => runs(s, nx, f),
+        Some(LentPlane::U8(s)) => runs(s, nx, Sample::to_f64, f),
+        Some(LentPlane::I8(s)) => runs(s, nx, Sample::to_f64, f),
+        Some(LentPlane::U16(s)) => runs(s, nx, Sample::to_f64, f),
+        Some(LentPlane::I16(s)) => runs(s, nx, Sample::to_f64, f),
+        Some(LentPlane::U32(s)) => runs(s, nx, Sample::to_f64, f),
+        Some(LentPlane::I32(s)) => runs(s, nx, Sample::to_f64, f),
+        Some(LentPlane::F32(s)) => runs(s, nx, Sample::to_f64, f),
+        Some(LentPlane::F64(s)) => runs(s, nx, Sample::to_f64, f),
+        // Integers at an odd offset (a header of odd length): compared as
+        // bytes, which is comparing the values.
+        Some(LentPlane::U16Bytes(s)) => runs(s, nx, |b| f64::from(u16::from_ne_bytes(b)), f),
+        Some(LentPlane::I16Bytes(s)) => runs(s, nx, |b| f64::from(i16::from_ne_bytes(b)), f),
+        Some(LentPlane::U32Bytes(s)) => runs(s, nx, |b| f64::from(u32::from_ne_bytes(b)), f),
+        Some(LentPlane::I32Bytes(s)) => runs(s, nx, |b| f64::from(i32::from_ne_bytes(b)), f),
         _ => {
-            buffer.clear();
-            make_room(buffer, len, "a plane of samples")?;
-            buffer.resize(len, 0.0);
+            // Every sample is written by `read_plane`: no need to zero the
+            // buffer again for each plane.
+            if buffer.len() != len {
+                buffer.clear();
+                make_room(buffer, len, "a plane of samples")?;
+                buffer.resize(len, 0.0);
+            }
             source.read_plane(z, buffer)?;
-            runs(&buffer[..], nx, &mut f)
+            runs(&buffer[..], nx, Sample::to_f64, &mut f)
         }
     }
 }
 
-/// [`plane_runs`] of samples of type `T`, rows of `nx`.
+/// [`plane_runs`] of samples of type `T` (`value` gives each as an
+/// `f64`), rows of `nx`. Samples are compared in `T`: NaN is unequal to
+/// everything, so a NaN float is a run of its own.
 #[inline]
-fn runs<T: Sample + PartialEq>(
+fn runs<T: Copy + PartialEq>(
     samples: &[T],
     nx: usize,
+    value: impl Fn(T) -> f64,
     mut f: impl FnMut(usize, usize, usize, f64) -> Result<()>,
 ) -> Result<()> {
     for (y, row) in samples.chunks_exact(nx).enumerate() {
@@ -108,10 +121,19 @@ fn runs<T: Sample + PartialEq>(
         while x < nx {
             let v = row[x];
             let mut end = x + 1;
+            // Sixteen samples at a time while all equal `v` (compared
+            // without an early exit, so in vector registers: label maps
+            // are mostly long runs), then one at a time.
+            while let Some(block) = row.get(end..end + 16) {
+                if !block.iter().fold(true, |same, &s| same & (s == v)) {
+                    break;
+                }
+                end += 16;
+            }
             while end < nx && row[end] == v {
                 end += 1;
             }
-            f(y, x, end, v.to_f64())?;
+            f(y, x, end, value(v))?;
             x = end;
         }
     }

@@ -14,6 +14,7 @@ mod dicom;
 mod fuzz_regressions;
 mod hdf5;
 mod info;
+mod label_runs;
 mod nifti_mhd;
 mod nrrd;
 mod readers;

@@ -97,6 +97,31 @@ fn npy_dict(descr: &str, fortran: bool, dims: [usize; 3]) -> String {
     )
 }
 
+/// The raw volume of `dims` samples `value(i)` (`i` in file order) of
+/// type `scalar` in byte order `endian`, after `header` bytes, written to
+/// `name` in `dir`.
+pub(crate) fn raw_volume(
+    dir: &Path,
+    name: &str,
+    (dims, scalar, endian, header): ([usize; 3], ScalarType, Endian, u64),
+    value: impl Fn(usize) -> f64,
+) -> volume::RawVolume {
+    let mut bytes = vec![0u8; header as usize];
+    for i in 0..dims.iter().product() {
+        bytes.extend(encode(scalar, endian, value(i)));
+    }
+    let path = write_file(dir, name, &bytes);
+    let options = RawOptions {
+        dims,
+        scalar,
+        endian,
+        header_bytes: header,
+        spacing: [1.0; 3],
+        origin: [0.0; 3],
+    };
+    volume::RawVolume::open(&path, &options).unwrap()
+}
+
 /// Writes `bytes` to `name` in `dir`.
 fn write_file(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     let path = dir.join(name);
@@ -856,7 +881,6 @@ fn decode_is_exact_and_keeps_nan() {
 fn lent_planes_match_read_planes_and_give_the_same_mesh() {
     let dir = tempfile::tempdir().unwrap();
     let dims = [9usize, 7, 5];
-    let n: usize = dims.iter().product();
     for scalar in ScalarType::ALL {
         // A blob with a few extremes first (NaN, infinities for floats).
         let value = |i: usize| {
@@ -876,20 +900,8 @@ fn lent_planes_match_read_planes_and_give_the_same_mesh() {
             (1, Endian::native()),
             (0, Endian::Big),
         ] {
-            let mut bytes = vec![0u8; header as usize];
-            for i in 0..n {
-                bytes.extend(encode(scalar, endian, value(i)));
-            }
-            let path = write_file(dir.path(), &format!("v{header}{endian:?}.raw"), &bytes);
-            let options = RawOptions {
-                dims,
-                scalar,
-                endian,
-                header_bytes: header,
-                spacing: [1.0; 3],
-                origin: [0.0; 3],
-            };
-            let raw = volume::RawVolume::open(&path, &options).unwrap();
+            let name = format!("v{header}{endian:?}.raw");
+            let raw = raw_volume(dir.path(), &name, (dims, scalar, endian, header), value);
             let what = format!("{scalar:?} header {header} {endian:?}");
             // Native-endian planes are lent at any alignment (misaligned
             // ones as byte arrays: `LentPlane::U16Bytes` ...).

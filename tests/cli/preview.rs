@@ -45,23 +45,33 @@ fn shown(path: &Path) -> usize {
 /// With `TMC_PYTHON` set: Pillow's size, mode and non-background count of
 /// `path` (it must agree with ours); without it, a SKIPPED line.
 fn check_with_pillow(path: &Path) {
-    let Ok(python) = std::env::var("TMC_PYTHON") else {
-        println!("SKIPPED: Pillow check: TMC_PYTHON is not set (see .ci/run)");
-        return;
-    };
-    let script = "import sys\nfrom PIL import Image\nim = Image.open(sys.argv[1])\nim.load()\n\
-                  w, h = im.size\nbg = {(30, 32, 36), (80, 84, 92), (240, 240, 240)}\n\
+    let script = "w, h = im.size\nbg = {(30, 32, 36), (80, 84, 92), (240, 240, 240)}\n\
                   px = im.convert('RGB').getdata()\n\
                   n = sum(1 for i, p in enumerate(px) if i < w * w and p not in bg)\n\
                   print(im.format, im.mode, w, h, n)";
+    if let Some(text) = pillow(path, script) {
+        let expected = format!("PNG RGB {} {} {}", SIZE.0, SIZE.1, shown(path));
+        assert_eq!(text.trim(), expected);
+    }
+}
+
+/// With `TMC_PYTHON` set: what `script` prints with `im`, the picture at
+/// `path` opened and loaded by Pillow; without it, a SKIPPED line and
+/// `None`.
+fn pillow(path: &Path, script: &str) -> Option<String> {
+    let Ok(python) = std::env::var("TMC_PYTHON") else {
+        println!("SKIPPED: Pillow check: TMC_PYTHON is not set (see .ci/run)");
+        return None;
+    };
+    let script = format!(
+        "import sys\nfrom PIL import Image\nim = Image.open(sys.argv[1])\nim.load()\n{script}"
+    );
     let out = Command::new(python)
-        .args(["-c", script, s(path)])
+        .args(["-c", &script, s(path)])
         .output()
         .expect("run TMC_PYTHON");
     assert!(out.status.success(), "{out:?}");
-    let text = String::from_utf8(out.stdout).unwrap();
-    let expected = format!("PNG RGB {} {} {}", SIZE.0, SIZE.1, shown(path));
-    assert_eq!(text.trim(), expected);
+    Some(String::from_utf8(out.stdout).unwrap())
 }
 
 /// A sphere volume in `dir`.
@@ -482,17 +492,7 @@ fn compare_preview_to_a_bad_path_is_one_line_and_no_file() {
 /// With `TMC_PYTHON` set: Pillow opens `path` as a `width` x `height` RGB
 /// PNG; without it, a SKIPPED line.
 fn check_with_pillow_size(path: &Path, width: u32, height: u32) {
-    let Ok(python) = std::env::var("TMC_PYTHON") else {
-        println!("SKIPPED: Pillow check: TMC_PYTHON is not set (see .ci/run)");
-        return;
-    };
-    let script = "import sys\nfrom PIL import Image\nim = Image.open(sys.argv[1])\nim.load()\n\
-                  print(im.format, im.mode, *im.size)";
-    let out = Command::new(python)
-        .args(["-c", script, s(path)])
-        .output()
-        .expect("run TMC_PYTHON");
-    assert!(out.status.success(), "{out:?}");
-    let text = String::from_utf8(out.stdout).unwrap();
-    assert_eq!(text.trim(), format!("PNG RGB {width} {height}"));
+    if let Some(text) = pillow(path, "print(im.format, im.mode, *im.size)") {
+        assert_eq!(text.trim(), format!("PNG RGB {width} {height}"));
+    }
 }

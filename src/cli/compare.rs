@@ -10,7 +10,11 @@
 //!    ([`tmc::compare::survey`]); two planes per thread;
 //! 3. **topology**: each method once more into memory and through the
 //!    checker (components, Euler characteristic, genus), unless the meshes
-//!    would not fit `--topology-memory`, in which case the table says so.
+//!    would not fit `--topology-memory`, in which case the table says so;
+//! 4. with `--preview`: each method once more into a preview drawn in
+//!    memory (streaming, as `tmc extract --preview`), the two side by side
+//!    with the cells the survey found differing marked in red
+//!    ([`tmc::preview::side_by_side`]).
 //!
 //! The peak anonymous memory reported is that of steps 1 and 2, sampled
 //! before step 3 holds a mesh.
@@ -26,7 +30,10 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-use tmc::compare::{median, ratio_interval, survey, DifferingCells, RatioInterval};
+use tmc::compare::{
+    median, ratio_interval, survey_marking, DifferingCells, OnDiffering, RatioInterval,
+};
+use tmc::preview::{side_by_side, write_png, Bounds, Marks, PreviewSink, PAIR_DIMENSIONS};
 use tmc::stream::check_grid;
 use tmc::{
     Chunk, ExtractParams, Inside, MeshInfo, MeshSink, Method, PipelineOptions, Stats, Totals,
@@ -93,6 +100,12 @@ pub(crate) struct CompareArgs {
     #[arg(long)]
     pub json: bool,
 
+    /// Also draw the two meshes side by side (TMC left, MC right) into
+    /// this PNG picture, each as 'tmc extract --preview' draws it, with a
+    /// red dot in every view where a cell is triangulated differently.
+    #[arg(long, value_name = "FILE.png")]
+    pub preview: Option<PathBuf>,
+
     /// Print nothing on stderr but errors (no line per run).
     #[arg(short, long)]
     pub quiet: bool,
@@ -157,9 +170,24 @@ impl Side {
 
 /// Runs `tmc compare`; setting `cancel` stops it with [`tmc::Error::Interrupted`].
 pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Result<()> {
+    if let Some(picture) = &args.preview {
+        super::with_preview::check_picture(picture, &args.input, &[])?;
+    }
     let source = super::raw_input::open_input(&args.input, &args.raw, cancel, args.quiet)?;
     let grid = *source.grid();
     check_grid(&args.input, &grid, args.close)?;
+    // The differing cells' marks, in the views the previews will have.
+    let bounds = Bounds::of_grid(&grid);
+    let marks = match (&args.preview, bounds) {
+        (Some(_), Some(b)) => Some(Marks::new(&b)),
+        (Some(picture), None) => {
+            return Err(tmc::Error::Invalid(format!(
+                "{}: the volume has no finite bounds to frame a preview",
+                picture.display()
+            )))
+        }
+        (None, _) => None,
+    };
     let params = |method| ExtractParams {
         iso: args.iso,
         method,
@@ -217,7 +245,19 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
     let ratio = ratio_interval(&tmc_seconds, &mc_seconds);
 
     // 2. The cells that differ (the survey reads two planes per thread).
-    let (differing, surveyed) = survey(source.as_ref(), &tmc_params, tmc_params.threads, cancel)?;
+    let mark = |p: [f64; 3]| {
+        if let Some(m) = &marks {
+            m.mark(p);
+        }
+    };
+    let on_differing: Option<OnDiffering<'_>> = marks.as_ref().map(|_| &mark as OnDiffering<'_>);
+    let (differing, surveyed) = survey_marking(
+        source.as_ref(),
+        &tmc_params,
+        tmc_params.threads,
+        cancel,
+        on_differing,
+    )?;
     debug_assert_eq!(surveyed.tunnels, tmc_stats.tunnels);
     peak.sample();
     let peak_rss_anon_bytes = peak.peak();
@@ -245,6 +285,26 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
         );
         (none.clone(), none, Some(note))
     };
+
+    // 4. The picture.
+    if let (Some(picture), Some(marks)) = (&args.preview, &marks) {
+        let name = super::with_preview::title_of(&args.input);
+        let caption = |method: &str| {
+            format!(
+                "{method}   {name}   {} differing cells in red",
+                differing.cells
+            )
+        };
+        let draw = |p: &ExtractParams, method: &str| -> tmc::Result<Vec<u8>> {
+            let mut sink = PreviewSink::in_memory(caption(method), bounds, p.threads);
+            tmc::extract_to(source.as_ref(), p, &options, &mut sink)?;
+            sink.take_picture()
+                .ok_or_else(|| tmc::Error::Invalid("preview: no picture".into()))
+        };
+        let (left, right) = (draw(&tmc_params, "TMC")?, draw(&mc_params, "MC")?);
+        let (w, h) = PAIR_DIMENSIONS;
+        write_png(picture, w, h, &side_by_side(&left, &right, marks))?;
+    }
 
     let tmc_side = Side {
         seconds: tmc_seconds,

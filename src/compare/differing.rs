@@ -72,6 +72,23 @@ pub fn survey(
     threads: usize,
     cancel: Option<&AtomicBool>,
 ) -> Result<(DifferingCells, Stats)> {
+    survey_marking(source, params, threads, cancel, None)
+}
+
+/// A place for each cell that differs: called (from any of the survey's
+/// threads, in no particular order) with the cell's centre in world
+/// coordinates.
+pub type OnDiffering<'a> = &'a (dyn Fn([f64; 3]) + Sync);
+
+/// [`survey`], calling `on_differing` with the centre of every cell that
+/// differs (`tmc compare --preview` marks them).
+pub fn survey_marking(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    threads: usize,
+    cancel: Option<&AtomicBool>,
+    on_differing: Option<OnDiffering<'_>>,
+) -> Result<(DifferingCells, Stats)> {
     let padded;
     let source: &dyn SampleSource = if params.close {
         padded = Padded::new(source);
@@ -91,7 +108,7 @@ pub fn survey(
         let handles: Vec<_> = (0..threads)
             .map(|t| {
                 let range = (t * per).min(layers)..((t + 1) * per).min(layers);
-                scope.spawn(move || survey_layers(source, level, range, cancel))
+                scope.spawn(move || survey_layers(source, level, range, cancel, on_differing))
             })
             .collect();
         handles
@@ -114,8 +131,10 @@ fn survey_layers(
     level: Level,
     range: std::ops::Range<usize>,
     cancel: Option<&AtomicBool>,
+    on_differing: Option<OnDiffering<'_>>,
 ) -> Result<(DifferingCells, Stats)> {
-    let [nx, ny, _] = source.grid().dims;
+    let grid = *source.grid();
+    let [nx, ny, _] = grid.dims;
     let plane = nx * ny;
     let mut differing = DifferingCells::default();
     let mut stats = Stats::default();
@@ -163,7 +182,11 @@ fn survey_layers(
                 differing.tunnels += u64::from(kinds[1]);
                 differing.contours_12 += u64::from(kinds[2]);
                 differing.interior_vertices += u64::from(kinds[3]);
-                differing.cells += u64::from(kinds.iter().any(|&k| k));
+                let differs = kinds.iter().any(|&k| k);
+                differing.cells += u64::from(differs);
+                if let (true, Some(on)) = (differs, on_differing) {
+                    on(grid.world([x, y, z].map(|i| i as f64 + 0.5)));
+                }
             }
         }
         std::mem::swap(&mut bottom, &mut top);

@@ -10,5 +10,5 @@
 mod differing;
 mod interval;
 
-pub use differing::{survey, DifferingCells};
+pub use differing::{survey, survey_marking, DifferingCells, OnDiffering};
 pub use interval::{median, ratio_interval, RatioInterval, RESAMPLES};

@@ -12,9 +12,11 @@
 //! not on threads, slabs or parts), [`topology`] (the closed/genus verdict,
 //! counted over a window of two chunks), [`picture`] (colours and the
 //! caption, in the hand-drawn [`font`]) and [`png_out`] (the file, written
-//! atomically).
+//! atomically); [`pair`] puts two pictures side by side with marks
+//! (`tmc compare --preview`).
 
 pub mod font;
+pub mod pair;
 pub mod picture;
 pub mod png_out;
 pub mod raster;
@@ -22,6 +24,7 @@ pub mod sink;
 pub mod topology;
 pub mod views;
 
+pub use pair::{side_by_side, Marks, MARK, PAIR_DIMENSIONS};
 pub use png_out::{check_png_path, write_png};
 pub use sink::PreviewSink;
 pub use topology::Verdict;

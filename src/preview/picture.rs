@@ -37,31 +37,28 @@ const FONT_SCALE: usize = 2;
 /// with `caption`'s lines (at most two fit) in the band under the tiles.
 pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
     let (w, h) = DIMENSIONS;
-    let mut rgb = vec![0u8; w * h * 3];
+    let mut rgb = BACKGROUND.repeat(w * h);
+    for view in 0..4 {
+        let (tx, ty) = ((view % GRID) * TILE, (view / GRID) * TILE);
+        let tile = raster.tile(view);
+        for y in 0..TILE {
+            let start = ((ty + y) * w + tx) * 3;
+            let out = &mut rgb[start..start + TILE * 3];
+            shade_row(tile, y, out);
+        }
+    }
     let mut put = |x: usize, y: usize, c: [u8; 3]| {
         if x < w && y < h {
             rgb[(y * w + x) * 3..(y * w + x) * 3 + 3].copy_from_slice(&c);
         }
     };
-    for view in 0..4 {
-        let (tx, ty) = ((view % GRID) * TILE, (view / GRID) * TILE);
-        for y in 0..TILE {
-            for x in 0..TILE {
-                put(tx + x, ty + y, colour(raster, view, x, y));
+    // Tile borders: the first and last column and row of every tile.
+    for i in 0..GRID {
+        for edge in [i * TILE, i * TILE + TILE - 1] {
+            for t in 0..SIZE {
+                put(edge, t, BORDER);
+                put(t, edge, BORDER);
             }
-        }
-    }
-    for y in 0..h {
-        for x in 0..w {
-            let edge = |v: usize| v.is_multiple_of(TILE) || v % TILE == TILE - 1;
-            if (edge(x) || (y < SIZE && edge(y))) && (y < SIZE || x == 0 || x == w - 1) {
-                put(x, y, BORDER);
-            }
-        }
-    }
-    for y in SIZE..h {
-        for x in 0..w {
-            put(x, y, BACKGROUND);
         }
     }
     for (view, name) in VIEW_NAMES.iter().enumerate() {
@@ -110,38 +107,38 @@ fn slope(before: Option<f32>, here: f32, after: Option<f32>) -> f32 {
     }
 }
 
-/// The colour of pixel `(x, y)` of `view`.
-fn colour(raster: &Raster, view: usize, x: usize, y: usize) -> [u8; 3] {
-    let key = raster.key(view, x, y);
-    let Some(here) = depth(key) else {
-        return BACKGROUND;
-    };
-    let at = |x: usize, y: usize| depth(raster.key(view, x, y));
-    let gx = slope(
-        x.checked_sub(1).and_then(|x| at(x, y)),
-        here,
-        (x + 1 < TILE).then(|| at(x + 1, y)).flatten(),
-    );
-    let gy = slope(
-        y.checked_sub(1).and_then(|y| at(x, y)),
-        here,
-        (y + 1 < TILE).then(|| at(x, y + 1)).flatten(),
-    );
-    // The normal (gx, -gy, -1): x right, y up (pixel y grows downward),
-    // depth away from the viewer.
-    let cos = (gx * LIGHT[0] - gy * LIGHT[1] - LIGHT[2]) / (gx * gx + gy * gy + 1.0).sqrt();
-    let light = 0.2 + 0.8 * cos.clamp(0.0, 1.0);
-    let base = if key & BACK == 0 { OUTSIDE } else { INSIDE };
-    base.map(|c| (c * light) as u8)
+/// Row `y` of a tile's keys (`TILE` by `TILE`, row by row) as RGB bytes
+/// into `out` (`3 * TILE` bytes, background already there).
+fn shade_row(tile: &[u32], y: usize, out: &mut [u8]) {
+    let row = &tile[y * TILE..(y + 1) * TILE];
+    let above = y.checked_sub(1).map(|u| &tile[u * TILE..(u + 1) * TILE]);
+    let below = (y + 1 < TILE).then(|| &tile[(y + 1) * TILE..(y + 2) * TILE]);
+    for (x, &key) in row.iter().enumerate() {
+        let Some(here) = depth(key) else {
+            continue;
+        };
+        let gx = slope(
+            x.checked_sub(1).and_then(|l| depth(row[l])),
+            here,
+            row.get(x + 1).and_then(|&k| depth(k)),
+        );
+        let gy = slope(
+            above.and_then(|r| depth(r[x])),
+            here,
+            below.and_then(|r| depth(r[x])),
+        );
+        // The normal (gx, -gy, -1): x right, y up (pixel y grows downward),
+        // depth away from the viewer.
+        let cos = (gx * LIGHT[0] - gy * LIGHT[1] - LIGHT[2]) / (gx * gx + gy * gy + 1.0).sqrt();
+        let light = 0.2 + 0.8 * cos.clamp(0.0, 1.0);
+        let base = if key & BACK == 0 { OUTSIDE } else { INSIDE };
+        out[3 * x..3 * x + 3].copy_from_slice(&base.map(|c| (c * light) as u8));
+    }
 }
 
 /// Pixels of the tiles that are not background: how much the picture shows.
 pub fn covered(raster: &Raster) -> usize {
     (0..4)
-        .map(|v| {
-            (0..TILE * TILE)
-                .filter(|i| raster.key(v, i % TILE, i / TILE) != EMPTY)
-                .count()
-        })
+        .map(|v| raster.tile(v).iter().filter(|&&k| k != EMPTY).count())
         .sum()
 }

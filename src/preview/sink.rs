@@ -128,7 +128,9 @@ impl Drop for Workers {
 /// written atomically in [`MeshSink::finish`]; a sink dropped before that
 /// leaves nothing.
 pub struct PreviewSink {
-    path: PathBuf,
+    /// Where the picture goes; `None` keeps it in memory
+    /// ([`PreviewSink::in_memory`]).
+    path: Option<PathBuf>,
     title: String,
     bounds: Option<Bounds>,
     threads: usize,
@@ -139,6 +141,8 @@ pub struct PreviewSink {
     pending: Option<(Job, u32)>,
     /// What the finished picture showed: covered pixels and the verdict.
     summary: Option<(usize, Verdict)>,
+    /// The finished picture's RGB bytes, kept by a sink without a path.
+    picture: Option<Vec<u8>>,
 }
 
 impl PreviewSink {
@@ -154,7 +158,7 @@ impl PreviewSink {
             n => n,
         };
         PreviewSink {
-            path,
+            path: Some(path),
             title,
             bounds,
             // Each worker holds a depth buffer of 8 MiB.
@@ -163,7 +167,31 @@ impl PreviewSink {
             workers: None,
             pending: None,
             summary: None,
+            picture: None,
         }
+    }
+
+    /// A sink as [`PreviewSink::new`] that writes no file: the finished
+    /// picture's RGB bytes ([`picture::DIMENSIONS`]) are kept for
+    /// [`PreviewSink::take_picture`] (`tmc compare --preview` puts two of
+    /// them side by side).
+    pub fn in_memory(title: String, bounds: Option<Bounds>, threads: usize) -> Self {
+        let mut sink = PreviewSink::new(PathBuf::new(), title, bounds, threads);
+        sink.path = None;
+        sink
+    }
+
+    /// After `finish` of a sink made by [`PreviewSink::in_memory`]: the
+    /// picture, row by row, 8-bit RGB.
+    pub fn take_picture(&mut self) -> Option<Vec<u8>> {
+        self.picture.take()
+    }
+
+    /// The path in messages.
+    fn shown_path(&self) -> String {
+        self.path
+            .as_ref()
+            .map_or_else(|| "preview".into(), |p| p.display().to_string())
     }
 
     /// After `finish`: the pixels of the tiles that are not background, and
@@ -181,7 +209,7 @@ impl PreviewSink {
         if next > after.len() {
             return Err(Error::Invalid(format!(
                 "{}: a triangle refers to a vertex past the next chunk's",
-                self.path.display()
+                self.shown_path()
             )));
         }
         job.vertices.extend_from_slice(&after[..next]);
@@ -199,7 +227,7 @@ impl MeshSink for PreviewSink {
             None => {
                 return Err(Error::Invalid(format!(
                     "{}: the mesh has no finite bounds to frame a preview",
-                    self.path.display()
+                    self.shown_path()
                 )))
             }
         };
@@ -251,7 +279,10 @@ impl MeshSink for PreviewSink {
         ];
         let rgb = picture::compose(&raster, &caption);
         let (w, h) = picture::DIMENSIONS;
-        super::png_out::write_png(&self.path, w, h, &rgb)?;
+        match &self.path {
+            Some(path) => super::png_out::write_png(path, w, h, &rgb)?,
+            None => self.picture = Some(rgb),
+        }
         self.summary = Some((picture::covered(&raster), verdict));
         Ok(())
     }

@@ -78,27 +78,42 @@ pub struct Topology {
     carry: Vec<u32>,
     /// Classes in use by `carry`.
     classes: u32,
-    /// Edges with both ends in the next chunk's vertices, keys relative to
-    /// that chunk, in the order of their smaller ends, with the number of triangles seen so far.
-    carried_edges: Vec<(u64, u32)>,
-    /// Scratch: the union-find parents and roots; the edge buckets (starts
-    /// by smaller end, fill cursors, larger ends) and the per-vertex stamps,
-    /// counts and distinct larger ends of one bucket.
+    /// Edges with both ends in the next chunk's vertices: smaller and
+    /// larger end relative to that chunk, and the triangles seen so far.
+    carried_edges: Vec<[u32; 3]>,
+    /// Scratch: the union-find parents and the roots reaching the next
+    /// chunk; per root, a mark (reaching, finished) and its new class.
     parent: Vec<u32>,
     roots: Vec<u32>,
+    mark: Vec<u32>,
+    /// Scratch: the edge buckets, by smaller end: where each starts in
+    /// `larger`, and the larger ends.
     start: Vec<u32>,
-    cursor: Vec<u32>,
     larger: Vec<u32>,
-    stamp: Vec<u32>,
-    count: Vec<u32>,
-    distinct: Vec<u32>,
 }
 
 impl Topology {
     /// Counts one chunk: `own` vertices of its own, triangles indexing them
-    /// and then the first `next` vertices of the next chunk.
+    /// and then the first `next` vertices of the next chunk. A triangle
+    /// with an index past those is left out.
     pub fn chunk(&mut self, own: u32, next: u32, triangles: &[[u32; 3]]) {
+        let n = own.saturating_add(next);
         self.verdict.vertices += u64::from(own);
+        if triangles.iter().any(|t| t[0].max(t[1]).max(t[2]) >= n) {
+            let valid: Vec<[u32; 3]> = triangles
+                .iter()
+                .copied()
+                .filter(|t| t[0].max(t[1]).max(t[2]) < n)
+                .collect();
+            self.count(own, next, &valid);
+        } else {
+            self.count(own, next, triangles);
+        }
+    }
+
+    /// [`Topology::chunk`] of triangles whose indices are all below
+    /// `own + next`.
+    fn count(&mut self, own: u32, next: u32, triangles: &[[u32; 3]]) {
         self.verdict.triangles += triangles.len() as u64;
         self.components(own, next, triangles);
         self.edges(own, next, triangles);
@@ -107,7 +122,7 @@ impl Topology {
     /// The verdict once the last chunk has been counted.
     pub fn finish(mut self) -> Verdict {
         self.verdict.components += u64::from(self.classes);
-        for (_, count) in std::mem::take(&mut self.carried_edges) {
+        for [_, _, count] in std::mem::take(&mut self.carried_edges) {
             self.tally(count);
         }
         self.verdict
@@ -121,127 +136,137 @@ impl Topology {
             self.classes += 1;
         }
         let k = self.classes;
+        let size = (k + next) as usize;
         self.parent.clear();
         self.parent.extend(0..k + next);
-        let element = |carry: &[u32], v: u32| {
-            if v < own {
-                carry[v as usize]
-            } else {
-                k + v - own
-            }
+        let carry = &self.carry[..own as usize];
+        let element = |v: u32| match carry.get(v as usize) {
+            Some(&class) => class,
+            None => k + v - own,
         };
+        let parent = &mut self.parent[..];
         for t in triangles {
-            let [a, b, c] = t.map(|v| element(&self.carry, v));
-            union(&mut self.parent, a, b);
-            union(&mut self.parent, a, c);
+            let ra = find(parent, element(t[0]));
+            let rb = find(parent, element(t[1]));
+            let r = if ra != rb {
+                let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+                parent[hi as usize] = lo;
+                lo
+            } else {
+                ra
+            };
+            let rc = find(parent, element(t[2]));
+            if rc != r {
+                let (lo, hi) = if r < rc { (r, rc) } else { (rc, r) };
+                parent[hi as usize] = lo;
+            }
         }
-        // Roots reaching the next chunk, and the classes that finish here.
+        // Roots reaching the next chunk (mark 1), and the classes that
+        // finish here (counted, mark 2).
         self.roots.clear();
+        self.mark.clear();
+        self.mark.resize(size, 0);
         for j in 0..next {
-            let r = find(&mut self.parent, k + j);
+            let r = find(parent, k + j);
             self.roots.push(r);
+            self.mark[r as usize] = 1;
         }
-        let mut reaching = vec![false; (k + next) as usize];
-        for &r in &self.roots {
-            reaching[r as usize] = true;
-        }
-        let mut finished = vec![false; (k + next) as usize];
         for class in 0..k {
-            let r = find(&mut self.parent, class) as usize;
-            if !reaching[r] && !finished[r] {
-                finished[r] = true;
+            let r = find(parent, class) as usize;
+            if self.mark[r] == 0 {
+                self.mark[r] = 2;
                 self.verdict.components += 1;
             }
         }
-        // Classes for the next chunk's prefix, numbered by first use.
-        let mut renumber = vec![u32::MAX; (k + next) as usize];
+        // Classes for the next chunk's prefix, numbered by first use (the
+        // mark of a reaching root becomes its class plus 3).
         self.carry.clear();
         self.classes = 0;
         for &r in &self.roots {
-            let id = &mut renumber[r as usize];
-            if *id == u32::MAX {
-                *id = self.classes;
+            let m = &mut self.mark[r as usize];
+            if *m == 1 {
+                *m = self.classes + 3;
                 self.classes += 1;
             }
-            self.carry.push(*id);
+            self.carry.push(*m - 3);
         }
     }
 
     /// Counts the chunk's edges, matching those shared with its neighbours.
     ///
     /// The edges are bucketed by their smaller end (a counting sort over
-    /// the window's vertices, linear in the triangles), and each bucket's
-    /// larger ends counted with a stamp per vertex: a few instructions per
-    /// edge, where a comparison sort took a logarithm more.
+    /// the window's vertices, linear in the triangles; an edge carried from
+    /// the chunk before goes in as many times as it had triangles), and
+    /// each bucket, a few larger ends, sorted in place: equal ends are one
+    /// edge, counted by its run.
     fn edges(&mut self, own: u32, next: u32, triangles: &[[u32; 3]]) {
         let n = (own + next) as usize;
-        // Bucket starts by smaller end.
-        self.start.clear();
-        self.start.resize(n + 2, 0);
-        for t in triangles {
-            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                let lo = a.min(b) as usize;
-                self.start[(lo + 1).min(n + 1)] += 1;
-            }
-        }
-        for i in 1..n + 2 {
-            self.start[i] += self.start[i - 1];
-        }
-        self.cursor.clear();
-        self.cursor.extend_from_slice(&self.start);
-        self.larger.clear();
-        self.larger.resize(3 * triangles.len(), 0);
-        for t in triangles {
-            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
-                let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-                let slot = &mut self.cursor[(lo as usize).min(n)];
-                self.larger[*slot as usize] = hi;
-                *slot += 1;
-            }
-        }
-        // Per bucket: the distinct larger ends and their counts, with the
-        // edges carried from the chunk before.
-        self.stamp.clear();
-        self.stamp.resize(n + 1, u32::MAX);
-        self.count.clear();
-        self.count.resize(n + 1, 0);
         let carried = std::mem::take(&mut self.carried_edges);
-        let mut from_before = carried.into_iter().peekable();
-        let mut distinct = std::mem::take(&mut self.distinct);
-        for lo in 0..=n {
-            distinct.clear();
-            let (stamp, count) = (&mut self.stamp, &mut self.count);
-            let mut add = |hi: u32, c: u32| {
-                let h = (hi as usize).min(n);
-                if stamp[h] != lo as u32 {
-                    stamp[h] = lo as u32;
-                    count[h] = 0;
-                    distinct.push(h as u32);
-                }
-                count[h] += c;
-            };
-            while let Some(&(key, c)) = from_before.peek() {
-                if (key >> 32) as usize > lo && lo < n {
-                    break;
-                }
-                add(key as u32, c);
-                from_before.next();
-            }
-            let (s, e) = (self.start[lo] as usize, self.start[lo + 1] as usize);
-            for &hi in &self.larger[s..e] {
-                add(hi, 1);
-            }
-            for &hi in &distinct {
-                let c = self.count[hi as usize];
-                if lo as u32 >= own && lo < n {
-                    let shifted = u64::from(lo as u32 - own) << 32 | u64::from(hi - own);
-                    self.carried_edges.push((shifted, c));
-                } else {
-                    self.tally(c);
-                }
+        // Bucket ends by smaller end (prefix sums of the counts)...
+        self.start.clear();
+        self.start.resize(n + 1, 0);
+        let start = &mut self.start[..];
+        for t in triangles {
+            start[t[0].min(t[1]) as usize] += 1;
+            start[t[1].min(t[2]) as usize] += 1;
+            start[t[2].min(t[0]) as usize] += 1;
+        }
+        for &[lo, _, count] in &carried {
+            start[lo as usize] += count;
+        }
+        let mut total = 0;
+        for s in start.iter_mut() {
+            total += *s;
+            *s = total;
+        }
+        // ... filled from the end, which leaves each bucket's start.
+        self.larger.clear();
+        self.larger.resize(total as usize, 0);
+        let larger = &mut self.larger[..];
+        let mut put = |a: u32, b: u32| {
+            let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+            let slot = &mut start[lo as usize];
+            *slot -= 1;
+            larger[*slot as usize] = hi;
+        };
+        for t in triangles {
+            put(t[0], t[1]);
+            put(t[1], t[2]);
+            put(t[2], t[0]);
+        }
+        for &[lo, hi, count] in &carried {
+            for _ in 0..count {
+                put(lo, hi);
             }
         }
-        self.distinct = distinct;
+        let mut carried = carried;
+        carried.clear();
+        for lo in 0..n {
+            let (s, e) = (start[lo] as usize, start[lo + 1] as usize);
+            let bucket = &mut larger[s..e];
+            insertion_sort(bucket);
+            let mut i = 0;
+            while i < bucket.len() {
+                let hi = bucket[i];
+                let mut j = i + 1;
+                while j < bucket.len() && bucket[j] == hi {
+                    j += 1;
+                }
+                let count = (j - i) as u32;
+                if lo as u32 >= own {
+                    carried.push([lo as u32 - own, hi - own, count]);
+                } else {
+                    self.verdict.edges += 1;
+                    match count {
+                        1 => self.verdict.boundary_edges += 1,
+                        2 => {}
+                        _ => self.verdict.nonmanifold_edges += 1,
+                    }
+                }
+                i = j;
+            }
+        }
+        self.carried_edges = carried;
     }
 
     /// One distinct edge used by `count` triangles.
@@ -255,6 +280,19 @@ impl Topology {
     }
 }
 
+/// Sorts a few numbers in place (a bucket holds about six).
+fn insertion_sort(v: &mut [u32]) {
+    for i in 1..v.len() {
+        let x = v[i];
+        let mut j = i;
+        while j > 0 && v[j - 1] > x {
+            v[j] = v[j - 1];
+            j -= 1;
+        }
+        v[j] = x;
+    }
+}
+
 /// The root of `x`, halving the path on the way.
 fn find(parent: &mut [u32], mut x: u32) -> u32 {
     while parent[x as usize] != x {
@@ -263,15 +301,6 @@ fn find(parent: &mut [u32], mut x: u32) -> u32 {
         x = parent[x as usize];
     }
     x
-}
-
-/// Joins the classes of `a` and `b` (the smaller root becomes the parent).
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra != rb {
-        let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-        parent[hi as usize] = lo;
-    }
 }
 
 #[cfg(test)]

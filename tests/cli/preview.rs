@@ -3,7 +3,8 @@
 //! the stated size, shows the mesh, has the same bytes for any threads,
 //! slab depth, a merged split and `tmc preview` of the written `.tmesh`,
 //! expands batch templates, and fails on bad paths with one line and no
-//! file.
+//! file; `tmc compare --preview` puts the two methods' pictures side by
+//! side with the differing cells marked, and none where no cell differs.
 
 use crate::common;
 
@@ -44,23 +45,33 @@ fn shown(path: &Path) -> usize {
 /// With `TMC_PYTHON` set: Pillow's size, mode and non-background count of
 /// `path` (it must agree with ours); without it, a SKIPPED line.
 fn check_with_pillow(path: &Path) {
-    let Ok(python) = std::env::var("TMC_PYTHON") else {
-        println!("SKIPPED: Pillow check: TMC_PYTHON is not set (see .ci/run)");
-        return;
-    };
-    let script = "import sys\nfrom PIL import Image\nim = Image.open(sys.argv[1])\nim.load()\n\
-                  w, h = im.size\nbg = {(30, 32, 36), (80, 84, 92), (240, 240, 240)}\n\
+    let script = "w, h = im.size\nbg = {(30, 32, 36), (80, 84, 92), (240, 240, 240)}\n\
                   px = im.convert('RGB').getdata()\n\
                   n = sum(1 for i, p in enumerate(px) if i < w * w and p not in bg)\n\
                   print(im.format, im.mode, w, h, n)";
+    if let Some(text) = pillow(path, script) {
+        let expected = format!("PNG RGB {} {} {}", SIZE.0, SIZE.1, shown(path));
+        assert_eq!(text.trim(), expected);
+    }
+}
+
+/// With `TMC_PYTHON` set: what `script` prints with `im`, the picture at
+/// `path` opened and loaded by Pillow; without it, a SKIPPED line and
+/// `None`.
+fn pillow(path: &Path, script: &str) -> Option<String> {
+    let Ok(python) = std::env::var("TMC_PYTHON") else {
+        println!("SKIPPED: Pillow check: TMC_PYTHON is not set (see .ci/run)");
+        return None;
+    };
+    let script = format!(
+        "import sys\nfrom PIL import Image\nim = Image.open(sys.argv[1])\nim.load()\n{script}"
+    );
     let out = Command::new(python)
-        .args(["-c", script, s(path)])
+        .args(["-c", &script, s(path)])
         .output()
         .expect("run TMC_PYTHON");
     assert!(out.status.success(), "{out:?}");
-    let text = String::from_utf8(out.stdout).unwrap();
-    let expected = format!("PNG RGB {} {} {}", SIZE.0, SIZE.1, shown(path));
-    assert_eq!(text.trim(), expected);
+    Some(String::from_utf8(out.stdout).unwrap())
 }
 
 /// A sphere volume in `dir`.
@@ -374,4 +385,114 @@ fn a_real_ct_preview_shows_the_skull() {
     // The skull fills more than a quarter of each 512x512 view.
     assert!(n > 4 * 65_000, "{n} pixels shown");
     check_with_pillow(&picture);
+}
+
+/// The red of `tmc compare --preview`'s marks.
+const MARK: [u8; 3] = [255, 0, 0];
+
+/// Runs `tmc compare INPUT --iso ISO --preview PICTURE` with `extra`
+/// options; its JSON report.
+fn compare_preview(input: &Path, iso: &str, picture: &Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "compare",
+        s(input),
+        "--iso",
+        iso,
+        "--runs",
+        "1",
+        "--json",
+        "-q",
+        "--preview",
+        s(picture),
+    ];
+    args.extend(extra);
+    let out = tmc(&args);
+    assert!(out.status.success(), "{out:?}");
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// Of a side-by-side picture's two halves (left, right): the tile pixels
+/// that show a surface (neither background, border, text nor mark) and
+/// the marked ones.
+fn halves(path: &Path) -> [(usize, usize); 2] {
+    let (w, h, rgb) = decode(path);
+    assert_eq!((w, h), (2 * SIZE.0, SIZE.1));
+    let (w, tiles) = (w as usize, SIZE.0 as usize);
+    let mut counts = [(0, 0); 2];
+    for (i, p) in rgb.chunks(3).enumerate() {
+        let (x, y) = (i % w, i / w);
+        if y >= tiles {
+            continue;
+        }
+        let half = &mut counts[x / (w / 2)];
+        if p == MARK {
+            half.1 += 1;
+        } else if p != BACKGROUND && p != [80, 84, 92] && p != [240, 240, 240] {
+            half.0 += 1;
+        }
+    }
+    counts
+}
+
+#[test]
+fn compare_preview_marks_the_differing_cells_in_both_halves() {
+    // One cell with two diagonally opposite inside corners and an inside
+    // centre (a tunnel): TMC draws a tube, MC two blobs, and that one cell
+    // differs.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut values = vec![-1.0f64; 64];
+    values[1 + 4 + 16] = 10.0;
+    values[2 + 2 * 4 + 2 * 16] = 10.0;
+    let mut bytes =
+        common::cli::npy_header("{'descr': '<f8', 'fortran_order': False, 'shape': (4, 4, 4), }");
+    for v in &values {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    let input = d.join("tunnel.npy");
+    fs::write(&input, bytes).unwrap();
+    let picture = d.join("tunnel.png");
+    let json = compare_preview(&input, "0", &picture, &["--threads", "1"]);
+    assert_eq!(json["differing_cells"]["cells"], 1);
+    let [(tmc_shown, tmc_marks), (mc_shown, mc_marks)] = halves(&picture);
+    assert!(tmc_shown > 4 * 1000, "{tmc_shown}");
+    assert!(mc_shown > 4 * 1000, "{mc_shown}");
+    // One cell: a 3x3 dot in each of the four views of each half.
+    assert_eq!((tmc_marks, mc_marks), (4 * 9, 4 * 9));
+    // The bytes do not depend on the threads.
+    let again = d.join("again.png");
+    compare_preview(&input, "0", &again, &["--threads", "2"]);
+    assert!(fs::read(&picture).unwrap() == fs::read(&again).unwrap());
+    check_with_pillow_size(&picture, 2 * SIZE.0, SIZE.1);
+}
+
+#[test]
+fn compare_preview_of_a_sphere_has_no_marks() {
+    // A sphere's field has no cell the two methods triangulate differently.
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere(dir.path());
+    let picture = dir.path().join("ball.png");
+    let json = compare_preview(&input, "0", &picture, &[]);
+    assert_eq!(json["differing_cells"]["cells"], 0, "{json}");
+    let [(tmc_shown, tmc_marks), (mc_shown, mc_marks)] = halves(&picture);
+    assert!(tmc_shown > 4 * 50_000 && mc_shown > 4 * 50_000);
+    assert_eq!((tmc_marks, mc_marks), (0, 0));
+}
+
+#[test]
+fn compare_preview_to_a_bad_path_is_one_line_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere(dir.path());
+    let picture = dir.path().join("ball.jpg");
+    let out = tmc(&["compare", s(&input), "--iso", "0", "--preview", s(&picture)]);
+    assert_one_line(&out, 1);
+    assert!(!picture.exists());
+}
+
+/// With `TMC_PYTHON` set: Pillow opens `path` as a `width` x `height` RGB
+/// PNG; without it, a SKIPPED line.
+fn check_with_pillow_size(path: &Path, width: u32, height: u32) {
+    if let Some(text) = pillow(path, "print(im.format, im.mode, *im.size)") {
+        assert_eq!(text.trim(), format!("PNG RGB {width} {height}"));
+    }
 }

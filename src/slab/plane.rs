@@ -149,30 +149,55 @@ impl<'s> Plane<'s> {
             None => level.iso == 0.0,
         };
         self.plain = self.exact && self.lent.is_some_and(|s| s.is_integer());
-        let bits = &mut self.inside;
         match self.lent {
-            None => bits.classify(&self.read, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::U8(s)) => bits.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::I8(s)) => bits.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::U16(s)) => bits.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::I16(s)) => bits.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::U32(s)) => bits.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::I32(s)) => bits.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::F32(s)) => bits.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::F64(s)) => bits.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::U16Bytes(s)) => by_bands::<u16, 2, false>(bits, s, nx, level),
-            Some(LentPlane::I16Bytes(s)) => by_bands::<i16, 2, false>(bits, s, nx, level),
-            Some(LentPlane::U32Bytes(s)) => by_bands::<u32, 4, false>(bits, s, nx, level),
-            Some(LentPlane::I32Bytes(s)) => by_bands::<i32, 4, false>(bits, s, nx, level),
-            Some(LentPlane::F32Bytes(s)) => by_bands::<f32, 4, false>(bits, s, nx, level),
-            Some(LentPlane::F64Bytes(s)) => by_bands::<f64, 8, false>(bits, s, nx, level),
-            Some(LentPlane::U16Swapped(s)) => by_bands::<u16, 2, true>(bits, s, nx, level),
-            Some(LentPlane::I16Swapped(s)) => by_bands::<i16, 2, true>(bits, s, nx, level),
-            Some(LentPlane::U32Swapped(s)) => by_bands::<u32, 4, true>(bits, s, nx, level),
-            Some(LentPlane::I32Swapped(s)) => by_bands::<i32, 4, true>(bits, s, nx, level),
-            Some(LentPlane::F32Swapped(s)) => by_bands::<f32, 4, true>(bits, s, nx, level),
-            Some(LentPlane::F64Swapped(s)) => by_bands::<f64, 8, true>(bits, s, nx, level),
-            Some(LentPlane::View(v)) => by_view(bits, v, nx, level),
+            None => self
+                .inside
+                .classify(&self.read, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U8(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I8(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U16(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I16(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::I32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::F32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::F64(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            Some(LentPlane::U16Bytes(s)) => {
+                by_bands::<u16, 2, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::I16Bytes(s)) => {
+                by_bands::<i16, 2, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::U32Bytes(s)) => {
+                by_bands::<u32, 4, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::I32Bytes(s)) => {
+                by_bands::<i32, 4, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::F32Bytes(s)) => {
+                by_bands::<f32, 4, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::F64Bytes(s)) => {
+                by_bands::<f64, 8, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::U16Swapped(s)) => {
+                by_bands::<u16, 2, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::I16Swapped(s)) => {
+                by_bands::<i16, 2, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::U32Swapped(s)) => {
+                by_bands::<u32, 4, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::I32Swapped(s)) => {
+                by_bands::<i32, 4, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::F32Swapped(s)) => {
+                by_bands::<f32, 4, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::F64Swapped(s)) => {
+                by_bands::<f64, 8, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::View(v)) => by_view(&mut self.inside, v, nx, level),
         }
         if place.axis_aligned {
             self.edge_vertices::<true>(place, owned)?;

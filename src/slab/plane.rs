@@ -11,7 +11,7 @@ use super::spares::{PlaneBuffers, Scratch};
 use crate::error::make_room;
 use crate::grid::Grid;
 use crate::params::ExtractParams;
-use crate::volume::{LentPlane, Sample, SampleSource};
+use crate::volume::{LentPlane, PlaneView, Sample, SampleSource};
 use crate::{Error, Result, Stats};
 use std::time::Instant;
 
@@ -161,12 +161,43 @@ impl<'s> Plane<'s> {
             Some(LentPlane::I32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
             Some(LentPlane::F32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
             Some(LentPlane::F64(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::U16Bytes(s)) => by_bands::<u16, 2>(&mut self.inside, s, nx, level),
-            Some(LentPlane::I16Bytes(s)) => by_bands::<i16, 2>(&mut self.inside, s, nx, level),
-            Some(LentPlane::U32Bytes(s)) => by_bands::<u32, 4>(&mut self.inside, s, nx, level),
-            Some(LentPlane::I32Bytes(s)) => by_bands::<i32, 4>(&mut self.inside, s, nx, level),
-            Some(LentPlane::F32Bytes(s)) => by_bands::<f32, 4>(&mut self.inside, s, nx, level),
-            Some(LentPlane::F64Bytes(s)) => by_bands::<f64, 8>(&mut self.inside, s, nx, level),
+            Some(LentPlane::U16Bytes(s)) => {
+                by_bands::<u16, 2, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::I16Bytes(s)) => {
+                by_bands::<i16, 2, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::U32Bytes(s)) => {
+                by_bands::<u32, 4, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::I32Bytes(s)) => {
+                by_bands::<i32, 4, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::F32Bytes(s)) => {
+                by_bands::<f32, 4, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::F64Bytes(s)) => {
+                by_bands::<f64, 8, false>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::U16Swapped(s)) => {
+                by_bands::<u16, 2, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::I16Swapped(s)) => {
+                by_bands::<i16, 2, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::U32Swapped(s)) => {
+                by_bands::<u32, 4, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::I32Swapped(s)) => {
+                by_bands::<i32, 4, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::F32Swapped(s)) => {
+                by_bands::<f32, 4, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::F64Swapped(s)) => {
+                by_bands::<f64, 8, true>(&mut self.inside, s, nx, level)
+            }
+            Some(LentPlane::View(v)) => by_view(&mut self.inside, v, nx, level),
         }
         if place.axis_aligned {
             self.edge_vertices::<true>(place, owned)?;
@@ -240,10 +271,11 @@ pub(super) fn rel_at(lent: Option<LentPlane>, read: &[f64], level: Level, i: usi
 const BAND_BYTES: usize = 64 << 10;
 
 /// Classifies a plane lent as byte arrays (samples not aligned for their
-/// type `T`, of `N` bytes): a band of rows at a time is copied into aligned
-/// samples and classified as a lent plane of type `T` is (so the bits are
-/// the same), the copy taking a few pages, not a plane.
-fn by_bands<T: Sample + bytemuck::Pod, const N: usize>(
+/// type `T`, of `N` bytes, or in the other byte order if `SWAP`): a band of
+/// rows at a time is copied into aligned samples (each one's bytes
+/// reversed if `SWAP`) and classified as a lent plane of type `T` is (so
+/// the bits are the same), the copy taking a few pages, not a plane.
+fn by_bands<T: Sample + bytemuck::Pod, const N: usize, const SWAP: bool>(
     inside: &mut SignBits,
     plane: &[[u8; N]],
     nx: usize,
@@ -256,7 +288,25 @@ fn by_bands<T: Sample + bytemuck::Pod, const N: usize>(
         let n = rows.min(ny - first);
         let band = &mut band[..n * nx];
         let bytes = &plane[first * nx..(first + n) * nx];
-        bytemuck::cast_slice_mut::<T, u8>(band).copy_from_slice(bytes.as_flattened());
+        let band_bytes = bytemuck::cast_slice_mut::<T, u8>(band);
+        band_bytes.copy_from_slice(bytes.as_flattened());
+        if SWAP {
+            band_bytes.chunks_exact_mut(N).for_each(<[u8]>::reverse);
+        }
+        inside.classify_from(first, band, nx, level.iso, level.sign > 0.0);
+    }
+}
+
+/// Classifies a plane lent as a [`PlaneView`]: a band of rows at a time is
+/// computed into `f64`s and classified as a plane read into `f64`s is (so
+/// the bits are the same), the band taking a few pages, not a plane.
+fn by_view(inside: &mut SignBits, view: &dyn PlaneView, nx: usize, level: Level) {
+    let ny = view.len() / nx;
+    let rows = (BAND_BYTES / (nx * 8)).clamp(1, ny.max(1));
+    let mut band = vec![0.0; rows * nx];
+    for first in (0..ny).step_by(rows) {
+        let band = &mut band[..rows.min(ny - first) * nx];
+        view.rows(first, nx, band);
         inside.classify_from(first, band, nx, level.iso, level.sign > 0.0);
     }
 }

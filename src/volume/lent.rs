@@ -11,6 +11,16 @@
 //! 8192 x 8192), where a lent plane stays in the page cache. Each type has
 //! its own variant, so that a lent plane stays two words and the sample
 //! loops look at its type once per plane.
+//!
+//! A plane stored in the other byte order (a big-endian file on a
+//! little-endian machine) is lent as byte arrays too, each sample's bytes
+//! swapped as it is read (the `...Swapped` variants).
+//!
+//! A plane whose samples are not stored as such anywhere (the border that
+//! `--close` adds around another source's lent planes) is lent as a
+//! [`PlaneView`], which computes each sample from the stored ones: the
+//! slab loop classifies it a band of rows at a time, so no whole plane is
+//! copied.
 
 use super::ScalarType;
 use std::ops::Range;
@@ -36,6 +46,34 @@ impl SharedPlane {
     /// whole number of samples).
     pub fn lent(&self) -> Option<LentPlane<'_>> {
         LentPlane::from_bytes(self.scalar, self.data.get(self.bytes.clone())?)
+    }
+}
+
+/// A plane computed from stored samples, lent as
+/// [`LentPlane::View`]: the samples of a padded plane, say, read from the
+/// inner source's lent plane with the border supplied on the fly. Its
+/// samples count as `f64`s (NaN allowed), as a plane read with
+/// [`SampleSource::read_plane`](super::SampleSource::read_plane) does.
+pub trait PlaneView: Sync + std::fmt::Debug {
+    /// Samples in the plane.
+    fn len(&self) -> usize;
+
+    /// Whether the plane has no samples.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Sample `i` (x fastest) as an `f64`: the value `read_plane` gives.
+    fn get(&self, i: usize) -> f64;
+
+    /// Writes the samples of the rows from `first` on into `out`, which
+    /// holds whole rows of `row` samples (what [`get`](Self::get) gives for
+    /// each).
+    fn rows(&self, first: usize, row: usize, out: &mut [f64]) {
+        let start = first * row;
+        for (j, v) in out.iter_mut().enumerate() {
+            *v = self.get(start + j);
+        }
     }
 }
 
@@ -70,6 +108,29 @@ pub enum LentPlane<'a> {
     F32Bytes(&'a [[u8; 4]]),
     /// 64-bit floats, native byte order, at any alignment.
     F64Bytes(&'a [[u8; 8]]),
+    /// Unsigned 16-bit samples in the other byte order (a big-endian file
+    /// on a little-endian machine), at any alignment.
+    U16Swapped(&'a [[u8; 2]]),
+    /// Signed 16-bit samples in the other byte order, at any alignment.
+    I16Swapped(&'a [[u8; 2]]),
+    /// Unsigned 32-bit samples in the other byte order, at any alignment.
+    U32Swapped(&'a [[u8; 4]]),
+    /// Signed 32-bit samples in the other byte order, at any alignment.
+    I32Swapped(&'a [[u8; 4]]),
+    /// 32-bit floats in the other byte order, at any alignment.
+    F32Swapped(&'a [[u8; 4]]),
+    /// 64-bit floats in the other byte order, at any alignment.
+    F64Swapped(&'a [[u8; 8]]),
+    /// Samples computed from stored ones (see [`PlaneView`]), as `f64`s.
+    View(&'a dyn PlaneView),
+}
+
+/// The bytes of a sample stored in the other byte order, in this
+/// machine's.
+#[inline(always)]
+fn swapped<const N: usize>(mut bytes: [u8; N]) -> [u8; N] {
+    bytes.reverse();
+    bytes
 }
 
 impl<'a> LentPlane<'a> {
@@ -104,11 +165,34 @@ impl<'a> LentPlane<'a> {
         })
     }
 
+    /// Samples of `scalar` packed in `bytes` in the other byte order than
+    /// this machine's (the `...Swapped` variants; 8-bit samples have no
+    /// byte order); `None` when the bytes do not hold a whole number of
+    /// samples.
+    pub fn from_foreign_bytes(scalar: ScalarType, bytes: &'a [u8]) -> Option<Self> {
+        use bytemuck::try_cast_slice as cast;
+        Some(match scalar {
+            ScalarType::U8 | ScalarType::I8 => Self::from_bytes(scalar, bytes)?,
+            ScalarType::U16 => Self::U16Swapped(cast(bytes).ok()?),
+            ScalarType::I16 => Self::I16Swapped(cast(bytes).ok()?),
+            ScalarType::U32 => Self::U32Swapped(cast(bytes).ok()?),
+            ScalarType::I32 => Self::I32Swapped(cast(bytes).ok()?),
+            ScalarType::F32 => Self::F32Swapped(cast(bytes).ok()?),
+            ScalarType::F64 => Self::F64Swapped(cast(bytes).ok()?),
+        })
+    }
+
     /// Are the samples integers (not floats)?
     pub fn is_integer(&self) -> bool {
         !matches!(
             self,
-            LentPlane::F32(_) | LentPlane::F64(_) | LentPlane::F32Bytes(_) | LentPlane::F64Bytes(_)
+            LentPlane::F32(_)
+                | LentPlane::F64(_)
+                | LentPlane::F32Bytes(_)
+                | LentPlane::F64Bytes(_)
+                | LentPlane::F32Swapped(_)
+                | LentPlane::F64Swapped(_)
+                | LentPlane::View(_)
         )
     }
 
@@ -130,6 +214,13 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32Bytes(s) => f64::from(i32::from_ne_bytes(s[i])),
             LentPlane::F32Bytes(s) => f64::from(f32::from_ne_bytes(s[i])),
             LentPlane::F64Bytes(s) => f64::from_ne_bytes(s[i]),
+            LentPlane::U16Swapped(s) => f64::from(u16::from_ne_bytes(swapped(s[i]))),
+            LentPlane::I16Swapped(s) => f64::from(i16::from_ne_bytes(swapped(s[i]))),
+            LentPlane::U32Swapped(s) => f64::from(u32::from_ne_bytes(swapped(s[i]))),
+            LentPlane::I32Swapped(s) => f64::from(i32::from_ne_bytes(swapped(s[i]))),
+            LentPlane::F32Swapped(s) => f64::from(f32::from_ne_bytes(swapped(s[i]))),
+            LentPlane::F64Swapped(s) => f64::from_ne_bytes(swapped(s[i])),
+            LentPlane::View(v) => v.get(i),
         }
     }
 
@@ -151,6 +242,54 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32Bytes(s) => at.map(|i| f64::from(i32::from_ne_bytes(s[i]))),
             LentPlane::F32Bytes(s) => at.map(|i| f64::from(f32::from_ne_bytes(s[i]))),
             LentPlane::F64Bytes(s) => at.map(|i| f64::from_ne_bytes(s[i])),
+            LentPlane::U16Swapped(_)
+            | LentPlane::I16Swapped(_)
+            | LentPlane::U32Swapped(_)
+            | LentPlane::I32Swapped(_)
+            | LentPlane::F32Swapped(_)
+            | LentPlane::F64Swapped(_) => at.map(|i| self.get(i)),
+            LentPlane::View(v) => at.map(|i| v.get(i)),
+        }
+    }
+
+    /// Samples `start..start + out.len()` as `f64`s, written to `out`,
+    /// with one look at the type for all of them.
+    pub fn get_range(&self, start: usize, out: &mut [f64]) {
+        let end = start + out.len();
+        /// Converts `$s[start..end]` into `out` with `$f`.
+        macro_rules! each {
+            ($s:expr, $f:expr) => {
+                for (o, v) in out.iter_mut().zip(&$s[start..end]) {
+                    *o = $f(*v);
+                }
+            };
+        }
+        match self {
+            LentPlane::U8(s) => each!(s, f64::from),
+            LentPlane::I8(s) => each!(s, f64::from),
+            LentPlane::U16(s) => each!(s, f64::from),
+            LentPlane::I16(s) => each!(s, f64::from),
+            LentPlane::U32(s) => each!(s, f64::from),
+            LentPlane::I32(s) => each!(s, f64::from),
+            LentPlane::F32(s) => each!(s, f64::from),
+            LentPlane::F64(s) => out.copy_from_slice(&s[start..end]),
+            LentPlane::U16Bytes(s) => each!(s, |b| f64::from(u16::from_ne_bytes(b))),
+            LentPlane::I16Bytes(s) => each!(s, |b| f64::from(i16::from_ne_bytes(b))),
+            LentPlane::U32Bytes(s) => each!(s, |b| f64::from(u32::from_ne_bytes(b))),
+            LentPlane::I32Bytes(s) => each!(s, |b| f64::from(i32::from_ne_bytes(b))),
+            LentPlane::F32Bytes(s) => each!(s, |b| f64::from(f32::from_ne_bytes(b))),
+            LentPlane::F64Bytes(s) => each!(s, f64::from_ne_bytes),
+            LentPlane::U16Swapped(s) => each!(s, |b| f64::from(u16::from_ne_bytes(swapped(b)))),
+            LentPlane::I16Swapped(s) => each!(s, |b| f64::from(i16::from_ne_bytes(swapped(b)))),
+            LentPlane::U32Swapped(s) => each!(s, |b| f64::from(u32::from_ne_bytes(swapped(b)))),
+            LentPlane::I32Swapped(s) => each!(s, |b| f64::from(i32::from_ne_bytes(swapped(b)))),
+            LentPlane::F32Swapped(s) => each!(s, |b| f64::from(f32::from_ne_bytes(swapped(b)))),
+            LentPlane::F64Swapped(s) => each!(s, |b| f64::from_ne_bytes(swapped(b))),
+            LentPlane::View(v) => {
+                for (i, o) in (start..end).zip(out.iter_mut()) {
+                    *o = v.get(i);
+                }
+            }
         }
     }
 
@@ -165,14 +304,59 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32(s) => s.len(),
             LentPlane::F32(s) => s.len(),
             LentPlane::F64(s) => s.len(),
-            LentPlane::U16Bytes(s) | LentPlane::I16Bytes(s) => s.len(),
-            LentPlane::U32Bytes(s) | LentPlane::I32Bytes(s) | LentPlane::F32Bytes(s) => s.len(),
-            LentPlane::F64Bytes(s) => s.len(),
+            LentPlane::U16Bytes(s)
+            | LentPlane::I16Bytes(s)
+            | LentPlane::U16Swapped(s)
+            | LentPlane::I16Swapped(s) => s.len(),
+            LentPlane::U32Bytes(s)
+            | LentPlane::I32Bytes(s)
+            | LentPlane::F32Bytes(s)
+            | LentPlane::U32Swapped(s)
+            | LentPlane::I32Swapped(s)
+            | LentPlane::F32Swapped(s) => s.len(),
+            LentPlane::F64Bytes(s) | LentPlane::F64Swapped(s) => s.len(),
+            LentPlane::View(v) => v.len(),
         }
     }
 
     /// Whether the plane has no samples.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Samples stored in the other byte order read as their values, one
+    /// by one, a few at once and as a range, at any alignment.
+    #[test]
+    fn swapped_planes_read_as_their_samples() {
+        let u16s = [1u16, 0x0102, 65535];
+        let f32s = [-1.5f32, 0.1, f32::MAX];
+        let mut bytes = vec![0u8];
+        bytes.extend(u16s.iter().flat_map(|v| v.swap_bytes().to_ne_bytes()));
+        let mut floats = vec![0u8];
+        floats.extend(
+            f32s.iter()
+                .flat_map(|v| v.to_bits().swap_bytes().to_ne_bytes()),
+        );
+        let u16_want = u16s.map(f64::from);
+        let f32_want = f32s.map(f64::from);
+        for (scalar, stored, want) in [
+            (ScalarType::U16, &bytes[1..], &u16_want),
+            (ScalarType::F32, &floats[1..], &f32_want),
+        ] {
+            let plane = LentPlane::from_foreign_bytes(scalar, stored).unwrap();
+            assert_eq!(plane.len(), 3);
+            let one_by_one: Vec<f64> = (0..3).map(|i| plane.get(i)).collect();
+            assert_eq!(one_by_one, want);
+            assert_eq!(plane.get_many([0, 1, 2]), *want);
+            let mut range = [0.0; 2];
+            plane.get_range(1, &mut range);
+            assert_eq!(range, want[1..]);
+        }
+        assert!(LentPlane::from_foreign_bytes(ScalarType::U16, &bytes[..3]).is_none());
     }
 }

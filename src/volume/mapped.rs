@@ -18,8 +18,11 @@ use std::path::{Path, PathBuf};
 /// shrinks under the map.
 pub(crate) struct MappedFile {
     map: Mmap,
-    /// The same file, to look up its length (see [`MappedFile::check_unchanged`]).
-    watch: File,
+    /// The same file, to look up its length (see
+    /// [`MappedFile::check_unchanged`]); `None` for a map that keeps no
+    /// file open ([`MappedFile::open_unheld`]), whose length is looked up
+    /// by path.
+    watch: Option<File>,
     path: PathBuf,
 }
 
@@ -41,12 +44,23 @@ impl MappedFile {
         // that shrank gives an error. Callers check that the samples they
         // read lie inside `bytes()`, so every access stays inside the map.
         let map = unsafe { Mmap::map(file) }.map_err(|e| Error::io(path, e))?;
-        let watch = file.try_clone().map_err(|e| Error::io(path, e))?;
+        let watch = Some(file.try_clone().map_err(|e| Error::io(path, e))?);
         Ok(MappedFile {
             map,
             watch,
             path: path.to_path_buf(),
         })
+    }
+
+    /// Opens and maps the file at `path`, keeping no file open (for a
+    /// reader holding thousands of maps, one per slice of a stack, which
+    /// must not run out of file descriptors): the file's length is then
+    /// looked up by path. A file replaced under that path leaves the map
+    /// on the old file, which stays whole; one truncated in place is seen.
+    pub fn open_unheld(path: &Path) -> Result<MappedFile> {
+        let mut mapped = MappedFile::open(path)?;
+        mapped.watch = None;
+        Ok(mapped)
     }
 
     /// Opens and maps the file at `path`.
@@ -90,7 +104,11 @@ impl MappedFile {
     /// missing part would raise SIGBUS): one `fstat`.
     pub fn check_unchanged(&self) -> Result<()> {
         let path = &self.path;
-        let len = self.watch.metadata().map_err(|e| Error::io(path, e))?.len();
+        let meta = match &self.watch {
+            Some(file) => file.metadata(),
+            None => std::fs::metadata(path),
+        };
+        let len = meta.map_err(|e| Error::io(path, e))?.len();
         if len < self.map.len() as u64 {
             return Err(Error::Format(format!(
                 "{}: the input file changed during the extraction: it shrank from {} to {len} bytes (truncated by another program?)",

@@ -38,6 +38,7 @@ mod spill;
 mod strided;
 pub mod summary;
 mod tiff_meta;
+mod tiff_pages;
 pub mod tiff_stack;
 mod units;
 pub mod vti;
@@ -56,7 +57,7 @@ pub use info::{
     automatic_plane_step, describe, volume_info, VolumeInfo, HISTOGRAM_BUDGET, MAX_BINS, MIN_BINS,
 };
 pub use labels::{plane_runs, scan_labels, LabelCounts};
-pub use lent::{LentPlane, SharedPlane};
+pub use lent::{LentPlane, PlaneView, SharedPlane};
 pub use notes::{ChunkNotes, SegmentNote, SourceNotes, ValueFrom};
 pub use open::{
     dicom_series_to_choose, format_name, open, open_cancellable, open_selected, Format,

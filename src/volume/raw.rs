@@ -287,17 +287,20 @@ impl SampleSource for RawVolume {
         Ok(())
     }
 
-    /// Lends x-fastest planes in native byte order whose bytes are aligned
-    /// for their type (a header of odd length leaves them unaligned: those
-    /// are decoded by `read_plane`).
+    /// Lends x-fastest planes as stored, at any alignment, in either byte
+    /// order (the other one's samples are swapped as they are read).
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
-        if self.order != Order::XFastest || self.endian != Endian::native() {
+        if self.order != Order::XFastest {
             return None;
         }
         let plane = self.grid.plane_len() * self.scalar.size();
         let start = self.offset + z.checked_mul(plane)?;
         let bytes = self.storage.bytes().get(start..start.checked_add(plane)?)?;
-        LentPlane::from_bytes(self.scalar, bytes)
+        if self.endian == Endian::native() {
+            LentPlane::from_bytes(self.scalar, bytes)
+        } else {
+            LentPlane::from_foreign_bytes(self.scalar, bytes)
+        }
     }
 
     fn sample_bytes(&self) -> usize {

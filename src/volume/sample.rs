@@ -191,12 +191,14 @@ impl LentPlane<'_> {
             LentPlane::I32(_) => i32::subtracts_exactly(iso),
             LentPlane::F32(_) => f32::subtracts_exactly(iso),
             LentPlane::F64(_) => f64::subtracts_exactly(iso),
-            LentPlane::U16Bytes(_) => u16::subtracts_exactly(iso),
-            LentPlane::I16Bytes(_) => i16::subtracts_exactly(iso),
-            LentPlane::U32Bytes(_) => u32::subtracts_exactly(iso),
-            LentPlane::I32Bytes(_) => i32::subtracts_exactly(iso),
-            LentPlane::F32Bytes(_) => f32::subtracts_exactly(iso),
-            LentPlane::F64Bytes(_) => f64::subtracts_exactly(iso),
+            LentPlane::U16Bytes(_) | LentPlane::U16Swapped(_) => u16::subtracts_exactly(iso),
+            LentPlane::I16Bytes(_) | LentPlane::I16Swapped(_) => i16::subtracts_exactly(iso),
+            LentPlane::U32Bytes(_) | LentPlane::U32Swapped(_) => u32::subtracts_exactly(iso),
+            LentPlane::I32Bytes(_) | LentPlane::I32Swapped(_) => i32::subtracts_exactly(iso),
+            LentPlane::F32Bytes(_) | LentPlane::F32Swapped(_) => f32::subtracts_exactly(iso),
+            LentPlane::F64Bytes(_) | LentPlane::F64Swapped(_) | LentPlane::View(_) => {
+                f64::subtracts_exactly(iso)
+            }
         }
     }
 }

@@ -15,13 +15,19 @@
 //! 64x64 took 20.7 s that way). The spacing is the voxel size of the
 //! first page's ImageJ or OME metadata, in millimetres (see
 //! `tiff_meta.rs`), or unit spacing without it; the origin is zero.
+//!
+//! Pages stored as plain samples (uncompressed strips in the machine's byte
+//! order, the usual micro-CT slice) are not decoded at all: they are lent
+//! from a memory map of their file (`tiff_pages.rs`).
 
 use super::tiff_meta::voxel_size;
-use super::{Grid, SampleSource, ScalarType, SourceNotes, ValueFrom};
+use super::tiff_pages::{plain_bytes, MappedPages};
+use super::{Access, Grid, LentPlane, SampleSource, ScalarType, SourceNotes, ValueFrom};
 use crate::{Error, Result};
 use std::cmp::Ordering;
 use std::fs::File;
 use std::io::BufReader;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use tiff::decoder::ifd::Value;
@@ -40,6 +46,8 @@ pub struct TiffStack {
     cache: Mutex<Cache>,
     /// Where the spacing came from: the metadata, or `None` (unit spacing).
     spacing_from: Option<String>,
+    /// The pages stored as plain samples, lent from maps of their files.
+    mapped: MappedPages,
 }
 
 /// What a [`TiffStack`] keeps between planes.
@@ -229,6 +237,7 @@ pub fn open(path: &Path) -> Result<TiffStack> {
         voxel_size(description.as_deref(), xy)
     };
     let mut pages = Vec::new();
+    let mut mapped = MappedPages::default();
     let mut first: Option<((u32, u32), ScalarType)> = None;
     for file in &files {
         let mut dec = decoder(file)?;
@@ -252,6 +261,7 @@ pub fn open(path: &Path) -> Result<TiffStack> {
                 }
                 Some(_) => {}
             }
+            mapped.push(file, plain_bytes(&mut dec, info.0, info.1));
             pages.push((file.clone(), index));
             if !dec.more_images() {
                 break;
@@ -282,6 +292,7 @@ pub fn open(path: &Path) -> Result<TiffStack> {
         pages,
         cache: Mutex::new(Cache::default()),
         spacing_from: voxel.map(|v| v.what),
+        mapped,
     })
 }
 
@@ -380,6 +391,18 @@ impl SampleSource for TiffStack {
             }
         }
         files
+    }
+
+    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
+        self.mapped.lend(z, self.scalar)
+    }
+
+    fn advise(&self, planes: Range<usize>, access: Access) {
+        self.mapped.advise(planes, access);
+    }
+
+    fn check_unchanged(&self) -> Result<()> {
+        self.mapped.check_unchanged()
     }
 
     fn sample_bytes(&self) -> usize {

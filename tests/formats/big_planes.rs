@@ -1,14 +1,20 @@
 //! What a worker holds does not grow with the plane: planes of 2048^2 and
 //! 6144^2 samples (9x the samples) take about the same anonymous memory,
 //! from NRRD, NIfTI and MetaImage files (unscaled, native byte order: lent
-//! planes, the same mesh as the samples read into `f64`s), and a plane whose samples are not aligned for their type (a NRRD header
+//! planes, the same mesh as the samples read into `f64`s), from a stack of
+//! uncompressed TIFF slices (lent from maps of the slices), and with
+//! `--close` (the padded planes lent as views of the inner ones); and a
+//! plane whose samples are not aligned for their type (a NRRD header
 //! of odd length before 16-bit samples) gives the same mesh as an aligned
 //! one.
 //!
 //! Before planes at any alignment were lent (`volume::Packed`), a
 //! misaligned plane was read into `f64`s: 8 bytes per sample, two planes per
 //! worker, so two workers on 6144^2 planes held some 1.2 GB more than on
-//! 2048^2 planes, where this test allows 96 MiB.
+//! 2048^2 planes, where this test allows 96 MiB. So, before they were
+//! lent, were TIFF slices (decoded, then turned into `f64`s: 2.5 GiB more
+//! at 6144^2) and `--close` (each padded plane read into `f64`s, with the
+//! inner plane copied on the way: 2.4 GiB more).
 
 use crate::common;
 
@@ -84,6 +90,68 @@ fn ball_metaimage(dir: &Path, n: usize, nz: usize) -> PathBuf {
     path
 }
 
+/// The samples of [`ball`], plane `z` of `n x n x nz`, x fastest.
+fn ball_plane(n: usize, nz: usize, z: usize) -> Vec<u16> {
+    let c = (n / 2) as f64;
+    let dz = z as f64 - nz as f64 / 2.0;
+    let mut plane = vec![1000u16; n * n];
+    for y in 0..n {
+        for x in 0..n {
+            let (dx, dy) = (x as f64 - c, y as f64 - c);
+            if dx * dx + dy * dy + dz * dz < 400.0 {
+                plane[y * n + x] = 2000;
+            }
+        }
+    }
+    plane
+}
+
+/// [`ball`] as a directory of single-page uncompressed TIFFs, written by
+/// the `tiff` crate's encoder.
+fn ball_tiff(dir: &Path, n: usize, nz: usize) -> PathBuf {
+    let planes: Vec<Vec<u16>> = (0..nz).map(|z| ball_plane(n, nz, z)).collect();
+    tiff_stack(&dir.join(format!("ball{n}")), [n, n], &planes, false)
+}
+
+/// Writes `planes` (`dims[0] x dims[1]` u16 samples each) as single-page
+/// TIFFs in the new directory `stack` with the `tiff` crate's encoder,
+/// uncompressed or PackBits-compressed.
+fn tiff_stack(stack: &Path, dims: [usize; 2], planes: &[Vec<u16>], packbits: bool) -> PathBuf {
+    use tiff::encoder::{colortype::Gray16, Compression, TiffEncoder};
+    fs::create_dir(stack).unwrap();
+    for (z, plane) in planes.iter().enumerate() {
+        let file = fs::File::create(stack.join(format!("slice_{z:03}.tif"))).unwrap();
+        let compression = match packbits {
+            true => Compression::Packbits,
+            false => Compression::Uncompressed,
+        };
+        let mut tiff = TiffEncoder::new(BufWriter::new(file))
+            .unwrap()
+            .with_compression(compression);
+        let (w, h) = (dims[0] as u32, dims[1] as u32);
+        tiff.write_image::<Gray16>(w, h, plane).unwrap();
+    }
+    stack.to_path_buf()
+}
+
+/// [`ball`] as a big-endian NRRD.
+fn ball_big_endian(dir: &Path, n: usize, nz: usize) -> PathBuf {
+    let little = fs::read(ball(dir, n, nz, 300)).unwrap();
+    let path = dir.join(format!("ball{n}be.nrrd"));
+    fs::write(&path, big_endian(&little[300..], &format!("{n} {n} {nz}"))).unwrap();
+    path
+}
+
+/// A big-endian u16 NRRD of `sizes` holding the little-endian `samples`.
+fn big_endian(samples: &[u8], sizes: &str) -> Vec<u8> {
+    let header = format!(
+        "NRRD0004\ntype: uint16\ndimension: 3\nsizes: {sizes}\nendian: big\nencoding: raw\n\n"
+    );
+    let mut file = header.into_bytes();
+    file.extend(samples.chunks_exact(2).flat_map(|s| [s[1], s[0]]));
+    file
+}
+
 /// A little-endian u16 raw NRRD header for `sizes`, padded with a comment
 /// to exactly `len` bytes.
 fn nrrd_header(sizes: &str, len: usize) -> Vec<u8> {
@@ -97,10 +165,11 @@ fn nrrd_header(sizes: &str, len: usize) -> Vec<u8> {
     format!("{fields}#{}\n\n", " ".repeat(pad)).into_bytes()
 }
 
-/// Peak anonymous memory of `tmc extract` on `input` at two threads, slabs
-/// of one layer (so both workers hold planes at once).
-fn peak_anon(input: &Path, output: &Path) -> f64 {
-    let out = tmc(&[
+/// Peak anonymous memory of `tmc extract` on `input` (with `more`
+/// options) at two threads, slabs of one layer (so both workers hold
+/// planes at once).
+fn peak_anon(input: &Path, output: &Path, more: &[&str]) -> f64 {
+    let mut args = vec![
         "extract",
         s(input),
         "--iso",
@@ -112,30 +181,38 @@ fn peak_anon(input: &Path, output: &Path) -> f64 {
         "--slab-depth",
         "1",
         "--json",
-    ]);
+    ];
+    args.extend_from_slice(more);
+    let out = tmc(&args);
     assert!(out.status.success(), "{out:?}");
     assert!(json_number(&out.stdout, "triangles") > 0.0, "no surface");
     json_number(&out.stdout, "peak_rss_anon_bytes")
 }
 
-/// NRRD (with a misaligned header), NIfTI and MetaImage: each lends its
-/// planes (`SampleSource::lend_plane`) rather than read them into `f64`s.
+/// NRRD (with a misaligned header; big-endian), NIfTI, MetaImage and a
+/// TIFF stack: each lends its planes (`SampleSource::lend_plane`) rather than read them
+/// into `f64`s; with `--close`, NRRD and TIFF lend the padded planes.
 #[test]
 fn anonymous_memory_does_not_grow_with_the_plane() {
     type Writer = fn(&Path, usize, usize) -> PathBuf;
-    let formats: [(&str, Writer); 3] = [
-        ("NRRD", |dir, n, nz| ball(dir, n, nz, 301)),
-        ("NIfTI", ball_nifti),
-        ("MetaImage", ball_metaimage),
+    let nrrd: Writer = |dir, n, nz| ball(dir, n, nz, 301);
+    let formats: [(&str, Writer, &[&str]); 7] = [
+        ("NRRD", nrrd, &[]),
+        ("NRRD big-endian", ball_big_endian, &[]),
+        ("NIfTI", ball_nifti, &[]),
+        ("MetaImage", ball_metaimage, &[]),
+        ("TIFF stack", ball_tiff, &[]),
+        ("NRRD --close", nrrd, &["--close"]),
+        ("TIFF stack --close", ball_tiff, &["--close"]),
     ];
     let (small, large) = (2048, 6144);
-    for (name, write) in formats {
+    for (name, write, more) in formats {
         let mut peaks = Vec::new();
         for n in [small, large] {
             // One volume at a time on disk (the large one is 450 MB).
             let dir = tempfile::tempdir().unwrap();
             let mesh = dir.path().join("mesh.tmesh");
-            peaks.push(peak_anon(&write(dir.path(), n, 6), &mesh));
+            peaks.push(peak_anon(&write(dir.path(), n, 6), &mesh, more));
         }
         let mib = |b: f64| b / f64::from(1 << 20);
         println!(
@@ -151,16 +228,18 @@ fn anonymous_memory_does_not_grow_with_the_plane() {
     }
 }
 
-/// NIfTI and MetaImage planes lent give the mesh their samples read into
-/// `f64`s gave: that of the same samples as NRRD.
+/// NIfTI, MetaImage, TIFF and big-endian NRRD planes lent give the mesh
+/// their samples read into `f64`s gave: that of the same samples as NRRD.
 #[test]
-fn lent_nifti_and_metaimage_planes_give_the_nrrd_mesh() {
+fn lent_nifti_metaimage_tiff_and_big_endian_planes_give_the_nrrd_mesh() {
     let dir = tempfile::tempdir().unwrap();
     let mut meshes = Vec::new();
     for input in [
         ball(dir.path(), 96, 48, 300),
         ball_nifti(dir.path(), 96, 48),
         ball_metaimage(dir.path(), 96, 48),
+        ball_tiff(dir.path(), 96, 48),
+        ball_big_endian(dir.path(), 96, 48),
     ] {
         let mesh = mesh_of(&input, &dir.path().join("mesh.tmesh"), "2");
         meshes.push((input.display().to_string(), mesh));
@@ -168,9 +247,10 @@ fn lent_nifti_and_metaimage_planes_give_the_nrrd_mesh() {
     assert_all_alike(&meshes);
 }
 
-/// The `.tmesh` bytes of `tmc extract input --iso 1500 --threads threads`.
-fn mesh_of(input: &Path, output: &Path, threads: &str) -> Vec<u8> {
-    let out = tmc(&[
+/// The `.tmesh` bytes of `tmc extract input --iso 1500 --threads threads`
+/// (with `more` options).
+fn mesh_with(input: &Path, output: &Path, threads: &str, more: &[&str]) -> Vec<u8> {
+    let mut args = vec![
         "extract",
         s(input),
         "--iso",
@@ -180,9 +260,16 @@ fn mesh_of(input: &Path, output: &Path, threads: &str) -> Vec<u8> {
         "--threads",
         threads,
         "-q",
-    ]);
+    ];
+    args.extend_from_slice(more);
+    let out = tmc(&args);
     assert!(out.status.success(), "{out:?}");
     fs::read(output).unwrap()
+}
+
+/// [`mesh_with`] without more options.
+fn mesh_of(input: &Path, output: &Path, threads: &str) -> Vec<u8> {
+    mesh_with(input, output, threads, &[])
 }
 
 /// The meshes (named) are one mesh, with a surface.
@@ -214,4 +301,50 @@ fn a_misaligned_plane_gives_the_mesh_of_an_aligned_one() {
         }
     }
     assert_all_alike(&meshes);
+}
+
+/// With `--close`, planes lent as padded views (NRRD in either byte
+/// order, uncompressed TIFF slices) and planes read into `f64`s and padded
+/// in place (PackBits-compressed TIFF slices, which are decoded) give one
+/// mesh, with any threads and slab depth, normals or not: the head
+/// phantom, whose surface reaches the volume's border.
+#[test]
+fn close_gives_one_mesh_from_lent_and_read_planes() {
+    let dir = tempfile::tempdir().unwrap();
+    let [nx, ny, nz] = [96, 80, 40];
+    let head = synth(dir.path(), "head", "96,80,40", "u16", "head.nrrd");
+    let bytes = fs::read(&head).unwrap();
+    let samples = &bytes[bytes.len() - nx * ny * nz * 2..];
+    let planes: Vec<Vec<u16>> = samples
+        .chunks_exact(nx * ny * 2)
+        .map(|p| {
+            let p = p.chunks_exact(2);
+            p.map(|b| u16::from_le_bytes([b[0], b[1]])).collect()
+        })
+        .collect();
+    let big = dir.path().join("big.nrrd");
+    fs::write(&big, big_endian(samples, "96 80 40")).unwrap();
+    let inputs = [
+        head,
+        big,
+        tiff_stack(&dir.path().join("plain"), [nx, ny], &planes, false),
+        tiff_stack(&dir.path().join("packbits"), [nx, ny], &planes, true),
+    ];
+    for more in [
+        &["--close"][..],
+        &["--close", "--slab-depth", "3"][..],
+        &["--close", "--normals"][..],
+        &["--close", "--inside", "low", "--slab-depth", "2"][..],
+    ] {
+        let mut meshes = Vec::new();
+        for input in &inputs {
+            for threads in ["1", "2"] {
+                let output = dir.path().join("close.tmesh");
+                let mesh = mesh_with(input, &output, threads, more);
+                let name = format!("{} {threads} {more:?}", input.display());
+                meshes.push((name, mesh));
+            }
+        }
+        assert_all_alike(&meshes);
+    }
 }

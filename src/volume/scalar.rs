@@ -163,6 +163,25 @@ impl fmt::Display for Endian {
     }
 }
 
+/// A `match` on a [`ScalarType`] whose every arm calls the local macro
+/// `$run!(T)` with that arm's sample type: code written once per sample
+/// type and compiled for each.
+macro_rules! for_each_scalar {
+    ($scalar:expr, $run:ident) => {
+        match $scalar {
+            $crate::volume::ScalarType::U8 => $run!(u8),
+            $crate::volume::ScalarType::I8 => $run!(i8),
+            $crate::volume::ScalarType::U16 => $run!(u16),
+            $crate::volume::ScalarType::I16 => $run!(i16),
+            $crate::volume::ScalarType::U32 => $run!(u32),
+            $crate::volume::ScalarType::I32 => $run!(i32),
+            $crate::volume::ScalarType::F32 => $run!(f32),
+            $crate::volume::ScalarType::F64 => $run!(f64),
+        }
+    };
+}
+pub(crate) use for_each_scalar;
+
 /// Decodes the samples packed in `bytes` into `out`, one sample per element.
 ///
 /// Integers convert exactly; floats widen exactly, NaN stays NaN.
@@ -217,16 +236,7 @@ pub fn decode_strided(
             }
         }};
     }
-    match scalar {
-        ScalarType::U8 => run!(u8),
-        ScalarType::I8 => run!(i8),
-        ScalarType::U16 => run!(u16),
-        ScalarType::I16 => run!(i16),
-        ScalarType::U32 => run!(u32),
-        ScalarType::I32 => run!(i32),
-        ScalarType::F32 => run!(f32),
-        ScalarType::F64 => run!(f64),
-    }
+    for_each_scalar!(scalar, run)
 }
 
 /// Encodes `values` as samples of `scalar` in `endian` byte order into

@@ -9,7 +9,7 @@
 //! order is lent as it is (see [`LentPlane`]), as [`super::RawVolume`] does.
 
 use super::mapped::MappedFile;
-use super::scalar::decode_strided;
+use super::scalar::{decode_strided, for_each_scalar};
 use super::{Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::ops::Range;
@@ -117,16 +117,7 @@ impl StridedVolume<'_> {
                 }
             };
         }
-        match self.layout.scalar {
-            ScalarType::U8 => run!(u8),
-            ScalarType::I8 => run!(i8),
-            ScalarType::U16 => run!(u16),
-            ScalarType::I16 => run!(i16),
-            ScalarType::U32 => run!(u32),
-            ScalarType::I32 => run!(i32),
-            ScalarType::F32 => run!(f32),
-            ScalarType::F64 => run!(f64),
-        }
+        for_each_scalar!(self.layout.scalar, run)
     }
 
     /// [`StridedVolume::for_each_max`] for samples of `N` bytes that

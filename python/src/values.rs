@@ -2,8 +2,9 @@
 //! the data in the local region near each vertex". Here: the largest sample
 //! of the smallest grid element (sample, edge, face or cell) the vertex
 //! lies on, read from the array in place: for the usual vertex, on a cell
-//! edge, the larger of the edge's two samples. Computed chunk by chunk as
-//! the extraction hands the chunks on (`skimage.rs`), while their vertices
+//! edge, the larger of the edge's two samples. Computed chunk by chunk by
+//! the worker that made the chunk (`extract.rs` hands [`push_maxima`] to
+//! the pipeline as `PipelineOptions::vertex_values`), while its vertices
 //! and the planes around them are still in the caches.
 
 use tmc::volume::StridedVolume;

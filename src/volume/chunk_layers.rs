@@ -177,11 +177,7 @@ impl ChunkLayers {
                 at + plane_bytes
             )));
         }
-        Ok(SharedPlane {
-            data,
-            bytes: at..at + plane_bytes,
-            scalar,
-        })
+        Ok(SharedPlane::new(data, at..at + plane_bytes, scalar))
     }
 
     /// [`ChunkLayers::shared`]'s plane `z` as `f64`s into `out` (a plane

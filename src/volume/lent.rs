@@ -23,31 +23,6 @@
 //! copied.
 
 use super::ScalarType;
-use std::ops::Range;
-use std::sync::Arc;
-
-/// A plane held in a shared buffer: a decoded layer of chunks (Zarr,
-/// HDF5) that the source's cache may drop while the plane is still in use,
-/// so the holder keeps the buffer alive (see
-/// [`SampleSource::share_plane`](super::SampleSource::share_plane) and
-/// [`HeldPlanes`](super::HeldPlanes)).
-#[derive(Debug, Clone)]
-pub struct SharedPlane {
-    /// The layer holding the plane, native byte order.
-    pub data: Arc<Vec<u8>>,
-    /// The plane's bytes in `data`, x fastest.
-    pub bytes: Range<usize>,
-    /// The type of its samples.
-    pub scalar: ScalarType,
-}
-
-impl SharedPlane {
-    /// The plane, lent in its own type (`None` if its bytes do not hold a
-    /// whole number of samples).
-    pub fn lent(&self) -> Option<LentPlane<'_>> {
-        LentPlane::from_bytes(self.scalar, self.data.get(self.bytes.clone())?)
-    }
-}
 
 /// A plane computed from stored samples, lent as
 /// [`LentPlane::View`]: the samples of a padded plane, say, read from the
@@ -66,14 +41,19 @@ pub trait PlaneView: Sync + std::fmt::Debug {
     /// Sample `i` (x fastest) as an `f64`: the value `read_plane` gives.
     fn get(&self, i: usize) -> f64;
 
+    /// Writes samples `start..start + out.len()` into `out` (what
+    /// [`get`](Self::get) gives for each).
+    fn range(&self, start: usize, out: &mut [f64]) {
+        for (j, v) in out.iter_mut().enumerate() {
+            *v = self.get(start + j);
+        }
+    }
+
     /// Writes the samples of the rows from `first` on into `out`, which
     /// holds whole rows of `row` samples (what [`get`](Self::get) gives for
     /// each).
     fn rows(&self, first: usize, row: usize, out: &mut [f64]) {
-        let start = first * row;
-        for (j, v) in out.iter_mut().enumerate() {
-            *v = self.get(start + j);
-        }
+        self.range(first * row, out);
     }
 }
 
@@ -285,11 +265,7 @@ impl<'a> LentPlane<'a> {
             LentPlane::I32Swapped(s) => each!(s, |b| f64::from(i32::from_ne_bytes(swapped(b)))),
             LentPlane::F32Swapped(s) => each!(s, |b| f64::from(f32::from_ne_bytes(swapped(b)))),
             LentPlane::F64Swapped(s) => each!(s, |b| f64::from_ne_bytes(swapped(b))),
-            LentPlane::View(v) => {
-                for (i, o) in (start..end).zip(out.iter_mut()) {
-                    *o = v.get(i);
-                }
-            }
+            LentPlane::View(v) => v.range(start, out),
         }
     }
 

@@ -32,6 +32,7 @@ pub mod raw;
 mod regrid;
 mod sample;
 mod scalar;
+mod shared;
 mod slab_stack;
 mod source;
 mod spill;
@@ -57,7 +58,7 @@ pub use info::{
     automatic_plane_step, describe, volume_info, VolumeInfo, HISTOGRAM_BUDGET, MAX_BINS, MIN_BINS,
 };
 pub use labels::{plane_runs, scan_labels, LabelCounts};
-pub use lent::{LentPlane, PlaneView, SharedPlane};
+pub use lent::{LentPlane, PlaneView};
 pub use notes::{ChunkNotes, SegmentNote, SourceNotes, ValueFrom};
 pub use open::{
     dicom_series_to_choose, format_name, open, open_cancellable, open_selected, Format,
@@ -67,6 +68,7 @@ pub use raw::{RawOptions, RawVolume};
 pub use regrid::{regrid, Regridded};
 pub use sample::{Sample, Threshold};
 pub use scalar::{decode_samples, decode_strided, encode_samples, Endian, ScalarType};
+pub use shared::SharedPlane;
 pub use source::{Access, SampleSource};
 pub use strided::{StridedLayout, StridedVolume};
 pub use summary::{summarize, Suggestions, Summary, SummaryOptions};

@@ -14,25 +14,73 @@
 //! and a mirrored map (e.g. `qfac = -1`) flips the winding so normals
 //! still point outward.
 //!
-//! Uncompressed data is memory-mapped; a `.nii.gz` file is decompressed
+//! Uncompressed data is memory-mapped (and its planes lent to the slab
+//! loop, scaled ones as views computing the scaled samples); a `.nii.gz` file is decompressed
 //! once into a temporary file that is then mapped (see the `spill` module).
 
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::spill::spill;
-use super::{set_direction, Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
+use super::{set_direction, Access, Endian, Grid, LentPlane, PlaneView, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::{BufReader, Read};
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, OnceLock};
 
 /// A NIfTI volume: the stored samples, their scaling and orientation.
 #[derive(Debug)]
 pub struct NiftiVolume {
-    inner: RawVolume,
+    inner: Arc<RawVolume>,
     version: u8,
     scaling: Option<(f64, f64)>,
+    /// With scaling: one slot per plane, filled when it is first lent
+    /// (`None` when the stored plane is not lent).
+    scaled: Vec<OnceLock<Option<ScaledPlane>>>,
+}
+
+/// A plane of scaled samples, lent as a [`LentPlane::View`] of the stored
+/// plane: each sample computed as `stored * slope + inter` when the slab
+/// loop reads it, so a scaled NIfTI holds no `f64` copy of its planes
+/// (8 bytes a sample, two planes a worker) any more than an unscaled one.
+#[derive(Debug)]
+struct ScaledPlane {
+    raw: Arc<RawVolume>,
+    z: usize,
+    slope: f64,
+    inter: f64,
+}
+
+impl ScaledPlane {
+    /// The stored plane (lent when the view was made, so always).
+    fn stored(&self) -> Option<LentPlane<'_>> {
+        self.raw.lend_plane(self.z)
+    }
+}
+
+impl PlaneView for ScaledPlane {
+    fn len(&self) -> usize {
+        self.stored().map_or(0, |p| p.len())
+    }
+
+    fn get(&self, i: usize) -> f64 {
+        match self.stored() {
+            Some(p) => p.get(i) * self.slope + self.inter,
+            None => f64::NAN,
+        }
+    }
+
+    fn range(&self, start: usize, out: &mut [f64]) {
+        let Some(p) = self.stored() else {
+            out.fill(f64::NAN);
+            return;
+        };
+        p.get_range(start, out);
+        for v in out.iter_mut() {
+            *v = *v * self.slope + self.inter;
+        }
+    }
 }
 
 impl NiftiVolume {
@@ -75,15 +123,24 @@ impl SampleSource for NiftiVolume {
         Ok(())
     }
 
-    /// Lends the stored plane as `RawVolume` does (native byte order,
-    /// aligned) when the samples are not scaled: the slab loop then holds no
-    /// `f64` copy of the plane (8 bytes a sample, two planes a worker).
-    /// Scaled samples are read by `read_plane`.
+    /// Lends the stored plane as `RawVolume` does when the samples are not
+    /// scaled, and a view of it computing the scaled samples when they are
+    /// ([`ScaledPlane`]): the slab loop then holds no `f64` copy of the
+    /// plane (8 bytes a sample, two planes a worker).
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
-        if self.scaling.is_some() {
-            return None;
-        }
-        self.inner.lend_plane(z)
+        let Some((slope, inter)) = self.scaling else {
+            return self.inner.lend_plane(z);
+        };
+        let view = self.scaled.get(z)?.get_or_init(|| {
+            self.inner.lend_plane(z)?;
+            Some(ScaledPlane {
+                raw: Arc::clone(&self.inner),
+                z,
+                slope,
+                inter,
+            })
+        });
+        view.as_ref().map(|v| LentPlane::View(v))
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {
@@ -269,10 +326,15 @@ fn volume(header: Header, inner: RawVolume) -> NiftiVolume {
         && header.inter.is_finite()
         && (header.slope, header.inter) != (1.0, 0.0))
         .then_some((header.slope, header.inter));
+    let planes = match scaling {
+        Some(_) => inner.grid().dims[2],
+        None => 0,
+    };
     NiftiVolume {
-        inner,
+        inner: Arc::new(inner),
         version: header.version,
         scaling,
+        scaled: (0..planes).map(|_| OnceLock::new()).collect(),
     }
 }
 

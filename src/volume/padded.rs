@@ -6,8 +6,11 @@
 //! plane of samples, as a run without it does not (before, each padded
 //! plane was read into `f64`s, 8 bytes per sample, with the inner plane
 //! copied on the way: some 1.5 GiB per worker for planes of 8192 x 8192).
+//! When the inner source shares decoded planes instead (Zarr, HDF5,
+//! compressed TIFF, DICOM), the padded plane is shared too: the inner
+//! plane with a border ([`SharedPlane::border`]), lent as a view of it.
 
-use super::{Access, Grid, LentPlane, PlaneView, SampleSource};
+use super::{Access, Grid, LentPlane, PlaneView, SampleSource, SharedPlane};
 use crate::{Error, Result};
 use std::ops::Range;
 use std::sync::OnceLock;
@@ -142,6 +145,23 @@ impl SampleSource for Padded<'_> {
             })
         });
         view.as_ref().map(|v| LentPlane::View(v))
+    }
+
+    /// The inner source's shared plane with a border of NaN; `None` for
+    /// the two border planes (lent as views of NaN) and when the inner
+    /// source does not share the plane.
+    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
+        let [nx, ny, nz] = self.inner.grid().dims;
+        let k = z.checked_sub(1).filter(|&k| k < nz)?;
+        let plane = self.inner.share_plane(k)?;
+        // A plane bordered twice cannot be told apart: read it instead.
+        if plane.border.is_some() {
+            return None;
+        }
+        Some(SharedPlane {
+            border: Some([nx, ny]),
+            ..plane
+        })
     }
 
     fn sample_bytes(&self) -> usize {

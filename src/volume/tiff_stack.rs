@@ -18,18 +18,25 @@
 //!
 //! Pages stored as plain samples (uncompressed strips in the machine's byte
 //! order, the usual micro-CT slice) are not decoded at all: they are lent
-//! from a memory map of their file (`tiff_pages.rs`).
+//! from a memory map of their file (`tiff_pages.rs`). Other pages
+//! (compressed, tiled, the other byte order) are decoded into a buffer of
+//! their own type that the slab holds ([`SharedPlane`]): 2 bytes a sample
+//! for 16-bit pages instead of the 8 of `f64`s, and the decoding of two
+//! workers runs side by side (the decoder is taken out of the cache while
+//! it decodes).
 
 use super::tiff_meta::voxel_size;
 use super::tiff_pages::{plain_bytes, MappedPages};
-use super::{Access, Grid, LentPlane, SampleSource, ScalarType, SourceNotes, ValueFrom};
+use super::{
+    Access, Grid, LentPlane, SampleSource, ScalarType, SharedPlane, SourceNotes, ValueFrom,
+};
 use crate::{Error, Result};
 use std::cmp::Ordering;
 use std::fs::File;
 use std::io::BufReader;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 use tiff::decoder::ifd::Value;
 use tiff::decoder::{Decoder, DecodingResult, Limits};
 use tiff::tags::{SampleFormat, Tag};
@@ -55,6 +62,8 @@ pub struct TiffStack {
 struct Cache {
     /// The last decoded plane and its samples.
     plane: Option<(usize, Vec<f64>)>,
+    /// The last plane decoded in its own type for the slab loop.
+    shared: Option<(usize, SharedPlane)>,
     /// The decoder of the last file read, and that file.
     decoder: Option<(PathBuf, Decoder<BufReader<File>>)>,
 }
@@ -344,6 +353,35 @@ impl TiffStack {
     }
 }
 
+impl TiffStack {
+    /// Decodes the page of plane `z` into a buffer of its own type (native
+    /// byte order), with the decoder in `kept` if it is that of the page's
+    /// file (else with a new one, left in `kept`).
+    fn decode_bytes(
+        &self,
+        z: usize,
+        kept: &mut Option<(PathBuf, Decoder<BufReader<File>>)>,
+    ) -> Result<Vec<u8>> {
+        let (file, index) = &self.pages[z];
+        let err = |e: String| Error::Format(format!("{} page {index}: {e}", file.display()));
+        let mut dec = match kept.take() {
+            Some((path, dec)) if path == *file => dec,
+            _ => decoder(file)?,
+        };
+        dec.seek_to_image(*index).map_err(|e| err(e.to_string()))?;
+        let len = self.grid.plane_len() * self.scalar.size();
+        let layout = dec.image_buffer_layout().map_err(|e| err(e.to_string()))?;
+        if layout.len != len {
+            return Err(err(format!("page holds {} bytes, need {len}", layout.len)));
+        }
+        let mut bytes = vec![0u8; len];
+        dec.read_image_bytes(&mut bytes)
+            .map_err(|e| err(e.to_string()))?;
+        *kept = Some((file.clone(), dec));
+        Ok(bytes)
+    }
+}
+
 impl SampleSource for TiffStack {
     fn grid(&self) -> &Grid {
         &self.grid
@@ -364,7 +402,7 @@ impl SampleSource for TiffStack {
             )));
         }
         let mut cache = self.cache.lock().unwrap_or_else(|p| p.into_inner());
-        let Cache { plane, decoder } = &mut *cache;
+        let Cache { plane, decoder, .. } = &mut *cache;
         if let Some((cz, samples)) = plane.as_ref() {
             if *cz == z {
                 out.copy_from_slice(samples);
@@ -395,6 +433,38 @@ impl SampleSource for TiffStack {
 
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
         self.mapped.lend(z, self.scalar)
+    }
+
+    /// A page that is not lent (compressed, tiled, the other byte order),
+    /// decoded into its own type; `None` if it cannot be (`read_plane`
+    /// then says why).
+    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
+        if z >= self.grid.dims[2] {
+            return None;
+        }
+        let lock = || self.cache.lock().unwrap_or_else(|p| p.into_inner());
+        let mut kept = {
+            let mut cache = lock();
+            if let Some((cz, plane)) = &cache.shared {
+                if *cz == z {
+                    return Some(plane.clone());
+                }
+            }
+            cache.decoder.take()
+        };
+        // Decoded without the lock: another worker decodes beside it.
+        let bytes = self.decode_bytes(z, &mut kept).ok()?;
+        let plane = SharedPlane::new(
+            Arc::new(bytes),
+            0..self.grid.plane_len() * self.scalar.size(),
+            self.scalar,
+        );
+        let mut cache = lock();
+        cache.shared = Some((z, plane.clone()));
+        if kept.is_some() {
+            cache.decoder = kept;
+        }
+        Some(plane)
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

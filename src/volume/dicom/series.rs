@@ -6,7 +6,7 @@ use super::attributes::{axes, dot, element};
 use super::files::format_err;
 use super::header::{Format, Header, Plane};
 use super::{lengths, unknown_vr};
-use crate::volume::{guarded, Grid, SampleSource, ScalarType, SourceNotes};
+use crate::volume::{guarded, Grid, PlaneView, SampleSource, ScalarType, SharedPlane, SourceNotes};
 use crate::{Error, Result};
 use dicom_dictionary_std::tags;
 use dicom_object::{DefaultDicomObject, InMemDicomObject, OpenFileOptions};
@@ -255,12 +255,11 @@ impl DicomSeries {
     }
 }
 
-impl SampleSource for DicomSeries {
-    fn grid(&self) -> &Grid {
-        &self.grid
-    }
-
-    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+impl DicomSeries {
+    /// Plane `z` decoded, its samples kept to their `BitsStored` low bits
+    /// (sign-extended when signed) in the type of `BitsAllocated`, with
+    /// the plane's `RescaleSlope` and `RescaleIntercept`.
+    fn decoded_plane(&self, z: usize) -> Result<SharedPlane> {
         let plane = self.planes.get(z).ok_or_else(|| {
             Error::Invalid(format!(
                 "{}: plane {z} is beyond the {} slices",
@@ -268,11 +267,16 @@ impl SampleSource for DicomSeries {
                 self.planes.len()
             ))
         })?;
-        let bytes = self.decode(plane)?;
+        let mut bytes = self.decode(plane)?;
         let f = self.format;
-        let width = f.bits_allocated as usize / 8;
-        let need = f.columns * f.rows * width;
-        if bytes.len() < need || out.len() != f.columns * f.rows {
+        let scalar = self.stored_type().ok_or_else(|| {
+            format_err(
+                &plane.path,
+                format!("{} bits allocated are not read", f.bits_allocated),
+            )
+        })?;
+        let need = f.columns * f.rows * scalar.size();
+        if bytes.len() < need {
             return Err(format_err(
                 &plane.path,
                 format!(
@@ -282,25 +286,71 @@ impl SampleSource for DicomSeries {
                 ),
             ));
         }
-        let shift = 64 - u32::from(f.bits_stored);
-        let stored = |raw: u64| -> f64 {
-            // Keep the low `bits_stored` bits, sign-extended if signed.
-            if f.signed {
-                (((raw << shift) as i64) >> shift) as f64
-            } else {
-                ((raw << shift) >> shift) as f64
-            }
-        };
-        let (slope, intercept) = (plane.slope, plane.intercept);
-        for (o, s) in out.iter_mut().zip(bytes.chunks_exact(width)) {
-            let raw = match width {
-                1 => u64::from(s[0]),
-                2 => u64::from(u16::from_ne_bytes([s[0], s[1]])),
-                _ => u64::from(u32::from_ne_bytes([s[0], s[1], s[2], s[3]])),
-            };
-            *o = stored(raw) * slope + intercept;
+        bytes.truncate(need);
+        keep_stored_bits(&mut bytes, scalar.size(), f.bits_stored, f.signed);
+        let rescale = (plane.slope, plane.intercept);
+        Ok(SharedPlane {
+            rescale: (rescale != (1.0, 0.0)).then_some(rescale),
+            ..SharedPlane::new(Arc::new(bytes), 0..need, scalar)
+        })
+    }
+}
+
+/// Keeps the low `bits` bits of each `width`-byte sample of `bytes`
+/// (native byte order), sign-extended from bit `bits - 1` when `signed`:
+/// the values DICOM's `BitsStored` and `PixelRepresentation` give them.
+fn keep_stored_bits(bytes: &mut [u8], width: usize, bits: u16, signed: bool) {
+    let bits = u32::from(bits);
+    if bits >= 8 * width as u32 {
+        // Every bit is stored: the samples are their values already.
+        return;
+    }
+    let shift = 64 - bits;
+    let keep = |raw: u64| -> u64 {
+        if signed {
+            (((raw << shift) as i64) >> shift) as u64
+        } else {
+            (raw << shift) >> shift
         }
+    };
+    for s in bytes.chunks_exact_mut(width) {
+        match width {
+            1 => s[0] = keep(u64::from(s[0])) as u8,
+            2 => {
+                let v = keep(u64::from(u16::from_ne_bytes([s[0], s[1]])));
+                s.copy_from_slice(&(v as u16).to_ne_bytes());
+            }
+            _ => {
+                let v = keep(u64::from(u32::from_ne_bytes([s[0], s[1], s[2], s[3]])));
+                s.copy_from_slice(&(v as u32).to_ne_bytes());
+            }
+        }
+    }
+}
+
+impl SampleSource for DicomSeries {
+    fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    /// The decoded plane with its rescale: the slab loop reads the
+    /// samples as they are stored (`BitsStored` of them, sign-extended)
+    /// and computes `stored * slope + intercept` as it goes, so the plane
+    /// is held in its own type rather than as `f64`s.
+    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
+        if out.len() != self.format.columns * self.format.rows {
+            return Err(Error::Invalid(format!(
+                "plane buffer holds {} samples, a plane has {}",
+                out.len(),
+                self.format.columns * self.format.rows
+            )));
+        }
+        self.decoded_plane(z)?.rows(0, out.len(), out);
         Ok(())
+    }
+
+    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
+        self.decoded_plane(z).ok()
     }
 
     fn data_files(&self) -> Vec<&Path> {

@@ -60,6 +60,56 @@ def test_a_4_gib_memmap_extracts_in_bounded_memory(tmp_path):
     assert peak < 1 << 30, f"peak resident memory {peak / 2**20:.0f} MiB"
 
 
+def test_strided_planes_are_not_copied(tmp_path):
+    """A view whose planes are not contiguous (every other sample of a
+    memmap along x) is read a band of rows at a time, not gathered into
+    whole planes of float64: the extraction's anonymous memory grows by
+    far less than two planes of 6144^2 float64 (576 MiB) from planes of
+    2048^2 to planes of 6144^2."""
+    grown = []
+    for n in (2048, 6144):
+        path = tmp_path / f"wide{n}.u16"
+        shape = (6, n, 2 * n)
+        volume = np.memmap(path, dtype=np.uint16, mode="w+", shape=shape)
+        c = n // 2
+        z, y, x = np.ogrid[0:6, c - 24 : c + 24, 2 * c - 48 : 2 * c + 48 : 2]
+        ball = ((z - 3.0) ** 2 + (y - c) ** 2 + (x / 2.0 - c) ** 2) < 20.0**2
+        volume[:, c - 24 : c + 24, 2 * c - 48 : 2 * c + 48 : 2] = ball * 2000
+        volume.flush()
+        del volume
+        done = run_python(
+            f"""
+            import threading, time
+            import numpy as np, tmc
+            wide = np.memmap({str(path)!r}, dtype=np.uint16, mode="r", shape={shape!r})
+            view = wide[:, :, ::2]
+            def anon():
+                status = open("/proc/self/status").read()
+                return int(status.split("RssAnon:")[1].split()[0]) * 1024
+            peak, done = [0], [False]
+            def sample():
+                while not done[0]:
+                    peak[0] = max(peak[0], anon())
+                    time.sleep(0.002)
+            base = anon()
+            sampler = threading.Thread(target=sample)
+            sampler.start()
+            mesh = tmc.extract(view, 1000.0, threads=2)
+            done[0] = True
+            sampler.join()
+            print(len(mesh.triangles), peak[0] - base)
+            """
+        )
+        assert done.returncode == 0, done.stderr
+        triangles, growth = map(int, done.stdout.split())
+        assert triangles > 1000
+        grown.append(growth)
+        path.unlink()
+    print(f"anonymous memory grown: {grown[0] / 2**20:.1f} MiB at 2048^2, "
+          f"{grown[1] / 2**20:.1f} MiB at 6144^2")
+    assert grown[1] - grown[0] < 96 << 20, f"{(grown[1] - grown[0]) / 2**20:.1f} MiB more"
+
+
 def test_threads_do_not_change_the_mesh():
     volume = sphere(shape=(60, 61, 62), radius=25.0)
     one = tmc.extract(volume, 0.0, threads=1)

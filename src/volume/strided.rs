@@ -4,16 +4,19 @@
 //! This is how an array that a program already holds reaches the pipeline:
 //! a numpy array in C or Fortran order, a sliced or reversed view (negative
 //! strides), a broadcast one (zero strides), or a `numpy.memmap` of a file
-//! larger than memory. Plane `z` is gathered row by row into the `f64`
-//! plane the slab loop asks for; a plane stored contiguously in native byte
-//! order is lent as it is (see [`LentPlane`]), as [`super::RawVolume`] does.
+//! larger than memory. A plane stored contiguously in native byte order is
+//! lent as it is (see [`LentPlane`]), as [`super::RawVolume`] does; any
+//! other plane is lent as a view ([`StridedPlane`]) that gathers the rows
+//! the slab loop asks for, a band at a time, so that no plane is copied
+//! whole into `f64`s (8 bytes a sample, two planes a worker).
 
 use super::mapped::MappedFile;
 use super::scalar::{decode_strided, for_each_scalar};
-use super::{Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
+use super::{Access, Endian, Grid, LentPlane, PlaneView, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::ops::Range;
 use std::path::Path;
+use std::sync::{Arc, OnceLock};
 
 /// Where the samples of a [`StridedVolume`] lie in its bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,12 +32,97 @@ pub struct StridedLayout {
     pub strides: [isize; 3],
 }
 
-/// The bytes behind a [`StridedVolume`].
+/// The bytes behind a [`StridedVolume`] (shared with its plane views).
+#[derive(Clone)]
 enum Bytes<'a> {
     /// Memory the caller owns and keeps unchanged while the volume lives.
     Borrowed(&'a [u8]),
     /// A file mapped by the volume itself.
-    Mapped(MappedFile),
+    Mapped(Arc<MappedFile>),
+}
+
+impl Bytes<'_> {
+    fn get(&self) -> &[u8] {
+        match self {
+            Bytes::Borrowed(bytes) => bytes,
+            Bytes::Mapped(map) => map.bytes(),
+        }
+    }
+}
+
+impl std::fmt::Debug for Bytes<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Bytes::Borrowed(b) => write!(f, "Borrowed({} bytes)", b.len()),
+            Bytes::Mapped(map) => write!(f, "Mapped({})", map.path().display()),
+        }
+    }
+}
+
+/// A plane whose samples are not stored contiguously, lent as a
+/// [`LentPlane::View`]: its rows are gathered from the strided bytes when
+/// the slab loop reads them.
+#[derive(Debug)]
+struct StridedPlane<'a> {
+    bytes: Bytes<'a>,
+    layout: StridedLayout,
+    nx: usize,
+    ny: usize,
+    z: usize,
+}
+
+impl PlaneView for StridedPlane<'_> {
+    fn len(&self) -> usize {
+        self.nx * self.ny
+    }
+
+    fn get(&self, i: usize) -> f64 {
+        let mut v = [f64::NAN];
+        self.range(i, &mut v);
+        v[0]
+    }
+
+    fn range(&self, start: usize, out: &mut [f64]) {
+        let (mut i, mut out) = (start, out);
+        while !out.is_empty() {
+            let (x, y) = (i % self.nx, i / self.nx);
+            let n = (self.nx - x).min(out.len());
+            let (row, rest) = out.split_at_mut(n);
+            gather(self.bytes.get(), &self.layout, [x, y, self.z], row);
+            (i, out) = (i + n, rest);
+        }
+    }
+}
+
+/// Byte offset of sample `(x, y, z)` of `layout`.
+fn offset_of(layout: &StridedLayout, [x, y, z]: [usize; 3]) -> usize {
+    let [sx, sy, sz] = layout.strides;
+    let at = layout.first as isize + x as isize * sx + y as isize * sy + z as isize * sz;
+    at as usize
+}
+
+/// Reads `out.len()` samples along x from `(x, y, z)` of `layout` in
+/// `bytes` into `out`, in index order.
+fn gather(bytes: &[u8], layout: &StridedLayout, [x, y, z]: [usize; 3], out: &mut [f64]) {
+    let StridedLayout {
+        scalar,
+        endian,
+        strides,
+        ..
+    } = *layout;
+    if out.is_empty() {
+        return;
+    }
+    if strides[0] >= 0 {
+        let at = offset_of(layout, [x, y, z]);
+        decode_strided(scalar, endian, bytes, at, strides[0] as usize, out);
+    } else {
+        // A reversed axis: read forward from the last sample, then put the
+        // row back in index order.
+        let at = offset_of(layout, [x + out.len() - 1, y, z]);
+        decode_strided(scalar, endian, bytes, at, strides[0].unsigned_abs(), out);
+        out.reverse();
+    }
 }
 
 /// Samples of one scalar type at arbitrary byte strides (see the module
@@ -44,6 +132,9 @@ pub struct StridedVolume<'a> {
     grid: Grid,
     layout: StridedLayout,
     bytes: Bytes<'a>,
+    /// One slot per plane, filled when a plane that is not lent as it is
+    /// is first lent as a view.
+    views: Vec<OnceLock<StridedPlane<'a>>>,
 }
 
 impl<'a> StridedVolume<'a> {
@@ -51,29 +142,42 @@ impl<'a> StridedVolume<'a> {
     /// says. Fails if a sample would lie outside `bytes`.
     pub fn borrowed(grid: Grid, layout: StridedLayout, bytes: &'a [u8]) -> Result<Self> {
         check_extent(&grid, &layout, bytes.len()).map_err(Error::Invalid)?;
-        Ok(StridedVolume {
-            grid,
-            layout,
-            bytes: Bytes::Borrowed(bytes),
-        })
+        Ok(StridedVolume::new(grid, layout, Bytes::Borrowed(bytes)))
     }
 }
 
-impl StridedVolume<'static> {
+impl StridedVolume<'_> {
     /// Samples of `grid` in the file at `path`, which the volume maps
     /// itself (`layout.first` is a byte offset into the file). Pages of
     /// planes the slab loop is done with are dropped from the map, so that
     /// resident memory stays bounded for files larger than memory when z is
     /// the slowest axis in the file.
-    pub fn map_file(path: &Path, grid: Grid, layout: StridedLayout) -> Result<Self> {
+    pub fn map_file<'a>(
+        path: &Path,
+        grid: Grid,
+        layout: StridedLayout,
+    ) -> Result<StridedVolume<'a>> {
         let map = MappedFile::open(path)?;
         check_extent(&grid, &layout, map.bytes().len())
             .map_err(|e| Error::Format(format!("{}: {e}", path.display())))?;
-        Ok(StridedVolume {
+        Ok(StridedVolume::new(
             grid,
             layout,
-            bytes: Bytes::Mapped(map),
-        })
+            Bytes::Mapped(Arc::new(map)),
+        ))
+    }
+}
+
+impl<'a> StridedVolume<'a> {
+    /// The volume over `bytes`, whose extent the caller has checked.
+    fn new(grid: Grid, layout: StridedLayout, bytes: Bytes<'a>) -> Self {
+        let views = (0..grid.dims[2]).map(|_| OnceLock::new()).collect();
+        StridedVolume {
+            grid,
+            layout,
+            bytes,
+            views,
+        }
     }
 }
 
@@ -168,17 +272,12 @@ impl StridedVolume<'_> {
     }
 
     fn bytes(&self) -> &[u8] {
-        match &self.bytes {
-            Bytes::Borrowed(bytes) => bytes,
-            Bytes::Mapped(map) => map.bytes(),
-        }
+        self.bytes.get()
     }
 
     /// Byte offset of sample `(x, y, z)`; in range by the construction check.
     fn offset(&self, x: usize, y: usize, z: usize) -> usize {
-        let [sx, sy, sz] = self.layout.strides;
-        let at = self.layout.first as isize + x as isize * sx + y as isize * sy + z as isize * sz;
-        at as usize
+        offset_of(&self.layout, [x, y, z])
     }
 
     /// Is plane `z` one run of packed samples, x fastest?
@@ -233,40 +332,25 @@ impl SampleSource for StridedVolume<'_> {
                 nx * ny
             )));
         }
-        let StridedLayout {
-            scalar,
-            endian,
-            strides,
-            ..
-        } = self.layout;
-        let bytes = self.bytes();
         for (y, row) in out.chunks_exact_mut(nx).enumerate() {
-            if strides[0] >= 0 {
-                let stride = strides[0] as usize;
-                decode_strided(scalar, endian, bytes, self.offset(0, y, z), stride, row);
-            } else {
-                // A reversed axis: read forward from the last sample, then
-                // put the row back in index order.
-                let stride = strides[0].unsigned_abs();
-                decode_strided(
-                    scalar,
-                    endian,
-                    bytes,
-                    self.offset(nx - 1, y, z),
-                    stride,
-                    row,
-                );
-                row.reverse();
-            }
+            gather(self.bytes(), &self.layout, [0, y, z], row);
         }
         Ok(())
     }
 
-    /// Lends planes stored packed, x fastest, in native byte order and
-    /// aligned for their type; the others are gathered by `read_plane`.
+    /// Lends planes stored packed, x fastest, in native byte order as they
+    /// are; the others as views gathering their rows when they are read.
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
         if self.layout.endian != Endian::native() || !self.plane_is_packed() {
-            return None;
+            let [nx, ny, _] = self.grid.dims;
+            let view = self.views.get(z)?.get_or_init(|| StridedPlane {
+                bytes: self.bytes.clone(),
+                layout: self.layout,
+                nx,
+                ny,
+                z,
+            });
+            return Some(LentPlane::View(view));
         }
         let start = self.offset(0, 0, z);
         let len = self.grid.plane_len() * self.layout.scalar.size();
@@ -400,6 +484,16 @@ mod tests {
         ] {
             let v = StridedVolume::borrowed(grid, layout, &bytes).unwrap();
             assert_eq!(planes(&v), expected, "{layout:?}");
+            // Every plane is lent (as stored or as a view) with the samples
+            // read_plane gives, one by one and in ranges across rows.
+            for (z, want) in expected.iter().enumerate() {
+                let lent = v.lend_plane(z).expect("every plane is lent");
+                let one_by_one: Vec<f64> = (0..want.len()).map(|i| lent.get(i)).collect();
+                assert_eq!(&one_by_one, want, "{layout:?} plane {z}");
+                let mut ranged = vec![0.0; want.len() - 3];
+                lent.get_range(2, &mut ranged);
+                assert_eq!(ranged, want[2..want.len() - 1], "{layout:?} plane {z}");
+            }
             for (x, y, z) in (0..nx * ny * nz).map(|i| (i % nx, i / nx % ny, i / (nx * ny))) {
                 for span in [[true; 3], [false, true, false], [false; 3]] {
                     let expected = cell_max(x, y, z, span);
@@ -409,15 +503,17 @@ mod tests {
                 assert_eq!(v.cell_max([x, y, z], [false; 3]), Some(sample));
             }
         }
-        // The packed native layout is lent as stored; the others are not.
+        // The packed native layout is lent as stored; the others as views.
         let bytes = le(&data);
         let v = StridedVolume::borrowed(grid, c, &bytes).unwrap();
-        assert_eq!(v.lend_plane(1).is_some(), cfg!(target_endian = "little"));
+        let viewed = |p: Option<LentPlane>| matches!(p, Some(LentPlane::View(_)));
+        assert_eq!(viewed(v.lend_plane(1)), cfg!(target_endian = "big"));
         let fbytes = le(&fortran);
-        assert!(StridedVolume::borrowed(grid, f, &fbytes)
-            .unwrap()
-            .lend_plane(1)
-            .is_none());
+        assert!(viewed(
+            StridedVolume::borrowed(grid, f, &fbytes)
+                .unwrap()
+                .lend_plane(1)
+        ));
     }
 
     #[test]

@@ -38,7 +38,7 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use tiff::decoder::ifd::Value;
-use tiff::decoder::{Decoder, DecodingResult, Limits};
+use tiff::decoder::{Decoder, Limits};
 use tiff::tags::{SampleFormat, Tag};
 use tiff::ColorType;
 
@@ -315,40 +315,24 @@ impl TiffStack {
         out: &mut [f64],
         kept: &mut Option<(PathBuf, Decoder<BufReader<File>>)>,
     ) -> Result<()> {
+        let bytes = self.decode_bytes(z, kept)?;
         let (file, index) = &self.pages[z];
-        let err = |e: String| Error::Format(format!("{} page {index}: {e}", file.display()));
-        let mut dec = match kept.take() {
-            Some((path, dec)) if path == *file => dec,
-            _ => decoder(file)?,
-        };
-        dec.seek_to_image(*index).map_err(|e| err(e.to_string()))?;
-        let image = dec.read_image().map_err(|e| err(e.to_string()))?;
-        *kept = Some((file.clone(), dec));
-        macro_rules! copy {
-            ($v:expr) => {{
-                if $v.len() < out.len() {
-                    return Err(err(format!(
-                        "page holds {} samples, need {}",
-                        $v.len(),
-                        out.len()
-                    )));
-                }
-                for (o, s) in out.iter_mut().zip($v.iter()) {
-                    *o = f64::from(*s);
-                }
-            }};
+        let plane = LentPlane::from_bytes(self.scalar, &bytes).ok_or_else(|| {
+            Error::Format(format!(
+                "{} page {index}: {} bytes are not {} samples",
+                file.display(),
+                bytes.len(),
+                self.scalar.name()
+            ))
+        })?;
+        if plane.len() != out.len() {
+            return Err(Error::Invalid(format!(
+                "plane buffer holds {} samples, a page has {}",
+                out.len(),
+                plane.len()
+            )));
         }
-        match image {
-            DecodingResult::U8(v) => copy!(v),
-            DecodingResult::U16(v) => copy!(v),
-            DecodingResult::U32(v) => copy!(v),
-            DecodingResult::I8(v) => copy!(v),
-            DecodingResult::I16(v) => copy!(v),
-            DecodingResult::I32(v) => copy!(v),
-            DecodingResult::F32(v) => copy!(v),
-            DecodingResult::F64(v) => copy!(v),
-            _ => return Err(err("unsupported sample type".into())),
-        }
+        plane.get_range(0, out);
         Ok(())
     }
 }

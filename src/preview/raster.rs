@@ -19,7 +19,7 @@
 //! bounding-box test in the four views at once ([`Projected`]), plus, for
 //! the few pixel centres a triangle covers, an edge test and a depth.
 
-use super::views::{View, TILE};
+use super::views::{View, DEPTH};
 
 /// The key of a pixel no triangle covered.
 pub const EMPTY: u32 = u32::MAX;
@@ -55,7 +55,7 @@ pub struct Projected {
 /// The four views' depth buffers, one key per pixel ([`EMPTY`] where
 /// nothing was drawn).
 pub struct Raster {
-    /// `keys[v * TILE * TILE + y * TILE + x]`.
+    /// `keys[v * DEPTH * DEPTH + y * DEPTH + x]`.
     keys: Vec<u32>,
     /// Projected vertices of the batch being drawn (reused).
     projected: Vec<Projected>,
@@ -77,42 +77,55 @@ const SHIFT: f32 = 8_388_608.0;
 /// [`fill`]'s edge functions are exact integers.
 #[inline]
 fn project(rows: &[[[f32; 4]; 4]; 3], p: [f32; 3]) -> Projected {
-    let top = (TILE - 1) as f32;
-    let lane = |r: &[[f32; 4]; 4], v: usize| {
-        (r[0][v] * p[0] + r[1][v] * p[1] + r[2][v] * p[2] + r[3][v]).max(0.0)
+    let top = (DEPTH - 1) as f32;
+    // All four lanes of a row at once, in the order of the sum
+    // `r0 p0 + r1 p1 + r2 p2 + r3`.
+    let lanes = |r: &[[f32; 4]; 4]| {
+        let mut o = [0f32; 4];
+        for (v, o) in o.iter_mut().enumerate() {
+            *o = (r[0][v] * p[0] + r[1][v] * p[1] + r[2][v] * p[2] + r[3][v]).max(0.0);
+        }
+        o
     };
     let fixed = |v: f32| ((v.min(top) * SUB as f32 + SHIFT).to_bits() & 0x003f_ffff) as i32;
-    let x: [i32; 4] = std::array::from_fn(|v| fixed(lane(&rows[0], v)));
-    let y: [i32; 4] = std::array::from_fn(|v| fixed(lane(&rows[1], v)));
+    let x: [i32; 4] = lanes(&rows[0]).map(fixed);
+    let y: [i32; 4] = lanes(&rows[1]).map(fixed);
     let both = |i: usize| if i < 4 { x[i] } else { y[i - 4] };
     Projected {
         x,
         y,
-        d: std::array::from_fn(|v| lane(&rows[2], v)),
-        up: std::array::from_fn(|i| ((both(i) + SUB - 1) / SUB) as i16),
-        down: std::array::from_fn(|i| (both(i) / SUB) as i16),
+        d: lanes(&rows[2]),
+        // (`both` is never negative: a shift is the division.)
+        up: std::array::from_fn(|i| ((both(i) as u32 + SUB as u32 - 1) >> SUB.ilog2()) as i16),
+        down: std::array::from_fn(|i| (both(i) as u32 >> SUB.ilog2()) as i16),
     }
 }
 
 /// Lane-wise minimum of three.
 #[inline]
 fn min3(a: [i16; 8], b: [i16; 8], c: [i16; 8]) -> [i16; 8] {
-    let min = |p: i16, q: i16| if p < q { p } else { q };
-    std::array::from_fn(|i| min(min(a[i], b[i]), c[i]))
+    let mut m = a;
+    for ((m, &b), &c) in m.iter_mut().zip(&b).zip(&c) {
+        *m = (*m).min(b).min(c);
+    }
+    m
 }
 
 /// Lane-wise maximum of three.
 #[inline]
 fn max3(a: [i16; 8], b: [i16; 8], c: [i16; 8]) -> [i16; 8] {
-    let max = |p: i16, q: i16| if p > q { p } else { q };
-    std::array::from_fn(|i| max(max(a[i], b[i]), c[i]))
+    let mut m = a;
+    for ((m, &b), &c) in m.iter_mut().zip(&b).zip(&c) {
+        *m = (*m).max(b).max(c);
+    }
+    m
 }
 
 impl Raster {
     /// Empty buffers for the four views.
     pub fn new() -> Raster {
         Raster {
-            keys: vec![EMPTY; 4 * TILE * TILE],
+            keys: vec![EMPTY; 4 * DEPTH * DEPTH],
             projected: Vec::new(),
         }
     }
@@ -120,13 +133,13 @@ impl Raster {
     /// The key of pixel `(x, y)` of view `view`.
     #[inline]
     pub fn key(&self, view: usize, x: usize, y: usize) -> u32 {
-        self.keys[view * TILE * TILE + y * TILE + x]
+        self.keys[view * DEPTH * DEPTH + y * DEPTH + x]
     }
 
-    /// The keys of view `view`, row by row (`TILE` by `TILE`).
+    /// The keys of view `view`, row by row (`DEPTH` by `DEPTH`).
     #[inline]
     pub fn tile(&self, view: usize) -> &[u32] {
-        &self.keys[view * TILE * TILE..(view + 1) * TILE * TILE]
+        &self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH]
     }
 
     /// Keeps, per pixel, the smaller key of `self` and `other`.
@@ -160,16 +173,16 @@ impl Raster {
             // (The ceiling of a minimum is the minimum of the ceilings.)
             let first = min3(a.up, b.up, c.up);
             let last = max3(a.down, b.down, c.down);
-            let inside: [bool; 8] = std::array::from_fn(|i| first[i] <= last[i]);
-            let mut hit = 0u32;
-            for v in 0..4 {
-                hit |= u32::from(inside[v] & inside[v + 4]) << v;
+            let mut inside = 0u32;
+            for (i, (f, l)) in first.iter().zip(&last).enumerate() {
+                inside |= u32::from(f <= l) << i;
             }
+            let mut hit = inside & (inside >> 4) & 0xf;
             while hit != 0 {
                 let v = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
                 let corner = |p: &Projected| (p.x[v], p.y[v], p.d[v]);
-                let tile = &mut self.keys[v * TILE * TILE..(v + 1) * TILE * TILE];
+                let tile = &mut self.keys[v * DEPTH * DEPTH..(v + 1) * DEPTH * DEPTH];
                 let bbox = [first[v], last[v], first[v + 4], last[v + 4]].map(|c| c as usize);
                 fill(tile, [corner(a), corner(b), corner(c)], bbox);
             }
@@ -222,7 +235,7 @@ fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: 
         }
     };
     let mut row = w.map(|w| w * sign);
-    let start = y0 * TILE + x0;
+    let start = y0 * DEPTH + x0;
     if x0 == x1 && y0 == y1 {
         // One centre in the box: no steps.
         if let Some(key) = tile.get_mut(start) {
@@ -246,7 +259,7 @@ fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: 
             row[1] + steps[1].1,
             row[2] + steps[2].1,
         ];
-        at += TILE;
+        at += DEPTH;
     }
 }
 
@@ -285,11 +298,11 @@ mod tests {
         second.draw(&views, &v, &t[..1]);
         first.merge(&second);
         assert!(whole.keys == first.keys);
-        let drawn = (0..TILE * TILE)
-            .filter(|i| whole.key(0, i % TILE, i / TILE) != EMPTY)
+        let drawn = (0..DEPTH * DEPTH)
+            .filter(|i| whole.key(0, i % DEPTH, i / DEPTH) != EMPTY)
             .count();
         // The unit square fills the front view's fitted box.
-        assert!(drawn > (TILE - 60) * (TILE - 60), "{drawn}");
+        assert!(drawn > (DEPTH - 30) * (DEPTH - 30), "{drawn}");
     }
 
     #[test]
@@ -300,11 +313,11 @@ mod tests {
         // front view, which looks along +y.
         let mut front = Raster::new();
         front.draw(&views, &v, &t);
-        assert_eq!(front.key(0, TILE / 2, TILE / 2) & BACK, 0);
+        assert_eq!(front.key(0, DEPTH / 2, DEPTH / 2) & BACK, 0);
         let flipped: Vec<[u32; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
         let mut back = Raster::new();
         back.draw(&views, &v, &flipped);
-        assert_eq!(back.key(0, TILE / 2, TILE / 2) & BACK, BACK);
+        assert_eq!(back.key(0, DEPTH / 2, DEPTH / 2) & BACK, BACK);
     }
 
     #[test]
@@ -335,8 +348,8 @@ mod tests {
         // fine tiling is not exactly the square's).
         let mut inside_holes = 0;
         let mut outline = 0;
-        for y in 1..TILE - 1 {
-            for x in 1..TILE - 1 {
+        for y in 1..DEPTH - 1 {
+            for x in 1..DEPTH - 1 {
                 let on = |r: &Raster, x: usize, y: usize| r.key(0, x, y) != EMPTY;
                 if on(&coarse, x, y) && !on(&fine, x, y) {
                     let interior = on(&coarse, x - 1, y)
@@ -353,6 +366,6 @@ mod tests {
             }
         }
         assert_eq!(inside_holes, 0);
-        assert!(outline < 4 * TILE, "{outline}");
+        assert!(outline < 4 * DEPTH, "{outline}");
     }
 }

@@ -20,6 +20,7 @@
 //! the few pixel centres a triangle covers, an edge test and a depth.
 
 use super::views::{View, DEPTH};
+use glam::Vec4;
 
 /// The key of a pixel no triangle covered.
 pub const EMPTY: u32 = u32::MAX;
@@ -32,9 +33,9 @@ pub const BACK: u32 = 1;
 const SUB: i32 = 256;
 
 /// A vertex projected into the four views, one lane per view: pixel x and
-/// y in fixed point (multiples of `1 / SUB` pixel, the tile's pixel
-/// `(i, j)` with its centre at `(i * SUB, j * SUB)`), clamped to the tile,
-/// and depth away from the viewer in pixels.
+/// y in fixed point (multiples of `1 / SUB` pixel, the buffer's pixel
+/// `(i, j)` with its centre at `(i * SUB, j * SUB)`), clamped to the
+/// buffer, and depth away from the viewer in pixels.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Projected {
     /// Pixel x, per view, in `1 / SUB` pixel.
@@ -43,13 +44,13 @@ pub struct Projected {
     y: [i32; 4],
     /// Depth away from the viewer, in pixels, per view.
     d: [f32; 4],
-    /// The first pixel column and row a triangle through this corner may
-    /// cover, per view (`x` and `y` rounded up to whole pixels: columns in
-    /// lanes 0 to 3, rows in lanes 4 to 7), in `i16` lanes the compiler
-    /// compares eight at a time...
-    up: [i16; 8],
+    /// The first pixel column (`[0]`) and row (`[1]`) a triangle through
+    /// this corner may cover, per view (`x` and `y` rounded up to whole
+    /// pixels), as whole numbers in the `f32` lanes of a [`Vec4`], compared
+    /// four at a time...
+    first: [Vec4; 2],
     /// ... and the last (rounded down).
-    down: [i16; 8],
+    last: [Vec4; 2],
 }
 
 /// The four views' depth buffers, one key per pixel ([`EMPTY`] where
@@ -76,49 +77,25 @@ const SHIFT: f32 = 8_388_608.0;
 /// a saturating conversion: the low bits of `v * SUB + 2^23`), so that
 /// [`fill`]'s edge functions are exact integers.
 #[inline]
-fn project(rows: &[[[f32; 4]; 4]; 3], p: [f32; 3]) -> Projected {
+fn project(rows: &[[Vec4; 4]; 3], p: [f32; 3]) -> Projected {
     let top = (DEPTH - 1) as f32;
-    // All four lanes of a row at once, in the order of the sum
-    // `r0 p0 + r1 p1 + r2 p2 + r3`.
-    let lanes = |r: &[[f32; 4]; 4]| {
-        let mut o = [0f32; 4];
-        for (v, o) in o.iter_mut().enumerate() {
-            *o = (r[0][v] * p[0] + r[1][v] * p[1] + r[2][v] * p[2] + r[3][v]).max(0.0);
-        }
-        o
-    };
+    // All four lanes of a row at once.
+    let lanes = |r: &[Vec4; 4]| (r[0] * p[0] + r[1] * p[1] + r[2] * p[2] + r[3]).max(Vec4::ZERO);
     let fixed = |v: f32| ((v.min(top) * SUB as f32 + SHIFT).to_bits() & 0x003f_ffff) as i32;
-    let x: [i32; 4] = lanes(&rows[0]).map(fixed);
-    let y: [i32; 4] = lanes(&rows[1]).map(fixed);
-    let both = |i: usize| if i < 4 { x[i] } else { y[i - 4] };
+    let x: [i32; 4] = lanes(&rows[0]).to_array().map(fixed);
+    let y: [i32; 4] = lanes(&rows[1]).to_array().map(fixed);
+    // (The fixed-point values are never negative: a shift divides.)
+    let shift = SUB.ilog2();
+    let up =
+        |c: [i32; 4]| Vec4::from_array(c.map(|c| ((c as u32 + SUB as u32 - 1) >> shift) as f32));
+    let down = |c: [i32; 4]| Vec4::from_array(c.map(|c| (c as u32 >> shift) as f32));
     Projected {
         x,
         y,
-        d: lanes(&rows[2]),
-        // (`both` is never negative: a shift is the division.)
-        up: std::array::from_fn(|i| ((both(i) as u32 + SUB as u32 - 1) >> SUB.ilog2()) as i16),
-        down: std::array::from_fn(|i| (both(i) as u32 >> SUB.ilog2()) as i16),
+        d: lanes(&rows[2]).to_array(),
+        first: [up(x), up(y)],
+        last: [down(x), down(y)],
     }
-}
-
-/// Lane-wise minimum of three.
-#[inline]
-fn min3(a: [i16; 8], b: [i16; 8], c: [i16; 8]) -> [i16; 8] {
-    let mut m = a;
-    for ((m, &b), &c) in m.iter_mut().zip(&b).zip(&c) {
-        *m = (*m).min(b).min(c);
-    }
-    m
-}
-
-/// Lane-wise maximum of three.
-#[inline]
-fn max3(a: [i16; 8], b: [i16; 8], c: [i16; 8]) -> [i16; 8] {
-    let mut m = a;
-    for ((m, &b), &c) in m.iter_mut().zip(&b).zip(&c) {
-        *m = (*m).max(b).max(c);
-    }
-    m
 }
 
 impl Raster {
@@ -152,7 +129,7 @@ impl Raster {
     /// Draws `triangles` (indices into `vertices`) in the four `views`.
     /// Triangles with an index past `vertices` are left out.
     pub fn draw(&mut self, views: &[View; 4], vertices: &[[f32; 3]], triangles: &[[u32; 3]]) {
-        let rows = View::rows(views);
+        let rows = View::rows(views).map(|axis| axis.map(Vec4::from_array));
         self.projected.clear();
         self.projected
             .extend(vertices.iter().map(|&p| project(&rows, p)));
@@ -168,22 +145,24 @@ impl Raster {
             // Pixel centres in the bounding box, all four views at once:
             // the first column and row at or after the box's low corner,
             // the last at or before its high one; a view is drawn when
-            // the box holds a centre on both axes (on cthead, 73% of the
-            // (triangle, view) pairs, with 2.7 centres a box).
+            // the box holds a centre on both axes (on cthead at 256x256,
+            // 41% of the (triangle, view) pairs, most with one centre).
             // (The ceiling of a minimum is the minimum of the ceilings.)
-            let first = min3(a.up, b.up, c.up);
-            let last = max3(a.down, b.down, c.down);
-            let mut inside = 0u32;
-            for (i, (f, l)) in first.iter().zip(&last).enumerate() {
-                inside |= u32::from(f <= l) << i;
+            let first = [0, 1].map(|i| a.first[i].min(b.first[i]).min(c.first[i]));
+            let last = [0, 1].map(|i| a.last[i].max(b.last[i]).max(c.last[i]));
+            let mut hit = (first[0].cmple(last[0]) & first[1].cmple(last[1])).bitmask();
+            if hit == 0 {
+                continue;
             }
-            let mut hit = inside & (inside >> 4) & 0xf;
+            let (first, last) = (first.map(|f| f.to_array()), last.map(|l| l.to_array()));
             while hit != 0 {
                 let v = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
                 let corner = |p: &Projected| (p.x[v], p.y[v], p.d[v]);
                 let tile = &mut self.keys[v * DEPTH * DEPTH..(v + 1) * DEPTH * DEPTH];
-                let bbox = [first[v], last[v], first[v + 4], last[v + 4]].map(|c| c as usize);
+                // (Whole numbers below 2^22: the low bits of `c + 2^23`.)
+                let int = |c: f32| ((c + SHIFT).to_bits() & 0x003f_ffff) as usize;
+                let bbox = [first[0][v], last[0][v], first[1][v], last[1][v]].map(int);
                 fill(tile, [corner(a), corner(b), corner(c)], bbox);
             }
         }

@@ -104,8 +104,7 @@ pub struct Topology {
     /// are in use, the larger ends and their triangles; edges past a full
     /// vertex's places go to `spill`, once per triangle.
     used: Vec<u8>,
-    ends: Vec<[u32; SLOTS]>,
-    counts: Vec<[u32; SLOTS]>,
+    places: Vec<Places>,
     spill: Vec<[u32; 2]>,
 }
 
@@ -225,24 +224,18 @@ impl Topology {
         let mut carried = std::mem::take(&mut self.carried_edges);
         self.used.clear();
         self.used.resize(n, 0);
-        if self.ends.len() < n {
-            self.ends.resize(n, [0; SLOTS]);
-            self.counts.resize(n, [0; SLOTS]);
+        if self.places.len() < n {
+            self.places.resize(n, Places::default());
         }
         self.spill.clear();
-        let (used, ends, counts, spill) = (
-            &mut self.used[..],
-            &mut self.ends[..],
-            &mut self.counts[..],
-            &mut self.spill,
-        );
+        let (used, places, spill) = (&mut self.used[..], &mut self.places[..], &mut self.spill);
         for t in triangles {
-            add_edge(used, ends, counts, spill, [t[0], t[1]], 1);
-            add_edge(used, ends, counts, spill, [t[1], t[2]], 1);
-            add_edge(used, ends, counts, spill, [t[2], t[0]], 1);
+            add_edge(used, places, spill, [t[0], t[1]], 1);
+            add_edge(used, places, spill, [t[1], t[2]], 1);
+            add_edge(used, places, spill, [t[2], t[0]], 1);
         }
         for &[lo, hi, count] in &carried {
-            add_edge(used, ends, counts, spill, [lo, hi], count);
+            add_edge(used, places, spill, [lo, hi], count);
         }
         carried.clear();
         let mut edge = |lo: u32, hi: u32, count: u32| {
@@ -253,11 +246,8 @@ impl Topology {
             }
         };
         for (lo, &in_use) in self.used.iter().enumerate() {
-            let in_use = usize::from(in_use);
-            for (&hi, &count) in self.ends[lo][..in_use]
-                .iter()
-                .zip(&self.counts[lo][..in_use])
-            {
+            let p = &self.places[lo];
+            for (&hi, &count) in p.ends.iter().zip(&p.counts).take(usize::from(in_use)) {
                 edge(lo as u32, hi, count);
             }
         }
@@ -269,14 +259,21 @@ impl Topology {
     }
 }
 
+/// The edges a vertex is the smaller end of ([`Topology::edges`]): the
+/// larger ends, and how many triangles use each.
+#[derive(Debug, Clone, Copy, Default)]
+struct Places {
+    ends: [u32; SLOTS],
+    counts: [u32; SLOTS],
+}
+
 /// One more use by `k` triangles of the edge `a`-`b` ([`Topology::edges`]):
 /// its count in one of its smaller end's places, a new place, or, with
 /// every place taken by other edges, `k` entries in `spill`.
 #[inline(always)]
 fn add_edge(
     used: &mut [u8],
-    ends: &mut [[u32; SLOTS]],
-    counts: &mut [[u32; SLOTS]],
+    places: &mut [Places],
     spill: &mut Vec<[u32; 2]>,
     [a, b]: [u32; 2],
     k: u32,
@@ -284,16 +281,16 @@ fn add_edge(
     let (lo, hi) = if a < b { (a, b) } else { (b, a) };
     let lo = lo as usize;
     let in_use = usize::from(used[lo]);
-    let (places, count) = (&mut ends[lo], &mut counts[lo]);
-    for (end, c) in places.iter().zip(count.iter_mut()).take(in_use) {
+    let p = &mut places[lo];
+    for (end, c) in p.ends.iter().zip(p.counts.iter_mut()).take(in_use) {
         if *end == hi {
             *c += k;
             return;
         }
     }
     if in_use < SLOTS {
-        places[in_use] = hi;
-        count[in_use] = k;
+        p.ends[in_use] = hi;
+        p.counts[in_use] = k;
         used[lo] += 1;
     } else {
         spill.extend(std::iter::repeat_n([lo as u32, hi], k as usize));

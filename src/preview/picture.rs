@@ -8,11 +8,12 @@
 //! is taken, so that a step in depth (one surface in front of another)
 //! does not shade as a steep slope; a pixel with no covered neighbour on an
 //! axis is taken as flat along it. Lambert's cosine against a light at the
-//! viewer's upper left, plus some ambient light.
+//! viewer's upper left, plus some ambient light. Each depth-buffer pixel
+//! is shaded once and fills a [`BLOCK`] by [`BLOCK`] square of its tile.
 
 use super::font;
 use super::raster::{Raster, BACK, EMPTY};
-use super::views::{GRID, SIZE, TILE, VIEW_NAMES};
+use super::views::{BLOCK, DEPTH, GRID, SIZE, TILE, VIEW_NAMES};
 
 /// Height of the caption band under the tiles, in pixels.
 pub const CAPTION: usize = 40;
@@ -38,13 +39,26 @@ const FONT_SCALE: usize = 2;
 pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
     let (w, h) = DIMENSIONS;
     let mut rgb = BACKGROUND.repeat(w * h);
+    let blank = BACKGROUND.repeat(DEPTH);
+    let mut line = blank.clone();
     for view in 0..4 {
         let (tx, ty) = ((view % GRID) * TILE, (view / GRID) * TILE);
         let tile = raster.tile(view);
-        for y in 0..TILE {
-            let start = ((ty + y) * w + tx) * 3;
+        for y in 0..DEPTH {
+            line.copy_from_slice(&blank);
+            shade_row(tile, y, &mut line);
+            // Each shaded pixel BLOCK times along the row, the row BLOCK
+            // times down.
+            let start = ((ty + BLOCK * y) * w + tx) * 3;
             let out = &mut rgb[start..start + TILE * 3];
-            shade_row(tile, y, out);
+            for (pixel, block) in line.chunks_exact(3).zip(out.chunks_exact_mut(3 * BLOCK)) {
+                for o in block.chunks_exact_mut(3) {
+                    o.copy_from_slice(pixel);
+                }
+            }
+            for k in 1..BLOCK {
+                rgb.copy_within(start..start + TILE * 3, start + k * w * 3);
+            }
         }
     }
     let mut put = |x: usize, y: usize, c: [u8; 3]| {
@@ -107,12 +121,12 @@ fn slope(before: Option<f32>, here: f32, after: Option<f32>) -> f32 {
     }
 }
 
-/// Row `y` of a tile's keys (`TILE` by `TILE`, row by row) as RGB bytes
-/// into `out` (`3 * TILE` bytes, background already there).
+/// Row `y` of a view's keys (`DEPTH` by `DEPTH`, row by row) as RGB bytes
+/// into `out` (`3 * DEPTH` bytes, background already there).
 fn shade_row(tile: &[u32], y: usize, out: &mut [u8]) {
-    let row = &tile[y * TILE..(y + 1) * TILE];
-    let above = y.checked_sub(1).map(|u| &tile[u * TILE..(u + 1) * TILE]);
-    let below = (y + 1 < TILE).then(|| &tile[(y + 1) * TILE..(y + 2) * TILE]);
+    let row = &tile[y * DEPTH..(y + 1) * DEPTH];
+    let above = y.checked_sub(1).map(|u| &tile[u * DEPTH..(u + 1) * DEPTH]);
+    let below = (y + 1 < DEPTH).then(|| &tile[(y + 1) * DEPTH..(y + 2) * DEPTH]);
     for (x, &key) in row.iter().enumerate() {
         let Some(here) = depth(key) else {
             continue;
@@ -136,9 +150,11 @@ fn shade_row(tile: &[u32], y: usize, out: &mut [u8]) {
     }
 }
 
-/// Pixels of the tiles that are not background: how much the picture shows.
+/// Pixels of the tiles that are not background: how much the picture shows
+/// (each covered depth-buffer pixel is [`BLOCK`] by [`BLOCK`] of them).
 pub fn covered(raster: &Raster) -> usize {
-    (0..4)
+    let depth_pixels: usize = (0..4)
         .map(|v| raster.tile(v).iter().filter(|&&k| k != EMPTY).count())
-        .sum()
+        .sum();
+    depth_pixels * BLOCK * BLOCK
 }

@@ -19,7 +19,8 @@
 //! bounding-box test in the four views at once ([`Projected`]), plus, for
 //! the few pixel centres a triangle covers, an edge test and a depth.
 
-use super::views::{View, TILE};
+use super::views::{View, DEPTH};
+use glam::Vec4;
 
 /// The key of a pixel no triangle covered.
 pub const EMPTY: u32 = u32::MAX;
@@ -32,9 +33,9 @@ pub const BACK: u32 = 1;
 const SUB: i32 = 256;
 
 /// A vertex projected into the four views, one lane per view: pixel x and
-/// y in fixed point (multiples of `1 / SUB` pixel, the tile's pixel
-/// `(i, j)` with its centre at `(i * SUB, j * SUB)`), clamped to the tile,
-/// and depth away from the viewer in pixels.
+/// y in fixed point (multiples of `1 / SUB` pixel, the buffer's pixel
+/// `(i, j)` with its centre at `(i * SUB, j * SUB)`), clamped to the
+/// buffer, and depth away from the viewer in pixels.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Projected {
     /// Pixel x, per view, in `1 / SUB` pixel.
@@ -43,19 +44,19 @@ pub struct Projected {
     y: [i32; 4],
     /// Depth away from the viewer, in pixels, per view.
     d: [f32; 4],
-    /// The first pixel column and row a triangle through this corner may
-    /// cover, per view (`x` and `y` rounded up to whole pixels: columns in
-    /// lanes 0 to 3, rows in lanes 4 to 7), in `i16` lanes the compiler
-    /// compares eight at a time...
-    up: [i16; 8],
+    /// The first pixel column (`[0]`) and row (`[1]`) a triangle through
+    /// this corner may cover, per view (`x` and `y` rounded up to whole
+    /// pixels), as whole numbers in the `f32` lanes of a [`Vec4`], compared
+    /// four at a time...
+    first: [Vec4; 2],
     /// ... and the last (rounded down).
-    down: [i16; 8],
+    last: [Vec4; 2],
 }
 
 /// The four views' depth buffers, one key per pixel ([`EMPTY`] where
 /// nothing was drawn).
 pub struct Raster {
-    /// `keys[v * TILE * TILE + y * TILE + x]`.
+    /// `keys[v * DEPTH * DEPTH + y * DEPTH + x]`.
     keys: Vec<u32>,
     /// Projected vertices of the batch being drawn (reused).
     projected: Vec<Projected>,
@@ -76,43 +77,32 @@ const SHIFT: f32 = 8_388_608.0;
 /// a saturating conversion: the low bits of `v * SUB + 2^23`), so that
 /// [`fill`]'s edge functions are exact integers.
 #[inline]
-fn project(rows: &[[[f32; 4]; 4]; 3], p: [f32; 3]) -> Projected {
-    let top = (TILE - 1) as f32;
-    let lane = |r: &[[f32; 4]; 4], v: usize| {
-        (r[0][v] * p[0] + r[1][v] * p[1] + r[2][v] * p[2] + r[3][v]).max(0.0)
-    };
+fn project(rows: &[[Vec4; 4]; 3], p: [f32; 3]) -> Projected {
+    let top = (DEPTH - 1) as f32;
+    // All four lanes of a row at once.
+    let lanes = |r: &[Vec4; 4]| (r[0] * p[0] + r[1] * p[1] + r[2] * p[2] + r[3]).max(Vec4::ZERO);
     let fixed = |v: f32| ((v.min(top) * SUB as f32 + SHIFT).to_bits() & 0x003f_ffff) as i32;
-    let x: [i32; 4] = std::array::from_fn(|v| fixed(lane(&rows[0], v)));
-    let y: [i32; 4] = std::array::from_fn(|v| fixed(lane(&rows[1], v)));
-    let both = |i: usize| if i < 4 { x[i] } else { y[i - 4] };
+    let x: [i32; 4] = lanes(&rows[0]).to_array().map(fixed);
+    let y: [i32; 4] = lanes(&rows[1]).to_array().map(fixed);
+    // (The fixed-point values are never negative: a shift divides.)
+    let shift = SUB.ilog2();
+    let up =
+        |c: [i32; 4]| Vec4::from_array(c.map(|c| ((c as u32 + SUB as u32 - 1) >> shift) as f32));
+    let down = |c: [i32; 4]| Vec4::from_array(c.map(|c| (c as u32 >> shift) as f32));
     Projected {
         x,
         y,
-        d: std::array::from_fn(|v| lane(&rows[2], v)),
-        up: std::array::from_fn(|i| ((both(i) + SUB - 1) / SUB) as i16),
-        down: std::array::from_fn(|i| (both(i) / SUB) as i16),
+        d: lanes(&rows[2]).to_array(),
+        first: [up(x), up(y)],
+        last: [down(x), down(y)],
     }
-}
-
-/// Lane-wise minimum of three.
-#[inline]
-fn min3(a: [i16; 8], b: [i16; 8], c: [i16; 8]) -> [i16; 8] {
-    let min = |p: i16, q: i16| if p < q { p } else { q };
-    std::array::from_fn(|i| min(min(a[i], b[i]), c[i]))
-}
-
-/// Lane-wise maximum of three.
-#[inline]
-fn max3(a: [i16; 8], b: [i16; 8], c: [i16; 8]) -> [i16; 8] {
-    let max = |p: i16, q: i16| if p > q { p } else { q };
-    std::array::from_fn(|i| max(max(a[i], b[i]), c[i]))
 }
 
 impl Raster {
     /// Empty buffers for the four views.
     pub fn new() -> Raster {
         Raster {
-            keys: vec![EMPTY; 4 * TILE * TILE],
+            keys: vec![EMPTY; 4 * DEPTH * DEPTH],
             projected: Vec::new(),
         }
     }
@@ -120,13 +110,13 @@ impl Raster {
     /// The key of pixel `(x, y)` of view `view`.
     #[inline]
     pub fn key(&self, view: usize, x: usize, y: usize) -> u32 {
-        self.keys[view * TILE * TILE + y * TILE + x]
+        self.keys[view * DEPTH * DEPTH + y * DEPTH + x]
     }
 
-    /// The keys of view `view`, row by row (`TILE` by `TILE`).
+    /// The keys of view `view`, row by row (`DEPTH` by `DEPTH`).
     #[inline]
     pub fn tile(&self, view: usize) -> &[u32] {
-        &self.keys[view * TILE * TILE..(view + 1) * TILE * TILE]
+        &self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH]
     }
 
     /// Keeps, per pixel, the smaller key of `self` and `other`.
@@ -139,7 +129,7 @@ impl Raster {
     /// Draws `triangles` (indices into `vertices`) in the four `views`.
     /// Triangles with an index past `vertices` are left out.
     pub fn draw(&mut self, views: &[View; 4], vertices: &[[f32; 3]], triangles: &[[u32; 3]]) {
-        let rows = View::rows(views);
+        let rows = View::rows(views).map(|axis| axis.map(Vec4::from_array));
         self.projected.clear();
         self.projected
             .extend(vertices.iter().map(|&p| project(&rows, p)));
@@ -155,22 +145,24 @@ impl Raster {
             // Pixel centres in the bounding box, all four views at once:
             // the first column and row at or after the box's low corner,
             // the last at or before its high one; a view is drawn when
-            // the box holds a centre on both axes (on cthead, 73% of the
-            // (triangle, view) pairs, with 2.7 centres a box).
+            // the box holds a centre on both axes (on cthead at 256x256,
+            // 41% of the (triangle, view) pairs, most with one centre).
             // (The ceiling of a minimum is the minimum of the ceilings.)
-            let first = min3(a.up, b.up, c.up);
-            let last = max3(a.down, b.down, c.down);
-            let inside: [bool; 8] = std::array::from_fn(|i| first[i] <= last[i]);
-            let mut hit = 0u32;
-            for v in 0..4 {
-                hit |= u32::from(inside[v] & inside[v + 4]) << v;
+            let first = [0, 1].map(|i| a.first[i].min(b.first[i]).min(c.first[i]));
+            let last = [0, 1].map(|i| a.last[i].max(b.last[i]).max(c.last[i]));
+            let mut hit = (first[0].cmple(last[0]) & first[1].cmple(last[1])).bitmask();
+            if hit == 0 {
+                continue;
             }
+            let (first, last) = (first.map(|f| f.to_array()), last.map(|l| l.to_array()));
             while hit != 0 {
                 let v = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
                 let corner = |p: &Projected| (p.x[v], p.y[v], p.d[v]);
-                let tile = &mut self.keys[v * TILE * TILE..(v + 1) * TILE * TILE];
-                let bbox = [first[v], last[v], first[v + 4], last[v + 4]].map(|c| c as usize);
+                let tile = &mut self.keys[v * DEPTH * DEPTH..(v + 1) * DEPTH * DEPTH];
+                // (Whole numbers below 2^22: the low bits of `c + 2^23`.)
+                let int = |c: f32| ((c + SHIFT).to_bits() & 0x003f_ffff) as usize;
+                let bbox = [first[0][v], last[0][v], first[1][v], last[1][v]].map(int);
                 fill(tile, [corner(a), corner(b), corner(c)], bbox);
             }
         }
@@ -222,7 +214,7 @@ fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: 
         }
     };
     let mut row = w.map(|w| w * sign);
-    let start = y0 * TILE + x0;
+    let start = y0 * DEPTH + x0;
     if x0 == x1 && y0 == y1 {
         // One centre in the box: no steps.
         if let Some(key) = tile.get_mut(start) {
@@ -246,7 +238,7 @@ fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: 
             row[1] + steps[1].1,
             row[2] + steps[2].1,
         ];
-        at += TILE;
+        at += DEPTH;
     }
 }
 
@@ -285,11 +277,11 @@ mod tests {
         second.draw(&views, &v, &t[..1]);
         first.merge(&second);
         assert!(whole.keys == first.keys);
-        let drawn = (0..TILE * TILE)
-            .filter(|i| whole.key(0, i % TILE, i / TILE) != EMPTY)
+        let drawn = (0..DEPTH * DEPTH)
+            .filter(|i| whole.key(0, i % DEPTH, i / DEPTH) != EMPTY)
             .count();
         // The unit square fills the front view's fitted box.
-        assert!(drawn > (TILE - 60) * (TILE - 60), "{drawn}");
+        assert!(drawn > (DEPTH - 30) * (DEPTH - 30), "{drawn}");
     }
 
     #[test]
@@ -300,11 +292,11 @@ mod tests {
         // front view, which looks along +y.
         let mut front = Raster::new();
         front.draw(&views, &v, &t);
-        assert_eq!(front.key(0, TILE / 2, TILE / 2) & BACK, 0);
+        assert_eq!(front.key(0, DEPTH / 2, DEPTH / 2) & BACK, 0);
         let flipped: Vec<[u32; 3]> = t.iter().map(|&[a, b, c]| [a, c, b]).collect();
         let mut back = Raster::new();
         back.draw(&views, &v, &flipped);
-        assert_eq!(back.key(0, TILE / 2, TILE / 2) & BACK, BACK);
+        assert_eq!(back.key(0, DEPTH / 2, DEPTH / 2) & BACK, BACK);
     }
 
     #[test]
@@ -335,8 +327,8 @@ mod tests {
         // fine tiling is not exactly the square's).
         let mut inside_holes = 0;
         let mut outline = 0;
-        for y in 1..TILE - 1 {
-            for x in 1..TILE - 1 {
+        for y in 1..DEPTH - 1 {
+            for x in 1..DEPTH - 1 {
                 let on = |r: &Raster, x: usize, y: usize| r.key(0, x, y) != EMPTY;
                 if on(&coarse, x, y) && !on(&fine, x, y) {
                     let interior = on(&coarse, x - 1, y)
@@ -353,6 +345,6 @@ mod tests {
             }
         }
         assert_eq!(inside_holes, 0);
-        assert!(outline < 4 * TILE, "{outline}");
+        assert!(outline < 4 * DEPTH, "{outline}");
     }
 }

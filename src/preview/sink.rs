@@ -242,12 +242,12 @@ impl MeshSink for PreviewSink {
         let Ok(own32) = u32::try_from(own) else {
             return Err(Error::Invalid("preview: chunk too large".into()));
         };
-        let mut past = 0u32;
-        for t in &chunk.triangles {
-            for &i in t {
-                past = past.max((i + 1).saturating_sub(own32));
-            }
-        }
+        let top = chunk
+            .triangles
+            .iter()
+            .map(|t| t[0].max(t[1]).max(t[2]))
+            .max();
+        let past = top.map_or(0, |i| i.saturating_add(1).saturating_sub(own32));
         let job = Job {
             vertices: chunk.vertices.clone(),
             own: own32,

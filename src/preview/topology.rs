@@ -7,7 +7,7 @@
 //!   vertices belong to (carried from the chunks before) and the next
 //!   chunk's prefix; a class none of whose members reaches the next chunk
 //!   is a finished component;
-//! * **edges**: a chunk's edges bucketed by smaller end and counted; an edge with both ends
+//! * **edges**: a chunk's edges kept at their smaller end and counted; an edge with both ends
 //!   in the next chunk may also be used by that chunk's triangles and is
 //!   carried to it, one with both ends in the chunk's own vertices may have
 //!   been carried from the chunk before and is matched against that list.
@@ -16,6 +16,10 @@
 //! then `C - χ/2` summed over its `C` components (`χ = V - E + F`), as
 //! `tmc check` reports for a closed orientable mesh. Memory is that of two
 //! chunks.
+
+/// Places per vertex for the edges it is the smaller end of
+/// ([`Topology::edges`]).
+const SLOTS: usize = 6;
 
 /// What the preview says about the topology of the mesh.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -49,6 +53,16 @@ impl Verdict {
     pub fn genus(&self) -> Option<i64> {
         self.closed()
             .then(|| self.components as i64 - self.euler() / 2)
+    }
+
+    /// One more distinct edge, used by `count` triangles.
+    fn tally(&mut self, count: u32) {
+        self.edges += 1;
+        match count {
+            1 => self.boundary_edges += 1,
+            2 => {}
+            _ => self.nonmanifold_edges += 1,
+        }
     }
 
     /// The verdict in a few words, as the caption shows it.
@@ -86,10 +100,12 @@ pub struct Topology {
     parent: Vec<u32>,
     roots: Vec<u32>,
     mark: Vec<u32>,
-    /// Scratch: the edge buckets, by smaller end: where each starts in
-    /// `larger`, and the larger ends.
-    start: Vec<u32>,
-    larger: Vec<u32>,
+    /// Scratch: the edges by smaller end, [`SLOTS`] places each: how many
+    /// are in use, the larger ends and their triangles; edges past a full
+    /// vertex's places go to `spill`, once per triangle.
+    used: Vec<u8>,
+    places: Vec<Places>,
+    spill: Vec<[u32; 2]>,
 }
 
 impl Topology {
@@ -123,7 +139,7 @@ impl Topology {
     pub fn finish(mut self) -> Verdict {
         self.verdict.components += u64::from(self.classes);
         for [_, _, count] in std::mem::take(&mut self.carried_edges) {
-            self.tally(count);
+            self.verdict.tally(count);
         }
         self.verdict
     }
@@ -194,102 +210,90 @@ impl Topology {
 
     /// Counts the chunk's edges, matching those shared with its neighbours.
     ///
-    /// The edges are bucketed by their smaller end (a counting sort over
-    /// the window's vertices, linear in the triangles; an edge carried from
-    /// the chunk before goes in as many times as it had triangles), and
-    /// each bucket, a few larger ends, sorted in place: equal ends are one
-    /// edge, counted by its run.
+    /// Each edge is kept at its smaller end, in one of [`SLOTS`] places
+    /// (its larger end and how many triangles use it; an edge carried from
+    /// the chunk before comes in with its count): one pass over the
+    /// triangles, each edge matched against the few its smaller end has
+    /// so far. A vertex with more distinct edges than places (rare: a CT
+    /// surface's vertex is the smaller end of about three) sends the rest
+    /// to a list, sorted once: a run of equal edges is one edge and its
+    /// length the edge's triangles. Then every edge is counted, or carried
+    /// when both its ends are in the next chunk.
     fn edges(&mut self, own: u32, next: u32, triangles: &[[u32; 3]]) {
         let n = (own + next) as usize;
-        let carried = std::mem::take(&mut self.carried_edges);
-        // Bucket ends by smaller end (prefix sums of the counts)...
-        self.start.clear();
-        self.start.resize(n + 1, 0);
-        let start = &mut self.start[..];
+        let mut carried = std::mem::take(&mut self.carried_edges);
+        self.used.clear();
+        self.used.resize(n, 0);
+        if self.places.len() < n {
+            self.places.resize(n, Places::default());
+        }
+        self.spill.clear();
+        let (used, places, spill) = (&mut self.used[..], &mut self.places[..], &mut self.spill);
         for t in triangles {
-            start[t[0].min(t[1]) as usize] += 1;
-            start[t[1].min(t[2]) as usize] += 1;
-            start[t[2].min(t[0]) as usize] += 1;
-        }
-        for &[lo, _, count] in &carried {
-            start[lo as usize] += count;
-        }
-        let mut total = 0;
-        for s in start.iter_mut() {
-            total += *s;
-            *s = total;
-        }
-        // ... filled from the end, which leaves each bucket's start.
-        self.larger.clear();
-        self.larger.resize(total as usize, 0);
-        let larger = &mut self.larger[..];
-        let mut put = |a: u32, b: u32| {
-            let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-            let slot = &mut start[lo as usize];
-            *slot -= 1;
-            larger[*slot as usize] = hi;
-        };
-        for t in triangles {
-            put(t[0], t[1]);
-            put(t[1], t[2]);
-            put(t[2], t[0]);
+            add_edge(used, places, spill, [t[0], t[1]], 1);
+            add_edge(used, places, spill, [t[1], t[2]], 1);
+            add_edge(used, places, spill, [t[2], t[0]], 1);
         }
         for &[lo, hi, count] in &carried {
-            for _ in 0..count {
-                put(lo, hi);
+            add_edge(used, places, spill, [lo, hi], count);
+        }
+        carried.clear();
+        let mut edge = |lo: u32, hi: u32, count: u32| {
+            if lo >= own {
+                carried.push([lo - own, hi - own, count]);
+            } else {
+                self.verdict.tally(count);
+            }
+        };
+        for (lo, &in_use) in self.used.iter().enumerate() {
+            let p = &self.places[lo];
+            for (&hi, &count) in p.ends.iter().zip(&p.counts).take(usize::from(in_use)) {
+                edge(lo as u32, hi, count);
             }
         }
-        let mut carried = carried;
-        carried.clear();
-        for lo in 0..n {
-            let (s, e) = (start[lo] as usize, start[lo + 1] as usize);
-            let bucket = &mut larger[s..e];
-            insertion_sort(bucket);
-            let mut i = 0;
-            while i < bucket.len() {
-                let hi = bucket[i];
-                let mut j = i + 1;
-                while j < bucket.len() && bucket[j] == hi {
-                    j += 1;
-                }
-                let count = (j - i) as u32;
-                if lo as u32 >= own {
-                    carried.push([lo as u32 - own, hi - own, count]);
-                } else {
-                    self.verdict.edges += 1;
-                    match count {
-                        1 => self.verdict.boundary_edges += 1,
-                        2 => {}
-                        _ => self.verdict.nonmanifold_edges += 1,
-                    }
-                }
-                i = j;
-            }
+        self.spill.sort_unstable();
+        for run in self.spill.chunk_by(|a, b| a == b) {
+            edge(run[0][0], run[0][1], run.len() as u32);
         }
         self.carried_edges = carried;
     }
-
-    /// One distinct edge used by `count` triangles.
-    fn tally(&mut self, count: u32) {
-        self.verdict.edges += 1;
-        match count {
-            1 => self.verdict.boundary_edges += 1,
-            2 => {}
-            _ => self.verdict.nonmanifold_edges += 1,
-        }
-    }
 }
 
-/// Sorts a few numbers in place (a bucket holds about six).
-fn insertion_sort(v: &mut [u32]) {
-    for i in 1..v.len() {
-        let x = v[i];
-        let mut j = i;
-        while j > 0 && v[j - 1] > x {
-            v[j] = v[j - 1];
-            j -= 1;
+/// The edges a vertex is the smaller end of ([`Topology::edges`]): the
+/// larger ends, and how many triangles use each.
+#[derive(Debug, Clone, Copy, Default)]
+struct Places {
+    ends: [u32; SLOTS],
+    counts: [u32; SLOTS],
+}
+
+/// One more use by `k` triangles of the edge `a`-`b` ([`Topology::edges`]):
+/// its count in one of its smaller end's places, a new place, or, with
+/// every place taken by other edges, `k` entries in `spill`.
+#[inline(always)]
+fn add_edge(
+    used: &mut [u8],
+    places: &mut [Places],
+    spill: &mut Vec<[u32; 2]>,
+    [a, b]: [u32; 2],
+    k: u32,
+) {
+    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+    let lo = lo as usize;
+    let in_use = usize::from(used[lo]);
+    let p = &mut places[lo];
+    for (end, c) in p.ends.iter().zip(p.counts.iter_mut()).take(in_use) {
+        if *end == hi {
+            *c += k;
+            return;
         }
-        v[j] = x;
+    }
+    if in_use < SLOTS {
+        p.ends[in_use] = hi;
+        p.counts[in_use] = k;
+        used[lo] += 1;
+    } else {
+        spill.extend(std::iter::repeat_n([lo as u32, hi], k as usize));
     }
 }
 
@@ -334,6 +338,53 @@ mod tests {
         let mut split = Topology::default();
         split.chunk(1, 4, &lower);
         split.chunk(5, 0, &upper);
+        assert_eq!(split.finish(), v);
+    }
+
+    /// Edges, boundary and non-manifold edges of `triangles`, counted
+    /// whole with a map.
+    fn brute_edges(triangles: &[[u32; 3]]) -> (u64, u64, u64) {
+        let mut map = std::collections::BTreeMap::new();
+        for t in triangles {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *map.entry((a.min(b), a.max(b))).or_insert(0u32) += 1;
+            }
+        }
+        let count = |f: fn(u32) -> bool| map.values().filter(|&&c| f(c)).count() as u64;
+        (map.len() as u64, count(|c| c == 1), count(|c| c >= 3))
+    }
+
+    #[test]
+    fn a_vertex_of_many_edges_and_a_nonmanifold_edge_are_counted_whole_and_split() {
+        // A closed wheel of 20 triangles round vertex 0 (more edges at
+        // vertex 0 than it has places), a second wheel on the other side
+        // (vertex 21) to close it, and one triangle more on an edge of the
+        // rim: that edge has three triangles.
+        let rim = 20u32;
+        let mut tris = Vec::new();
+        for i in 0..rim {
+            let (a, b) = (1 + i, 1 + (i + 1) % rim);
+            tris.push([0, a, b]);
+            tris.push([rim + 1, b, a]);
+        }
+        tris.push([1, 2, rim + 2]);
+        let whole_count = brute_edges(&tris);
+        let mut whole = Topology::default();
+        whole.chunk(rim + 3, 0, &tris);
+        let v = whole.finish();
+        assert_eq!(
+            (v.edges, v.boundary_edges, v.nonmanifold_edges),
+            whole_count
+        );
+        assert_eq!((v.edges, v.boundary_edges, v.nonmanifold_edges), (62, 2, 1));
+        // Split: vertex 0 alone in the first chunk, its triangles reaching
+        // into the second's (the rim edges are carried), the rest there.
+        let (first, second): (Vec<[u32; 3]>, Vec<[u32; 3]>) =
+            tris.iter().partition(|t| t.contains(&0));
+        let second: Vec<[u32; 3]> = second.iter().map(|t| t.map(|i| i - 1)).collect();
+        let mut split = Topology::default();
+        split.chunk(1, rim, &first);
+        split.chunk(rim + 2, 0, &second);
         assert_eq!(split.finish(), v);
     }
 

@@ -9,6 +9,16 @@
 /// Side of one view's square tile, in pixels.
 pub const TILE: usize = 512;
 
+/// Side of a picture's square pixel block that one depth-buffer pixel of
+/// a view fills: the views are drawn at half the tile's resolution (on a
+/// CT, about a voxel a pixel), which makes a preview cost a quarter of the
+/// pixel tests and shading it would at full resolution.
+pub const BLOCK: usize = 2;
+
+/// Side of one view's depth buffer, in its pixels ([`BLOCK`] by [`BLOCK`]
+/// of the tile's each).
+pub const DEPTH: usize = TILE / BLOCK;
+
 /// Tiles per row and per column of the picture (a 2x2 grid).
 pub const GRID: usize = 2;
 
@@ -142,19 +152,21 @@ impl View {
     }
 
     /// The four views' projections side by side, for
-    /// [`super::raster::Raster`]: `rows[axis][c][view]` is the coefficient
-    /// of world coordinate `c` (the offset for `c == 3`) in pixel x
-    /// (`axis` 0), pixel y (1) or depth (2), with x and y shifted by half a
-    /// pixel so that pixel centres fall on whole numbers.
+    /// [`super::raster::Raster`], in depth-buffer pixels ([`BLOCK`] tile
+    /// pixels each): `rows[axis][c][view]` is the coefficient of world
+    /// coordinate `c` (the offset for `c == 3`) in pixel x (`axis` 0),
+    /// pixel y (1) or depth (2), with x and y shifted by half a pixel so
+    /// that pixel centres fall on whole numbers.
     pub fn rows(views: &[View; 4]) -> [[[f32; 4]; 4]; 3] {
         let mut rows = [[[0f32; 4]; 4]; 3];
         for (v, view) in views.iter().enumerate() {
             for (axis, row) in rows.iter_mut().enumerate() {
+                let scale = 1.0 / BLOCK as f32;
                 for (c, coefficient) in row.iter_mut().take(3).enumerate() {
-                    coefficient[v] = view.axes[axis][c];
+                    coefficient[v] = view.axes[axis][c] * scale;
                 }
                 let centre = if axis < 2 { 0.5 } else { 0.0 };
-                row[3][v] = view.offset[axis] - centre;
+                row[3][v] = view.offset[axis] * scale - centre;
             }
         }
         rows

@@ -18,7 +18,7 @@ use std::time::Instant;
 use tmc::check::check_mesh;
 use tmc::files::check_distinct;
 use tmc::stream::check_grid;
-use tmc::{Chunk, Error, MeshBuilder, MeshInfo, MeshSink, Result, Totals};
+use tmc::{Chunk, ChunkEncoder, Error, MeshBuilder, MeshInfo, MeshSink, Result, Totals};
 
 /// One label's figures for `--stats` and `--json`.
 #[derive(Serialize)]
@@ -408,5 +408,9 @@ impl MeshSink for Measured {
             m.finish(totals)?;
         }
         self.inner.finish_cancellable(totals, cancel)
+    }
+
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        self.inner.encoder()
     }
 }

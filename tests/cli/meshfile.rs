@@ -275,6 +275,7 @@ fn unchecked_fields_are_refused() {
             normals: Vec::new(),
             labels: Vec::new(),
             values: Vec::new(),
+            encoded: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {
@@ -364,6 +365,7 @@ fn a_chunk_larger_than_a_plane_is_refused() {
             normals: Vec::new(),
             labels: Vec::new(),
             values: Vec::new(),
+            encoded: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {

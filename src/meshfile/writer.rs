@@ -35,11 +35,18 @@ pub struct TmeshWriter {
 impl TmeshWriter {
     /// Starts a file that will appear at `path` when the sink finishes.
     pub fn create(path: &Path) -> Result<TmeshWriter> {
+        TmeshWriter::create_buffered(path, BUFFER_BYTES)
+    }
+
+    /// [`TmeshWriter::create`] gathering `buffer` bytes (instead of 1 MiB)
+    /// before it writes them: for many files written at once (one per
+    /// label), whose buffers together should stay small.
+    pub fn create_buffered(path: &Path, buffer: usize) -> Result<TmeshWriter> {
         let mut file = AtomicFile::create(path)?;
         let handle = file.file().try_clone().map_err(|e| Error::io(path, e))?;
         Ok(TmeshWriter {
             file: Some(file),
-            out: BufWriter::with_capacity(BUFFER_BYTES, handle),
+            out: BufWriter::with_capacity(buffer, handle),
             offset: 0,
             index: Vec::new(),
             bytes: 0,

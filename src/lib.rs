@@ -55,7 +55,7 @@ pub mod volume;
 
 pub use error::{Error, Result};
 pub use grid::Grid;
-pub use mesh::{Chunk, Mesh, MeshBuilder, MeshInfo, MeshSink, Totals};
+pub use mesh::{Chunk, ChunkEncoder, Mesh, MeshBuilder, MeshInfo, MeshSink, Totals};
 pub use params::{ExtractParams, Inside, Method, PipelineOptions, Progress, VertexValues};
 pub use stats::Stats;
 pub use stream::{extract, extract_many_to, extract_part_to, extract_to};

@@ -117,6 +117,7 @@ pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult
                 },
                 labels: Vec::new(),
                 values: Vec::new(),
+                encoded: Vec::new(),
             };
             sink.chunk(base as u64, &chunk)?;
             base += v;

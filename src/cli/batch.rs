@@ -17,7 +17,7 @@ use std::time::Instant;
 use tmc::files::check_distinct;
 use tmc::stream::check_grid;
 use tmc::stream::RunSummary;
-use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Stats, Totals};
+use tmc::{Chunk, ChunkEncoder, Error, MeshInfo, MeshSink, Result, Stats, Totals};
 
 /// Inputs of the batch whose outputs were written before a signal stopped
 /// it: they are kept, and the interrupted line says so.
@@ -391,5 +391,9 @@ impl MeshSink for RequireAll<'_> {
     fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
         self.check()?;
         self.inner.finish_cancellable(totals, cancel)
+    }
+
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        self.inner.encoder()
     }
 }

@@ -18,7 +18,7 @@ use std::time::Instant;
 use tmc::check::check_mesh;
 use tmc::files::check_distinct;
 use tmc::stream::check_grid;
-use tmc::{Chunk, Error, MeshBuilder, MeshInfo, MeshSink, Result, Totals};
+use tmc::{Chunk, ChunkEncoder, Error, MeshBuilder, MeshInfo, MeshSink, Result, Totals};
 
 /// One label's figures for `--stats` and `--json`.
 #[derive(Serialize)]
@@ -192,6 +192,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
                 };
                 Box::new(tmc::part::PartWriter::create(target, record)?)
             }
+            None if target.extension().is_some_and(|e| e == "tmesh") => Box::new(
+                tmc::meshfile::TmeshWriter::create_buffered(target, label_buffer(labels.len()))?,
+            ),
             None => tmc::export::create_sink(target)?,
         };
         sinks.push(Measured {
@@ -279,6 +282,15 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         .map_err(|e| withdraw(written.iter().copied(), e))?;
     }
     Ok(())
+}
+
+/// The bytes each label's `.tmesh` writer gathers before it writes them:
+/// 64 MiB shared by all labels, between 64 KiB and 1 MiB (a single
+/// extraction's buffer) each, so that hundreds of labels do not hold
+/// hundreds of MiB of output (each label's file is mostly smaller than
+/// 1 MiB, so it was held whole until the end).
+fn label_buffer(labels: usize) -> usize {
+    ((64 << 20) / labels.max(1)).clamp(64 << 10, 1 << 20)
 }
 
 /// Prefixes the input's name unless the message has it.
@@ -408,5 +420,9 @@ impl MeshSink for Measured {
             m.finish(totals)?;
         }
         self.inner.finish_cancellable(totals, cancel)
+    }
+
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        self.inner.encoder()
     }
 }

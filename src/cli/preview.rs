@@ -82,6 +82,7 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
         normals: Vec::new(),
         labels: Vec::new(),
         values: Vec::new(),
+        encoded: Vec::new(),
     };
     sink.chunk_cancellable(0, &chunk, cancel)?;
     let totals = Totals {

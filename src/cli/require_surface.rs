@@ -2,7 +2,7 @@
 //! so the output file is never committed when there is no surface.
 
 use std::sync::atomic::AtomicBool;
-use tmc::{Chunk, Error, MeshInfo, MeshSink, Result, Totals};
+use tmc::{Chunk, ChunkEncoder, Error, MeshInfo, MeshSink, Result, Totals};
 
 /// Passes everything to `inner`, but fails instead of finishing when the
 /// mesh has no triangle; `inner` is then dropped unfinished, which leaves
@@ -35,6 +35,10 @@ impl MeshSink for RequireSurface<'_> {
     fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
         self.check(totals)?;
         self.inner.finish_cancellable(totals, cancel)
+    }
+
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        self.inner.encoder()
     }
 }
 

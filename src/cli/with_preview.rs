@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use tmc::preview::PreviewSink;
-use tmc::{Chunk, MeshInfo, MeshSink, Result, Totals};
+use tmc::{Chunk, ChunkEncoder, MeshInfo, MeshSink, Result, Totals};
 
 /// The mesh sink and its preview. The mesh is finished first; if the
 /// picture then fails, the mesh is taken back, so that a failed run leaves
@@ -67,6 +67,10 @@ impl MeshSink for WithPreview {
     fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
         self.inner.finish_cancellable(totals, cancel)?;
         self.after_mesh(totals)
+    }
+
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        self.inner.encoder()
     }
 }
 

@@ -373,6 +373,7 @@ mod tests {
             normals: Vec::new(),
             labels: Vec::new(),
             values: Vec::new(),
+            encoded: Vec::new(),
         };
         body.chunk(0, &chunk, |vertices, faces| {
             for v in &chunk.vertices {

@@ -29,4 +29,10 @@ pub struct Chunk {
     /// computed them (on the worker that made the chunk); empty otherwise.
     /// No file format writes them.
     pub values: Vec<f32>,
+    /// The chunk's bytes as its sink's [`MeshSink::encoder`](crate::MeshSink::encoder)
+    /// made them, on the worker that made the chunk (a `.tmesh` writer's
+    /// compressed payload), so that the one thread feeding the sinks need
+    /// not; empty when the sink has no encoder, and cleared by whatever
+    /// changes the chunk after (a sink encodes an empty one itself).
+    pub encoded: Vec<u8>,
 }

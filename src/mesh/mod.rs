@@ -16,4 +16,4 @@ pub use chunk::Chunk;
 pub use indexed::Mesh;
 pub use room::{fit, reserve_for_planes, FIRST_ROOM};
 pub(crate) use sink::used_after_finish;
-pub use sink::{MeshInfo, MeshSink, Totals};
+pub use sink::{ChunkEncoder, MeshInfo, MeshSink, Totals};

@@ -43,6 +43,10 @@ pub struct Totals {
     pub chunks: u64,
 }
 
+/// How a sink turns a chunk into the bytes it writes ([`MeshSink::encoder`]):
+/// a function of the chunk alone, so that any thread may call it.
+pub type ChunkEncoder = fn(&Chunk) -> Result<Vec<u8>>;
+
 /// A consumer of chunks, called from one thread, in plane order.
 pub trait MeshSink {
     /// Called once before the first chunk.
@@ -76,6 +80,15 @@ pub trait MeshSink {
             return Err(Error::Interrupted);
         }
         self.finish(totals)
+    }
+    /// How this sink encodes a chunk, if it writes bytes that depend on the
+    /// chunk alone (a `.tmesh` chunk's compressed payload): the pipeline then
+    /// calls it on the worker that made each chunk and hands the bytes over
+    /// in [`Chunk::encoded`], which the sink writes instead of encoding the
+    /// chunk again. The default has none; a wrapper passes on its inner
+    /// sink's.
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        None
     }
 }
 

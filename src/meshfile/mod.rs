@@ -67,9 +67,11 @@
 //! reader name the damaged chunk. `scripts/read_tmesh.py` reads the format
 //! with numpy and zstandard only.
 
+mod payload;
 mod reader;
 mod writer;
 
+pub use payload::encode_payload;
 pub use reader::TmeshReader;
 pub use writer::TmeshWriter;
 

@@ -271,6 +271,7 @@ impl TmeshReader {
             normals,
             labels,
             values: Vec::new(),
+            encoded: Vec::new(),
         })
     }
 }

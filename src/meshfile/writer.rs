@@ -1,10 +1,12 @@
-//! Writes `.tmesh` files as a [`MeshSink`]: chunks are compressed and
-//! appended as they arrive; the index and trailer close the file, which
-//! then replaces its target atomically.
+//! Writes `.tmesh` files as a [`MeshSink`]: chunks are appended as they
+//! arrive, compressed by the pipeline's workers (the sink's
+//! [`MeshSink::encoder`]) or here; the index and trailer close the file,
+//! which then replaces its target atomically.
 
-use super::{encode_header, ChunkEntry, CHUNK_HEADER_BYTES, END_MAGIC, HEADER_BYTES, ZSTD_LEVEL};
+use super::payload::encode_payload;
+use super::{encode_header, ChunkEntry, CHUNK_HEADER_BYTES, END_MAGIC, HEADER_BYTES};
 use crate::files::AtomicFile;
-use crate::mesh::{Chunk, MeshInfo, MeshSink, Totals};
+use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink, Totals};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -24,10 +26,6 @@ pub struct TmeshWriter {
     offset: u64,
     index: Vec<ChunkEntry>,
     bytes: u64,
-    /// One compression context for every chunk: making one per chunk cost
-    /// more than compressing small chunks (a 2x2x1000000 volume spent 57%
-    /// of its 25 s there).
-    compressor: zstd::bulk::Compressor<'static>,
     /// The chunks carry normals ([`MeshInfo::normals`]).
     normals: bool,
     /// The chunks carry a label per triangle ([`MeshInfo::labels`]).
@@ -37,17 +35,21 @@ pub struct TmeshWriter {
 impl TmeshWriter {
     /// Starts a file that will appear at `path` when the sink finishes.
     pub fn create(path: &Path) -> Result<TmeshWriter> {
-        let compressor = zstd::bulk::Compressor::new(ZSTD_LEVEL)
-            .map_err(|e| Error::Invalid(format!("zstd compression failed: {e}")))?;
+        TmeshWriter::create_buffered(path, BUFFER_BYTES)
+    }
+
+    /// [`TmeshWriter::create`] gathering `buffer` bytes (instead of 1 MiB)
+    /// before it writes them: for many files written at once (one per
+    /// label), whose buffers together should stay small.
+    pub fn create_buffered(path: &Path, buffer: usize) -> Result<TmeshWriter> {
         let mut file = AtomicFile::create(path)?;
         let handle = file.file().try_clone().map_err(|e| Error::io(path, e))?;
         Ok(TmeshWriter {
             file: Some(file),
-            out: BufWriter::with_capacity(BUFFER_BYTES, handle),
+            out: BufWriter::with_capacity(buffer, handle),
             offset: 0,
             index: Vec::new(),
             bytes: 0,
-            compressor,
             normals: false,
             labels: false,
         })
@@ -75,35 +77,6 @@ impl TmeshWriter {
         let file = self.file.as_ref().expect("writer already finished");
         Error::io(file.path(), e)
     }
-}
-
-/// The payload of a chunk before compression: positions, then relative
-/// indices, then the normals if it has any, then the triangles' labels if
-/// it has any.
-pub(crate) fn raw_payload(chunk: &Chunk) -> Result<Vec<u8>> {
-    let len = (chunk.vertices.len() + chunk.triangles.len() + chunk.normals.len())
-        .saturating_mul(12)
-        .saturating_add(chunk.labels.len().saturating_mul(4));
-    let mut raw = crate::error::try_vec::<u8>("a .tmesh chunk", len)?;
-    for v in &chunk.vertices {
-        for c in v {
-            raw.extend_from_slice(&c.to_le_bytes());
-        }
-    }
-    for t in &chunk.triangles {
-        for i in t {
-            raw.extend_from_slice(&i.to_le_bytes());
-        }
-    }
-    for n in &chunk.normals {
-        for c in n {
-            raw.extend_from_slice(&c.to_le_bytes());
-        }
-    }
-    for l in &chunk.labels {
-        raw.extend_from_slice(&l.to_le_bytes());
-    }
-    Ok(raw)
 }
 
 impl MeshSink for TmeshWriter {
@@ -145,13 +118,19 @@ impl MeshSink for TmeshWriter {
                 if self.labels { "one each" } else { "none" }
             )));
         }
-        let payload = self
-            .compressor
-            .compress(&raw_payload(chunk)?)
-            .map_err(|e| Error::Invalid(format!("zstd compression failed: {e}")))?;
+        // Compressed by the worker that made the chunk, when it came
+        // through the pipeline (see `encoder`).
+        let made;
+        let payload = match chunk.encoded.is_empty() {
+            true => {
+                made = encode_payload(chunk)?;
+                &made
+            }
+            false => &chunk.encoded,
+        };
         let mut h = [0u8; CHUNK_HEADER_BYTES];
         h[0..4].copy_from_slice(b"CHNK");
-        h[4..8].copy_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+        h[4..8].copy_from_slice(&crc32fast::hash(payload).to_le_bytes());
         h[8..16].copy_from_slice(&chunk.plane.to_le_bytes());
         h[16..24].copy_from_slice(&base.to_le_bytes());
         h[24..28].copy_from_slice(&(chunk.vertices.len() as u32).to_le_bytes());
@@ -167,7 +146,11 @@ impl MeshSink for TmeshWriter {
             plane: chunk.plane,
         });
         self.write(&h)?;
-        self.write(&payload)
+        self.write(payload)
+    }
+
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        Some(encode_payload)
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {

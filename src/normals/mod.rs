@@ -40,4 +40,4 @@ pub mod window;
 
 pub use by_edge::BlockEdges;
 pub use in_slab::SlabNormals;
-pub use pending::{FillPending, PENDING};
+pub use pending::{has_pending, FillPending, PENDING};

@@ -2,7 +2,7 @@
 //! triangles, one chunk behind the stream.
 
 use super::vector::{cross, dot, sub, unit};
-use crate::mesh::{Chunk, MeshInfo, MeshSink, Totals};
+use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink, Totals};
 use crate::Result;
 use std::ops::Range;
 use std::sync::atomic::AtomicBool;
@@ -14,6 +14,12 @@ pub const PENDING: [f32; 3] = [f32::NAN; 3];
 /// Whether `normal` is [`PENDING`].
 fn is_pending(normal: &[f32; 3]) -> bool {
     normal[0].is_nan()
+}
+
+/// Whether some normal of `chunk` is [`PENDING`]: [`FillPending`] will
+/// change the chunk (so encoding it before is wasted).
+pub fn has_pending(chunk: &Chunk) -> bool {
+    chunk.normals.iter().any(is_pending)
 }
 
 /// A sink wrapper that gives every [`PENDING`] normal the angle-weighted
@@ -86,8 +92,10 @@ impl<'a> FillPending<'a> {
         let Some(mut current) = self.current.take() else {
             return Ok(None);
         };
-        if current.normals.iter().any(is_pending) {
+        if has_pending(&current) {
             resolve(self.previous.as_ref(), &mut current, next);
+            // Bytes encoded before no longer hold its normals.
+            current.encoded.clear();
         }
         self.forward(&current, cancel)?;
         Ok(self.previous.replace(current))
@@ -160,6 +168,10 @@ impl MeshSink for FillPending<'_> {
         self.previous = None;
         let totals = self.totals;
         self.inner.finish_cancellable(&totals, cancel)
+    }
+
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        self.inner.encoder()
     }
 }
 

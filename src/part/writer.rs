@@ -2,7 +2,7 @@
 //! [`PartRecord`] between the last chunk and the index.
 
 use super::PartRecord;
-use crate::mesh::{Chunk, MeshInfo, MeshSink, Totals};
+use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink, Totals};
 use crate::meshfile::TmeshWriter;
 use crate::Result;
 use std::path::Path;
@@ -40,5 +40,9 @@ impl MeshSink for PartWriter {
     fn finish(&mut self, totals: &Totals) -> Result<()> {
         self.inner.append_section(&self.record.encode())?;
         self.inner.finish(totals)
+    }
+
+    fn encoder(&self) -> Option<ChunkEncoder> {
+        self.inner.encoder()
     }
 }

@@ -51,6 +51,7 @@ impl Block {
             normals: self.normals,
             labels: Vec::new(),
             values: Vec::new(),
+            encoded: Vec::new(),
         }
     }
 

@@ -58,7 +58,7 @@ pub fn chunk_bytes(chunk: &Chunk) -> u64 {
     let triangles = chunk.triangles.capacity() * std::mem::size_of::<[u32; 3]>();
     let normals = chunk.normals.capacity() * std::mem::size_of::<[f32; 3]>();
     let values = chunk.values.capacity() * std::mem::size_of::<f32>();
-    (vertices + triangles + normals + values) as u64
+    (vertices + triangles + normals + values + chunk.encoded.capacity()) as u64
 }
 
 impl Spares {
@@ -98,6 +98,8 @@ impl Spares {
         chunk.triangles.clear();
         chunk.normals.clear();
         chunk.values.clear();
+        // Blocks do not reuse encoded bytes.
+        chunk.encoded = Vec::new();
         // Counted before it can be taken, so that the count never wraps.
         let bytes = chunk_bytes(&chunk);
         self.block_bytes.fetch_add(bytes, Ordering::Relaxed);

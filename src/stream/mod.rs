@@ -10,7 +10,11 @@
 //! 3. **triangulate** ([`crate::slab`]): a worker turns the slab's layers
 //!    into one chunk per grid plane, for each isovalue while the planes are
 //!    resident, and, with normals, gives the chunks their gradient normals
-//!    as each block is finished ([`crate::normals::SlabNormals`]);
+//!    as each block is finished ([`crate::normals::SlabNormals`]); then it
+//!    encodes the chunks for a sink that has a
+//!    [`MeshSink::encoder`](crate::mesh::MeshSink::encoder) (a `.tmesh`
+//!    chunk's compressed payload), so that the one thread feeding the
+//!    sinks only writes bytes;
 //! 4. **stitch** ([`seam`]): finished slabs, in any order, are put back in
 //!    plane order and handed to each isovalue's sink with global vertex
 //!    numbers; nothing is matched by position. Each sink is wrapped in a

@@ -20,8 +20,8 @@ use super::schedule::Schedule;
 use super::seam::Seam;
 use super::threads::{default_depth, thread_pool, worker_threads};
 use crate::grid::Grid;
-use crate::mesh::{Chunk, MeshInfo, MeshSink};
-use crate::normals::FillPending;
+use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink};
+use crate::normals::{has_pending, FillPending};
 use crate::params::{ExtractParams, PipelineOptions, Progress};
 use crate::slab::{chunk_bytes, process_slab, Spares};
 use crate::volume::{Access, HeldPlanes, LentPlane, Padded, SampleSource, ScalarType, SharedPlane};
@@ -204,6 +204,9 @@ pub(crate) fn run_pass(
     for (p, fill) in params.iter().zip(fills.iter_mut()) {
         fill.begin(&info(p))?;
     }
+    // What each sink would encode its chunks with: done by the workers, so
+    // that the one thread feeding the sinks does not bound the pass.
+    let encoders: Vec<Option<ChunkEncoder>> = fills.iter().map(|f| f.encoder()).collect();
     // Scratch for every slab in flight; block vectors for one slab per
     // isovalue (see `Spares`; the budget counts them).
     let spares = Spares::new(plan.window, (depth + 1) * params.len());
@@ -244,6 +247,7 @@ pub(crate) fn run_pass(
                 values(&chunk.vertices, &mut chunk.values);
             }
         }
+        encode_chunks(&mut results, &encoders)?;
         Ok(results)
     };
     // Hands slab `i` to every seam; returns how many slabs got written
@@ -312,6 +316,27 @@ pub(crate) fn run_pass(
         stats.seconds = start.elapsed().as_secs_f64();
     }
     Ok(all)
+}
+
+/// Encodes the chunks of each output whose sink has an encoder
+/// ([`MeshSink::encoder`]) into [`Chunk::encoded`]: those with a surface,
+/// and no pending normal (which [`FillPending`] will change).
+fn encode_chunks(
+    results: &mut [(Vec<Chunk>, Stats)],
+    encoders: &[Option<ChunkEncoder>],
+) -> Result<()> {
+    for ((chunks, _), encoder) in results.iter_mut().zip(encoders) {
+        let Some(encode) = encoder else {
+            continue;
+        };
+        for chunk in chunks {
+            let empty = chunk.vertices.is_empty() && chunk.triangles.is_empty();
+            if !empty && !has_pending(chunk) {
+                chunk.encoded = encode(chunk)?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Fails with [`Error::Interrupted`] once the cancel flag of `options` is

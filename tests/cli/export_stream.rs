@@ -200,6 +200,7 @@ fn chunk(plane: u64, vertices: usize, triangles: &[[u32; 3]]) -> Chunk {
         normals: Vec::new(),
         labels: Vec::new(),
         values: Vec::new(),
+        encoded: Vec::new(),
     }
 }
 

@@ -64,6 +64,83 @@ fn round_trip_and_determinism() {
     }
 }
 
+/// Passes chunks on to a `.tmesh` writer but hides its encoder, so that the
+/// writer compresses every chunk itself, on the thread that feeds it.
+struct EncodeHere(TmeshWriter);
+
+impl MeshSink for EncodeHere {
+    fn begin(&mut self, info: &tmc::MeshInfo) -> tmc::Result<()> {
+        self.0.begin(info)
+    }
+
+    fn chunk(&mut self, base: u64, chunk: &tmc::Chunk) -> tmc::Result<()> {
+        assert!(
+            chunk.encoded.is_empty(),
+            "encoded for a sink without encoder"
+        );
+        self.0.chunk(base, chunk)
+    }
+
+    fn finish(&mut self, totals: &Totals) -> tmc::Result<()> {
+        self.0.finish(totals)
+    }
+}
+
+/// The pass compresses `.tmesh` chunks on its workers (`MeshSink::encoder`):
+/// the file is byte for byte what the writer makes compressing each chunk
+/// itself, for any threads and slab depth, with normals too, where the
+/// vertices on plateaus and ties get theirs from the triangles after the
+/// workers are done (`FillPending`), and for a part.
+#[test]
+fn chunks_compressed_on_the_workers_are_the_writers_bytes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // Noise in steps of 1/4: many samples at the isovalue 0, whose vertices
+    // lie on plateaus, and a NaN border (--close) whose gradient vanishes.
+    let noise = synth::noise(24, 5, 1);
+    let steps: Vec<f64> = noise
+        .data()
+        .iter()
+        .map(|v| (v * 4.0).round() / 4.0)
+        .collect();
+    let grid = *tmc::volume::SampleSource::grid(&noise);
+    let vol = tmc::volume::ArrayVolume::new(grid, steps).expect("volume");
+    for normals in [false, true] {
+        let mut expected = None;
+        for (threads, depth, part) in [
+            (1, 0, None),
+            (2, 1, None),
+            (3, 5, None),
+            (2, 3, Some((2, 3))),
+        ] {
+            let p = ExtractParams {
+                normals,
+                ..params(threads)
+            };
+            let options = PipelineOptions {
+                slab_depth: depth,
+                ..Default::default()
+            };
+            let run = |sink: &mut dyn MeshSink| {
+                tmc::stream::extract_part_to(&vol, &p, &options, part, sink).expect("extract")
+            };
+            let here = dir.path().join("here.tmesh");
+            run(&mut EncodeHere(TmeshWriter::create(&here).expect("create")));
+            let workers = dir.path().join("workers.tmesh");
+            run(&mut TmeshWriter::create(&workers).expect("create"));
+            let bytes = std::fs::read(&workers).expect("read");
+            let case =
+                format!("normals {normals}, {threads} threads, depth {depth}, part {part:?}");
+            assert!(std::fs::read(&here).expect("read") == bytes, "{case}");
+            if part.is_none() {
+                match &expected {
+                    None => expected = Some(bytes),
+                    Some(first) => assert!(*first == bytes, "{case}"),
+                }
+            }
+        }
+    }
+}
+
 /// The writer holds up to 1 MiB before it writes: a file of many MiB,
 /// with chunks larger than that and thousands of small ones, reads back as
 /// the mesh made in memory.
@@ -275,6 +352,7 @@ fn unchecked_fields_are_refused() {
             normals: Vec::new(),
             labels: Vec::new(),
             values: Vec::new(),
+            encoded: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {
@@ -364,6 +442,7 @@ fn a_chunk_larger_than_a_plane_is_refused() {
             normals: Vec::new(),
             labels: Vec::new(),
             values: Vec::new(),
+            encoded: Vec::new(),
         };
         writer.chunk(0, &chunk).expect("chunk");
         let totals = Totals {

@@ -364,3 +364,92 @@ fn add_triangle(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bumpy sheet of `w` by `h` vertices, two triangles a square, with
+    /// the vertices `pending` marked pending and the others given `[1, 0, 0]`.
+    fn sheet(w: usize, h: usize, pending: &[usize]) -> Chunk {
+        let vertices: Vec<[f32; 3]> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f32, (i / w) as f32);
+                [x, y, (0.7 * x).sin() * (0.4 * y).cos()]
+            })
+            .collect();
+        let mut triangles = Vec::new();
+        for y in 0..h - 1 {
+            for x in 0..w - 1 {
+                let i = (y * w + x) as u32;
+                let (w32, next) = (w as u32, (y * w + x + 1) as u32);
+                triangles.push([i, next, i + w32]);
+                triangles.push([next, next + w32, i + w32]);
+            }
+        }
+        let mut normals = vec![[1.0, 0.0, 0.0]; w * h];
+        for &p in pending {
+            normals[p] = PENDING;
+        }
+        Chunk {
+            plane: 0,
+            vertices,
+            triangles,
+            normals,
+            labels: Vec::new(),
+            values: Vec::new(),
+        }
+    }
+
+    /// The angle-weighted normal at vertex `v` of `chunk`, from the
+    /// angles' cosines (another way than `add_triangle`'s).
+    fn expected(chunk: &Chunk, v: usize) -> [f64; 3] {
+        let p = |i: u32| chunk.vertices[i as usize].map(f64::from);
+        let mut sum = [0.0; 3];
+        for t in &chunk.triangles {
+            let Some(k) = t.iter().position(|&i| i as usize == v) else {
+                continue;
+            };
+            let (a, b, c) = (p(t[k]), p(t[(k + 1) % 3]), p(t[(k + 2) % 3]));
+            let n = cross(sub(p(t[1]), p(t[0])), sub(p(t[2]), p(t[0])));
+            let (u, w) = (sub(b, a), sub(c, a));
+            let cos = dot(u, w) / (dot(u, u) * dot(w, w)).sqrt();
+            let length = dot(n, n).sqrt();
+            for (s, c) in sum.iter_mut().zip(n) {
+                *s += cos.acos() * c / length;
+            }
+        }
+        let length = dot(sum, sum).sqrt();
+        sum.map(|c| c / length)
+    }
+
+    /// A few pending vertices (each compared with the corners) and many
+    /// (the span between the first and last), among more triangles than
+    /// fill whole blocks: every pending vertex gets its triangles'
+    /// angle-weighted normal, and no other normal changes.
+    #[test]
+    fn pending_vertices_get_their_triangles_normal() {
+        let (w, h) = (21, 16);
+        let few: Vec<usize> = vec![22, 160, 300];
+        let many: Vec<usize> = (0..w * h).filter(|i| i % 7 == 3).collect();
+        assert!(few.len() <= FEW && many.len() > FEW);
+        for pending in [few, many] {
+            let mut chunk = sheet(w, h, &pending);
+            assert!(!chunk.triangles.len().is_multiple_of(BLOCK));
+            resolve(None, &mut chunk, None);
+            for (i, n) in chunk.normals.iter().enumerate() {
+                if !pending.contains(&i) {
+                    assert_eq!(*n, [1.0, 0.0, 0.0], "vertex {i}");
+                    continue;
+                }
+                let want = expected(&chunk, i);
+                for k in 0..3 {
+                    assert!(
+                        (f64::from(n[k]) - want[k]).abs() < 1e-5,
+                        "vertex {i}: {n:?} {want:?}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -147,6 +147,15 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
         let minus = |a: P::Run, b: P::Run, i: usize, j: usize| P::minus(P::at(a, i), P::at(b, j));
         // Row `y` of plane `p`: every row of one length, `nx`.
         let cut = |p: P, y: usize| p.sub(y * nx, y * nx + nx);
+        // The central differences (not yet divided) at sample `x` of row
+        // `mid`, between rows `down` and `up`, and planes `under` and `over`.
+        let central = |mid, down, up, under, over, x: usize| {
+            [
+                minus(mid, mid, x + 1, x - 1),
+                minus(up, down, x, x),
+                minus(over, under, x, x),
+            ]
+        };
         let end = first + vertices.len();
         let mut batch = Batch::new();
         // Slots of `batch` taken.
@@ -173,43 +182,16 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
                 0 => {
                     let [down, mid, up] = [y - 1, y, y + 1].map(|y| cut(here, y));
                     let (over, under) = (cut(above, y), cut(below, y));
-                    fill(
-                        &|x| {
-                            (
-                                [
-                                    minus(mid, mid, x + 1, x - 1),
-                                    minus(up, down, x, x),
-                                    minus(over, under, x, x),
-                                ],
-                                [
-                                    minus(mid, mid, x + 2, x),
-                                    minus(up, down, x + 1, x + 1),
-                                    minus(over, under, x + 1, x + 1),
-                                ],
-                            )
-                        },
-                        true,
-                    );
+                    let ends = |x| central(mid, down, up, under, over, x);
+                    fill(&|x| (ends(x), ends(x + 1)), true);
                 }
                 1 => {
                     let [down, low, high, up] = [y - 1, y, y + 1, y + 2].map(|y| cut(here, y));
                     let [over_low, over_high] = [y, y + 1].map(|y| cut(above, y));
                     let [under_low, under_high] = [y, y + 1].map(|y| cut(below, y));
+                    let a = |x| central(low, down, high, under_low, over_low, x);
                     fill(
-                        &|x| {
-                            (
-                                [
-                                    minus(low, low, x + 1, x - 1),
-                                    minus(high, down, x, x),
-                                    minus(over_low, under_low, x, x),
-                                ],
-                                [
-                                    minus(high, high, x + 1, x - 1),
-                                    minus(up, low, x, x),
-                                    minus(over_high, under_high, x, x),
-                                ],
-                            )
-                        },
+                        &|x| (a(x), central(high, low, up, under_high, over_high, x)),
                         true,
                     );
                 }
@@ -217,23 +199,8 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
                     let [down1, mid1, up1] = [y - 1, y, y + 1].map(|y| cut(p1, y));
                     let [down2, mid2, up2] = [y - 1, y, y + 1].map(|y| cut(p2, y));
                     let (under, over) = (cut(p0, y), cut(p3, y));
-                    fill(
-                        &|x| {
-                            (
-                                [
-                                    minus(mid1, mid1, x + 1, x - 1),
-                                    minus(up1, down1, x, x),
-                                    minus(mid2, under, x, x),
-                                ],
-                                [
-                                    minus(mid2, mid2, x + 1, x - 1),
-                                    minus(up2, down2, x, x),
-                                    minus(over, mid1, x, x),
-                                ],
-                            )
-                        },
-                        true,
-                    );
+                    let a = |x| central(mid1, down1, up1, under, mid2, x);
+                    fill(&|x| (a(x), central(mid2, down2, up2, mid1, over, x)), true);
                 }
             }
         }

@@ -11,7 +11,9 @@
 //! from the position gives ([`Layer::gradient`] at that offset), so a
 //! vertex gets the same normal whether its edge is named or located.
 
+use super::batch::{Batch, Factors, BATCH};
 use super::gradient::Layer;
+use super::index_map::IndexMap;
 use super::locate::SNAP;
 use super::samples::Samples;
 use super::vector::unit;
@@ -42,73 +44,6 @@ pub struct BlockEdges<'a> {
     pub y_offset: usize,
 }
 
-/// How index coordinates and index gradients relate to world ones: one
-/// product per axis on an axis-aligned grid, the full map otherwise.
-pub(super) trait IndexMap: Copy {
-    /// Index coordinate `axis` of world position `v`.
-    fn coordinate(&self, v: [f32; 3], axis: usize) -> f64;
-    /// The index coordinates of world position `v`.
-    fn index(&self, v: [f32; 3]) -> [f64; 3];
-    /// What index-space differences along each axis are multiplied by
-    /// before [`to_world`](Self::to_world): `1 / spacing` where that is
-    /// all the chain rule does (then `to_world` does nothing), else 1.
-    fn scale(&self) -> [f64; 3];
-    /// An index-space gradient, multiplied by [`scale`](Self::scale), in
-    /// world coordinates.
-    fn to_world(&self, g: [f64; 3]) -> [f64; 3];
-}
-
-/// An axis-aligned grid: its origin and `1 / spacing`.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Aligned {
-    pub(super) origin: [f64; 3],
-    pub(super) inverse: [f64; 3],
-}
-
-impl IndexMap for Aligned {
-    #[inline(always)]
-    fn coordinate(&self, v: [f32; 3], axis: usize) -> f64 {
-        (f64::from(v[axis]) - self.origin[axis]) * self.inverse[axis]
-    }
-
-    #[inline(always)]
-    fn index(&self, v: [f32; 3]) -> [f64; 3] {
-        [0, 1, 2].map(|a| self.coordinate(v, a))
-    }
-
-    #[inline(always)]
-    fn scale(&self) -> [f64; 3] {
-        self.inverse
-    }
-
-    #[inline(always)]
-    fn to_world(&self, g: [f64; 3]) -> [f64; 3] {
-        g
-    }
-}
-
-impl IndexMap for &WorldToIndex {
-    #[inline(always)]
-    fn coordinate(&self, v: [f32; 3], axis: usize) -> f64 {
-        WorldToIndex::index(self, v.map(f64::from))[axis]
-    }
-
-    #[inline(always)]
-    fn index(&self, v: [f32; 3]) -> [f64; 3] {
-        WorldToIndex::index(self, v.map(f64::from))
-    }
-
-    #[inline(always)]
-    fn scale(&self) -> [f64; 3] {
-        [1.0; 3]
-    }
-
-    #[inline(always)]
-    fn to_world(&self, g: [f64; 3]) -> [f64; 3] {
-        self.gradient_to_world(g)
-    }
-}
-
 /// What the normals of one block's edge vertices are computed from.
 pub(super) struct EdgeNormals<'f, P, M> {
     /// The four planes around the block's cell layer.
@@ -129,6 +64,22 @@ pub(super) struct EdgeNormals<'f, P, M> {
     pub(super) sign: f64,
 }
 
+/// Where the vertices of one edge direction lie along their rows.
+struct Walk {
+    /// `x - 1 < limit_x` (wrapping) for an edge whose ends are inside
+    /// their plane's border along x.
+    limit_x: usize,
+    /// The largest lower end's x, as `f64`.
+    last_x: f64,
+    /// Added to the x coordinate before its floor is taken: 0 for x-edges,
+    /// a half (the nearest grid line) for the others.
+    lift: f64,
+    /// The cell layer's lower plane, as `f64`.
+    layer: f64,
+    /// Samples per row.
+    nx: usize,
+}
+
 impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
     /// Appends to `out` the normals of `vertices`, the group of the edges
     /// along axis `AXIS` (vertex `j` is the block's vertex `first + j`),
@@ -137,10 +88,14 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
     /// (read from its position), the chain rule, normalized; [`PENDING`]
     /// where that vanishes.
     ///
-    /// One loop per axis, the planes and factors in locals: an edge whose
-    /// ends are inside their plane's border (the common case) costs the
-    /// samples it reads, a bounds check per plane and no branch on the
-    /// axis; any other goes to [`on_border`](Self::on_border).
+    /// One loop per axis, the planes and factors in locals. For a row of
+    /// vertices the rows of samples their edges' ends need are cut once,
+    /// all of one length, so that a vertex's reads share a few bounds
+    /// checks; an edge whose ends are inside their plane's border (the
+    /// common case) costs the samples it reads; any other goes to
+    /// [`on_border`](Self::on_border). The differences are gathered into a
+    /// [`Batch`], whose arithmetic runs [`BATCH`] vertices at a time
+    /// ([`finish`](Self::finish)).
     #[inline(always)]
     pub(super) fn along<const AXIS: usize>(
         &self,
@@ -158,32 +113,53 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
             0 => (p0, p1, p2),
             _ => (p1, p2, p3),
         };
-        let layer = self.layer as f64;
         // `x - 1 < limit_x` (wrapping) is `1 <= x && x + reach_x < nx`.
         let (reach_x, reach_y) = match AXIS {
             0 => (2, 1),
             1 => (1, 2),
             _ => (1, 1),
         };
-        let limit_x = nx.saturating_sub(reach_x + 1);
-        // The lower end's x: at most the last cell's along x, the last
-        // sample's otherwise.
-        let last_x = (nx - 1 - usize::from(AXIS == 0)) as f64;
-        let (map, sign) = (self.map, self.sign);
+        let walk = Walk {
+            limit_x: nx.saturating_sub(reach_x + 1),
+            // The lower end's x: at most the last cell's along x, the last
+            // sample's otherwise.
+            last_x: (nx - 1 - usize::from(AXIS == 0)) as f64,
+            lift: if AXIS == 0 { 0.0 } else { 0.5 },
+            layer: self.layer as f64,
+            nx,
+        };
         // The central differences' factors (a half, or what a difference
         // across planes takes at the lower and upper end), with the grid's
         // scale folded in when the map has one per axis.
-        let scale = map.scale();
-        let [sx, sy] = [0.5 * scale[0], 0.5 * scale[1]];
+        let scale = self.map.scale();
         let [f0, f1] = self.fz.map(|f| f * scale[2]);
         let (fa, fb) = match (AXIS, self.k) {
             (2, _) => (f0, f1),
             (_, 0) => (f0, f0),
             _ => (f1, f1),
         };
-        let (minus, at) = (P::minus, P::at);
-        let lift = if AXIS == 0 { 0.0 } else { 0.5 };
+        let factors = Factors {
+            x: 0.5 * scale[0],
+            y: 0.5 * scale[1],
+            z_low: fa,
+            z_high: fb,
+        };
+        let minus = |a: P::Run, b: P::Run, i: usize, j: usize| P::minus(P::at(a, i), P::at(b, j));
+        // Row `y` of plane `p`: every row of one length, `nx`.
+        let cut = |p: P, y: usize| p.sub(y * nx, y * nx + nx);
+        // The central differences (not yet divided) at sample `x` of row
+        // `mid`, between rows `down` and `up`, and planes `under` and `over`.
+        let central = |mid, down, up, under, over, x: usize| {
+            [
+                minus(mid, mid, x + 1, x - 1),
+                minus(up, down, x, x),
+                minus(over, under, x, x),
+            ]
+        };
         let end = first + vertices.len();
+        let mut batch = Batch::new();
+        // Slots of `batch` taken.
+        let mut n = 0;
         for (r, &start) in rows.iter().enumerate() {
             let stop = rows.get(r + 1).map_or(end, |&s| s as usize);
             let (start, stop) = ((start as usize).max(first), stop.min(end));
@@ -191,89 +167,155 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
                 continue;
             }
             let y = r + y_offset;
-            let inner_y = y.wrapping_sub(1) < ny.saturating_sub(reach_y + 1);
-            let row = y * nx;
-            let normal = |v: [f32; 3]| -> [f32; 3] {
-                // The floor (or, `+ 0.5`, the nearest) of the x coordinate
-                // clamped to `[0, last_x]`, NaN to 0: comparisons and one
-                // truncation through `i64` (a single instruction, where a
-                // saturating cast to `usize` takes a dozen).
-                let px = map.coordinate(v, 0);
-                let c = px + lift;
-                let x = if c >= 0.0 {
-                    if c <= last_x {
-                        c as i64 as usize
-                    } else {
-                        last_x as i64 as usize
-                    }
-                } else {
-                    0
-                };
-                let w = match AXIS {
-                    0 => px - x as f64,
-                    1 => map.coordinate(v, 1) - y as f64,
-                    _ => map.coordinate(v, 2) - layer,
-                };
-                if !(inner_y && x.wrapping_sub(1) < limit_x && (SNAP..=1.0 - SNAP).contains(&w)) {
-                    return self.on_border(AXIS, [x, y], w);
-                }
-                let i = row + x;
-                // Runs of samples cut around the edge, one bounds check
-                // each: differences at the lower end (a) and the upper (b).
-                let (a, b) = match AXIS {
-                    0 => {
-                        // Rows y - 1, y, y + 1 from x - 1 on.
-                        let h = here.sub(i - nx - 1, i + nx + 3);
-                        let (o, u) = (above.sub(i, i + 2), below.sub(i, i + 2));
-                        let m = nx + 1;
-                        (
-                            [
-                                minus(at(h, m + 1), at(h, m - 1)),
-                                minus(at(h, m + nx), at(h, 1)),
-                                minus(at(o, 0), at(u, 0)),
-                            ],
-                            [
-                                minus(at(h, m + 2), at(h, m)),
-                                minus(at(h, m + nx + 1), at(h, 2)),
-                                minus(at(o, 1), at(u, 1)),
-                            ],
-                        )
-                    }
-                    1 => {
-                        // Rows y - 1 to y + 2 from x - 1 on.
-                        let h = here.sub(i - nx - 1, i + 2 * nx + 2);
-                        let (o, u) = (above.sub(i, i + nx + 1), below.sub(i, i + nx + 1));
-                        let m = nx + 1;
-                        (
-                            [
-                                minus(at(h, m + 1), at(h, m - 1)),
-                                minus(at(h, m + nx), at(h, 1)),
-                                minus(at(o, 0), at(u, 0)),
-                            ],
-                            [
-                                minus(at(h, m + nx + 1), at(h, m + nx - 1)),
-                                minus(at(h, m + 2 * nx), at(h, m)),
-                                minus(at(o, nx), at(u, nx)),
-                            ],
-                        )
-                    }
-                    _ => (z_end(p0, p1, p2, i, nx), z_end(p1, p2, p3, i, nx)),
-                };
-                let (w_low, w_high) = (1.0 - w, w);
-                let g = [
-                    sx * (w_low * a[0] + w_high * b[0]),
-                    sy * (w_low * a[1] + w_high * b[1]),
-                    w_low * (a[2] * fa) + w_high * (b[2] * fb),
-                ];
-                if P::MAY_BE_NAN && (g[0] + g[1] + g[2]).is_nan() {
-                    return self.on_border(AXIS, [x, y], w);
-                }
-                outward(map.to_world(g), sign)
+            let row = &vertices[start - first..stop - first];
+            let mut fill = |gather: &dyn Fn(usize) -> ([f64; 3], [f64; 3]), inner: bool| {
+                self.row::<AXIS>(
+                    &walk, row, y, inner, gather, &mut batch, &mut n, factors, out,
+                )
             };
-            for &v in &vertices[start - first..stop - first] {
-                out.push(normal(v));
+            if y.wrapping_sub(1) >= ny.saturating_sub(reach_y + 1) {
+                // Every edge of the row has an end on the plane's border.
+                fill(&|_| ([0.0; 3], [0.0; 3]), false);
+                continue;
+            }
+            match AXIS {
+                0 => {
+                    let [down, mid, up] = [y - 1, y, y + 1].map(|y| cut(here, y));
+                    let (over, under) = (cut(above, y), cut(below, y));
+                    let ends = |x| central(mid, down, up, under, over, x);
+                    fill(&|x| (ends(x), ends(x + 1)), true);
+                }
+                1 => {
+                    let [down, low, high, up] = [y - 1, y, y + 1, y + 2].map(|y| cut(here, y));
+                    let [over_low, over_high] = [y, y + 1].map(|y| cut(above, y));
+                    let [under_low, under_high] = [y, y + 1].map(|y| cut(below, y));
+                    let a = |x| central(low, down, high, under_low, over_low, x);
+                    fill(
+                        &|x| (a(x), central(high, low, up, under_high, over_high, x)),
+                        true,
+                    );
+                }
+                _ => {
+                    let [down1, mid1, up1] = [y - 1, y, y + 1].map(|y| cut(p1, y));
+                    let [down2, mid2, up2] = [y - 1, y, y + 1].map(|y| cut(p2, y));
+                    let (under, over) = (cut(p0, y), cut(p3, y));
+                    let a = |x| central(mid1, down1, up1, under, mid2, x);
+                    fill(&|x| (a(x), central(mid2, down2, up2, mid1, over, x)), true);
+                }
             }
         }
+        self.finish::<AXIS>(&mut batch, n, factors, out);
+    }
+
+    /// Gathers the vertices `row` (of grid row `y`) into `batch`, whose
+    /// first `n` slots are taken, finishing it whenever it is full: the
+    /// differences at the two ends of a vertex's edge from `gather` (given
+    /// the lower end's x) when `inner` (the row's edges are not on the
+    /// plane's border along y) and the edge is inside it along x, else
+    /// the normal from [`on_border`](Self::on_border).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn row<const AXIS: usize>(
+        &self,
+        walk: &Walk,
+        row: &[[f32; 3]],
+        y: usize,
+        inner: bool,
+        gather: &dyn Fn(usize) -> ([f64; 3], [f64; 3]),
+        batch: &mut Batch,
+        n: &mut usize,
+        factors: Factors,
+        out: &mut Vec<[f32; 3]>,
+    ) {
+        let map = self.map;
+        for &v in row {
+            if *n == BATCH {
+                self.finish::<AXIS>(batch, BATCH, factors, out);
+                *n = 0;
+            }
+            let j = *n;
+            *n += 1;
+            // The floor (or, `+ 0.5`, the nearest) of the x coordinate
+            // clamped to `[0, last_x]`, NaN to 0: comparisons and one
+            // truncation through `i64` (a single instruction, where a
+            // saturating cast to `usize` takes a dozen).
+            let px = map.coordinate(v, 0);
+            let c = px + walk.lift;
+            let x = if c >= 0.0 {
+                if c <= walk.last_x {
+                    c as i64 as usize
+                } else {
+                    walk.last_x as i64 as usize
+                }
+            } else {
+                0
+            };
+            let w = match AXIS {
+                0 => px - x as f64,
+                1 => map.coordinate(v, 1) - y as f64,
+                _ => map.coordinate(v, 2) - walk.layer,
+            };
+            batch.at[j] = y * walk.nx + x;
+            if !(inner && x.wrapping_sub(1) < walk.limit_x && (SNAP..=1.0 - SNAP).contains(&w)) {
+                batch.offset[j] = f64::NAN;
+                batch.border[j] = w;
+                continue;
+            }
+            let (a, b) = gather(x);
+            for axis in 0..3 {
+                batch.low[axis][j] = a[axis];
+                batch.high[axis][j] = b[axis];
+            }
+            batch.offset[j] = w;
+        }
+    }
+
+    /// Appends to `out` the normals of the first `n` slots of `batch`
+    /// (edges along `AXIS`, differences multiplied by `factors`): from
+    /// [`Batch::normalize`] where the gradient is of ordinary size, else
+    /// from [`exact`](Self::exact).
+    #[inline(always)]
+    fn finish<const AXIS: usize>(
+        &self,
+        batch: &mut Batch,
+        n: usize,
+        factors: Factors,
+        out: &mut Vec<[f32; 3]>,
+    ) {
+        batch.normalize(factors, self.map, self.sign);
+        let n = n.min(BATCH);
+        let ordinary = |s: f64| s > 1e-200 && s < 1e200;
+        // One test for the batch (in vector registers), then the slots.
+        if batch.squared[..n]
+            .iter()
+            .fold(false, |odd, &s| odd | !ordinary(s))
+        {
+            for j in 0..n {
+                if !ordinary(batch.squared[j]) {
+                    batch.normal[j] = self.exact(AXIS, batch, j, factors);
+                }
+            }
+        }
+        out.extend_from_slice(&batch.normal[..n]);
+    }
+
+    /// The normal of slot `j` of `batch` (edges along `axis`) whose
+    /// gradient is not of ordinary size: [`on_border`](Self::on_border)
+    /// for an edge on a plane's border or a NaN gradient, else what
+    /// [`outward`] gives.
+    #[cold]
+    #[inline(never)]
+    fn exact(&self, axis: usize, batch: &Batch, j: usize, factors: Factors) -> [f32; 3] {
+        let (i, nx) = (batch.at[j], self.field.nx);
+        let w = batch.offset[j];
+        if w.is_nan() {
+            return self.on_border(axis, [i % nx, i / nx], batch.border[j]);
+        }
+        let g = batch.gradient(j, factors);
+        if P::MAY_BE_NAN && (g[0] + g[1] + g[2]).is_nan() {
+            return self.on_border(axis, [i % nx, i / nx], w);
+        }
+        outward(self.map.to_world(g), self.sign)
     }
 
     /// The normal of a vertex at offset `w` on an edge with
@@ -299,22 +341,6 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
         let g = field.gradient([cx, cy], t);
         outward(self.full.gradient_to_world(g), self.sign)
     }
-}
-
-/// The differences of the central differences at sample `i` of plane
-/// `here` (not on its border), `below` and `above` being the planes
-/// around it (not yet divided by the distances).
-#[inline(always)]
-fn z_end<P: Samples>(below: P, here: P, above: P, i: usize, nx: usize) -> [f64; 3] {
-    // Rows y - 1 to y + 1 around `i`.
-    let h = here.sub(i - nx, i + nx + 1);
-    let [over] = above.wide::<1>(i);
-    let [under] = below.wide::<1>(i);
-    [
-        P::minus(P::at(h, nx + 1), P::at(h, nx - 1)),
-        P::minus(P::at(h, 2 * nx), P::at(h, 0)),
-        P::minus(over, under),
-    ]
 }
 
 /// `g` (a world gradient) times `sign`, normalized, as `f32`; [`PENDING`]

@@ -2,8 +2,9 @@
 //! the worker that triangulates the slab, chunk by chunk as the layers are
 //! finished.
 
-use super::by_edge::{outward, Aligned, BlockEdges, EdgeNormals, IndexMap};
+use super::by_edge::{outward, BlockEdges, EdgeNormals};
 use super::gradient::Layer;
+use super::index_map::{Aligned, IndexMap};
 use super::locate::Locator;
 use super::on_edge::on_edge;
 use super::samples::{with_planes, Samples, Visit};

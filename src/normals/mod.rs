@@ -20,6 +20,8 @@
 //!   chunk, a vertex on an inner grid edge taken from its position straight
 //!   to the edge's two ends ([`on_edge`]), any other located in its chunk's
 //!   layer ([`locate`]), the planes around that layer held by a [`window`];
+//!   the arithmetic after a vertex's samples are read runs on a `batch`
+//!   of vertices at a time;
 //! * where the gradient vanishes or is not finite (plateaus, ties), the
 //!   angle-weighted average of the normals of the vertex's triangles,
 //!   which needs the chunks on both sides: [`pending`] resolves them one
@@ -28,9 +30,11 @@
 //! Each normal depends on the samples and the mesh only, so the output is
 //! the same for any number of threads, slab depth or split into parts.
 
+mod batch;
 pub mod by_edge;
 pub mod gradient;
 pub mod in_slab;
+mod index_map;
 pub mod locate;
 pub mod on_edge;
 pub mod pending;

@@ -19,7 +19,20 @@ fn is_pending(normal: &[f32; 3]) -> bool {
 /// Whether some normal of `chunk` is [`PENDING`]: [`FillPending`] will
 /// change the chunk (so encoding it before is wasted).
 pub fn has_pending(chunk: &Chunk) -> bool {
-    chunk.normals.iter().any(is_pending)
+    any_pending(&chunk.normals)
+}
+
+/// Whether any of `normals` is [`PENDING`]: whether any component is NaN
+/// (the others are finite), tested [`BLOCK`] normals at a time in vector
+/// registers. (Were a component of another normal NaN, [`resolve`] would
+/// find no pending vertex and change nothing.)
+fn any_pending(normals: &[[f32; 3]]) -> bool {
+    let (blocks, rest) = normals.as_chunks::<BLOCK>();
+    let nan = |any: bool, &c: &f32| any | c.is_nan();
+    blocks
+        .iter()
+        .any(|b| b.as_flattened().iter().fold(false, nan))
+        || rest.iter().any(is_pending)
 }
 
 /// A sink wrapper that gives every [`PENDING`] normal the angle-weighted
@@ -92,7 +105,7 @@ impl<'a> FillPending<'a> {
         let Some(mut current) = self.current.take() else {
             return Ok(None);
         };
-        if has_pending(&current) {
+        if any_pending(&current.normals) {
             resolve(self.previous.as_ref(), &mut current, next);
             // Bytes encoded before no longer hold its normals.
             current.encoded.clear();
@@ -187,18 +200,18 @@ fn resolve(previous: Option<&Chunk>, current: &mut Chunk, next: Option<&Chunk>) 
     let mut sums: Vec<[f64; 3]> = Vec::new();
     // The slot of each vertex's sum, `NONE` for a vertex not pending.
     let mut slot = vec![NONE; own];
-    // The first and last pending vertex.
-    let mut span = [usize::MAX, 0];
+    // The pending vertices, in order.
+    let mut pending = Vec::new();
     for (i, n) in current.normals.iter().enumerate() {
         if is_pending(n) {
             slot[i] = sums.len() as u32;
             sums.push([0.0; 3]);
-            span = [span[0].min(i), i];
+            pending.push(i);
         }
     }
-    if sums.is_empty() {
+    let (Some(&low), Some(&high)) = (pending.first(), pending.last()) else {
         return;
-    }
+    };
     // Chunks `previous`, `current`, `next` as one run of vertices:
     // a triangle's corners by their index from `previous`'s first vertex.
     let before = previous.map_or(0, |c| c.vertices.len());
@@ -208,7 +221,8 @@ fn resolve(previous: Option<&Chunk>, current: &mut Chunk, next: Option<&Chunk>) 
         before,
         own,
         slot: &slot,
-        span,
+        pending: &pending,
+        span: [low, high],
     };
     if let Some(previous) = previous {
         tables.scan(&previous.triangles, 0, &mut sums);
@@ -227,52 +241,94 @@ const NONE: u32 = u32::MAX;
 
 /// What [`resolve`] looks triangles up in: the three chunks as one run
 /// of vertices (`before` in the first, `own` in the second), the slot
-/// of each of the second's vertices and the first and last of them that
-/// is pending.
+/// of each of the second's vertices, those of them that are pending and
+/// the first and last of these.
 struct Tables<'a> {
     chunks: [Option<&'a Chunk>; 3],
     before: usize,
     own: usize,
     slot: &'a [u32],
+    pending: &'a [usize],
     span: [usize; 2],
 }
+
+/// Up to how many pending vertices [`Tables::scan`] looks for each of them
+/// in a block of triangles, rather than for the span between the first and
+/// the last.
+const FEW: usize = 8;
 
 impl Tables<'_> {
     /// Adds the triangles (corners offset by `shift` into the run) that
     /// have a pending corner to `sums`, in order.
     ///
-    /// A triangle none of whose corners lies between the first and the
-    /// last pending vertex is passed over with three comparisons, before
-    /// any lookup: pending vertices are few, and often close together.
+    /// Pending vertices are few: the triangles are tested [`BLOCK`] at a
+    /// time, in vector registers, and only a block with a corner that may
+    /// be pending is looked at triangle by triangle. The test compares
+    /// the corners with each pending vertex when there are at most
+    /// [`FEW`], else with the span between the first and the last.
     fn scan(&self, triangles: &[[u32; 3]], shift: usize, sums: &mut [[f64; 3]]) {
-        let (before, own, slot) = (self.before, self.own, self.slot);
-        // Corner `i` (as stored) is between the two iff
-        // `i - low <= width`, wrapping (`low` is not negative: `shift` is
-        // 0 or `before`).
-        let low = before + self.span[0] - shift;
-        let width = self.span[1] - self.span[0];
-        for tri in triangles {
-            let near = tri.iter().fold(false, |near, &i| {
-                near | ((i as usize).wrapping_sub(low) <= width)
-            });
-            if !near {
-                continue;
-            }
-            let tri = tri.map(|i| i as usize + shift);
-            let hit = tri.map(|i| {
-                let j = i.wrapping_sub(before);
-                if j < own {
-                    slot[j]
-                } else {
-                    NONE
+        let (blocks, rest) = triangles.as_chunks::<BLOCK>();
+        // The pending vertices as stored corners: no corner reaches one
+        // beyond `u32`.
+        let stored = |p: usize| u32::try_from(self.before + p - shift).ok();
+        if self.pending.len() <= FEW {
+            let targets: Vec<u32> = self.pending.iter().filter_map(|&p| stored(p)).collect();
+            for block in blocks {
+                let corners = block.as_flattened();
+                let hit = |&t: &u32| corners.iter().fold(0, |any, &i| any | u32::from(i == t));
+                if targets.iter().any(|t| hit(t) != 0) {
+                    self.visit_all(block, shift, sums);
                 }
-            });
-            if hit != [NONE; 3] {
-                add_triangle(self.chunks, before, own, tri, hit, sums);
             }
+            self.visit_all(rest, shift, sums);
+            return;
+        }
+        // Corner `i` (as stored) is between the two iff `i - low <= width`,
+        // wrapping: a corner below `low` wraps to more than `width` once
+        // that is cut to what is left above `low`.
+        let Some(low) = stored(self.span[0]) else {
+            return;
+        };
+        let width = (self.span[1] - self.span[0]).min((u32::MAX - low) as usize) as u32;
+        let near = |i: u32| u32::from(i.wrapping_sub(low) <= width);
+        for block in blocks {
+            if block.as_flattened().iter().fold(0, |any, &i| any | near(i)) != 0 {
+                self.visit_all(block, shift, sums);
+            }
+        }
+        self.visit_all(rest, shift, sums);
+    }
+
+    /// [`visit`](Self::visit) of each of `triangles`, in order.
+    fn visit_all(&self, triangles: &[[u32; 3]], shift: usize, sums: &mut [[f64; 3]]) {
+        for tri in triangles {
+            self.visit(tri, shift, sums);
+        }
+    }
+
+    /// Adds triangle `tri` (corners offset by `shift` into the run) to
+    /// `sums` if it has a pending corner.
+    #[inline(always)]
+    fn visit(&self, tri: &[u32; 3], shift: usize, sums: &mut [[f64; 3]]) {
+        let (before, own, slot) = (self.before, self.own, self.slot);
+        let tri = tri.map(|i| i as usize + shift);
+        let hit = tri.map(|i| {
+            let j = i.wrapping_sub(before);
+            if j < own {
+                slot[j]
+            } else {
+                NONE
+            }
+        });
+        if hit != [NONE; 3] {
+            add_triangle(self.chunks, before, own, tri, hit, sums);
         }
     }
 }
+
+/// How many triangles [`Tables::scan`], or normals [`any_pending`], tests
+/// at a time.
+const BLOCK: usize = 16;
 
 /// Adds the angle-weighted unit normal of triangle `tri` (corner indices
 /// into the run of vertices of `chunks`, `before` of them in the first and
@@ -317,6 +373,95 @@ fn add_triangle(
         let angle = twice_area.atan2(dot(u, v));
         for (sum, n) in sums[hit[k] as usize].iter_mut().zip(normal) {
             *sum += angle * n / twice_area;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bumpy sheet of `w` by `h` vertices, two triangles a square, with
+    /// the vertices `pending` marked pending and the others given `[1, 0, 0]`.
+    fn sheet(w: usize, h: usize, pending: &[usize]) -> Chunk {
+        let vertices: Vec<[f32; 3]> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f32, (i / w) as f32);
+                [x, y, (0.7 * x).sin() * (0.4 * y).cos()]
+            })
+            .collect();
+        let mut triangles = Vec::new();
+        for y in 0..h - 1 {
+            for x in 0..w - 1 {
+                let i = (y * w + x) as u32;
+                let (w32, next) = (w as u32, (y * w + x + 1) as u32);
+                triangles.push([i, next, i + w32]);
+                triangles.push([next, next + w32, i + w32]);
+            }
+        }
+        let mut normals = vec![[1.0, 0.0, 0.0]; w * h];
+        for &p in pending {
+            normals[p] = PENDING;
+        }
+        Chunk {
+            plane: 0,
+            vertices,
+            triangles,
+            normals,
+            labels: Vec::new(),
+            values: Vec::new(),
+        }
+    }
+
+    /// The angle-weighted normal at vertex `v` of `chunk`, from the
+    /// angles' cosines (another way than `add_triangle`'s).
+    fn expected(chunk: &Chunk, v: usize) -> [f64; 3] {
+        let p = |i: u32| chunk.vertices[i as usize].map(f64::from);
+        let mut sum = [0.0; 3];
+        for t in &chunk.triangles {
+            let Some(k) = t.iter().position(|&i| i as usize == v) else {
+                continue;
+            };
+            let (a, b, c) = (p(t[k]), p(t[(k + 1) % 3]), p(t[(k + 2) % 3]));
+            let n = cross(sub(p(t[1]), p(t[0])), sub(p(t[2]), p(t[0])));
+            let (u, w) = (sub(b, a), sub(c, a));
+            let cos = dot(u, w) / (dot(u, u) * dot(w, w)).sqrt();
+            let length = dot(n, n).sqrt();
+            for (s, c) in sum.iter_mut().zip(n) {
+                *s += cos.acos() * c / length;
+            }
+        }
+        let length = dot(sum, sum).sqrt();
+        sum.map(|c| c / length)
+    }
+
+    /// A few pending vertices (each compared with the corners) and many
+    /// (the span between the first and last), among more triangles than
+    /// fill whole blocks: every pending vertex gets its triangles'
+    /// angle-weighted normal, and no other normal changes.
+    #[test]
+    fn pending_vertices_get_their_triangles_normal() {
+        let (w, h) = (21, 16);
+        let few: Vec<usize> = vec![22, 160, 300];
+        let many: Vec<usize> = (0..w * h).filter(|i| i % 7 == 3).collect();
+        assert!(few.len() <= FEW && many.len() > FEW);
+        for pending in [few, many] {
+            let mut chunk = sheet(w, h, &pending);
+            assert!(!chunk.triangles.len().is_multiple_of(BLOCK));
+            resolve(None, &mut chunk, None);
+            for (i, n) in chunk.normals.iter().enumerate() {
+                if !pending.contains(&i) {
+                    assert_eq!(*n, [1.0, 0.0, 0.0], "vertex {i}");
+                    continue;
+                }
+                let want = expected(&chunk, i);
+                for k in 0..3 {
+                    assert!(
+                        (f64::from(n[k]) - want[k]).abs() < 1e-5,
+                        "vertex {i}: {n:?} {want:?}"
+                    );
+                }
+            }
         }
     }
 }

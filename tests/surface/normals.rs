@@ -400,3 +400,35 @@ fn without_normals_the_mesh_has_none_and_is_unchanged() {
     let (empty, _) = extract(&vol, &params(100.0, Inside::High, false, 0)).unwrap();
     assert!(empty.vertices.is_empty() && empty.normals.is_empty());
 }
+
+/// Gradients too small or too large to square in `f64` (the distance
+/// from a point scaled by `2^-530` or `2^530`, exact in binary) take the
+/// normalization's slow path, among batches of vertices whose gradients
+/// are ordinary: the mesh is the unscaled field's to the bit and every
+/// normal is that field's, up to the rounding of the other path.
+#[test]
+fn tiny_and_huge_gradients_keep_their_normals() {
+    let grid = Grid::unit([26, 22, 19]);
+    let distance = |p: [f64; 3]| {
+        let d = sub(p, [12.3, 10.6, 9.2]);
+        dot(d, d).sqrt()
+    };
+    let plain = sampled(grid, distance);
+    let (mesh, normals) = mesh_and_normals(&plain, &params(7.5, Inside::Low, false, 1));
+    assert!(
+        mesh.vertices.len() > 1_000,
+        "{} vertices",
+        mesh.vertices.len()
+    );
+    for scale in [2f64.powi(-530), 2f64.powi(530)] {
+        let scaled = sampled(grid, |p| distance(p) * scale);
+        let p = params(7.5 * scale, Inside::Low, false, 1);
+        let (m, n) = mesh_and_normals(&scaled, &p);
+        assert_eq!(m.vertices, mesh.vertices, "scale {scale:e}");
+        assert_eq!(m.triangles, mesh.triangles, "scale {scale:e}");
+        for (i, (a, b)) in normals.iter().zip(&n).enumerate() {
+            let off = (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f32::max);
+            assert!(off < 1e-6, "vertex {i}: {a:?} and {b:?} at scale {scale:e}");
+        }
+    }
+}

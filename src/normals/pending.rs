@@ -410,6 +410,7 @@ mod tests {
             normals,
             labels: Vec::new(),
             values: Vec::new(),
+            encoded: Vec::new(),
         }
     }
 

@@ -125,7 +125,7 @@ impl SampleSource for NiftiVolume {
 
     /// Lends the stored plane as `RawVolume` does when the samples are not
     /// scaled, and a view of it computing the scaled samples when they are
-    /// ([`ScaledPlane`]): the slab loop then holds no `f64` copy of the
+    /// (`ScaledPlane`): the slab loop then holds no `f64` copy of the
     /// plane (8 bytes a sample, two planes a worker).
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
         let Some((slope, inter)) = self.scaling else {

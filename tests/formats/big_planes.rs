@@ -61,9 +61,17 @@ fn write_ball(path: &Path, header: &[u8], n: usize, nz: usize) {
 /// [`ball`] as a single-file NIfTI-1 (`.nii`, uint16, unscaled: slope 0).
 fn ball_nifti(dir: &Path, n: usize, nz: usize) -> PathBuf {
     let path = dir.join(format!("ball{n}.nii"));
+    write_ball(&path, &nifti_header([n, n, nz], 0.0), n, nz);
+    path
+}
+
+/// A single-file NIfTI-1 header of `dims` uint16 samples, unit spacing,
+/// `scl_slope` as given (0: unscaled).
+fn nifti_header(dims: [usize; 3], slope: f32) -> Vec<u8> {
     let mut h = vec![0u8; 352];
     h[0..4].copy_from_slice(&348i32.to_le_bytes());
-    for (i, d) in [3, n, n, nz, 1, 1, 1, 1].into_iter().enumerate() {
+    let [nx, ny, nz] = dims;
+    for (i, d) in [3, nx, ny, nz, 1, 1, 1, 1].into_iter().enumerate() {
         h[40 + 2 * i..][..2].copy_from_slice(&(d as i16).to_le_bytes());
     }
     h[70..72].copy_from_slice(&512i16.to_le_bytes()); // uint16
@@ -72,9 +80,9 @@ fn ball_nifti(dir: &Path, n: usize, nz: usize) -> PathBuf {
         h[76 + 4 * i..][..4].copy_from_slice(&1f32.to_le_bytes()); // pixdim
     }
     h[108..112].copy_from_slice(&352f32.to_le_bytes()); // vox_offset
+    h[112..116].copy_from_slice(&slope.to_le_bytes()); // scl_slope
     h[344..348].copy_from_slice(b"n+1\0");
-    write_ball(&path, &h, n, nz);
-    path
+    h
 }
 
 /// [`ball`] as a MetaImage: a `.mhd` header and its `.raw` samples.
@@ -138,23 +146,8 @@ fn tiff_stack(stack: &Path, dims: [usize; 2], planes: &[Vec<u16>], packbits: boo
 /// single-file NIfTI-1 whose samples are scaled: stored as twice the
 /// value, `scl_slope` 0.5, so they read as `planes`.
 fn scaled_nifti(path: &Path, dims: [usize; 2], planes: &[Vec<u16>]) -> PathBuf {
-    let mut h = vec![0u8; 352];
-    h[0..4].copy_from_slice(&348i32.to_le_bytes());
     let [nx, ny] = dims;
-    for (i, d) in [3, nx, ny, planes.len(), 1, 1, 1, 1]
-        .into_iter()
-        .enumerate()
-    {
-        h[40 + 2 * i..][..2].copy_from_slice(&(d as i16).to_le_bytes());
-    }
-    h[70..72].copy_from_slice(&512i16.to_le_bytes()); // uint16
-    h[72..74].copy_from_slice(&16i16.to_le_bytes()); // bitpix
-    for i in 0..4 {
-        h[76 + 4 * i..][..4].copy_from_slice(&1f32.to_le_bytes()); // pixdim
-    }
-    h[108..112].copy_from_slice(&352f32.to_le_bytes()); // vox_offset
-    h[112..116].copy_from_slice(&0.5f32.to_le_bytes()); // scl_slope
-    h[344..348].copy_from_slice(b"n+1\0");
+    let h = nifti_header([nx, ny, planes.len()], 0.5);
     let mut out = BufWriter::new(fs::File::create(path).unwrap());
     out.write_all(&h).unwrap();
     for plane in planes {

@@ -301,24 +301,27 @@ fn anonymous_memory_does_not_grow_with_the_plane() {
 
 /// Planes that must be decoded (PackBits TIFF slices, a Zarr array, with
 /// and without `--close`) are held in their own type, 2 bytes a sample
-/// here: going from 2048^2 to 6144^2 planes adds no more than five such
-/// planes (two per worker and the one a source keeps). Read into `f64`s,
-/// as they were before, the same runs took some 1 to 2.5 GiB more.
+/// here: going from 2048^2 to 6144^2 planes adds no more than a handful
+/// of such planes: for TIFF, two per worker and the one the source keeps
+/// (5); for Zarr, also the `threads + 2` layers its cache keeps, which a
+/// worker's held planes may have left (8). Read into `f64`s, as they were
+/// before, the same runs took 1 to 2.5 GiB more (Zarr `--close`: 23 such
+/// planes).
 #[test]
 fn decoded_planes_are_held_in_their_own_type() {
     type Writer = fn(&Path, usize, usize) -> PathBuf;
-    let formats: [(&str, Writer, &[&str]); 4] = [
-        ("TIFF PackBits", ball_packbits, &[]),
-        ("TIFF PackBits --close", ball_packbits, &["--close"]),
-        ("Zarr", ball_zarr, &[]),
-        ("Zarr --close", ball_zarr, &["--close"]),
+    let formats: [(&str, Writer, &[&str], f64); 4] = [
+        ("TIFF PackBits", ball_packbits, &[], 5.0),
+        ("TIFF PackBits --close", ball_packbits, &["--close"], 5.0),
+        ("Zarr", ball_zarr, &[], 8.0),
+        ("Zarr --close", ball_zarr, &["--close"], 8.0),
     ];
     // Two bytes a sample, from 2048^2 to 6144^2 samples.
     let plane_growth = ((6144 * 6144 - 2048 * 2048) * 2) as f64;
-    for (name, write, more) in formats {
+    for (name, write, more, planes) in formats {
         let grown = growth(name, write, more);
         assert!(
-            grown < 5.0 * plane_growth,
+            grown < planes * plane_growth,
             "{name}: 6144^2 planes took {:.1} MiB more than 2048^2 planes",
             grown / f64::from(1 << 20)
         );

@@ -60,9 +60,7 @@ pub struct TiffStack {
 /// What a [`TiffStack`] keeps between planes.
 #[derive(Debug, Default)]
 struct Cache {
-    /// The last decoded plane and its samples.
-    plane: Option<(usize, Vec<f64>)>,
-    /// The last plane decoded in its own type for the slab loop.
+    /// The last plane decoded, in its own type.
     shared: Option<(usize, SharedPlane)>,
     /// The decoder of the last file read, and that file.
     decoder: Option<(PathBuf, Decoder<BufReader<File>>)>,
@@ -306,38 +304,32 @@ pub fn open(path: &Path) -> Result<TiffStack> {
 }
 
 impl TiffStack {
-    /// Decodes the page of plane `z` into `out`, with the decoder in `kept`
-    /// if it is that of the page's file (else with a new one, kept in its
-    /// place; nothing is kept after an error).
-    fn decode(
-        &self,
-        z: usize,
-        out: &mut [f64],
-        kept: &mut Option<(PathBuf, Decoder<BufReader<File>>)>,
-    ) -> Result<()> {
-        let bytes = self.decode_bytes(z, kept)?;
-        let (file, index) = &self.pages[z];
-        let plane = LentPlane::from_bytes(self.scalar, &bytes).ok_or_else(|| {
-            Error::Format(format!(
-                "{} page {index}: {} bytes are not {} samples",
-                file.display(),
-                bytes.len(),
-                self.scalar.name()
-            ))
-        })?;
-        if plane.len() != out.len() {
-            return Err(Error::Invalid(format!(
-                "plane buffer holds {} samples, a page has {}",
-                out.len(),
-                plane.len()
-            )));
+    /// Plane `z` decoded into its own type: the last one decoded is kept
+    /// (both `read_plane` and the slab loop ask for it), and decoding runs
+    /// without the cache's lock, so two workers decode side by side (the
+    /// decoder is taken out of the cache meanwhile).
+    fn shared(&self, z: usize) -> Result<SharedPlane> {
+        let lock = || self.cache.lock().unwrap_or_else(|p| p.into_inner());
+        let mut kept = {
+            let mut cache = lock();
+            if let Some((cz, plane)) = &cache.shared {
+                if *cz == z {
+                    return Ok(plane.clone());
+                }
+            }
+            cache.decoder.take()
+        };
+        let bytes = self.decode_bytes(z, &mut kept)?;
+        let len = bytes.len();
+        let plane = SharedPlane::new(Arc::new(bytes), 0..len, self.scalar);
+        let mut cache = lock();
+        cache.shared = Some((z, plane.clone()));
+        if kept.is_some() {
+            cache.decoder = kept;
         }
-        plane.get_range(0, out);
-        Ok(())
+        Ok(plane)
     }
-}
 
-impl TiffStack {
     /// Decodes the page of plane `z` into a buffer of its own type (native
     /// byte order), with the decoder in `kept` if it is that of the page's
     /// file (else with a new one, left in `kept`).
@@ -385,22 +377,18 @@ impl SampleSource for TiffStack {
                 self.grid.plane_len()
             )));
         }
-        let mut cache = self.cache.lock().unwrap_or_else(|p| p.into_inner());
-        let Cache { plane, decoder, .. } = &mut *cache;
-        if let Some((cz, samples)) = plane.as_ref() {
-            if *cz == z {
-                out.copy_from_slice(samples);
-                return Ok(());
-            }
-        }
-        self.decode(z, out, decoder)?;
-        match plane.as_mut() {
-            Some((cz, samples)) => {
-                *cz = z;
-                samples.copy_from_slice(out);
-            }
-            None => *plane = Some((z, out.to_vec())),
-        }
+        let plane = self.shared(z)?;
+        let (file, index) = &self.pages[z];
+        let lent = plane.lent().filter(|p| p.len() == out.len());
+        let lent = lent.ok_or_else(|| {
+            Error::Format(format!(
+                "{} page {index}: not {} {} samples",
+                file.display(),
+                out.len(),
+                self.scalar.name()
+            ))
+        })?;
+        lent.get_range(0, out);
         Ok(())
     }
 
@@ -426,29 +414,7 @@ impl SampleSource for TiffStack {
         if z >= self.grid.dims[2] {
             return None;
         }
-        let lock = || self.cache.lock().unwrap_or_else(|p| p.into_inner());
-        let mut kept = {
-            let mut cache = lock();
-            if let Some((cz, plane)) = &cache.shared {
-                if *cz == z {
-                    return Some(plane.clone());
-                }
-            }
-            cache.decoder.take()
-        };
-        // Decoded without the lock: another worker decodes beside it.
-        let bytes = self.decode_bytes(z, &mut kept).ok()?;
-        let plane = SharedPlane::new(
-            Arc::new(bytes),
-            0..self.grid.plane_len() * self.scalar.size(),
-            self.scalar,
-        );
-        let mut cache = lock();
-        cache.shared = Some((z, plane.clone()));
-        if kept.is_some() {
-            cache.decoder = kept;
-        }
-        Some(plane)
+        self.shared(z).ok()
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

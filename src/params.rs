@@ -104,10 +104,12 @@ pub struct PipelineOptions<'a> {
     pub max_memory: Option<u64>,
     /// Appends one value per vertex of `vertices` to `values`; called with
     /// each chunk's vertices and its [`Chunk::values`](crate::Chunk::values)
-    /// on the worker that made the chunk, so that a per-vertex quantity a
-    /// caller wants is computed by all the workers side by side, not by
-    /// the sink on the one writing thread (the Python package's
-    /// scikit-image `values`). Must not depend on which worker calls it.
+    /// on the worker that made the chunk, as soon as the slab loop has
+    /// made it (the samples near its vertices are then still in the
+    /// caches), so that a per-vertex quantity a caller wants is computed
+    /// by all the workers side by side, not by the sink on the one writing
+    /// thread (the Python package's scikit-image `values`). Must not
+    /// depend on which worker calls it.
     /// `None`: the chunks' `values` stay empty.
     pub vertex_values: Option<&'a VertexValues<'a>>,
 }

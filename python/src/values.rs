@@ -43,17 +43,19 @@ pub(crate) fn push_maxima(volume: &StridedVolume<'_>, vertices: &[[f32; 3]], out
 /// [`ON_GRID`]); `last_cell` is the axis' last cell index.
 #[inline(always)]
 fn locate(v: f32, per_sample: f64, last_cell: usize) -> (usize, bool) {
-    // Adding and subtracting 1.5 * 2^52 rounds to the nearest integer (for
-    // indices below 2^51, far beyond any grid): two additions, where
-    // f64::round and f64::floor are calls on baseline x86-64. `max` also
-    // turns a NaN into 0.
+    // Adding 1.5 * 2^52 rounds to the nearest integer, which is then the
+    // low bits of the sum (for indices below 2^31, far beyond any grid):
+    // two additions and no conversion, where f64::round and f64::floor are
+    // calls on baseline x86-64 and `as` checks for saturation. `max` also
+    // turns a NaN into 0; `min` keeps the index in the trick's range.
     const ROUND: f64 = 6_755_399_441_055_744.0;
+    const LIMIT: f64 = (1u64 << 31) as f64 - 1.0;
+    // Not `clamp`, which keeps a NaN.
     let index = (f64::from(v) * per_sample).max(0.0);
-    let nearest = (index + ROUND) - ROUND;
-    let off = index - nearest;
-    // Through i64, whose conversion is one instruction and a check, where
-    // usize's needs more; `index` is not negative, nor is `nearest`.
-    let nearest = nearest as i64 as usize;
+    let index = index.min(LIMIT);
+    let rounded = index + ROUND;
+    let off = index - (rounded - ROUND);
+    let nearest = rounded.to_bits() as u32 as usize;
     if off.abs() <= ON_GRID {
         (nearest.min(last_cell + 1), false)
     } else {

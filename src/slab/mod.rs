@@ -47,6 +47,6 @@ mod spares;
 mod window;
 
 pub(crate) use level::Level;
-pub use process::{process_slab, process_window};
+pub use process::{process_slab, process_window, PerVertex};
 pub use spares::{chunk_bytes, Spares};
 pub use window::Window;

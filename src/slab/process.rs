@@ -14,7 +14,7 @@ use crate::error::make_room;
 use crate::kernel::tables::tables;
 use crate::kernel::CellMesh;
 use crate::mesh::Chunk;
-use crate::params::ExtractParams;
+use crate::params::{ExtractParams, VertexValues};
 use crate::volume::{Access, SampleSource};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
@@ -27,27 +27,45 @@ use std::time::Instant;
 /// whoever writes them). With `params.normals` each chunk gets its
 /// vertices' normals from the gradient of `source`
 /// ([`SlabNormals`](crate::normals::SlabNormals)); the source must then
-/// hold the plane below the slab and the two above it too.
+/// hold the plane below the slab and the two above it too. With `values`
+/// each chunk's [`Chunk::values`] are filled as it is made.
 pub fn process_slab(
     source: &dyn SampleSource,
     params: &ExtractParams,
     layers: Range<usize>,
     spares: &Spares,
+    values: Option<&VertexValues>,
 ) -> Result<(Vec<Chunk>, Stats)> {
-    let gradients = params.normals.then_some(source);
-    process_window(source, params, layers, spares, None, gradients)
+    let per_vertex = PerVertex {
+        gradients: params.normals.then_some(source),
+        values,
+    };
+    process_window(source, params, layers, spares, None, per_vertex)
+}
+
+/// What the slab loop adds to each block's vertices besides their
+/// positions, as soon as the block is complete: its planes are then still
+/// in the caches, where a pass over the chunks after the slab would read
+/// every sample near a vertex from memory again.
+#[derive(Clone, Copy, Default)]
+pub struct PerVertex<'a> {
+    /// Normals from the gradient of this source, on the whole grid
+    /// (`None`: no normals).
+    pub gradients: Option<&'a dyn SampleSource>,
+    /// Fills each chunk's [`Chunk::values`]
+    /// ([`PipelineOptions::vertex_values`](crate::PipelineOptions::vertex_values)).
+    pub values: Option<&'a VertexValues<'a>>,
 }
 
 /// [`process_slab`] of a source that is a [`Window`] of a larger grid
-/// (`None`: the whole grid), the normals (none when `gradients` is `None`)
-/// from the gradient of `gradients`, a source on the whole grid.
+/// (`None`: the whole grid), with what `per_vertex` asks for each vertex.
 pub fn process_window(
     source: &dyn SampleSource,
     params: &ExtractParams,
     layers: Range<usize>,
     spares: &Spares,
     window: Option<&Window>,
-    gradients: Option<&dyn SampleSource>,
+    per_vertex: PerVertex,
 ) -> Result<(Vec<Chunk>, Stats)> {
     let grid = *source.grid();
     let [nx, ny, nz] = grid.dims;
@@ -91,7 +109,9 @@ pub fn process_window(
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     let interrupted = || source.interrupted();
-    let mut normals = gradients.map(|field| BlockNormals::new(field, params, place.offset[1], ny));
+    let mut normals = per_vertex
+        .gradients
+        .map(|field| BlockNormals::new(field, params, place.offset[1], ny));
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         ahead.reading(source, z + 1);
@@ -152,14 +172,18 @@ pub fn process_window(
             normals.fill(&bottom, Some((&z_first, z_end)), &mut block)?;
         }
         finished = (block.vertices.len(), block.triangles.len());
-        chunks.push(std::mem::replace(&mut block, next).into_chunk(z, mirrored));
+        let chunk = std::mem::replace(&mut block, next).into_chunk(z, mirrored);
+        chunks.push(with_values(chunk, per_vertex.values));
         std::mem::swap(&mut bottom, &mut top);
     }
     if layers.end == nz - 1 {
         if let Some(normals) = &mut normals {
             normals.fill(&bottom, None, &mut block)?;
         }
-        chunks.push(block.into_chunk(nz - 1, mirrored));
+        chunks.push(with_values(
+            block.into_chunk(nz - 1, mirrored),
+            per_vertex.values,
+        ));
     } else {
         spares.give_chunk(block.into_chunk(layers.end, mirrored));
     }
@@ -175,6 +199,14 @@ pub fn process_window(
     source.advise(layers.start..layers.end, Access::Done);
     stats.cell_seconds = start.elapsed().as_secs_f64() - stats.read_seconds;
     Ok((chunks, stats))
+}
+
+/// `chunk` with its [`Chunk::values`] filled by `values`, if given.
+fn with_values(mut chunk: Chunk, values: Option<&VertexValues>) -> Chunk {
+    if let Some(values) = values {
+        values(&chunk.vertices, &mut chunk.values);
+    }
+    chunk
 }
 
 /// Appends the positions of the vertices on the z-edges between planes

@@ -28,7 +28,7 @@ use crate::error::try_filled;
 use crate::grid::Grid;
 use crate::mesh::{Chunk, MeshSink};
 use crate::params::{ExtractParams, Inside, PipelineOptions};
-use crate::slab::{process_window, Spares, Window};
+use crate::slab::{process_window, PerVertex, Spares, Window};
 use crate::volume::{plane_runs, Access, LentPlane, SampleSource};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
@@ -262,12 +262,22 @@ fn label_slab(
                     layers.clone(),
                     spares,
                     Some(&window),
-                    Some(&field),
+                    PerVertex {
+                        gradients: Some(&field),
+                        values: None,
+                    },
                 );
                 mark(whole, &codes, 0, [nx, area], [&xs, &ys]);
                 result?
             }
-            None => process_window(&view, p, layers.clone(), spares, Some(&window), None)?,
+            None => process_window(
+                &view,
+                p,
+                layers.clone(),
+                spares,
+                Some(&window),
+                PerVertex::default(),
+            )?,
         };
         results.push(result);
     }

@@ -22,7 +22,7 @@ use super::threads::{default_depth, thread_pool, worker_threads};
 use crate::grid::Grid;
 use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink};
 use crate::normals::{has_pending, FillPending};
-use crate::params::{ExtractParams, PipelineOptions, Progress};
+use crate::params::{ExtractParams, PipelineOptions, Progress, VertexValues};
 use crate::slab::{chunk_bytes, process_slab, Spares};
 use crate::volume::{Access, HeldPlanes, LentPlane, Padded, SampleSource, ScalarType, SharedPlane};
 use crate::{Error, Result, Stats};
@@ -239,14 +239,18 @@ pub(crate) fn run_pass(
         );
         let source: &dyn SampleSource = &held;
         let mut results = match &work {
-            Some(work) => (work.run)(source, layers, &spares)?,
-            None => slab_for_each(source, params, layers, &spares)?,
-        };
-        if let Some(values) = options.vertex_values {
-            for chunk in results.iter_mut().flat_map(|(chunks, _)| chunks) {
-                values(&chunk.vertices, &mut chunk.values);
+            Some(work) => {
+                let mut results = (work.run)(source, layers, &spares)?;
+                if let Some(values) = options.vertex_values {
+                    for chunk in results.iter_mut().flat_map(|(chunks, _)| chunks) {
+                        values(&chunk.vertices, &mut chunk.values);
+                    }
+                }
+                results
             }
-        }
+            // The slab loop fills the values block by block.
+            None => slab_for_each(source, params, layers, &spares, options.vertex_values)?,
+        };
         encode_chunks(&mut results, &encoders)?;
         Ok(results)
     };
@@ -359,24 +363,26 @@ fn mesh_bytes(results: &[(Vec<Chunk>, Stats)]) -> u64 {
 }
 
 /// Triangulates cell layers `layers` for every entry of `params`, the
-/// planes staying resident from the first isovalue to the last.
+/// planes staying resident from the first isovalue to the last, each
+/// chunk's values filled by `values` if given.
 fn slab_for_each(
     source: &dyn SampleSource,
     params: &[ExtractParams],
     layers: Range<usize>,
     spares: &Spares,
+    values: Option<&VertexValues>,
 ) -> Result<Vec<(Vec<Chunk>, Stats)>> {
     if let [single] = params {
         // One isovalue: exactly the single-surface path.
-        return Ok(vec![process_slab(source, single, layers, spares)?]);
+        return Ok(vec![process_slab(source, single, layers, spares, values)?]);
     }
     let (last, others) = params.split_last().expect("several isovalues");
     let keep = KeepResident { inner: source };
     let mut results = Vec::with_capacity(params.len());
     for p in others {
-        results.push(process_slab(&keep, p, layers.clone(), spares)?);
+        results.push(process_slab(&keep, p, layers.clone(), spares, values)?);
     }
-    results.push(process_slab(source, last, layers, spares)?);
+    results.push(process_slab(source, last, layers, spares, values)?);
     Ok(results)
 }
 

@@ -3,9 +3,11 @@
 //! per label (`{label}` in `-o`) or one PLY or `.tmesh` with a per-face
 //! label; with `--part I/N`, one part file per label.
 //!
-//! The values are counted first ([`tmc::volume::scan_labels`]: one reading
-//! of the volume, plane by plane, which also refuses a sample that is not a
-//! whole number); `all` is every value present but the background.
+//! The values are counted first ([`tmc::volume::scan_labels_on`]: one
+//! reading of the volume, plane by plane on `--threads` threads, which also
+//! refuses a sample that is not a whole number); `all` is every value
+//! present but the background. The label files are finished after the
+//! pass, several at once ([`finish_all`]).
 
 use super::extract_args::ExtractArgs;
 use super::monitor::Monitor;
@@ -113,8 +115,8 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     check_grid(input, &grid, args.close)?;
     refuse_overlaps(input, &source.notes().overlapping_segments)?;
     let scan_start = Instant::now();
-    let counts =
-        tmc::volume::scan_labels(source.as_ref(), cancel).map_err(|e| name_input(input, e))?;
+    let counts = tmc::volume::scan_labels_on(source.as_ref(), cancel, args.threads.unwrap_or(0))
+        .map_err(|e| name_input(input, e))?;
     let scan_seconds = scan_start.elapsed().as_secs_f64();
     let labels = match spec {
         "all" => counts.labels_except(background),
@@ -145,8 +147,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         for data in source.data_files() {
             check_distinct(data, output)?;
         }
-        tmc::export::check_output_path(output)?;
     }
+    // One file created and removed per directory, not per label.
+    tmc::export::check_output_paths(outputs.iter().map(PathBuf::as_path))?;
     // One file: each label goes to a .tmesh in a temporary directory beside
     // the output, assembled into the one file at the end.
     let spool = match per_label {
@@ -184,22 +187,23 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     };
     let mut sinks = Vec::with_capacity(labels.len());
     for (target, &label) in targets.iter().zip(&labels) {
-        let inner: Box<dyn MeshSink> = match &record {
+        let inner = match &record {
             Some(record) => {
                 let record = tmc::part::PartRecord {
                     label: Some(label),
                     ..record.clone()
                 };
-                Box::new(tmc::part::PartWriter::create(target, record)?)
+                Inner::Send(Box::new(tmc::part::PartWriter::create(target, record)?))
             }
-            None if target.extension().is_some_and(|e| e == "tmesh") => Box::new(
+            None if target.extension().is_some_and(|e| e == "tmesh") => Inner::Send(Box::new(
                 tmc::meshfile::TmeshWriter::create_buffered(target, label_buffer(labels.len()))?,
-            ),
-            None => tmc::export::create_sink(target)?,
+            )),
+            None => Inner::Local(tmc::export::create_sink(target)?),
         };
         sinks.push(Measured {
             inner,
             mesh: measure.then(MeshBuilder::default),
+            totals: None,
         });
     }
     let mut dyn_sinks: Vec<&mut dyn MeshSink> =
@@ -218,6 +222,8 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         part,
         &mut dyn_sinks,
     )?;
+    drop(dyn_sinks);
+    finish_all(&mut sinks, cancel)?;
     monitor.finish();
     if let Some(dir) = spool {
         let parts: Vec<(u32, &Path)> = labels
@@ -379,11 +385,31 @@ fn write_table(reports: &[LabelReport]) -> std::io::Result<()> {
     Ok(())
 }
 
-/// A sink that also collects the mesh for `--stats` (components, genus,
-/// area and volume need the whole label mesh).
+/// A label's sink: its file's, and the mesh for `--stats` (components,
+/// genus, area and volume need the whole label mesh). The pass's `finish`
+/// only notes the totals: the files are finished after the pass, all
+/// labels at once ([`finish_all`]).
 struct Measured {
-    inner: Box<dyn MeshSink>,
+    inner: Inner,
     mesh: Option<MeshBuilder>,
+    /// What the pass's `finish` was given.
+    totals: Option<Totals>,
+}
+
+/// A label's file sink: one that may be finished on another thread (the
+/// `.tmesh` and part writers), or one that may not.
+enum Inner {
+    Send(Box<dyn MeshSink + Send>),
+    Local(Box<dyn MeshSink>),
+}
+
+impl Inner {
+    fn sink(&mut self) -> &mut dyn MeshSink {
+        match self {
+            Inner::Send(sink) => &mut **sink,
+            Inner::Local(sink) => &mut **sink,
+        }
+    }
 }
 
 impl MeshSink for Measured {
@@ -391,38 +417,97 @@ impl MeshSink for Measured {
         if let Some(m) = &mut self.mesh {
             m.begin(info)?;
         }
-        self.inner.begin(info)
+        self.inner.sink().begin(info)
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
         if let Some(m) = &mut self.mesh {
             m.chunk(base, chunk)?;
         }
-        self.inner.chunk(base, chunk)
+        self.inner.sink().chunk(base, chunk)
     }
 
     fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
         if let Some(m) = &mut self.mesh {
             m.chunk(base, chunk)?;
         }
-        self.inner.chunk_cancellable(base, chunk, cancel)
+        self.inner.sink().chunk_cancellable(base, chunk, cancel)
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
         if let Some(m) = &mut self.mesh {
             m.finish(totals)?;
         }
-        self.inner.finish(totals)
-    }
-
-    fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
-        if let Some(m) = &mut self.mesh {
-            m.finish(totals)?;
-        }
-        self.inner.finish_cancellable(totals, cancel)
+        self.totals = Some(*totals);
+        Ok(())
     }
 
     fn encoder(&self) -> Option<ChunkEncoder> {
-        self.inner.encoder()
+        match &self.inner {
+            Inner::Send(sink) => sink.encoder(),
+            Inner::Local(sink) => sink.encoder(),
+        }
     }
+}
+
+/// The most threads that finish label files at once.
+const FINISHING_THREADS: usize = 16;
+
+/// Finishes the file of every label (the pass has given each its totals):
+/// those that may go to another thread on up to [`FINISHING_THREADS`]
+/// threads, the others in turn. Finishing a file is mostly waiting for the
+/// disk (the last bytes written, the file synced, renamed into place), and
+/// one file after another, hundreds of them took longer than the pass.
+/// Each file is finished or removed as in the pass; the error returned is
+/// that of the first label in order that failed.
+fn finish_all(sinks: &mut [Measured], cancel: Option<&AtomicBool>) -> Result<()> {
+    let never = AtomicBool::new(false);
+    let cancel = cancel.unwrap_or(&never);
+    let mut results: Vec<Result<()>> = Vec::with_capacity(sinks.len());
+    let mut moving = Vec::new();
+    for (i, measured) in sinks.iter_mut().enumerate() {
+        let totals = measured
+            .totals
+            .ok_or_else(|| Error::Invalid("a label's mesh was not finished".into()))?;
+        results.push(Ok(()));
+        match &mut measured.inner {
+            Inner::Send(sink) => moving.push((i, sink, totals)),
+            Inner::Local(sink) => results[i] = sink.finish_cancellable(&totals, cancel),
+        }
+    }
+    let threads = moving.len().min(FINISHING_THREADS);
+    let queue = std::sync::Mutex::new(moving.into_iter());
+    // Each thread takes the next file until none is left; this one too, so
+    // that all are finished should no thread start.
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let next = queue
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .next();
+            let Some((i, sink, totals)) = next else {
+                return done;
+            };
+            done.push((i, sink.finish_cancellable(&totals, cancel)));
+        }
+    };
+    let finished: Vec<(usize, Result<()>)> = std::thread::scope(|scope| {
+        let helpers: Vec<_> = (1..threads)
+            .filter_map(|_| std::thread::Builder::new().spawn_scoped(scope, work).ok())
+            .collect();
+        let mut finished = work();
+        for helper in helpers {
+            finished.extend(
+                helper
+                    .join()
+                    .unwrap_or_else(|p| std::panic::resume_unwind(p)),
+            );
+        }
+        finished
+    });
+    for (i, result) in finished {
+        results[i] = result;
+    }
+    results.into_iter().collect()
 }

@@ -95,6 +95,15 @@ pub fn check_output_path(path: &Path) -> Result<()> {
     check_output_file(path)
 }
 
+/// [`check_output_path`] for each of `paths`, each directory tried once
+/// (see [`check_output_files`](crate::files::check_output_files)).
+pub fn check_output_paths<'p>(paths: impl IntoIterator<Item = &'p Path> + Clone) -> Result<()> {
+    for path in paths.clone() {
+        Format::from_path(path)?;
+    }
+    crate::files::check_output_files(paths)
+}
+
 /// Rejects triangles that name a vertex the mesh does not have.
 fn check_mesh_indices(path: &Path, mesh: &Mesh) -> Result<()> {
     let n = mesh.vertices.len();

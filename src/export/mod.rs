@@ -29,7 +29,7 @@ mod stl;
 // Their home is `crate::files`; these paths are kept for the callers that
 // used them when they lived here.
 pub use crate::files::{check_output_file, fatal_cleanup, write_atomically, AtomicFile};
-pub use by_extension::{check_output_path, create_sink, write_mesh, Format};
+pub use by_extension::{check_output_path, check_output_paths, create_sink, write_mesh, Format};
 pub use labelled::write_labelled;
 pub use obj::{write_obj, Obj, ObjSink};
 pub use off::{write_off, Off, OffSink};

@@ -13,4 +13,6 @@ mod paths;
 
 pub(crate) use atomic::without_temp_path;
 pub use atomic::{write_atomically, AtomicFile};
-pub use paths::{check_distinct, check_input_kind, check_output_file, lowercase_extension};
+pub use paths::{
+    check_distinct, check_input_kind, check_output_file, check_output_files, lowercase_extension,
+};

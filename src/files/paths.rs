@@ -3,6 +3,7 @@
 
 use super::atomic::{parent_dir, without_temp_path};
 use crate::{Error, Result};
+use std::collections::BTreeSet;
 use std::fs;
 use std::path::Path;
 
@@ -43,6 +44,26 @@ pub fn check_input_kind(path: &Path) -> Result<()> {
 /// written to `path`: it is not a directory, and its parent directory exists
 /// and accepts new files.
 pub fn check_output_file(path: &Path) -> Result<()> {
+    check_output_files([path])
+}
+
+/// [`check_output_file`] for each of `paths`, each directory tried (a file
+/// created in it and removed) once, however many of the outputs it is to
+/// hold (one per label of a label map).
+pub fn check_output_files<'p>(paths: impl IntoIterator<Item = &'p Path>) -> Result<()> {
+    let mut tried = BTreeSet::new();
+    for path in paths {
+        let dir = output_dir(path)?;
+        if tried.insert(dir) {
+            try_writing(path, dir)?;
+        }
+    }
+    Ok(())
+}
+
+/// The directory `path` is to be written in: refused when `path` is a
+/// directory, or the directory does not exist.
+fn output_dir(path: &Path) -> Result<&Path> {
     if path.is_dir() {
         return Err(Error::Invalid(format!(
             "{}: is a directory, not an output file",
@@ -51,23 +72,23 @@ pub fn check_output_file(path: &Path) -> Result<()> {
     }
     let dir = parent_dir(path);
     match fs::metadata(dir) {
-        Ok(meta) if meta.is_dir() => {}
-        Ok(_) => {
-            return Err(Error::Invalid(format!(
-                "{}: output directory {} is not a directory",
-                path.display(),
-                dir.display()
-            )))
-        }
-        Err(_) => {
-            return Err(Error::Invalid(format!(
-                "{}: output directory {} does not exist",
-                path.display(),
-                dir.display()
-            )))
-        }
+        Ok(meta) if meta.is_dir() => Ok(dir),
+        Ok(_) => Err(Error::Invalid(format!(
+            "{}: output directory {} is not a directory",
+            path.display(),
+            dir.display()
+        ))),
+        Err(_) => Err(Error::Invalid(format!(
+            "{}: output directory {} does not exist",
+            path.display(),
+            dir.display()
+        ))),
     }
-    // The only reliable test of writability is to create a file there.
+}
+
+/// Refuses `dir` (where `path` is to go) unless a file can be created in
+/// it: the only reliable test of writability.
+fn try_writing(path: &Path, dir: &Path) -> Result<()> {
     tempfile::Builder::new()
         .prefix(".tmc-probe-")
         .suffix(".tmp")

@@ -21,10 +21,10 @@
 //! own region of the volume cost about their region, not the volume.
 //! Memory per worker: the codes (2 bytes per sample of the slab's planes)
 //! and one label's indicator (1 byte per sample of its rectangle), whatever
-//! the number of labels.
+//! the number of labels; both are kept for the worker's next slab.
 
 use super::pass::{run_pass, SlabWork};
-use crate::error::try_filled;
+use crate::error::make_room;
 use crate::grid::Grid;
 use crate::mesh::{Chunk, MeshSink};
 use crate::params::{ExtractParams, Inside, PipelineOptions};
@@ -32,6 +32,7 @@ use crate::slab::{process_window, PerVertex, Spares, Window};
 use crate::volume::{plane_runs, Access, LentPlane, SampleSource};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
+use std::sync::{Mutex, PoisonError};
 
 /// The code of `--close`'s border of NaN samples (a tie: outside every
 /// label, as in each label's padded indicator).
@@ -86,14 +87,26 @@ pub fn extract_labels_to(
             pair[0].0
         )));
     }
+    let lookup = Lookup::new(lookup);
     let each = ExtractParams {
         iso: 0.5,
         inside: Inside::High,
         ..params.clone()
     };
     let all = vec![each; labels.len()];
+    // The codes and indicator buffers of finished slabs, for the next
+    // (as many as slabs run at once): a slab's codes are written afresh
+    // over the last one's, not zeroed nor faulted in again.
+    let scratch: Mutex<Vec<Scratch>> = Mutex::new(Vec::new());
     let run = |source: &dyn SampleSource, layers: Range<usize>, spares: &Spares| {
-        label_slab(source, &lookup, &all, layers, spares)
+        let take = || scratch.lock().unwrap_or_else(PoisonError::into_inner).pop();
+        let mut buffers = take().unwrap_or_default();
+        let result = label_slab(source, &lookup, &all, layers, spares, &mut buffers);
+        scratch
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push(buffers);
+        result
     };
     // Codes of the slab's planes (2 bytes a sample, a slab of up to 64
     // layers) and one indicator (1 byte): counted as 4 of the slab loop's
@@ -106,19 +119,56 @@ pub fn extract_labels_to(
     run_pass(source, &all, options, part, sinks, Some(work))
 }
 
-/// The code of value `v`: its label's number in `lookup` (from 1), 0 for
-/// any other value (NaN too: no label).
-fn code_of(lookup: &[(i64, u16)], v: f64) -> u16 {
-    // Whole numbers in i64's range convert exactly; anything else is no
-    // label (`as` saturates, and the comparison catches it).
-    let l = v as i64;
-    if l as f64 != v {
-        return 0;
+/// The wanted labels and their numbers (from 1): `(label, number)`
+/// sorted by label, and for labels from 0 to 65535 the number by value.
+struct Lookup {
+    sorted: Vec<(i64, u16)>,
+    /// `direct[l]`: the number of label `l`, 0 for none (up to the
+    /// largest wanted label below 65536).
+    direct: Vec<u16>,
+}
+
+impl Lookup {
+    fn new(sorted: Vec<(i64, u16)>) -> Self {
+        let small = |&&(l, _): &&(i64, u16)| (0..1 << 16).contains(&l);
+        let len = sorted
+            .iter()
+            .filter(small)
+            .map(|&(l, _)| l as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut direct = vec![0; len];
+        for &(l, code) in sorted.iter().filter(small) {
+            direct[l as usize] = code;
+        }
+        Lookup { sorted, direct }
     }
-    match lookup.binary_search_by_key(&l, |&(label, _)| label) {
-        Ok(k) => lookup[k].1,
-        Err(_) => 0,
+
+    /// The code of value `v`: its label's number (from 1), 0 for any
+    /// other value (NaN too: no label).
+    fn code_of(&self, v: f64) -> u16 {
+        // Whole numbers in i64's range convert exactly; anything else is
+        // no label (`as` saturates, and the comparison catches it).
+        let l = v as i64;
+        if l as f64 != v {
+            return 0;
+        }
+        if let Some(&code) = usize::try_from(l).ok().and_then(|i| self.direct.get(i)) {
+            return code;
+        }
+        match self.sorted.binary_search_by_key(&l, |&(label, _)| label) {
+            Ok(k) => self.sorted[k].1,
+            Err(_) => 0,
+        }
     }
+}
+
+/// A worker's buffers for a slab's codes and a label's indicator, kept
+/// from one slab to the next.
+#[derive(Default)]
+struct Scratch {
+    codes: Vec<u16>,
+    indicator: Vec<u8>,
 }
 
 /// A label's rectangle in a slab's planes: inclusive x and y bounds.
@@ -139,10 +189,11 @@ impl Rect {
 /// module documentation).
 fn label_slab(
     source: &dyn SampleSource,
-    lookup: &[(i64, u16)],
+    lookup: &Lookup,
     params: &[ExtractParams],
     layers: Range<usize>,
     spares: &Spares,
+    scratch: &mut Scratch,
 ) -> Result<Vec<(Vec<Chunk>, Stats)>> {
     // The source is padded with NaN for `--close` (see `run_pass`).
     let close = params.first().is_some_and(|p| p.close);
@@ -161,7 +212,13 @@ fn label_slab(
         false => layers.end,
     };
     let planes = codes_to + 1 - codes_from;
-    let mut codes: Vec<u16> = try_filled("the label codes of a slab", planes * area, 0)?;
+    // Every sample's code is written below (the runs cover each row).
+    if scratch.codes.len() < planes * area {
+        let missing = planes * area - scratch.codes.len();
+        make_room(&mut scratch.codes, missing, "the label codes of a slab")?;
+        scratch.codes.resize(planes * area, 0);
+    }
+    let codes = &mut scratch.codes[..planes * area];
     let mut rects: Vec<Option<Rect>> = vec![None; params.len()];
     let mut values = Vec::new();
     for (k, z) in (codes_from..=codes_to).enumerate() {
@@ -169,8 +226,14 @@ fn label_slab(
         // Only the slab's own planes bound a label's cells.
         let own = layers.start <= z && z <= layers.end;
         plane_runs(source, z, &mut values, |y, x, end, v| {
-            let code = code_of(lookup, v);
-            plane[y * nx + x..y * nx + end].fill(code);
+            let code = lookup.code_of(v);
+            let run = &mut plane[y * nx + x..y * nx + end];
+            // Short runs (most of them) without a call to `memset`.
+            if run.len() < 32 {
+                run.iter_mut().for_each(|c| *c = code);
+            } else {
+                run.fill(code);
+            }
             if code != 0 && own {
                 let run = [x, end - 1];
                 match &mut rects[usize::from(code) - 1] {
@@ -193,7 +256,8 @@ fn label_slab(
     source.advise(layers.start..layers.end, Access::Done);
     let slab_planes = layers.len() + 1;
     let skip = (layers.start - codes_from) * area;
-    let mut indicator: Vec<u8> = Vec::new();
+    let codes = &*codes;
+    let indicator = &mut scratch.indicator;
     // With normals, every label's indicator over the whole planes: ties
     // where the codes say so, each label's 1s written over its window and
     // taken out again after its normals.
@@ -216,7 +280,7 @@ fn label_slab(
         let ys = rect.y[0].saturating_sub(1)..(rect.y[1] + 2).min(ny);
         let (wx, wy) = (xs.len(), ys.len());
         indicator.clear();
-        crate::error::make_room(&mut indicator, slab_planes * wx * wy, "a label's indicator")?;
+        make_room(indicator, slab_planes * wx * wy, "a label's indicator")?;
         for k in 0..slab_planes {
             for y in ys.clone() {
                 let row = &codes[skip + k * area + y * nx..][xs.clone()];
@@ -241,14 +305,14 @@ fn label_slab(
                 dims: [wx, wy, nz],
                 ..grid
             },
-            planes: &indicator,
+            planes: indicator,
             first: layers.start,
             ties,
             outer: source,
         };
         let result = match &mut whole {
             Some(whole) => {
-                mark(whole, &codes, code, [nx, area], [&xs, &ys]);
+                mark(whole, codes, code, [nx, area], [&xs, &ys]);
                 let field = Indicator {
                     grid,
                     planes: whole,
@@ -267,7 +331,7 @@ fn label_slab(
                         values: None,
                     },
                 );
-                mark(whole, &codes, 0, [nx, area], [&xs, &ys]);
+                mark(whole, codes, 0, [nx, area], [&xs, &ys]);
                 result?
             }
             None => process_window(

@@ -41,12 +41,93 @@ impl LabelCounts {
 /// Stops with [`Error::Interrupted`] once `cancel` is set (looked at every
 /// plane).
 pub fn scan_labels(source: &dyn SampleSource, cancel: Option<&AtomicBool>) -> Result<LabelCounts> {
-    const LIMIT: f64 = (1u64 << 53) as f64;
+    scan_labels_on(source, cancel, 1)
+}
+
+/// [`scan_labels`] on `threads` threads (0: one per core), each reading
+/// its own run of planes (one plane of `f64` each at most): the counts,
+/// and the error, are those of one thread reading them all (the first
+/// sample that is not a whole number in the file's order).
+pub fn scan_labels_on(
+    source: &dyn SampleSource,
+    cancel: Option<&AtomicBool>,
+    threads: usize,
+) -> Result<LabelCounts> {
     let nz = source.grid().dims[2];
+    let threads = match threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    }
+    .clamp(1, nz.max(1));
+    let per = nz.div_ceil(threads);
+    let ranges: Vec<std::ops::Range<usize>> = (0..threads)
+        .map(|i| (i * per).min(nz)..((i + 1) * per).min(nz))
+        .collect();
+    // A thread stops once a thread with earlier planes has failed (its
+    // error comes first); the ranges' results are merged in z order.
+    let failed_before = std::sync::atomic::AtomicUsize::new(usize::MAX);
+    let scan = |k: usize, range: std::ops::Range<usize>| {
+        let result = count_planes(source, cancel, range, || {
+            failed_before.load(Ordering::Relaxed) < k
+        });
+        if result.is_err() {
+            failed_before.fetch_min(k, Ordering::Relaxed);
+        }
+        result
+    };
+    let results: Vec<Result<BTreeMap<i64, u64>>> = match &ranges[..] {
+        [one] => vec![scan(0, one.clone())],
+        _ => std::thread::scope(|s| {
+            // This thread reads the first run of planes; one that does
+            // not start has its run read here too, after.
+            let scan = &scan;
+            let others: Vec<_> = ranges
+                .iter()
+                .enumerate()
+                .skip(1)
+                .map(|(k, r)| {
+                    let run = r.clone();
+                    let thread = std::thread::Builder::new()
+                        .spawn_scoped(s, move || scan(k, run))
+                        .ok();
+                    (k, r.clone(), thread)
+                })
+                .collect();
+            let mut results = vec![scan(0, ranges[0].clone())];
+            for (k, r, thread) in others {
+                results.push(match thread {
+                    Some(t) => t.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+                    None => scan(k, r),
+                });
+            }
+            results
+        }),
+    };
+    let mut counts: BTreeMap<i64, u64> = BTreeMap::new();
+    for result in results {
+        for (value, n) in result? {
+            *counts.entry(value).or_default() += n;
+        }
+    }
+    Ok(LabelCounts {
+        counts: counts.into_iter().collect(),
+    })
+}
+
+/// The counts of planes `planes` (see [`scan_labels`]); gives up, with
+/// [`Error::Interrupted`], once `cancel` is set or `give_up` says so
+/// (looked at every plane).
+fn count_planes(
+    source: &dyn SampleSource,
+    cancel: Option<&AtomicBool>,
+    planes: std::ops::Range<usize>,
+    give_up: impl Fn() -> bool,
+) -> Result<BTreeMap<i64, u64>> {
+    const LIMIT: f64 = (1u64 << 53) as f64;
     let mut plane = Vec::new();
     let mut counts: BTreeMap<i64, u64> = BTreeMap::new();
-    for z in 0..nz {
-        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+    for z in planes {
+        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) || give_up() {
             return Err(Error::Interrupted);
         }
         plane_runs(source, z, &mut plane, |y, x, end, v| {
@@ -59,9 +140,7 @@ pub fn scan_labels(source: &dyn SampleSource, cancel: Option<&AtomicBool>) -> Re
             Ok(())
         })?;
     }
-    Ok(LabelCounts {
-        counts: counts.into_iter().collect(),
-    })
+    Ok(counts)
 }
 
 /// Calls `f(y, x, end, value)` for every run of equal samples

@@ -65,3 +65,56 @@ fn runs_and_counts_match_the_samples_for_every_type_and_alignment() {
         }
     }
 }
+
+/// `scan_labels_on` at any number of threads: the counts a direct reading
+/// gives, and of two samples that are not whole numbers in different
+/// threads' planes, the first in the file's order named (whichever thread
+/// finds its own first).
+#[test]
+fn scan_on_threads_counts_and_names_the_first_fraction() {
+    use tmc::volume::scan_labels_on;
+    let dir = tempfile::tempdir().unwrap();
+    let dims = [7usize, 5, 12];
+    let xyz = |i: usize| [i % dims[0], i / dims[0] % dims[1], i / (dims[0] * dims[1])];
+    let whole = |i: usize| label(xyz(i));
+    let mut want: BTreeMap<i64, u64> = BTreeMap::new();
+    for i in 0..dims.iter().product::<usize>() {
+        *want.entry(whole(i) as i64).or_default() += 1;
+    }
+    let want: Vec<(i64, u64)> = want.into_iter().collect();
+    let raw = raw_volume(
+        dir.path(),
+        "whole.raw",
+        (dims, ScalarType::F32, Endian::native(), 0),
+        whole,
+    );
+    // Fractions at (1, 1, 4) and (3, 2, 9): in the planes of two threads
+    // (of three: planes 4-7 and 8-11; of two: 0-5 and 6-11), whichever
+    // comes to its own first.
+    let broken = |i: usize| match xyz(i) {
+        [1, 1, 4] => 0.25,
+        [3, 2, 9] => 2.5,
+        _ => whole(i),
+    };
+    let bad = raw_volume(
+        dir.path(),
+        "fractions.raw",
+        (dims, ScalarType::F32, Endian::native(), 0),
+        broken,
+    );
+    for threads in [0, 1, 2, 3, 5, 12, 40] {
+        let counts = scan_labels_on(&raw, None, threads).unwrap();
+        assert_eq!(counts.counts, want, "{threads} threads: counts");
+        let err = scan_labels_on(&bad, None, threads).unwrap_err().to_string();
+        assert!(
+            err.contains("sample (x 1, y 1, z 4) is 0.25"),
+            "{threads} threads: {err}"
+        );
+    }
+    // A cancelled scan stops, at any number of threads.
+    let cancel = std::sync::atomic::AtomicBool::new(true);
+    for threads in [1, 3] {
+        let err = scan_labels_on(&raw, Some(&cancel), threads).unwrap_err();
+        assert!(matches!(err, tmc::Error::Interrupted), "{threads}: {err}");
+    }
+}

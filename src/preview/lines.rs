@@ -62,6 +62,11 @@ struct AxisView {
     /// spacing in pixels; beyond it the nearest line's depth is taken (one
     /// surface in front of another).
     jump: f32,
+    /// Whether the lines are dense enough to draw the view: at most
+    /// [`SPARSE`] depth-buffer pixels apart on both screen axes (a grid of
+    /// a few dozen samples a side is rasterised instead: its silhouettes
+    /// would show the lines' steps, and its triangles are few).
+    dense: bool,
 }
 
 /// The three axis views' line depths; fed vertices by [`GridLines::add`],
@@ -109,6 +114,11 @@ impl GridLines {
         let views = [0, 1, 2].map(|v| {
             let across = AXES[v].1;
             let screen = [0, 1].map(|s| views[v].screen_axis(s, across[s]));
+            // The lines' spacing in depth-buffer pixels, the larger of the
+            // two screen axes'.
+            let apart = (0..2)
+                .map(|s| (screen[s].0 * grid.spacing[across[s]]).abs() / BLOCK as f64)
+                .fold(0.0, f64::max);
             let mut ids = [Vec::new(), Vec::new()];
             let mut pixels = [Vec::new(), Vec::new()];
             let mut width = [0usize; 2];
@@ -145,12 +155,13 @@ impl GridLines {
                 width,
                 keys: vec![EMPTY; width[0] * width[1]],
                 depth: [rows[2][0][v], rows[2][1][v], rows[2][2][v], rows[2][3][v]],
-                jump: (0..2)
-                    .map(|s| (screen[s].0 * grid.spacing[across[s]]).abs() / BLOCK as f64)
-                    .fold(1.0, f64::max) as f32
-                    * STEEP,
+                jump: apart.max(1.0) as f32 * STEEP,
+                dense: apart <= SPARSE,
             }
         });
+        if !views.iter().any(|v| v.dense) {
+            return None;
+        }
         Some(GridLines {
             views,
             origin: grid.origin,
@@ -178,7 +189,7 @@ impl GridLines {
             if on.count_ones() < 2 {
                 continue;
             }
-            for view in &mut self.views {
+            for view in self.views.iter_mut().filter(|v| v.dense) {
                 // On one of this view's lines: both screen coordinates whole.
                 let [h, w] = view.across;
                 if on >> h & 1 == 1 && on >> w & 1 == 1 {
@@ -196,6 +207,12 @@ impl GridLines {
                 *x = (*x).min(y);
             }
         }
+    }
+
+    /// Whether axis view `view` (0, 1 or 2) is drawn from the lines (else
+    /// its triangles must be rasterised).
+    pub fn dense(&self, view: usize) -> bool {
+        self.views[view].dense
     }
 
     /// The depth buffer (`DEPTH` by `DEPTH` keys, row by row) of axis view
@@ -271,6 +288,10 @@ impl AxisView {
     }
 }
 
+/// The widest spacing of the lines, in depth-buffer pixels, that a view
+/// is drawn from (see [`AxisView::dense`]).
+const SPARSE: f64 = 2.0;
+
 /// The steepest slope (depth over distance on screen) blended between
 /// lines: about 84 degrees from the viewing direction.
 const STEEP: f32 = 10.0;
@@ -282,17 +303,17 @@ mod tests {
     use super::*;
     use crate::{ArrayVolume, ExtractParams, Grid};
 
-    /// A ball of radius 30 (in samples) off the centre of a grid with
+    /// A ball of radius 60 (in samples) off the centre of a grid with
     /// unequal spacings and an origin away from zero, extracted (about a
     /// line a pixel or two).
     fn ball() -> (Grid, crate::Mesh) {
-        let dims = [90, 80, 70];
+        let dims = [180, 160, 140];
         let mut grid = Grid::unit(dims);
         grid.spacing = [1.0, 0.8, 1.5];
         grid.origin = [-3.5, 10.25, 2.0];
         let v = ArrayVolume::from_fn(dims, |i, j, k| {
-            let d = [i as f64 - 44.2, j as f64 - 39.6, k as f64 - 34.9];
-            30.0 - (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+            let d = [i as f64 - 89.2, j as f64 - 79.6, k as f64 - 69.9];
+            60.0 - (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
         });
         let data = v.data().to_vec();
         let volume = ArrayVolume::new(grid, data).unwrap();
@@ -312,6 +333,7 @@ mod tests {
         let (grid, mesh) = ball();
         let views = View::four(&Bounds::of_grid(&grid).unwrap());
         let mut lines = GridLines::new(&grid, &views).expect("an identity grid");
+        assert!((0..3).all(|v| lines.dense(v)));
         lines.add(&mesh.vertices);
         let mut raster = Raster::new();
         raster.draw(&views, &mesh.vertices, &mesh.triangles);
@@ -356,10 +378,15 @@ mod tests {
     }
 
     #[test]
-    fn a_rotated_grid_has_no_line_views() {
-        let mut grid = Grid::unit([4, 4, 4]);
-        grid.direction = [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
+    fn a_rotated_or_small_grid_has_no_line_views() {
+        let mut grid = Grid::unit([400, 400, 400]);
         let views = View::four(&Bounds::of_grid(&grid).unwrap());
+        assert!(GridLines::new(&grid, &views).is_some());
+        grid.direction = [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]];
         assert!(GridLines::new(&grid, &views).is_none());
+        // Lines some four pixels apart: the triangles are drawn.
+        let small = Grid::unit([60, 60, 60]);
+        let views = View::four(&Bounds::of_grid(&small).unwrap());
+        assert!(GridLines::new(&small, &views).is_none());
     }
 }

@@ -348,19 +348,14 @@ mod tests {
         assert!(drawn > (DEPTH - 30) * (DEPTH - 30), "{drawn}");
     }
 
-    #[test]
-    fn one_view_drawn_alone_has_the_pixels_of_four_drawn_together() {
-        let views = View::four(&Bounds {
-            min: [0.0; 3],
-            max: [1.0; 3],
-        });
-        // A bumpy sheet of small triangles, seen in every view.
-        let n = 120u32;
+    /// The unit square of x and z, `n` by `n` cells of two triangles, at
+    /// `y = height(x, z)`.
+    fn sheet(n: u32, height: impl Fn(f32, f32) -> f32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
         let mut v = Vec::new();
         for i in 0..=n {
             for j in 0..=n {
                 let (x, z) = (i as f32 / n as f32, j as f32 / n as f32);
-                v.push([x, 0.5 + 0.2 * (7.0 * x).sin() * (5.0 * z).cos(), z]);
+                v.push([x, height(x, z), z]);
             }
         }
         let at = |i: u32, j: u32| i * (n + 1) + j;
@@ -371,6 +366,17 @@ mod tests {
                 t.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
             }
         }
+        (v, t)
+    }
+
+    #[test]
+    fn one_view_drawn_alone_has_the_pixels_of_four_drawn_together() {
+        let views = View::four(&Bounds {
+            min: [0.0; 3],
+            max: [1.0; 3],
+        });
+        // A bumpy sheet of small triangles, seen in every view.
+        let (v, t) = sheet(120, |x, z| 0.5 + 0.2 * (7.0 * x).sin() * (5.0 * z).cos());
         let mut all = Raster::new();
         all.draw(&views, &v, &t);
         for view in 0..4 {
@@ -400,21 +406,7 @@ mod tests {
     fn tiny_triangles_cover_the_centres_they_contain_and_only_those() {
         let views = unit_views();
         // Many sub-pixel triangles tiling the square: no hole.
-        let n = 600;
-        let mut v = Vec::new();
-        for i in 0..=n {
-            for j in 0..=n {
-                v.push([i as f32 / n as f32, 0.5, j as f32 / n as f32]);
-            }
-        }
-        let at = |i: u32, j: u32| i * (n + 1) + j;
-        let mut t = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
-                t.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                t.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
+        let (v, t) = sheet(600, |_, _| 0.5);
         let mut fine = Raster::new();
         fine.draw(&views, &v, &t);
         let (sv, st) = square();

@@ -44,8 +44,9 @@ struct Workers {
 
 impl Workers {
     /// Starts `threads` raster workers and the topology worker. With
-    /// `lines`, the three axis views come from the vertices on grid lines
-    /// and only the oblique one is rasterised; without, all four are.
+    /// `lines`, the axis views whose lines are dense come from the
+    /// vertices on grid lines and the others are rasterised; without, all
+    /// four are.
     fn start(views: [View; 4], threads: usize, lines: Option<GridLines>) -> Workers {
         let (raster_tx, raster_rx) = bounded::<Arc<Job>>(2 * threads + 2);
         let rasters = (0..threads)
@@ -58,7 +59,9 @@ impl Workers {
                         match &mut lines {
                             Some(l) => {
                                 l.add(&job.vertices[..job.own as usize]);
-                                raster.draw_view(&views, 3, &job.vertices, &job.triangles);
+                                for view in (0..4).filter(|&v| v == 3 || !l.dense(v)) {
+                                    raster.draw_view(&views, view, &job.vertices, &job.triangles);
+                                }
                             }
                             None => raster.draw(&views, &job.vertices, &job.triangles),
                         }
@@ -116,7 +119,7 @@ impl Workers {
         }
         let (mut raster, lines) = merged.unwrap_or_default();
         if let Some(lines) = lines {
-            for view in 0..3 {
+            for view in (0..3).filter(|&v| lines.dense(v)) {
                 raster.set_tile(view, &lines.tile(view));
             }
         }

@@ -189,7 +189,8 @@ impl PreviewSink {
             title,
             bounds,
             grid_known: true,
-            // Each worker holds a depth buffer of 8 MiB.
+            // Each worker holds a depth buffer of 1 MiB and at most 3 MiB of
+            // line depths.
             threads: threads.clamp(1, MAX_WORKERS),
             iso: f64::NAN,
             workers: None,

@@ -64,7 +64,8 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
                 args.input.display()
             ))
         })?;
-    let mut sink = PreviewSink::new(args.output.clone(), title, Some(bounds), threads);
+    let mut sink =
+        PreviewSink::new(args.output.clone(), title, Some(bounds), threads).without_grid();
     let info = MeshInfo {
         grid: tmc::Grid::unit([1, 1, 1]),
         iso: f64::NAN,

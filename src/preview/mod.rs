@@ -7,7 +7,8 @@
 //! The files, in the order a chunk meets them: [`views`] (the projections,
 //! fitted to bounds known before the first triangle), [`sink`] (the
 //! [`MeshSink`](crate::MeshSink) that hands chunks to workers),
-//! [`raster`] (depth buffers keeping the smallest `(depth, shade)` key per
+//! [`lines`] (the three axis views of an extracted mesh from its vertices
+//! on grid lines, exact and without triangles), [`raster`] (depth buffers keeping the smallest `(depth, shade)` key per
 //! pixel: the pixels do not depend on the order of the triangles, hence
 //! not on threads, slabs or parts), [`topology`] (the closed/genus verdict,
 //! counted over a window of two chunks), [`picture`] (colours and the
@@ -16,6 +17,7 @@
 //! (`tmc compare --preview`).
 
 pub mod font;
+pub mod lines;
 pub mod pair;
 pub mod picture;
 pub mod png_out;

@@ -60,6 +60,8 @@ pub struct Raster {
     keys: Vec<u32>,
     /// Projected vertices of the batch being drawn (reused).
     projected: Vec<Projected>,
+    /// The same for [`Raster::draw_view`]: fixed-point x and y, depth.
+    one: Vec<(i32, i32, f32)>,
 }
 
 impl Default for Raster {
@@ -104,6 +106,7 @@ impl Raster {
         Raster {
             keys: vec![EMPTY; 4 * DEPTH * DEPTH],
             projected: Vec::new(),
+            one: Vec::new(),
         }
     }
 
@@ -117,6 +120,11 @@ impl Raster {
     #[inline]
     pub fn tile(&self, view: usize) -> &[u32] {
         &self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH]
+    }
+
+    /// Replaces the keys of view `view` by `keys` (`DEPTH` by `DEPTH`).
+    pub fn set_tile(&mut self, view: usize, keys: &[u32]) {
+        self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH].copy_from_slice(keys);
     }
 
     /// Keeps, per pixel, the smaller key of `self` and `other`.
@@ -165,6 +173,62 @@ impl Raster {
                 let bbox = [first[0][v], last[0][v], first[1][v], last[1][v]].map(int);
                 fill(tile, [corner(a), corner(b), corner(c)], bbox);
             }
+        }
+    }
+}
+
+impl Raster {
+    /// Draws `triangles` (indices into `vertices`) in view `view` of
+    /// `views` alone, with the same pixels as [`Raster::draw`] gives that
+    /// view: each vertex projected once (fixed-point x and y, depth), each
+    /// triangle rejected by its bounding box unless the box holds a pixel
+    /// centre (most triangles of a CT surface hold none).
+    pub fn draw_view(
+        &mut self,
+        views: &[View; 4],
+        view: usize,
+        vertices: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+    ) {
+        let rows = View::rows(views);
+        // Columns: the coefficients of world x, y, z and the offset in
+        // pixel x, pixel y and depth (a fourth lane unused): as `project`'s
+        // lanes, the same operations in the same order (the same numbers).
+        let column =
+            |c: usize| Vec4::new(rows[0][c][view], rows[1][c][view], rows[2][c][view], 0.0);
+        let (c0, c1, c2, c3) = (column(0), column(1), column(2), column(3));
+        let top = (DEPTH - 1) as f32;
+        let fixed = |v: f32| ((v.min(top) * SUB as f32 + SHIFT).to_bits() & 0x003f_ffff) as i32;
+        self.one.clear();
+        self.one.extend(vertices.iter().map(|p| {
+            let [x, y, d, _] = (c0 * p[0] + c1 * p[1] + c2 * p[2] + c3)
+                .max(Vec4::ZERO)
+                .to_array();
+            (fixed(x), fixed(y), d)
+        }));
+        let one = &self.one;
+        let tile = &mut self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH];
+        let shift = SUB.ilog2();
+        for t in triangles {
+            let (Some(&a), Some(&b), Some(&c)) = (
+                one.get(t[0] as usize),
+                one.get(t[1] as usize),
+                one.get(t[2] as usize),
+            ) else {
+                continue;
+            };
+            // The first pixel centre at or after the box's low corner, the
+            // last at or before its high one (the coordinates are not
+            // negative: shifts divide).
+            let x0 = (a.0.min(b.0).min(c.0) + SUB - 1) >> shift;
+            let x1 = a.0.max(b.0).max(c.0) >> shift;
+            let y0 = (a.1.min(b.1).min(c.1) + SUB - 1) >> shift;
+            let y1 = a.1.max(b.1).max(c.1) >> shift;
+            if x0 > x1 || y0 > y1 {
+                continue;
+            }
+            let bbox = [x0, x1, y0, y1].map(|v| v as usize);
+            fill(tile, [a, b, c], bbox);
         }
     }
 }
@@ -284,6 +348,45 @@ mod tests {
         assert!(drawn > (DEPTH - 30) * (DEPTH - 30), "{drawn}");
     }
 
+    /// The unit square of x and z, `n` by `n` cells of two triangles, at
+    /// `y = height(x, z)`.
+    fn sheet(n: u32, height: impl Fn(f32, f32) -> f32) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+        let mut v = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                let (x, z) = (i as f32 / n as f32, j as f32 / n as f32);
+                v.push([x, height(x, z), z]);
+            }
+        }
+        let at = |i: u32, j: u32| i * (n + 1) + j;
+        let mut t = Vec::new();
+        for i in 0..n {
+            for j in 0..n {
+                t.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                t.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        (v, t)
+    }
+
+    #[test]
+    fn one_view_drawn_alone_has_the_pixels_of_four_drawn_together() {
+        let views = View::four(&Bounds {
+            min: [0.0; 3],
+            max: [1.0; 3],
+        });
+        // A bumpy sheet of small triangles, seen in every view.
+        let (v, t) = sheet(120, |x, z| 0.5 + 0.2 * (7.0 * x).sin() * (5.0 * z).cos());
+        let mut all = Raster::new();
+        all.draw(&views, &v, &t);
+        for view in 0..4 {
+            let mut one = Raster::new();
+            one.draw_view(&views, view, &v, &t);
+            assert!(one.tile(view) == all.tile(view), "view {view}");
+            assert!(one.tile(view).iter().filter(|&&k| k != EMPTY).count() > 1000);
+        }
+    }
+
     #[test]
     fn a_face_turned_away_is_marked_back() {
         let views = unit_views();
@@ -303,21 +406,7 @@ mod tests {
     fn tiny_triangles_cover_the_centres_they_contain_and_only_those() {
         let views = unit_views();
         // Many sub-pixel triangles tiling the square: no hole.
-        let n = 600;
-        let mut v = Vec::new();
-        for i in 0..=n {
-            for j in 0..=n {
-                v.push([i as f32 / n as f32, 0.5, j as f32 / n as f32]);
-            }
-        }
-        let at = |i: u32, j: u32| i * (n + 1) + j;
-        let mut t = Vec::new();
-        for i in 0..n {
-            for j in 0..n {
-                t.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                t.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
+        let (v, t) = sheet(600, |_, _| 0.5);
         let mut fine = Raster::new();
         fine.draw(&views, &v, &t);
         let (sv, st) = square();

@@ -10,6 +10,7 @@
 //! ([`Topology`]). Channels between them are bounded, so memory is a few
 //! chunks and one depth buffer per worker, whatever the mesh.
 
+use super::lines::GridLines;
 use super::picture;
 use super::raster::Raster;
 use super::topology::{Topology, Verdict};
@@ -37,23 +38,35 @@ struct Job {
 struct Workers {
     raster_tx: Option<Sender<Arc<Job>>>,
     topology_tx: Option<Sender<Arc<Job>>>,
-    rasters: Vec<JoinHandle<Raster>>,
+    rasters: Vec<JoinHandle<(Raster, Option<GridLines>)>>,
     topology: Option<JoinHandle<Verdict>>,
 }
 
 impl Workers {
-    /// Starts `threads` raster workers and the topology worker.
-    fn start(views: [View; 4], threads: usize) -> Workers {
+    /// Starts `threads` raster workers and the topology worker. With
+    /// `lines`, the axis views whose lines are dense come from the
+    /// vertices on grid lines and the others are rasterised; without, all
+    /// four are.
+    fn start(views: [View; 4], threads: usize, lines: Option<GridLines>) -> Workers {
         let (raster_tx, raster_rx) = bounded::<Arc<Job>>(2 * threads + 2);
         let rasters = (0..threads)
             .map(|_| {
                 let rx = raster_rx.clone();
+                let mut lines = lines.clone();
                 std::thread::spawn(move || {
                     let mut raster = Raster::new();
                     for job in rx {
-                        raster.draw(&views, &job.vertices, &job.triangles);
+                        match &mut lines {
+                            Some(l) => {
+                                l.add(&job.vertices[..job.own as usize]);
+                                for view in (0..4).filter(|&v| v == 3 || !l.dense(v)) {
+                                    raster.draw_view(&views, view, &job.vertices, &job.triangles);
+                                }
+                            }
+                            None => raster.draw(&views, &job.vertices, &job.triangles),
+                        }
                     }
-                    raster
+                    (raster, lines)
                 })
             })
             .collect();
@@ -89,14 +102,25 @@ impl Workers {
     fn join(&mut self) -> (Raster, Verdict) {
         self.raster_tx = None;
         self.topology_tx = None;
-        let mut merged: Option<Raster> = None;
+        let mut merged: Option<(Raster, Option<GridLines>)> = None;
         for handle in self.rasters.drain(..) {
-            let raster = handle
+            let (raster, lines) = handle
                 .join()
                 .unwrap_or_else(|p| std::panic::resume_unwind(p));
             match &mut merged {
-                Some(m) => m.merge(&raster),
-                None => merged = Some(raster),
+                Some((m, l)) => {
+                    m.merge(&raster);
+                    if let (Some(l), Some(lines)) = (l, &lines) {
+                        l.merge(lines);
+                    }
+                }
+                None => merged = Some((raster, lines)),
+            }
+        }
+        let (mut raster, lines) = merged.unwrap_or_default();
+        if let Some(lines) = lines {
+            for view in (0..3).filter(|&v| lines.dense(v)) {
+                raster.set_tile(view, &lines.tile(view));
             }
         }
         let verdict = self
@@ -104,7 +128,7 @@ impl Workers {
             .take()
             .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
             .unwrap_or_default();
-        (merged.unwrap_or_default(), verdict)
+        (raster, verdict)
     }
 }
 
@@ -133,6 +157,9 @@ pub struct PreviewSink {
     path: Option<PathBuf>,
     title: String,
     bounds: Option<Bounds>,
+    /// Whether [`MeshInfo::grid`] is the grid the mesh was extracted from
+    /// (the axis views then come from its lines: [`GridLines`]).
+    grid_known: bool,
     threads: usize,
     iso: f64,
     workers: Option<Workers>,
@@ -161,7 +188,9 @@ impl PreviewSink {
             path: Some(path),
             title,
             bounds,
-            // Each worker holds a depth buffer of 8 MiB.
+            grid_known: true,
+            // Each worker holds a depth buffer of 1 MiB and at most 3 MiB of
+            // line depths.
             threads: threads.clamp(1, MAX_WORKERS),
             iso: f64::NAN,
             workers: None,
@@ -179,6 +208,14 @@ impl PreviewSink {
         let mut sink = PreviewSink::new(PathBuf::new(), title, bounds, threads);
         sink.path = None;
         sink
+    }
+
+    /// The sink for a mesh whose [`MeshInfo::grid`] is not the grid it was
+    /// extracted from (a mesh file without one): every view is rasterised
+    /// from the triangles.
+    pub fn without_grid(mut self) -> Self {
+        self.grid_known = false;
+        self
     }
 
     /// After `finish` of a sink made by [`PreviewSink::in_memory`]: the
@@ -232,7 +269,13 @@ impl MeshSink for PreviewSink {
             }
         };
         self.iso = info.iso;
-        self.workers = Some(Workers::start(View::four(&bounds), self.threads));
+        let views = View::four(&bounds);
+        let lines = if self.grid_known {
+            GridLines::new(&info.grid, &views)
+        } else {
+            None
+        };
+        self.workers = Some(Workers::start(views, self.threads, lines));
         Ok(())
     }
 

@@ -172,6 +172,17 @@ impl View {
         rows
     }
 
+    /// Screen axis `screen` (0: x, 1: y) of the view as a function of world
+    /// coordinate `axis` alone, in tile pixels: `(scale, offset)` with
+    /// `pixel = scale * world + offset` (a view along a world axis, whose
+    /// screen axes are world axes: [`View::four`]'s first three).
+    pub fn screen_axis(&self, screen: usize, axis: usize) -> (f64, f64) {
+        (
+            f64::from(self.axes[screen][axis]),
+            f64::from(self.offset[screen]),
+        )
+    }
+
     /// Pixel x, pixel y (tile coordinates, y down) and depth of `p`; the
     /// pixel `(i, j)` spans `i..i + 1` and `j..j + 1`.
     #[inline]

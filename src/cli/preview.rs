@@ -52,7 +52,8 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
     if tmc::files::lowercase_extension(&args.input) == "tmesh" {
         tmc::part::PartRecord::refuse_part(&args.input)?;
         let mut reader = TmeshReader::open(&args.input)?;
-        let mut sink = PreviewSink::new(args.output.clone(), title, None, threads);
+        let mut sink =
+            PreviewSink::new(args.output.clone(), title, None, threads).with_recorded_grid();
         tmc::export::replay_cancellable(&mut reader, &mut sink, cancel)?;
         return Ok(());
     }

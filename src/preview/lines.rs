@@ -24,9 +24,11 @@
 //!
 //! This needs vertices that sit on grid lines of a grid known up front: an
 //! extraction's, or a `.tmesh`'s recorded one, with the identity direction
-//! (a `.tmesh` records no direction cosines, so a rotated grid's
-//! `extract --preview` draws every view from triangles, as `tmc preview`
-//! of its `.tmesh` must). [`GridLines::new`] says when it can be used.
+//! ([`GridLines::new`] says when it can be used). A `.tmesh` records no
+//! direction cosines, so a rotated grid's `extract --preview` draws every
+//! view from triangles, and `tmc preview` of its `.tmesh`, which cannot
+//! tell, draws them both ways and keeps the lines only if the vertices
+//! were on them ([`GridLines::fit`]).
 
 use super::raster::EMPTY;
 use super::views::{View, BLOCK, DEPTH};
@@ -81,6 +83,9 @@ pub struct GridLines {
     /// One over the spacing.
     per_unit: [f64; 3],
     tolerance: [f64; 3],
+    /// Vertices added, and those on no grid line.
+    added: u64,
+    off_lines: u64,
 }
 
 /// Which views (0 front, 1 side, 2 top) look along which grid axis, and
@@ -167,6 +172,8 @@ impl GridLines {
             origin: grid.origin,
             per_unit: grid.spacing.map(|s| 1.0 / s),
             tolerance,
+            added: 0,
+            off_lines: 0,
         })
     }
 
@@ -177,6 +184,7 @@ impl GridLines {
         // number (for any index below 2^51): two additions, where
         // `f64::round` is a call on baseline x86-64.
         const ROUND: f64 = 6_755_399_441_055_744.0;
+        self.added += vertices.len() as u64;
         for &p in vertices {
             let mut index = [0i64; 3];
             let mut on = 0usize;
@@ -187,6 +195,7 @@ impl GridLines {
                 on |= usize::from((g - r).abs() <= self.tolerance[a]) << a;
             }
             if on.count_ones() < 2 {
+                self.off_lines += 1;
                 continue;
             }
             for view in self.views.iter_mut().filter(|v| v.dense) {
@@ -202,11 +211,22 @@ impl GridLines {
     /// Keeps, per line, the nearer depth of `self` and `other` (made by
     /// the same [`GridLines::new`]).
     pub fn merge(&mut self, other: &GridLines) {
+        self.added += other.added;
+        self.off_lines += other.off_lines;
         for (a, b) in self.views.iter_mut().zip(&other.views) {
             for (x, &y) in a.keys.iter_mut().zip(&b.keys) {
                 *x = (*x).min(y);
             }
         }
+    }
+
+    /// Whether the vertices added were those of a mesh extracted on this
+    /// grid: most of them on its lines (all but a TMC cell's interior
+    /// vertices). A `.tmesh` records no direction cosines, so a mesh
+    /// extracted on a rotated grid comes with an unrotated grid, and its
+    /// vertices miss the lines.
+    pub fn fit(&self) -> bool {
+        self.off_lines * 4 <= self.added
     }
 
     /// Whether axis view `view` (0, 1 or 2) is drawn from the lines (else

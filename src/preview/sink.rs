@@ -40,14 +40,18 @@ struct Workers {
     topology_tx: Option<Sender<Arc<Job>>>,
     rasters: Vec<JoinHandle<(Raster, Option<GridLines>)>>,
     topology: Option<JoinHandle<Verdict>>,
+    /// See [`Workers::start`].
+    checked: bool,
 }
 
 impl Workers {
     /// Starts `threads` raster workers and the topology worker. With
     /// `lines`, the axis views whose lines are dense come from the
     /// vertices on grid lines and the others are rasterised; without, all
-    /// four are.
-    fn start(views: [View; 4], threads: usize, lines: Option<GridLines>) -> Workers {
+    /// four are. `checked`: the lines' grid may not be the mesh's
+    /// ([`GridOfMesh::Recorded`]): all four views are rasterised too, and
+    /// the lines are used only if the vertices were on them.
+    fn start(views: [View; 4], threads: usize, lines: Option<GridLines>, checked: bool) -> Workers {
         let (raster_tx, raster_rx) = bounded::<Arc<Job>>(2 * threads + 2);
         let rasters = (0..threads)
             .map(|_| {
@@ -59,7 +63,7 @@ impl Workers {
                         match &mut lines {
                             Some(l) => {
                                 l.add(&job.vertices[..job.own as usize]);
-                                for view in (0..4).filter(|&v| v == 3 || !l.dense(v)) {
+                                for view in (0..4).filter(|&v| v == 3 || !l.dense(v) || checked) {
                                     raster.draw_view(&views, view, &job.vertices, &job.triangles);
                                 }
                             }
@@ -84,6 +88,7 @@ impl Workers {
             topology_tx: Some(topology_tx),
             rasters,
             topology: Some(topology),
+            checked,
         }
     }
 
@@ -118,7 +123,7 @@ impl Workers {
             }
         }
         let (mut raster, lines) = merged.unwrap_or_default();
-        if let Some(lines) = lines {
+        if let Some(lines) = lines.filter(|l| !self.checked || l.fit()) {
             for view in (0..3).filter(|&v| lines.dense(v)) {
                 raster.set_tile(view, &lines.tile(view));
             }
@@ -157,9 +162,8 @@ pub struct PreviewSink {
     path: Option<PathBuf>,
     title: String,
     bounds: Option<Bounds>,
-    /// Whether [`MeshInfo::grid`] is the grid the mesh was extracted from
-    /// (the axis views then come from its lines: [`GridLines`]).
-    grid_known: bool,
+    /// What [`MeshInfo::grid`] is to the mesh.
+    grid: GridOfMesh,
     threads: usize,
     iso: f64,
     workers: Option<Workers>,
@@ -170,6 +174,23 @@ pub struct PreviewSink {
     summary: Option<(usize, Verdict)>,
     /// The finished picture's RGB bytes, kept by a sink without a path.
     picture: Option<Vec<u8>>,
+}
+
+/// What the grid of [`MeshInfo`] is to the mesh a [`PreviewSink`] draws.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum GridOfMesh {
+    /// The grid it is being extracted on: its axis views come from the
+    /// grid lines when [`GridLines::new`] allows.
+    Extracted,
+    /// A `.tmesh`'s: the grid it was extracted on, but with the identity
+    /// direction whatever the direction was (the format keeps none). The
+    /// views are drawn both ways, and the lines kept only if the vertices
+    /// were on them ([`GridLines::fit`]): on an unrotated grid, the same
+    /// picture as the extraction's; on a rotated one, every view from the
+    /// triangles (framed by the unrotated grid's box).
+    Recorded,
+    /// A grid that says nothing of the mesh: every view rasterised.
+    Unknown,
 }
 
 impl PreviewSink {
@@ -188,7 +209,7 @@ impl PreviewSink {
             path: Some(path),
             title,
             bounds,
-            grid_known: true,
+            grid: GridOfMesh::Extracted,
             // Each worker holds a depth buffer of 1 MiB and at most 3 MiB of
             // line depths.
             threads: threads.clamp(1, MAX_WORKERS),
@@ -214,7 +235,17 @@ impl PreviewSink {
     /// extracted from (a mesh file without one): every view is rasterised
     /// from the triangles.
     pub fn without_grid(mut self) -> Self {
-        self.grid_known = false;
+        self.grid = GridOfMesh::Unknown;
+        self
+    }
+
+    /// The sink for a mesh whose [`MeshInfo::grid`] was recorded with it
+    /// (a `.tmesh`), without its direction: the axis views are drawn from
+    /// the triangles and from the grid lines, and the lines kept only if
+    /// the vertices were on them ([`GridLines::fit`]); a mesh extracted on
+    /// a rotated grid is then drawn from its triangles.
+    pub fn with_recorded_grid(mut self) -> Self {
+        self.grid = GridOfMesh::Recorded;
         self
     }
 
@@ -270,12 +301,12 @@ impl MeshSink for PreviewSink {
         };
         self.iso = info.iso;
         let views = View::four(&bounds);
-        let lines = if self.grid_known {
-            GridLines::new(&info.grid, &views)
-        } else {
-            None
+        let lines = match self.grid {
+            GridOfMesh::Unknown => None,
+            _ => GridLines::new(&info.grid, &views),
         };
-        self.workers = Some(Workers::start(views, self.threads, lines));
+        let checked = self.grid == GridOfMesh::Recorded;
+        self.workers = Some(Workers::start(views, self.threads, lines, checked));
         Ok(())
     }
 

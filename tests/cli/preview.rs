@@ -34,12 +34,21 @@ fn decode(path: &Path) -> (u32, u32, Vec<u8>) {
 /// Pixels of the four tiles (above the caption band) that are not
 /// background and not the grey of the tile borders or the white text.
 fn shown(path: &Path) -> usize {
+    shown_per_tile(path).iter().sum()
+}
+
+/// [`shown`] per tile: front, side (top row), top, oblique (bottom row).
+fn shown_per_tile(path: &Path) -> [usize; 4] {
     let (w, _, rgb) = decode(path);
-    let tiles = (w * w) as usize;
-    rgb.chunks(3)
-        .take(tiles)
-        .filter(|p| *p != BACKGROUND && *p != [80, 84, 92] && *p != [240, 240, 240])
-        .count()
+    let w = w as usize;
+    let mut counts = [0; 4];
+    for (i, p) in rgb.chunks(3).take(w * w).enumerate() {
+        if p != BACKGROUND && p != [80, 84, 92] && p != [240, 240, 240] {
+            let (x, y) = (i % w, i / w);
+            counts[usize::from(y >= w / 2) * 2 + usize::from(x >= w / 2)] += 1;
+        }
+    }
+    counts
 }
 
 /// With `TMC_PYTHON` set: Pillow's size, mode and non-background count of
@@ -187,6 +196,40 @@ fn threads_slabs_a_merged_split_and_tmc_preview_give_the_same_bytes() {
         fs::read(&from_parts).unwrap() == bytes,
         "merged split differs"
     );
+}
+
+/// A `.tmesh` keeps no direction cosines: `tmc preview` of one extracted on
+/// a rotated grid must not take its vertices for points of the unrotated
+/// grid's lines (they lie on none: the axis views would be a few dots), and
+/// draws every view from the triangles. (Its framing is the unrotated
+/// grid's box, not the extraction's rotated one, so the bytes differ.)
+#[test]
+fn tmc_preview_of_a_rotated_grid_draws_every_view() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Large enough for the unrotated grid's lines to be dense.
+    let plain = synth(d, "sphere", "131,120,141", "f32", "plain.nrrd");
+    let bytes = fs::read(&plain).unwrap();
+    let header_end = bytes.windows(2).position(|w| w == b"\n\n").unwrap();
+    let header = String::from_utf8(bytes[..header_end].to_vec()).unwrap();
+    let identity = "space directions: (1,0,0) (0,1,0) (0,0,1)";
+    assert!(header.contains(identity), "{header}");
+    let rotated_header = header.replace(
+        identity,
+        "space directions: (0.8,0.6,0) (-0.6,0.8,0) (0,0,1)",
+    );
+    let input = d.join("rotated.nrrd");
+    let mut rotated = rotated_header.into_bytes();
+    rotated.extend_from_slice(&bytes[header_end..]);
+    fs::write(&input, rotated).unwrap();
+    let mesh = d.join("rotated.tmesh");
+    extract(&input, "0", &mesh, &d.join("extract.png"), &[]);
+    let picture = d.join("preview.png");
+    let out = tmc(&["preview", s(&mesh), "-o", s(&picture)]);
+    assert!(out.status.success(), "{out:?}");
+    for (view, n) in shown_per_tile(&picture).into_iter().enumerate() {
+        assert!(n > 5_000, "view {view} shows {n} pixels");
+    }
 }
 
 #[test]

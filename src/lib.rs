@@ -38,6 +38,7 @@ pub mod check;
 pub mod compare;
 pub mod error;
 pub mod export;
+pub mod fan_out;
 pub mod files;
 pub mod grid;
 pub mod kernel;

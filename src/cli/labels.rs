@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tmc::check::check_mesh;
+use tmc::fan_out::fan_out;
 use tmc::files::check_distinct;
 use tmc::stream::check_grid;
 use tmc::{Chunk, ChunkEncoder, Error, MeshBuilder, MeshInfo, MeshSink, Result, Totals};
@@ -476,35 +477,8 @@ fn finish_all(sinks: &mut [Measured], cancel: Option<&AtomicBool>) -> Result<()>
         }
     }
     let threads = moving.len().min(FINISHING_THREADS);
-    let queue = std::sync::Mutex::new(moving.into_iter());
-    // Each thread takes the next file until none is left; this one too, so
-    // that all are finished should no thread start.
-    let work = || {
-        let mut done = Vec::new();
-        loop {
-            let next = queue
-                .lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .next();
-            let Some((i, sink, totals)) = next else {
-                return done;
-            };
-            done.push((i, sink.finish_cancellable(&totals, cancel)));
-        }
-    };
-    let finished: Vec<(usize, Result<()>)> = std::thread::scope(|scope| {
-        let helpers: Vec<_> = (1..threads)
-            .filter_map(|_| std::thread::Builder::new().spawn_scoped(scope, work).ok())
-            .collect();
-        let mut finished = work();
-        for helper in helpers {
-            finished.extend(
-                helper
-                    .join()
-                    .unwrap_or_else(|p| std::panic::resume_unwind(p)),
-            );
-        }
-        finished
+    let finished = fan_out(moving, threads, |_, (i, sink, totals)| {
+        (i, sink.finish_cancellable(&totals, cancel))
     });
     for (i, result) in finished {
         results[i] = result;

@@ -4,6 +4,7 @@
 
 use super::{LentPlane, Sample, SampleSource};
 use crate::error::make_room;
+use crate::fan_out::fan_out;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -75,34 +76,7 @@ pub fn scan_labels_on(
         }
         result
     };
-    let results: Vec<Result<BTreeMap<i64, u64>>> = match &ranges[..] {
-        [one] => vec![scan(0, one.clone())],
-        _ => std::thread::scope(|s| {
-            // This thread reads the first run of planes; one that does
-            // not start has its run read here too, after.
-            let scan = &scan;
-            let others: Vec<_> = ranges
-                .iter()
-                .enumerate()
-                .skip(1)
-                .map(|(k, r)| {
-                    let run = r.clone();
-                    let thread = std::thread::Builder::new()
-                        .spawn_scoped(s, move || scan(k, run))
-                        .ok();
-                    (k, r.clone(), thread)
-                })
-                .collect();
-            let mut results = vec![scan(0, ranges[0].clone())];
-            for (k, r, thread) in others {
-                results.push(match thread {
-                    Some(t) => t.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
-                    None => scan(k, r),
-                });
-            }
-            results
-        }),
-    };
+    let results = fan_out(ranges, threads, scan);
     let mut counts: BTreeMap<i64, u64> = BTreeMap::new();
     for result in results {
         for (value, n) in result? {

@@ -41,7 +41,8 @@ pub(crate) struct ExtractArgs {
     /// 'label'). With --part I/N, -o must be 'DIR/{label}...tmesh' (one
     /// part file per label; 'tmc merge' of all of them writes what one run
     /// writes). With --normals, each label's normals are those of its
-    /// indicator's gradient. Float inputs must hold whole numbers (the first
+    /// indicator's gradient. A label's surface faces out of its samples
+    /// (--inside low is refused). Float inputs must hold whole numbers (the first
     /// sample that does not is an error). --stats/--json give per label
     /// triangles, components, genus, area and enclosed volume beside the
     /// label's voxel count times the voxel volume.

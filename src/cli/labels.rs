@@ -9,7 +9,7 @@
 //! present but the background. The label files are finished after the
 //! pass, several at once ([`finish_all`]).
 
-use super::extract_args::ExtractArgs;
+use super::extract_args::{ExtractArgs, InsideArg};
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
 use serde::Serialize;
@@ -108,6 +108,11 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         return Err(Error::Invalid(
             "--labels with --part writes part files: --stats and --json need the merged meshes"
                 .into(),
+        ));
+    }
+    if args.inside == InsideArg::Low {
+        return Err(Error::Invalid(
+            "--inside low does not apply to --labels: a label's surface always faces out of the label's samples".into(),
         ));
     }
     args.check_normals_output(template)?;

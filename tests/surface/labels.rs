@@ -381,6 +381,20 @@ fn bad_label_arguments_are_one_line() {
         1,
     );
     assert!(err.contains("{label}"), "{err}");
+    let err = assert_one_line(
+        &tmc(&[
+            "extract",
+            s(&input),
+            "--labels",
+            "all",
+            "--inside",
+            "low",
+            "-o",
+            s(&each),
+        ]),
+        1,
+    );
+    assert!(err.contains("--inside low"), "{err}");
     let names: Vec<PathBuf> = std::fs::read_dir(dir.path())
         .unwrap()
         .map(|e| e.unwrap().path())

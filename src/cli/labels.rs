@@ -229,7 +229,8 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         &mut dyn_sinks,
     )?;
     drop(dyn_sinks);
-    finish_all(&mut sinks, cancel)?;
+    let finished = finish_all(&mut sinks, cancel)?;
+    all_or_none(&targets, finished)?;
     monitor.finish();
     if let Some(dir) = spool {
         let parts: Vec<(u32, &Path)> = labels
@@ -464,9 +465,9 @@ const FINISHING_THREADS: usize = 16;
 /// threads, the others in turn. Finishing a file is mostly waiting for the
 /// disk (the last bytes written, the file synced, renamed into place), and
 /// one file after another, hundreds of them took longer than the pass.
-/// Each file is finished or removed as in the pass; the error returned is
-/// that of the first label in order that failed.
-fn finish_all(sinks: &mut [Measured], cancel: Option<&AtomicBool>) -> Result<()> {
+/// Each file is finished or removed as in the pass; the result of each, in
+/// the order of `sinks` (see [`all_or_none`]).
+fn finish_all(sinks: &mut [Measured], cancel: Option<&AtomicBool>) -> Result<Vec<Result<()>>> {
     let never = AtomicBool::new(false);
     let cancel = cancel.unwrap_or(&never);
     let mut results: Vec<Result<()>> = Vec::with_capacity(sinks.len());
@@ -488,5 +489,86 @@ fn finish_all(sinks: &mut [Measured], cancel: Option<&AtomicBool>) -> Result<()>
     for (i, result) in finished {
         results[i] = result;
     }
-    results.into_iter().collect()
+    Ok(results)
+}
+
+/// Settles the files finished at `targets` (`results`, in the same order):
+/// when one failed, those put in place are removed again, so that a failed
+/// run leaves none of its label files behind, whichever threads finished
+/// which before the failure (a file it did not put in place, one that was
+/// there before, is left alone). The error is the first label's in order;
+/// an interruption stays one (exit 130).
+fn all_or_none(targets: &[PathBuf], results: Vec<Result<()>>) -> Result<()> {
+    let mut placed = Vec::new();
+    let mut first_error = None;
+    for (target, result) in targets.iter().zip(results) {
+        match result {
+            Ok(()) => placed.push(target.as_path()),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    match first_error {
+        None => Ok(()),
+        Some(Error::Interrupted) => {
+            for path in placed {
+                let _ = std::fs::remove_file(path);
+            }
+            Err(Error::Interrupted)
+        }
+        Some(e) => Err(withdraw(placed, e)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::all_or_none;
+    use std::path::PathBuf;
+    use tmc::Error;
+
+    /// Three label files: the first and last put in place, the middle one
+    /// failed, with an older file at its path.
+    fn three(dir: &std::path::Path) -> Vec<PathBuf> {
+        let targets: Vec<PathBuf> = (1..=3).map(|l| dir.join(format!("{l}.ply"))).collect();
+        for t in &targets {
+            std::fs::write(t, b"mesh").unwrap();
+        }
+        targets
+    }
+
+    #[test]
+    fn a_failed_label_takes_the_files_put_in_place_with_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let targets = three(dir.path());
+        let results = vec![Ok(()), Err(Error::Invalid("disk full".into())), Ok(())];
+        let err = all_or_none(&targets, results).unwrap_err().to_string();
+        assert!(err.starts_with("disk full; removed the output"), "{err}");
+        assert!(!targets[0].exists() && !targets[2].exists());
+        assert!(targets[1].exists(), "a file this run did not write is kept");
+    }
+
+    #[test]
+    fn an_interruption_removes_them_and_stays_an_interruption() {
+        let dir = tempfile::tempdir().unwrap();
+        let targets = three(dir.path());
+        let results = vec![
+            Err(Error::Interrupted),
+            Ok(()),
+            Err(Error::Invalid("later".into())),
+        ];
+        assert!(matches!(
+            all_or_none(&targets, results),
+            Err(Error::Interrupted)
+        ));
+        assert!(targets[0].exists() && !targets[1].exists() && targets[2].exists());
+    }
+
+    #[test]
+    fn when_all_are_finished_all_stay() {
+        let dir = tempfile::tempdir().unwrap();
+        let targets = three(dir.path());
+        all_or_none(&targets, vec![Ok(()), Ok(()), Ok(())]).unwrap();
+        assert!(targets.iter().all(|t| t.exists()));
+    }
 }

@@ -40,6 +40,7 @@ mod cells;
 mod edges;
 mod level;
 mod normals;
+mod notes;
 mod placement;
 mod plane;
 mod process;

@@ -1,17 +1,15 @@
-//! [`EdgeVertex`] and `EdgeNormals`: the normals of vertices whose grid
-//! edge the slab loop names as it places them, so that nothing has to
-//! find the edge again from the vertex's `f32` position.
+//! [`BlockEdges`] and `EdgeNormals`: the normals of vertices whose grid
+//! edge the slab loop names, so that nothing has to find the edge again
+//! from the vertex's `f32` position.
 //!
 //! Locating a vertex from its position (rounding its three index
 //! coordinates, testing which two lie on grid lines, checking the bounds)
-//! cost more than its gradient did, and so did walking a block's rows
-//! again to learn each vertex's row. The slab loop knows the edge of every
-//! vertex it places on one; as it places it, it notes the edge's lower
-//! end and the vertex's offset along the edge read back from the `f32`
-//! position (the index coordinate less the end's), which is what an
-//! interpolation from the position gives ([`Layer::gradient`] at that
-//! offset), so a vertex gets the same normal whether its edge is named or
-//! located.
+//! cost more than its gradient did. The slab loop knows the edge of every
+//! vertex it places on one; it hands the edges of a block over in vertex
+//! order, and only the position along the edge is read from the vertex:
+//! the offset from the edge's lower end, which is what an interpolation
+//! from the position gives ([`Layer::gradient`] at that offset), so a
+//! vertex gets the same normal whether its edge is named or located.
 
 use super::batch::{Batch, Factors, BATCH};
 use super::gradient::Layer;
@@ -22,33 +20,43 @@ use super::vector::unit;
 use super::PENDING;
 use crate::grid::WorldToIndex;
 
-/// A vertex on a grid edge as the slab loop places it: the edge's lower
-/// end (sample `x` of row `y` of its plane, in the whole grid's numbering)
-/// and the vertex's offset from it along the edge, as its `f32` position
-/// gives it back ([`IndexCoordinates::offset`](super::IndexCoordinates::offset)).
-/// The plane and the edge direction are those of the group the vertex is
-/// handed over in.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EdgeVertex {
-    /// The lower end's sample along the row.
-    pub x: usize,
-    /// The lower end's row.
-    pub y: usize,
-    /// The offset along the edge from the lower end.
-    pub offset: f64,
+/// Where a block's vertices lie, group by group and row by row, in the
+/// block's vertex order: the vertices on the x-edges of plane `plane`,
+/// row by row, then those on its y-edges (between rows `y` and `y + 1`),
+/// then those on the z-edges from `plane` to `plane + 1`; the block's
+/// vertices after these are inside cells.
+///
+/// Invariants: `rows[a][r]` is the index of the first vertex of group `a`
+/// on (slab) row `r`, non-decreasing; group `a` ends at `ends[a]`, where
+/// group `a + 1` begins. The row `r` of the slab is row `r + y_offset` of
+/// the grid (a window's offset). Along its row a vertex is found from its
+/// position: on an x-edge, the lower end's `x` is the floor of its index
+/// coordinate; on a y- or z-edge, `x` is that coordinate rounded.
+#[derive(Debug, Clone, Copy)]
+pub struct BlockEdges<'a> {
+    /// The grid plane that owns the block.
+    pub plane: usize,
+    /// The first vertex of each row of each group.
+    pub rows: [&'a [u32]; 3],
+    /// Where each group ends.
+    pub ends: [usize; 3],
+    /// Added to a slab row to give the grid row.
+    pub y_offset: usize,
 }
 
-/// What the normals of one group of edge vertices are computed from.
+/// What the normals of one block's edge vertices are computed from.
 pub(super) struct EdgeNormals<'f, P, M> {
-    /// The four planes around the vertices' cell layer.
+    /// The four planes around the block's cell layer.
     pub(super) field: &'f Layer<P>,
     /// What a difference across planes is multiplied by at the layer's
     /// lower and upper plane.
     pub(super) fz: [f64; 2],
+    /// The cell layer.
+    pub(super) layer: usize,
     /// Where the x- and y-edges lie: the layer's lower (0) or upper (1)
     /// plane.
     pub(super) k: usize,
-    /// Gradients to world coordinates.
+    /// Index coordinates from positions, gradients to world.
     pub(super) map: M,
     /// The full map, for the gradients of edges on a plane's border.
     pub(super) full: &'f WorldToIndex,
@@ -56,23 +64,45 @@ pub(super) struct EdgeNormals<'f, P, M> {
     pub(super) sign: f64,
 }
 
+/// Where the vertices of one edge direction lie along their rows.
+struct Walk {
+    /// `x - 1 < limit_x` (wrapping) for an edge whose ends are inside
+    /// their plane's border along x.
+    limit_x: usize,
+    /// The largest lower end's x, as `f64`.
+    last_x: f64,
+    /// Added to the x coordinate before its floor is taken: 0 for x-edges,
+    /// a half (the nearest grid line) for the others.
+    lift: f64,
+    /// The cell layer's lower plane, as `f64`.
+    layer: f64,
+    /// Samples per row.
+    nx: usize,
+}
+
 impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
-    /// Appends to `out` the normals of `vertices`, on edges along axis
-    /// `AXIS`: the two ends' central differences interpolated at the
-    /// vertex's offset along the edge, the chain rule, normalized;
-    /// [`PENDING`] where that vanishes.
+    /// Appends to `out` the normals of `vertices`, the group of the edges
+    /// along axis `AXIS` (vertex `j` is the block's vertex `first + j`),
+    /// whose rows start at `rows` (block indices): the two ends' central
+    /// differences interpolated at the vertex's offset along the edge
+    /// (read from its position), the chain rule, normalized; [`PENDING`]
+    /// where that vanishes.
     ///
-    /// One loop per axis, the planes and factors in locals, no look at
-    /// rows: an edge whose ends are inside their plane's border and whose
-    /// offset is not within [`SNAP`] of an end (the common case) costs the
-    /// samples it reads, a few runs of neighbours each with one bounds
-    /// check; any other goes to [`on_border`](Self::on_border). The
-    /// differences are gathered into a [`Batch`], whose arithmetic runs
-    /// [`BATCH`] vertices at a time ([`finish`](Self::finish)).
+    /// One loop per axis, the planes and factors in locals. For a row of
+    /// vertices the rows of samples their edges' ends need are cut once,
+    /// all of one length, so that a vertex's reads share a few bounds
+    /// checks; an edge whose ends are inside their plane's border (the
+    /// common case) costs the samples it reads; any other goes to
+    /// [`on_border`](Self::on_border). The differences are gathered into a
+    /// [`Batch`], whose arithmetic runs [`BATCH`] vertices at a time
+    /// ([`finish`](Self::finish)).
     #[inline(always)]
     pub(super) fn along<const AXIS: usize>(
         &self,
-        vertices: &[EdgeVertex],
+        rows: &[u32],
+        y_offset: usize,
+        first: usize,
+        vertices: &[[f32; 3]],
         out: &mut Vec<[f32; 3]>,
     ) {
         let field = self.field;
@@ -83,17 +113,21 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
             0 => (p0, p1, p2),
             _ => (p1, p2, p3),
         };
-        // `x - 1 < limit_x` (wrapping) is `1 <= x && x + reach_x < nx`,
-        // and so for y.
+        // `x - 1 < limit_x` (wrapping) is `1 <= x && x + reach_x < nx`.
         let (reach_x, reach_y) = match AXIS {
             0 => (2, 1),
             1 => (1, 2),
             _ => (1, 1),
         };
-        let (limit_x, limit_y) = (
-            nx.saturating_sub(reach_x + 1),
-            ny.saturating_sub(reach_y + 1),
-        );
+        let walk = Walk {
+            limit_x: nx.saturating_sub(reach_x + 1),
+            // The lower end's x: at most the last cell's along x, the last
+            // sample's otherwise.
+            last_x: (nx - 1 - usize::from(AXIS == 0)) as f64,
+            lift: if AXIS == 0 { 0.0 } else { 0.5 },
+            layer: self.layer as f64,
+            nx,
+        };
         // The central differences' factors (a half, or what a difference
         // across planes takes at the lower and upper end), with the grid's
         // scale folded in when the map has one per axis.
@@ -111,8 +145,7 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
             z_high: fb,
         };
         let minus = |a: P::Run, b: P::Run, i: usize, j: usize| P::minus(P::at(a, i), P::at(b, j));
-        // Row `y` of plane `p`: every row of one length, `nx`, so that the
-        // reads at one `x` share their bounds checks.
+        // Row `y` of plane `p`: every row of one length, `nx`.
         let cut = |p: P, y: usize| p.sub(y * nx, y * nx + nx);
         // The central differences (not yet divided) at sample `x` of row
         // `mid`, between rows `down` and `up`, and planes `under` and `over`.
@@ -123,75 +156,117 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
                 minus(over, under, x, x),
             ]
         };
-        // The rows of samples the vertices of row `y` read (its edges not
-        // on the plane's border along y), cut when `y` changes.
-        let rows_of = |y: usize| -> [P::Run; 8] {
+        let end = first + vertices.len();
+        let mut batch = Batch::new();
+        // Slots of `batch` taken.
+        let mut n = 0;
+        for (r, &start) in rows.iter().enumerate() {
+            let stop = rows.get(r + 1).map_or(end, |&s| s as usize);
+            let (start, stop) = ((start as usize).max(first), stop.min(end));
+            if start >= stop {
+                continue;
+            }
+            let y = r + y_offset;
+            let row = &vertices[start - first..stop - first];
+            let mut fill = |gather: &dyn Fn(usize) -> ([f64; 3], [f64; 3]), inner: bool| {
+                self.row::<AXIS>(
+                    &walk, row, y, inner, gather, &mut batch, &mut n, factors, out,
+                )
+            };
+            if y.wrapping_sub(1) >= ny.saturating_sub(reach_y + 1) {
+                // Every edge of the row has an end on the plane's border.
+                fill(&|_| ([0.0; 3], [0.0; 3]), false);
+                continue;
+            }
             match AXIS {
                 0 => {
                     let [down, mid, up] = [y - 1, y, y + 1].map(|y| cut(here, y));
-                    [down, mid, up, cut(below, y), cut(above, y), mid, mid, mid]
+                    let (over, under) = (cut(above, y), cut(below, y));
+                    let ends = |x| central(mid, down, up, under, over, x);
+                    fill(&|x| (ends(x), ends(x + 1)), true);
                 }
                 1 => {
                     let [down, low, high, up] = [y - 1, y, y + 1, y + 2].map(|y| cut(here, y));
-                    let [under_low, under_high] = [y, y + 1].map(|y| cut(below, y));
                     let [over_low, over_high] = [y, y + 1].map(|y| cut(above, y));
-                    [
-                        down, low, high, up, under_low, under_high, over_low, over_high,
-                    ]
+                    let [under_low, under_high] = [y, y + 1].map(|y| cut(below, y));
+                    let a = |x| central(low, down, high, under_low, over_low, x);
+                    fill(
+                        &|x| (a(x), central(high, low, up, under_high, over_high, x)),
+                        true,
+                    );
                 }
                 _ => {
                     let [down1, mid1, up1] = [y - 1, y, y + 1].map(|y| cut(p1, y));
                     let [down2, mid2, up2] = [y - 1, y, y + 1].map(|y| cut(p2, y));
-                    [down1, mid1, up1, down2, mid2, up2, cut(p0, y), cut(p3, y)]
+                    let (under, over) = (cut(p0, y), cut(p3, y));
+                    let a = |x| central(mid1, down1, up1, under, mid2, x);
+                    fill(&|x| (a(x), central(mid2, down2, up2, mid1, over, x)), true);
                 }
             }
-        };
-        // The differences at the two ends of the edge from sample `x` of
-        // the rows `r`.
-        let gather = |r: &[P::Run; 8], x: usize| -> ([f64; 3], [f64; 3]) {
-            match AXIS {
-                0 => {
-                    let ends = |x| central(r[1], r[0], r[2], r[3], r[4], x);
-                    (ends(x), ends(x + 1))
-                }
-                1 => (
-                    central(r[1], r[0], r[2], r[4], r[6], x),
-                    central(r[2], r[1], r[3], r[5], r[7], x),
-                ),
-                _ => (
-                    central(r[1], r[0], r[2], r[6], r[4], x),
-                    central(r[4], r[3], r[5], r[1], r[7], x),
-                ),
+        }
+        self.finish::<AXIS>(&mut batch, n, factors, out);
+    }
+
+    /// Gathers the vertices `row` (of grid row `y`) into `batch`, whose
+    /// first `n` slots are taken, finishing it whenever it is full: the
+    /// differences at the two ends of a vertex's edge from `gather` (given
+    /// the lower end's x) when `inner` (the row's edges are not on the
+    /// plane's border along y) and the edge is inside it along x, else
+    /// the normal from [`on_border`](Self::on_border).
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn row<const AXIS: usize>(
+        &self,
+        walk: &Walk,
+        row: &[[f32; 3]],
+        y: usize,
+        inner: bool,
+        gather: &dyn Fn(usize) -> ([f64; 3], [f64; 3]),
+        batch: &mut Batch,
+        n: &mut usize,
+        factors: Factors,
+        out: &mut Vec<[f32; 3]>,
+    ) {
+        let map = self.map;
+        for &v in row {
+            if *n == BATCH {
+                self.finish::<AXIS>(batch, BATCH, factors, out);
+                *n = 0;
             }
-        };
-        let mut batch = Batch::new();
-        let mut rows = [cut(here, 0); 8];
-        // The row `rows` were cut for (none yet).
-        let mut cut_for = usize::MAX;
-        for group in vertices.chunks(BATCH) {
-            for (j, e) in group.iter().enumerate() {
-                let (x, y, w) = (e.x, e.y, e.offset);
-                batch.at[j] = y * nx + x;
-                if !(x.wrapping_sub(1) < limit_x
-                    && y.wrapping_sub(1) < limit_y
-                    && (SNAP..=1.0 - SNAP).contains(&w))
-                {
-                    batch.offset[j] = f64::NAN;
-                    batch.border[j] = w;
-                    continue;
+            let j = *n;
+            *n += 1;
+            // The floor (or, `+ 0.5`, the nearest) of the x coordinate
+            // clamped to `[0, last_x]`, NaN to 0: comparisons and one
+            // truncation through `i64` (a single instruction, where a
+            // saturating cast to `usize` takes a dozen).
+            let px = map.coordinate(v, 0);
+            let c = px + walk.lift;
+            let x = if c >= 0.0 {
+                if c <= walk.last_x {
+                    c as i64 as usize
+                } else {
+                    walk.last_x as i64 as usize
                 }
-                if y != cut_for {
-                    rows = rows_of(y);
-                    cut_for = y;
-                }
-                let (a, b) = gather(&rows, x);
-                for axis in 0..3 {
-                    batch.low[axis][j] = a[axis];
-                    batch.high[axis][j] = b[axis];
-                }
-                batch.offset[j] = w;
+            } else {
+                0
+            };
+            let w = match AXIS {
+                0 => px - x as f64,
+                1 => map.coordinate(v, 1) - y as f64,
+                _ => map.coordinate(v, 2) - walk.layer,
+            };
+            batch.at[j] = y * walk.nx + x;
+            if !(inner && x.wrapping_sub(1) < walk.limit_x && (SNAP..=1.0 - SNAP).contains(&w)) {
+                batch.offset[j] = f64::NAN;
+                batch.border[j] = w;
+                continue;
             }
-            self.finish::<AXIS>(&mut batch, group.len(), factors, out);
+            let (a, b) = gather(x);
+            for axis in 0..3 {
+                batch.low[axis][j] = a[axis];
+                batch.high[axis][j] = b[axis];
+            }
+            batch.offset[j] = w;
         }
     }
 

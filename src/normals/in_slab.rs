@@ -2,9 +2,9 @@
 //! the worker that triangulates the slab, chunk by chunk as the layers are
 //! finished.
 
-use super::by_edge::{outward, EdgeNormals, EdgeVertex};
+use super::by_edge::{outward, BlockEdges, EdgeNormals};
 use super::gradient::Layer;
-use super::index_map::{Aligned, IndexCoordinates, IndexMap};
+use super::index_map::{Aligned, IndexMap};
 use super::locate::Locator;
 use super::on_edge::on_edge;
 use super::samples::{with_planes, Samples, Visit};
@@ -40,7 +40,7 @@ pub struct SlabNormals<'a> {
     /// For an axis-aligned grid (the identity direction): its origin and
     /// `1 / spacing`, with which index and world coordinates and gradients
     /// convert by one product per axis.
-    aligned: Option<Aligned>,
+    aligned: Option<([f64; 3], [f64; 3])>,
 }
 
 impl<'a> SlabNormals<'a> {
@@ -58,19 +58,8 @@ impl<'a> SlabNormals<'a> {
             },
             tie: params.iso,
             dims: grid.dims,
-            aligned: (grid.direction == crate::grid::IDENTITY).then(|| Aligned {
-                origin: grid.origin,
-                inverse: grid.spacing.map(|s| 1.0 / s),
-            }),
-        }
-    }
-
-    /// How an edge vertex's offset along its edge is read from its
-    /// position, for [`on_edges`](Self::on_edges).
-    pub fn coordinates(&self) -> IndexCoordinates {
-        IndexCoordinates {
-            aligned: self.aligned,
-            full: self.map,
+            aligned: (grid.direction == crate::grid::IDENTITY)
+                .then(|| (grid.origin, grid.spacing.map(|s| 1.0 / s))),
         }
     }
 
@@ -95,63 +84,47 @@ impl<'a> SlabNormals<'a> {
             normals,
             ..
         } = chunk;
-        normals.clear();
-        self.in_cells(*plane as usize, vertices, normals)
+        self.fill_vertices(*plane as usize, None, vertices, normals)
     }
 
-    /// Appends to `out` the normals of `vertices`, which lie on the edges
-    /// along `axis` of grid plane `layer + k` (`k` 0 or 1; for `axis` 2,
-    /// the edges from plane `layer` to `layer + 1`, `k` 0), each named by
-    /// its lower end and its offset along the edge as read from its
-    /// position ([`coordinates`](Self::coordinates)): what
-    /// [`fill`](Self::fill) gives them, without locating them. A plane's
-    /// vertices may be taken in either layer it bounds: the planes and
-    /// factors are the same.
-    pub fn on_edges(
+    /// Sets `out` to the normals of a block's `vertices`, as
+    /// [`fill`](Self::fill) gives them, the vertices on grid edges taken
+    /// on the edges `edges` names (in order; see [`BlockEdges`]) instead of
+    /// being located: the slab loop's way, which costs a fraction.
+    pub fn fill_block(
         &mut self,
-        layer: usize,
-        k: usize,
-        axis: usize,
-        vertices: &[EdgeVertex],
-        out: &mut Vec<[f32; 3]>,
-    ) -> Result<()> {
-        debug_assert!(layer + 2 <= self.dims[2] && k <= 1 && axis <= 2);
-        debug_assert!(axis < 2 || k == 0);
-        self.visit(layer, k, Work::Edges { axis, vertices }, out)
-    }
-
-    /// Appends to `out` the normals of `vertices`, which lie in the cell
-    /// layer below grid plane `plane` or above it, each located from its
-    /// position as [`fill`](Self::fill) does.
-    pub fn in_cells(
-        &mut self,
-        plane: usize,
+        edges: &BlockEdges,
         vertices: &[[f32; 3]],
         out: &mut Vec<[f32; 3]>,
     ) -> Result<()> {
-        let layer = plane.min(self.dims[2] - 2);
-        self.visit(layer, plane - layer, Work::Located { vertices }, out)
+        self.fill_vertices(edges.plane, Some(edges), vertices, out)
     }
 
-    /// Appends the normals of `work`'s vertices, in cell layer `layer`
-    /// (the x- and y-edges on its plane `k`), to `out`.
-    fn visit(&mut self, layer: usize, k: usize, work: Work, out: &mut Vec<[f32; 3]>) -> Result<()> {
-        let n = match work {
-            Work::Edges { vertices, .. } => vertices.len(),
-            Work::Located { vertices } => vertices.len(),
-        };
-        if n == 0 {
+    /// The work of [`fill`](Self::fill) and
+    /// [`fill_block`](Self::fill_block) for the vertices of grid plane
+    /// `plane`.
+    fn fill_vertices(
+        &mut self,
+        plane: usize,
+        edges: Option<&BlockEdges>,
+        vertices: &[[f32; 3]],
+        out: &mut Vec<[f32; 3]>,
+    ) -> Result<()> {
+        out.clear();
+        if vertices.is_empty() {
             return Ok(());
         }
-        make_room(out, n, "the normals of a slab")?;
+        make_room(out, vertices.len(), "the normals of a slab")?;
+        let layer = plane.min(self.dims[2] - 2);
         let (planes, numbers) = self.window.around(layer)?;
         let visit = ChunkNormals {
-            work,
+            vertices,
+            edges,
             out,
             map: &self.map,
             locator: &self.locator,
             layer,
-            k,
+            k: plane - layer,
             numbers,
             dims: self.dims,
             tie: self.tie,
@@ -163,34 +136,23 @@ impl<'a> SlabNormals<'a> {
     }
 }
 
-/// Which vertices [`ChunkNormals`] gives normals.
-#[derive(Clone, Copy)]
-enum Work<'c> {
-    /// Vertices on the edges along `axis`, named by the slab loop.
-    Edges {
-        axis: usize,
-        vertices: &'c [EdgeVertex],
-    },
-    /// Vertices located from their positions.
-    Located { vertices: &'c [[f32; 3]] },
-}
-
-/// The normals of some of one layer's vertices, appended to `out`: the
-/// work of [`SlabNormals`] compiled once per sample type.
+/// The normals of one chunk's vertices, appended to `out`: the work of
+/// [`SlabNormals::fill`] compiled once per sample type.
 struct ChunkNormals<'c> {
-    work: Work<'c>,
+    vertices: &'c [[f32; 3]],
+    /// The edges of the first vertices, when the slab loop names them.
+    edges: Option<&'c BlockEdges<'c>>,
     out: &'c mut Vec<[f32; 3]>,
     map: &'c WorldToIndex,
     locator: &'c Locator,
     layer: usize,
-    /// The x- and y-edge vertices' plane: the layer's lower (0) or upper
-    /// (1).
+    /// The vertices' plane: the layer's lower (0) or upper (1).
     k: usize,
     numbers: [usize; 4],
     dims: [usize; 3],
     tie: f64,
     sign: f64,
-    aligned: Option<Aligned>,
+    aligned: Option<([f64; 3], [f64; 3])>,
 }
 
 impl Visit for ChunkNormals<'_> {
@@ -213,7 +175,7 @@ impl Visit for ChunkNormals<'_> {
         };
         let fz = [across(1), across(2)];
         match self.aligned {
-            Some(aligned) => self.run(&field, fz, aligned),
+            Some((origin, inverse)) => self.run(&field, fz, Aligned { origin, inverse }),
             None => {
                 let map = self.map;
                 self.run(&field, fz, map)
@@ -226,28 +188,31 @@ impl ChunkNormals<'_> {
     /// The normals, with `map` for index coordinates and world gradients.
     #[inline(always)]
     fn run<P: Samples, M: IndexMap>(self, field: &Layer<P>, fz: [f64; 2], map: M) {
+        let mut rest = self.vertices;
         let out = self.out;
-        let vertices = match self.work {
-            Work::Edges { axis, vertices } => {
-                let by_edge = EdgeNormals {
-                    field,
-                    fz,
-                    k: self.k,
-                    map,
-                    full: self.map,
-                    sign: self.sign,
-                };
-                match axis {
-                    0 => by_edge.along::<0>(vertices, out),
-                    1 => by_edge.along::<1>(vertices, out),
-                    _ => by_edge.along::<2>(vertices, out),
-                }
-                return;
-            }
-            Work::Located { vertices } => vertices,
-        };
-        // On an inner grid edge found from the position, else located and
-        // interpolated.
+        if let Some(edges) = self.edges {
+            let by_edge = EdgeNormals {
+                field,
+                fz,
+                layer: self.layer,
+                k: self.k,
+                map,
+                full: self.map,
+                sign: self.sign,
+            };
+            // Ends within the vertices and in order, whatever they say.
+            let z_end = edges.ends[2].min(rest.len());
+            let y_end = edges.ends[1].min(z_end);
+            let x_end = edges.ends[0].min(y_end);
+            let [x_rows, y_rows, z_rows] = edges.rows;
+            let dy = edges.y_offset;
+            by_edge.along::<0>(x_rows, dy, 0, &rest[..x_end], out);
+            by_edge.along::<1>(y_rows, dy, x_end, &rest[x_end..y_end], out);
+            by_edge.along::<2>(z_rows, dy, y_end, &rest[y_end..z_end], out);
+            rest = &rest[z_end..];
+        }
+        // Elsewhere than on a named edge: on an inner grid edge found from
+        // the position, else located and interpolated.
         let (full, layer, sign) = (self.map, self.layer, self.sign);
         let locator = self.locator;
         let general = |v: [f32; 3]| {
@@ -256,7 +221,7 @@ impl ChunkNormals<'_> {
         };
         let z = layer as f64;
         let extent = [field.nx as f64, field.ny as f64];
-        out.extend(vertices.iter().map(|&v| {
+        out.extend(rest.iter().map(|&v| {
             let p = map.index(v);
             let g = match on_edge(field, fz, extent, [p[0], p[1], p[2] - z]) {
                 Some(g) => {

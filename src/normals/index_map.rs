@@ -21,31 +21,6 @@ pub(super) trait IndexMap: Copy {
     fn to_world(&self, g: [f64; 3]) -> [f64; 3];
 }
 
-/// How the slab loop reads a vertex's offset along its grid edge back
-/// from the vertex's `f32` position: with the map the normals take
-/// positions to index coordinates by (one product per axis on an axis-aligned
-/// grid, the full map otherwise), so that the offset is to the bit what
-/// the normals would read from the position.
-#[derive(Debug, Clone, Copy)]
-pub struct IndexCoordinates {
-    /// The axis-aligned grid's map, if it is one.
-    pub(super) aligned: Option<Aligned>,
-    /// The full map.
-    pub(super) full: WorldToIndex,
-}
-
-impl IndexCoordinates {
-    /// The offset along `axis` of world position `v` from index `start`:
-    /// its index coordinate less `start`.
-    #[inline(always)]
-    pub fn offset(&self, v: [f32; 3], axis: usize, start: f64) -> f64 {
-        match &self.aligned {
-            Some(aligned) => aligned.coordinate(v, axis) - start,
-            None => (&self.full).coordinate(v, axis) - start,
-        }
-    }
-}
-
 /// An axis-aligned grid: its origin and `1 / spacing`.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Aligned {

@@ -42,7 +42,6 @@ pub mod samples;
 pub mod vector;
 pub mod window;
 
-pub use by_edge::EdgeVertex;
+pub use by_edge::BlockEdges;
 pub use in_slab::SlabNormals;
-pub use index_map::IndexCoordinates;
 pub use pending::{has_pending, FillPending, PENDING};

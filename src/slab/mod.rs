@@ -40,7 +40,6 @@ mod cells;
 mod edges;
 mod level;
 mod normals;
-mod notes;
 mod placement;
 mod plane;
 mod process;

@@ -1,22 +1,18 @@
-//! [`BlockNormals`]: the normals of a block's vertices, computed as the
-//! slab loop makes them.
+//! [`BlockNormals`]: the normals of a block's vertices, given when the
+//! block is complete, from the rows its vertices lie on.
 //!
 //! The vertices of block `z` are those of the crossed x- and y-edges of
 //! plane `z` in raster order, then those of the z-edges up to plane
 //! `z + 1`, then the cells' interior vertices (see the module
-//! documentation). The loops that place the edge vertices note each one's
-//! edge and offset along it as [`EdgeVertex`](crate::normals::EdgeVertex)es
-//! (`Noted`), and each
-//! group's normals follow as soon as the group is placed, from the layer
-//! whose planes the loop has at hand: a plane's x- and y-edge vertices as
-//! it is loaded (those of plane `z + 1` from cell layer `z`, whose planes
-//! the z-edges and cells of layer `z` need next), then the z-edges', then
-//! the cells' interior vertices, which are located from their positions.
+//! documentation); the planes keep the first vertex of each row of each
+//! group. Those are handed to [`SlabNormals::fill_block`] as
+//! [`BlockEdges`]: each edge vertex's row and edge direction are known,
+//! its place along the row follows from its position, and only the
+//! interior vertices are located from theirs.
 
 use super::block::Block;
-use super::notes::Noted;
 use super::plane::Plane;
-use crate::normals::SlabNormals;
+use crate::normals::{BlockEdges, SlabNormals};
 use crate::params::ExtractParams;
 use crate::volume::SampleSource;
 use crate::Result;
@@ -24,65 +20,55 @@ use crate::Result;
 /// The gradient normals of one slab's blocks.
 pub(super) struct BlockNormals<'a> {
     normals: SlabNormals<'a>,
-    /// The edge vertices of the group being placed.
-    pub(super) noted: Noted,
+    /// Added to the slab's row numbers: where a window of the grid starts.
+    y_offset: usize,
+    /// The slab's rows per plane.
+    ny: usize,
 }
 
 impl<'a> BlockNormals<'a> {
     /// Normals from the gradient of `field` (the whole grid, of which the
-    /// slab's source is a window or all), extracted with `params`.
-    pub(super) fn new(field: &'a dyn SampleSource, params: &ExtractParams) -> Self {
-        let normals = SlabNormals::new(field, params);
-        let coordinates = normals.coordinates();
+    /// slab's source, `ny` rows per plane, is the window starting at row
+    /// `y_offset`), extracted with `params`.
+    pub(super) fn new(
+        field: &'a dyn SampleSource,
+        params: &ExtractParams,
+        y_offset: usize,
+        ny: usize,
+    ) -> Self {
         BlockNormals {
-            normals,
-            noted: Noted {
-                vertices: Vec::new(),
-                coordinates,
-            },
+            normals: SlabNormals::new(field, params),
+            y_offset,
+            ny,
         }
     }
 
-    /// Appends to `block.normals` those of the x- and y-edge vertices of
-    /// `plane` (noted by `Plane::load`), taken in cell layer `layer`
-    /// (the plane or the one below it).
+    /// Sets `block.normals`, the block of `plane`, whose z-edge vertices
+    /// (rows starting at `z_first`) end at `z_end`; `None` for the block
+    /// of the grid's top plane, which has none.
     #[inline(never)]
-    pub(super) fn plane_edges(
+    pub(super) fn fill(
         &mut self,
         plane: &Plane,
-        layer: usize,
+        z_edges: Option<(&[u32], usize)>,
         block: &mut Block,
     ) -> Result<()> {
-        let noted = std::mem::take(&mut self.noted.vertices);
-        let x_end = (plane.y_first[0] as usize).min(noted.len());
-        let (x_edges, y_edges) = noted.split_at(x_end);
-        let k = plane.z - layer;
-        let out = &mut block.normals;
-        let done = self
-            .normals
-            .on_edges(layer, k, 0, x_edges, out)
-            .and_then(|()| self.normals.on_edges(layer, k, 1, y_edges, out));
-        self.noted.vertices = noted;
-        self.noted.vertices.clear();
-        done
-    }
-
-    /// Appends to `block.normals` those of the z-edge vertices of cell
-    /// layer `layer` (noted by the z-edge loop).
-    #[inline(never)]
-    pub(super) fn z_edges(&mut self, layer: usize, block: &mut Block) -> Result<()> {
-        let done = self
-            .normals
-            .on_edges(layer, 0, 2, &self.noted.vertices, &mut block.normals);
-        self.noted.vertices.clear();
-        done
-    }
-
-    /// Appends to `block.normals` those of its vertices from `first` on,
-    /// the interior vertices of cell layer `layer`.
-    #[inline(never)]
-    pub(super) fn cells(&mut self, layer: usize, first: usize, block: &mut Block) -> Result<()> {
-        let vertices = &block.vertices[first.min(block.vertices.len())..];
-        self.normals.in_cells(layer, vertices, &mut block.normals)
+        let ny = self.ny;
+        let own = match z_edges {
+            Some((z_first, _)) => z_first[0] as usize,
+            None => block.vertices.len(),
+        };
+        let (z_rows, z_end) = match z_edges {
+            Some((z_first, end)) => (&z_first[..ny], end),
+            None => (&[][..], own),
+        };
+        let edges = BlockEdges {
+            plane: plane.z,
+            rows: [&plane.x_first[..ny], &plane.y_first[..ny - 1], z_rows],
+            ends: [plane.y_first[0] as usize, own, z_end],
+            y_offset: self.y_offset,
+        };
+        self.normals
+            .fill_block(&edges, &block.vertices, &mut block.normals)
     }
 }

@@ -6,7 +6,6 @@ use super::bits::{each_bit, uniform_alike, x_crossings, RowKind, SignBits};
 use super::block::{check_local_indices, VERTICES};
 use super::edges::EdgeRows;
 use super::level::Level;
-use super::notes::{Noted, Notes};
 use super::placement::Placement;
 use super::spares::{PlaneBuffers, Scratch};
 use crate::error::make_room;
@@ -121,8 +120,7 @@ impl<'s> Plane<'s> {
     }
 
     /// Reads and classifies plane `z`; appends the positions of its edge
-    /// vertices to `owned` and, with `noted`, notes them for their normals.
-    #[allow(clippy::too_many_arguments)]
+    /// vertices to `owned`.
     pub(super) fn load(
         &mut self,
         source: &'s dyn SampleSource,
@@ -130,7 +128,6 @@ impl<'s> Plane<'s> {
         params: &ExtractParams,
         z: usize,
         owned: &mut Vec<[f32; 3]>,
-        noted: Option<&mut Noted>,
         stats: &mut Stats,
     ) -> Result<()> {
         let [nx, ny, _] = place.grid.dims;
@@ -202,26 +199,23 @@ impl<'s> Plane<'s> {
             }
             Some(LentPlane::View(v)) => by_view(&mut self.inside, v, nx, level),
         }
-        match (place.axis_aligned, noted) {
-            (true, None) => self.edge_vertices::<true, ()>(place, owned, &mut ())?,
-            (false, None) => self.edge_vertices::<false, ()>(place, owned, &mut ())?,
-            (true, Some(noted)) => self.edge_vertices::<true, Noted>(place, owned, noted)?,
-            (false, Some(noted)) => self.edge_vertices::<false, Noted>(place, owned, noted)?,
+        if place.axis_aligned {
+            self.edge_vertices::<true>(place, owned)?;
+        } else {
+            self.edge_vertices::<false>(place, owned)?;
         }
         check_local_indices(owned.len())
     }
 
     /// Appends the positions of the loaded plane's edge vertices to `owned`
-    /// (x-edges, then y-edges, in raster order), hands each to `notes` and
-    /// notes each row's first; `ALIGNED` is `place.axis_aligned`.
-    fn edge_vertices<const ALIGNED: bool, N: Notes>(
+    /// (x-edges, then y-edges, in raster order) and notes each row's first;
+    /// `ALIGNED` is `place.axis_aligned`.
+    fn edge_vertices<const ALIGNED: bool>(
         &mut self,
         place: &Placement,
         owned: &mut Vec<[f32; 3]>,
-        notes: &mut N,
     ) -> Result<()> {
         let [nx, ny, _] = place.grid.dims;
-        let [ox, oy] = place.offset;
         let (z, level) = (self.z, self.level);
         let (lent, read) = (self.lent, &self.read);
         let rel = |i: usize| rel_at(lent, read, level, i);
@@ -238,10 +232,7 @@ impl<'s> Plane<'s> {
             for k in 0..words {
                 each_bit(x_crossings(row, k, nx), k, |x| {
                     let (a, b) = (rel(y * nx + x), rel(y * nx + x + 1));
-                    let start = place.index(x, y, z);
-                    let v = place.edge_in::<ALIGNED>(start, 0, a, b);
-                    owned.push(v);
-                    notes.note(v, 0, start[0], x + ox, y + oy);
+                    owned.push(place.edge_in::<ALIGNED>(place.index(x, y, z), 0, a, b));
                     Ok::<(), Error>(())
                 })?;
             }
@@ -256,10 +247,7 @@ impl<'s> Plane<'s> {
             for k in 0..words {
                 each_bit(lower[k] ^ upper[k], k, |x| {
                     let (a, b) = (rel(y * nx + x), rel((y + 1) * nx + x));
-                    let start = place.index(x, y, z);
-                    let v = place.edge_in::<ALIGNED>(start, 1, a, b);
-                    owned.push(v);
-                    notes.note(v, 1, start[1], x + ox, y + oy);
+                    owned.push(place.edge_in::<ALIGNED>(place.index(x, y, z), 1, a, b));
                     Ok::<(), Error>(())
                 })?;
             }

@@ -6,7 +6,6 @@ use super::block::{check_local_indices, Block, NEXT_BLOCK, VERTICES};
 use super::cells::{layer_cells, Ambiguous, Layer};
 use super::edges::LayerNumbers;
 use super::normals::BlockNormals;
-use super::notes::{Noted, Notes};
 use super::placement::Placement;
 use super::plane::Plane;
 use super::spares::{Scratch, Spares};
@@ -97,26 +96,22 @@ pub fn process_window(
     let mut top = Plane::new(upper);
     // The slab's first plane may belong to the slab below; its vertices are
     // numbered the same way here and there, and kept by the block of that plane.
-    let mut normals = per_vertex
-        .gradients
-        .map(|field| BlockNormals::new(field, params));
     bottom.load(
         source,
         &place,
         params,
         layers.start,
         &mut block.vertices,
-        normals.as_mut().map(|n| &mut n.noted),
         &mut stats,
     )?;
-    if let Some(normals) = &mut normals {
-        normals.plane_edges(&bottom, layers.start, &mut block)?;
-    }
     let mut cell = CellMesh::with_tie_margin(place.interior_margin);
     let mut waiting = Vec::with_capacity(nx);
     // The sizes of the last finished block (none yet).
     let mut finished = (0, 0);
     let interrupted = || source.interrupted();
+    let mut normals = per_vertex
+        .gradients
+        .map(|field| BlockNormals::new(field, params, place.offset[1], ny));
     for z in layers.clone() {
         let mut next = Block::sized_like(finished, row, spares)?;
         ahead.reading(source, z + 1);
@@ -126,38 +121,25 @@ pub fn process_window(
             params,
             z + 1,
             &mut next.vertices,
-            normals.as_mut().map(|n| &mut n.noted),
             &mut stats,
         )?;
-        if let Some(normals) = &mut normals {
-            // Plane `z + 1`'s edge vertices from layer `z`, whose planes
-            // the z-edges and cells need too (a slab's last plane only
-            // when its block leaves the slab).
-            if z + 1 < layers.end || layers.end == nz - 1 {
-                normals.plane_edges(&top, z, &mut next)?;
-            } else {
-                normals.noted.vertices.clear();
-            }
-        }
         // z-edges between the two planes.
-        let planes = [&bottom, &top];
-        let z_vertices = &mut block.vertices;
-        match (place.axis_aligned, &mut normals) {
-            (true, None) => {
-                z_edges::<true, ()>(&place, planes, z, &mut z_first, z_vertices, &mut ())
-            }
-            (false, None) => {
-                z_edges::<false, ()>(&place, planes, z, &mut z_first, z_vertices, &mut ())
-            }
-            (true, Some(n)) => {
-                z_edges::<true, Noted>(&place, planes, z, &mut z_first, z_vertices, &mut n.noted)
-            }
-            (false, Some(n)) => {
-                z_edges::<false, Noted>(&place, planes, z, &mut z_first, z_vertices, &mut n.noted)
-            }
-        }?;
-        if let Some(normals) = &mut normals {
-            normals.z_edges(z, &mut block)?;
+        if place.axis_aligned {
+            z_edges::<true>(
+                &place,
+                [&bottom, &top],
+                z,
+                &mut z_first,
+                &mut block.vertices,
+            )?;
+        } else {
+            z_edges::<false>(
+                &place,
+                [&bottom, &top],
+                z,
+                &mut z_first,
+                &mut block.vertices,
+            )?;
         }
         check_local_indices(block.vertices.len())?;
         let z_end = block.vertices.len();
@@ -187,7 +169,7 @@ pub fn process_window(
         };
         layer_cells(&layer, &mut rows, &mut block, &mut ambiguous, &mut stats)?;
         if let Some(normals) = &mut normals {
-            normals.cells(z, z_end, &mut block)?;
+            normals.fill(&bottom, Some((&z_first, z_end)), &mut block)?;
         }
         finished = (block.vertices.len(), block.triangles.len());
         let chunk = std::mem::replace(&mut block, next).into_chunk(z, mirrored);
@@ -195,6 +177,9 @@ pub fn process_window(
         std::mem::swap(&mut bottom, &mut top);
     }
     if layers.end == nz - 1 {
+        if let Some(normals) = &mut normals {
+            normals.fill(&bottom, None, &mut block)?;
+        }
         chunks.push(with_values(
             block.into_chunk(nz - 1, mirrored),
             per_vertex.values,
@@ -225,19 +210,16 @@ fn with_values(mut chunk: Chunk, values: Option<&VertexValues>) -> Chunk {
 }
 
 /// Appends the positions of the vertices on the z-edges between planes
-/// `bottom` and `top` (cell layer `z`) to `vertices`, hands each to
-/// `notes` and notes each row's first in `z_first`; `ALIGNED` is
-/// `place.axis_aligned` (tested once per layer).
-fn z_edges<const ALIGNED: bool, N: Notes>(
+/// `bottom` and `top` (cell layer `z`) to `vertices` and notes each row's first in
+/// `z_first`; `ALIGNED` is `place.axis_aligned` (tested once per layer).
+fn z_edges<const ALIGNED: bool>(
     place: &Placement,
     [bottom, top]: [&Plane; 2],
     z: usize,
     z_first: &mut [u32],
     vertices: &mut Vec<[f32; 3]>,
-    notes: &mut N,
 ) -> Result<()> {
     let nx = place.grid.dims[0];
-    let [ox, oy] = place.offset;
     let words = bottom.inside.words() - 1;
     for (y, first) in z_first.iter_mut().enumerate() {
         *first = vertices.len() as u32;
@@ -250,10 +232,7 @@ fn z_edges<const ALIGNED: bool, N: Notes>(
             each_bit(lower[k] ^ upper[k], k, |x| {
                 let i = y * nx + x;
                 let (a, b) = (bottom.rel(i), top.rel(i));
-                let start = place.index(x, y, z);
-                let v = place.edge_in::<ALIGNED>(start, 2, a, b);
-                vertices.push(v);
-                notes.note(v, 2, start[2], x + ox, y + oy);
+                vertices.push(place.edge_in::<ALIGNED>(place.index(x, y, z), 2, a, b));
                 Ok::<(), Error>(())
             })?;
         }

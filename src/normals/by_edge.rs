@@ -95,7 +95,8 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
     /// common case) costs the samples it reads; any other goes to
     /// [`on_border`](Self::on_border). The differences are gathered into a
     /// [`Batch`], whose arithmetic runs [`BATCH`] vertices at a time
-    /// ([`finish`](Self::finish)).
+    /// ([`finish`](Self::finish)): `batch`, shared by a block's three
+    /// calls (whatever its slots hold is overwritten before it is read).
     #[inline(always)]
     pub(super) fn along<const AXIS: usize>(
         &self,
@@ -103,6 +104,7 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
         y_offset: usize,
         first: usize,
         vertices: &[[f32; 3]],
+        batch: &mut Batch,
         out: &mut Vec<[f32; 3]>,
     ) {
         let field = self.field;
@@ -157,7 +159,6 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
             ]
         };
         let end = first + vertices.len();
-        let mut batch = Batch::new();
         // Slots of `batch` taken.
         let mut n = 0;
         for (r, &start) in rows.iter().enumerate() {
@@ -169,9 +170,7 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
             let y = r + y_offset;
             let row = &vertices[start - first..stop - first];
             let mut fill = |gather: &dyn Fn(usize) -> ([f64; 3], [f64; 3]), inner: bool| {
-                self.row::<AXIS>(
-                    &walk, row, y, inner, gather, &mut batch, &mut n, factors, out,
-                )
+                self.row::<AXIS>(&walk, row, y, inner, gather, batch, &mut n, factors, out)
             };
             if y.wrapping_sub(1) >= ny.saturating_sub(reach_y + 1) {
                 // Every edge of the row has an end on the plane's border.
@@ -204,7 +203,7 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
                 }
             }
         }
-        self.finish::<AXIS>(&mut batch, n, factors, out);
+        self.finish::<AXIS>(batch, n, factors, out);
     }
 
     /// Gathers the vertices `row` (of grid row `y`) into `batch`, whose
@@ -236,20 +235,13 @@ impl<P: Samples, M: IndexMap> EdgeNormals<'_, P, M> {
             let j = *n;
             *n += 1;
             // The floor (or, `+ 0.5`, the nearest) of the x coordinate
-            // clamped to `[0, last_x]`, NaN to 0: comparisons and one
+            // clamped to `[0, last_x]`, NaN to 0: `max` with 0 (which
+            // takes 0 for NaN) and `min`, one instruction each, and one
             // truncation through `i64` (a single instruction, where a
-            // saturating cast to `usize` takes a dozen).
+            // saturating cast to `usize` takes a dozen; comparisons and
+            // branches took a dozen too).
             let px = map.coordinate(v, 0);
-            let c = px + walk.lift;
-            let x = if c >= 0.0 {
-                if c <= walk.last_x {
-                    c as i64 as usize
-                } else {
-                    walk.last_x as i64 as usize
-                }
-            } else {
-                0
-            };
+            let x = (px + walk.lift).max(0.0).min(walk.last_x) as i64 as usize;
             let w = match AXIS {
                 0 => px - x as f64,
                 1 => map.coordinate(v, 1) - y as f64,

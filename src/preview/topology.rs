@@ -65,8 +65,12 @@ impl Verdict {
         }
     }
 
-    /// The verdict in a few words, as the caption shows it.
+    /// The verdict in a few words, as the caption shows it ("empty" for a
+    /// mesh without triangles: no surface at that isovalue).
     pub fn describe(&self) -> String {
+        if self.triangles == 0 {
+            return "empty: no surface".into();
+        }
         let parts = format!(
             "{} component{}",
             self.components,
@@ -397,5 +401,12 @@ mod tests {
         assert_eq!(v.boundary_edges, 6);
         assert!(!v.closed());
         assert!(v.describe().starts_with("open"));
+    }
+
+    #[test]
+    fn a_mesh_without_triangles_is_described_as_empty() {
+        let mut t = Topology::default();
+        t.chunk(0, 0, &[]);
+        assert_eq!(t.finish().describe(), "empty: no surface");
     }
 }

@@ -56,8 +56,9 @@ pub struct Projected {
 /// The four views' depth buffers, one key per pixel ([`EMPTY`] where
 /// nothing was drawn).
 pub struct Raster {
-    /// `keys[v * DEPTH * DEPTH + y * DEPTH + x]`.
-    keys: Vec<u32>,
+    /// `tiles[v][y * DEPTH + x]`; an empty vector for a view not drawn
+    /// yet by a raster made by [`Raster::empty`].
+    tiles: [Vec<u32>; 4],
     /// Projected vertices of the batch being drawn (reused).
     projected: Vec<Projected>,
     /// The same for [`Raster::draw_view`]: fixed-point x and y, depth.
@@ -104,33 +105,58 @@ impl Raster {
     /// Empty buffers for the four views.
     pub fn new() -> Raster {
         Raster {
-            keys: vec![EMPTY; 4 * DEPTH * DEPTH],
+            tiles: [0; 4].map(|_| vec![EMPTY; DEPTH * DEPTH]),
             projected: Vec::new(),
             one: Vec::new(),
+        }
+    }
+
+    /// Buffers without any view: each is made when first drawn
+    /// ([`Raster::draw`], [`Raster::draw_view`], [`Raster::merge`],
+    /// [`Raster::set_tile`]); [`Raster::complete`] makes the rest. A
+    /// worker drawing only the oblique view fills one buffer, not four.
+    pub fn empty() -> Raster {
+        Raster {
+            tiles: Default::default(),
+            projected: Vec::new(),
+            one: Vec::new(),
+        }
+    }
+
+    /// Makes the views not drawn yet, empty ([`Raster::empty`]).
+    pub fn complete(&mut self) {
+        for tile in &mut self.tiles {
+            drawn(tile);
         }
     }
 
     /// The key of pixel `(x, y)` of view `view`.
     #[inline]
     pub fn key(&self, view: usize, x: usize, y: usize) -> u32 {
-        self.keys[view * DEPTH * DEPTH + y * DEPTH + x]
+        self.tiles[view][y * DEPTH + x]
     }
 
     /// The keys of view `view`, row by row (`DEPTH` by `DEPTH`).
     #[inline]
     pub fn tile(&self, view: usize) -> &[u32] {
-        &self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH]
+        &self.tiles[view]
     }
 
     /// Replaces the keys of view `view` by `keys` (`DEPTH` by `DEPTH`).
-    pub fn set_tile(&mut self, view: usize, keys: &[u32]) {
-        self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH].copy_from_slice(keys);
+    pub fn set_tile(&mut self, view: usize, mut keys: Vec<u32>) {
+        keys.resize(DEPTH * DEPTH, EMPTY);
+        self.tiles[view] = keys;
     }
 
     /// Keeps, per pixel, the smaller key of `self` and `other`.
     pub fn merge(&mut self, other: &Raster) {
-        for (a, &b) in self.keys.iter_mut().zip(&other.keys) {
-            *a = (*a).min(b);
+        for (mine, theirs) in self.tiles.iter_mut().zip(&other.tiles) {
+            if mine.is_empty() {
+                mine.clone_from(theirs);
+            }
+            for (a, &b) in mine.iter_mut().zip(theirs) {
+                *a = (*a).min(b);
+            }
         }
     }
 
@@ -167,7 +193,7 @@ impl Raster {
                 let v = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
                 let corner = |p: &Projected| (p.x[v], p.y[v], p.d[v]);
-                let tile = &mut self.keys[v * DEPTH * DEPTH..(v + 1) * DEPTH * DEPTH];
+                let tile = drawn(&mut self.tiles[v]);
                 // (Whole numbers below 2^22: the low bits of `c + 2^23`.)
                 let int = |c: f32| ((c + SHIFT).to_bits() & 0x003f_ffff) as usize;
                 let bbox = [first[0][v], last[0][v], first[1][v], last[1][v]].map(int);
@@ -207,7 +233,7 @@ impl Raster {
             (fixed(x), fixed(y), d)
         }));
         let one = &self.one;
-        let tile = &mut self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH];
+        let tile = drawn(&mut self.tiles[view]);
         let shift = SUB.ilog2();
         for t in triangles {
             let (Some(&a), Some(&b), Some(&c)) = (
@@ -231,6 +257,14 @@ impl Raster {
             fill(tile, [a, b, c], bbox);
         }
     }
+}
+
+/// The view's keys, made [`EMPTY`] if not made yet ([`Raster::empty`]).
+fn drawn(tile: &mut Vec<u32>) -> &mut [u32] {
+    if tile.is_empty() {
+        tile.resize(DEPTH * DEPTH, EMPTY);
+    }
+    tile
 }
 
 /// Draws one projected triangle (fixed-point x and y, depth) into a tile:
@@ -340,7 +374,7 @@ mod tests {
         let mut second = Raster::new();
         second.draw(&views, &v, &t[..1]);
         first.merge(&second);
-        assert!(whole.keys == first.keys);
+        assert!(whole.tiles == first.tiles);
         let drawn = (0..DEPTH * DEPTH)
             .filter(|i| whole.key(0, i % DEPTH, i / DEPTH) != EMPTY)
             .count();

@@ -44,17 +44,16 @@ struct AxisView {
     /// The grid axes of screen x and screen y.
     across: [usize; 2],
     /// Per screen axis: for each line index `i + 1` (`i` from -1, the
-    /// `--close` padding, to the last sample plus one), its place in
-    /// `keys` or [`NONE`].
+    /// `--close` padding, to the last sample plus one), its place in a
+    /// row of `keys` (screen x) or the place of its row (screen y), or
+    /// [`NONE`].
     ids: [Vec<u32>; 2],
     /// Per screen axis, per pixel: the first of the two lines around the
     /// pixel centre (as an index into `ids`) and the centre's fraction of
     /// the way to the second.
     pixels: [Vec<(usize, f32)>; 2],
-    /// Lines kept per screen axis.
-    width: [usize; 2],
-    /// The smallest depth key per kept line (`width[0]` by `width[1]`, row
-    /// by row along screen y).
+    /// The smallest depth key per kept line (the lines kept on screen x by
+    /// those on screen y, row by row along screen y).
     keys: Vec<u32>,
     /// The view's depth, in depth-buffer pixels, of world `p`: the
     /// coefficients of x, y, z and the offset.
@@ -153,11 +152,13 @@ impl GridLines {
                     pixels[s].push((low, (index - low as f64) as f32));
                 }
             }
+            for id in ids[1].iter_mut().filter(|id| **id != NONE) {
+                *id *= width[0] as u32;
+            }
             AxisView {
                 across,
                 ids,
                 pixels,
-                width,
                 keys: vec![EMPTY; width[0] * width[1]],
                 depth: [rows[2][0][v], rows[2][1][v], rows[2][2][v], rows[2][3][v]],
                 jump: apart.max(1.0) as f32 * STEEP,
@@ -184,26 +185,34 @@ impl GridLines {
         // number (for any index below 2^51): two additions, where
         // `f64::round` is a call on baseline x86-64.
         const ROUND: f64 = 6_755_399_441_055_744.0;
+        const FAR: f64 = (1u64 << 50) as f64;
         self.added += vertices.len() as u64;
         for &p in vertices {
             let mut index = [0i64; 3];
             let mut on = 0usize;
             for a in 0..3 {
                 let g = (f64::from(p[a]) - self.origin[a]) * self.per_unit[a];
-                let r = (g + ROUND) - ROUND;
-                index[a] = r as i64;
-                on |= usize::from((g - r).abs() <= self.tolerance[a]) << a;
+                let sum = g + ROUND;
+                let r = sum - ROUND;
+                // The whole number in the low bits of the sum (valid below
+                // 2^51; farther, the vertex is on no line).
+                index[a] = (sum.to_bits() & ((1 << 52) - 1)) as i64 - (1 << 51);
+                let near = (g - r).abs() <= self.tolerance[a] && g.abs() < FAR;
+                on |= usize::from(near) << a;
             }
-            if on.count_ones() < 2 {
-                self.off_lines += 1;
-                continue;
-            }
-            for view in self.views.iter_mut().filter(|v| v.dense) {
-                // On one of this view's lines: both screen coordinates whole.
-                let [h, w] = view.across;
-                if on >> h & 1 == 1 && on >> w & 1 == 1 {
-                    view.put(p, index[h], index[w]);
+            match on {
+                // On a grid edge: on the one line along the edge's axis,
+                // which only the view looking along that axis sees.
+                0b110 => self.views[1].put_if_dense(p, index),
+                0b101 => self.views[0].put_if_dense(p, index),
+                0b011 => self.views[2].put_if_dense(p, index),
+                // On a sample: on three lines.
+                0b111 => {
+                    for view in &mut self.views {
+                        view.put_if_dense(p, index);
+                    }
                 }
+                _ => self.off_lines += 1,
             }
         }
     }
@@ -243,65 +252,67 @@ impl GridLines {
 }
 
 impl AxisView {
-    /// A vertex `p` on the line at grid indices `h`, `w` (screen x and y
-    /// axes).
-    #[inline]
-    fn put(&mut self, p: [f32; 3], h: i64, w: i64) {
-        let line = |ids: &[u32], i: i64| {
-            usize::try_from(i + 1)
-                .ok()
-                .and_then(|i| ids.get(i))
-                .copied()
-                .unwrap_or(NONE)
-        };
-        let (a, b) = (line(&self.ids[0], h), line(&self.ids[1], w));
+    /// A vertex `p` at grid indices `index`, on one of this view's lines
+    /// (both its screen axes' indices whole), if the view is drawn from
+    /// its lines.
+    #[inline(always)]
+    fn put_if_dense(&mut self, p: [f32; 3], index: [i64; 3]) {
+        if !self.dense {
+            return;
+        }
+        let [h, w] = self.across;
+        // (An index of -2 or less wraps round to a large number: no line.)
+        let line = |ids: &[u32], i: i64| ids.get((i + 1) as usize).copied().unwrap_or(NONE);
+        let (a, b) = (line(&self.ids[0], index[h]), line(&self.ids[1], index[w]));
         if a == NONE || b == NONE {
             return;
         }
         let d = self.depth;
         let depth = (d[0] * p[0] + d[1] * p[1] + d[2] * p[2] + d[3]).max(0.0);
-        let key = &mut self.keys[b as usize * self.width[0] + a as usize];
+        let key = &mut self.keys[b as usize + a as usize];
         *key = (*key).min(depth.to_bits() & !super::raster::BACK);
     }
 
     /// The kept line depths resampled to the view's pixels.
     fn tile(&self) -> Vec<u32> {
         let mut out = vec![EMPTY; DEPTH * DEPTH];
-        let depth = |k: u32| (k != EMPTY).then(|| f32::from_bits(k));
+        // Per pixel column: the places in a row of `keys` of the lines
+        // before and after its centre, the nearer one's, the fraction.
+        let columns: Vec<Option<([usize; 3], f32)>> = self.pixels[0]
+            .iter()
+            .map(|&(col, fx)| {
+                (col != usize::MAX).then(|| {
+                    let (c0, c1) = (self.ids[0][col] as usize, self.ids[0][col + 1] as usize);
+                    ([c0, c1, if fx >= 0.5 { c1 } else { c0 }], fx)
+                })
+            })
+            .collect();
+        let keys = &self.keys[..];
         for (y, &(row, fy)) in self.pixels[1].iter().enumerate() {
             if row == usize::MAX {
                 continue;
             }
-            for (x, &(col, fx)) in self.pixels[0].iter().enumerate() {
-                if col == usize::MAX {
+            let (r0, r1) = (self.ids[1][row] as usize, self.ids[1][row + 1] as usize);
+            let near_row = if fy >= 0.5 { r1 } else { r0 };
+            for (o, column) in out[y * DEPTH..(y + 1) * DEPTH].iter_mut().zip(&columns) {
+                let Some(([c0, c1, near_column], fx)) = *column else {
+                    continue;
+                };
+                let nearest = keys[near_row + near_column];
+                if nearest == EMPTY {
                     continue;
                 }
-                let at = |c: usize, r: usize| {
-                    let (i, j) = (self.ids[0][c], self.ids[1][r]);
-                    self.keys[j as usize * self.width[0] + i as usize]
-                };
-                let corners = [
-                    at(col, row),
-                    at(col + 1, row),
-                    at(col, row + 1),
-                    at(col + 1, row + 1),
-                ];
-                let nearest = corners[usize::from(fx >= 0.5) + 2 * usize::from(fy >= 0.5)];
-                let Some(near) = depth(nearest) else {
+                let corners = [keys[r0 + c0], keys[r0 + c1], keys[r1 + c0], keys[r1 + c1]];
+                *o = nearest;
+                if corners.contains(&EMPTY) {
                     continue;
-                };
-                let ds = corners.map(depth);
-                let key = match ds {
-                    [Some(a), Some(b), Some(c), Some(d)]
-                        if a.max(b).max(c).max(d) - a.min(b).min(c).min(d) <= self.jump =>
-                    {
-                        let top = a + (b - a) * fx;
-                        let bottom = c + (d - c) * fx;
-                        (top + (bottom - top) * fy).to_bits() & !super::raster::BACK
-                    }
-                    _ => near.to_bits(),
-                };
-                out[y * DEPTH + x] = key;
+                }
+                let [a, b, c, d] = corners.map(f32::from_bits);
+                if a.max(b).max(c).max(d) - a.min(b).min(c).min(d) <= self.jump {
+                    let top = a + (b - a) * fx;
+                    let bottom = c + (d - c) * fx;
+                    *o = (top + (bottom - top) * fy).to_bits() & !super::raster::BACK;
+                }
             }
         }
         out

@@ -56,8 +56,9 @@ pub struct Projected {
 /// The four views' depth buffers, one key per pixel ([`EMPTY`] where
 /// nothing was drawn).
 pub struct Raster {
-    /// `keys[v * DEPTH * DEPTH + y * DEPTH + x]`.
-    keys: Vec<u32>,
+    /// `tiles[v][y * DEPTH + x]`; an empty vector for a view not drawn
+    /// yet by a raster made by [`Raster::empty`].
+    tiles: [Vec<u32>; 4],
     /// Projected vertices of the batch being drawn (reused).
     projected: Vec<Projected>,
     /// The same for [`Raster::draw_view`]: fixed-point x and y, depth.
@@ -104,33 +105,58 @@ impl Raster {
     /// Empty buffers for the four views.
     pub fn new() -> Raster {
         Raster {
-            keys: vec![EMPTY; 4 * DEPTH * DEPTH],
+            tiles: [0; 4].map(|_| vec![EMPTY; DEPTH * DEPTH]),
             projected: Vec::new(),
             one: Vec::new(),
+        }
+    }
+
+    /// Buffers without any view: each is made when first drawn
+    /// ([`Raster::draw`], [`Raster::draw_view`], [`Raster::merge`],
+    /// [`Raster::set_tile`]); [`Raster::complete`] makes the rest. A
+    /// worker drawing only the oblique view fills one buffer, not four.
+    pub fn empty() -> Raster {
+        Raster {
+            tiles: Default::default(),
+            projected: Vec::new(),
+            one: Vec::new(),
+        }
+    }
+
+    /// Makes the views not drawn yet, empty ([`Raster::empty`]).
+    pub fn complete(&mut self) {
+        for tile in &mut self.tiles {
+            drawn(tile);
         }
     }
 
     /// The key of pixel `(x, y)` of view `view`.
     #[inline]
     pub fn key(&self, view: usize, x: usize, y: usize) -> u32 {
-        self.keys[view * DEPTH * DEPTH + y * DEPTH + x]
+        self.tiles[view][y * DEPTH + x]
     }
 
     /// The keys of view `view`, row by row (`DEPTH` by `DEPTH`).
     #[inline]
     pub fn tile(&self, view: usize) -> &[u32] {
-        &self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH]
+        &self.tiles[view]
     }
 
     /// Replaces the keys of view `view` by `keys` (`DEPTH` by `DEPTH`).
-    pub fn set_tile(&mut self, view: usize, keys: &[u32]) {
-        self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH].copy_from_slice(keys);
+    pub fn set_tile(&mut self, view: usize, mut keys: Vec<u32>) {
+        keys.resize(DEPTH * DEPTH, EMPTY);
+        self.tiles[view] = keys;
     }
 
     /// Keeps, per pixel, the smaller key of `self` and `other`.
     pub fn merge(&mut self, other: &Raster) {
-        for (a, &b) in self.keys.iter_mut().zip(&other.keys) {
-            *a = (*a).min(b);
+        for (mine, theirs) in self.tiles.iter_mut().zip(&other.tiles) {
+            if mine.is_empty() {
+                mine.clone_from(theirs);
+            }
+            for (a, &b) in mine.iter_mut().zip(theirs) {
+                *a = (*a).min(b);
+            }
         }
     }
 
@@ -167,7 +193,7 @@ impl Raster {
                 let v = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
                 let corner = |p: &Projected| (p.x[v], p.y[v], p.d[v]);
-                let tile = &mut self.keys[v * DEPTH * DEPTH..(v + 1) * DEPTH * DEPTH];
+                let tile = drawn(&mut self.tiles[v]);
                 // (Whole numbers below 2^22: the low bits of `c + 2^23`.)
                 let int = |c: f32| ((c + SHIFT).to_bits() & 0x003f_ffff) as usize;
                 let bbox = [first[0][v], last[0][v], first[1][v], last[1][v]].map(int);
@@ -207,7 +233,7 @@ impl Raster {
             (fixed(x), fixed(y), d)
         }));
         let one = &self.one;
-        let tile = &mut self.keys[view * DEPTH * DEPTH..(view + 1) * DEPTH * DEPTH];
+        let tile = drawn(&mut self.tiles[view]);
         let shift = SUB.ilog2();
         for t in triangles {
             let (Some(&a), Some(&b), Some(&c)) = (
@@ -231,6 +257,14 @@ impl Raster {
             fill(tile, [a, b, c], bbox);
         }
     }
+}
+
+/// The view's keys, made [`EMPTY`] if not made yet ([`Raster::empty`]).
+fn drawn(tile: &mut Vec<u32>) -> &mut [u32] {
+    if tile.is_empty() {
+        tile.resize(DEPTH * DEPTH, EMPTY);
+    }
+    tile
 }
 
 /// Draws one projected triangle (fixed-point x and y, depth) into a tile:
@@ -308,7 +342,7 @@ fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: 
 
 #[cfg(test)]
 mod tests {
-    use super::super::views::Bounds;
+    use super::super::views::{Bounds, BLOCK};
     use super::*;
 
     /// The four views of the unit cube.
@@ -340,7 +374,7 @@ mod tests {
         let mut second = Raster::new();
         second.draw(&views, &v, &t[..1]);
         first.merge(&second);
-        assert!(whole.keys == first.keys);
+        assert!(whole.tiles == first.tiles);
         let drawn = (0..DEPTH * DEPTH)
             .filter(|i| whole.key(0, i % DEPTH, i / DEPTH) != EMPTY)
             .count();
@@ -384,6 +418,91 @@ mod tests {
             one.draw_view(&views, view, &v, &t);
             assert!(one.tile(view) == all.tile(view), "view {view}");
             assert!(one.tile(view).iter().filter(|&&k| k != EMPTY).count() > 1000);
+        }
+    }
+
+    /// The world point (x, 0.5, z) that the front view (view 0) of
+    /// `views` projects within 1/512 pixel of depth-buffer pixel
+    /// coordinates `fixed / SUB`: so that it rounds to `fixed` exactly.
+    fn at_fixed(views: &[View; 4], fixed: [i32; 2]) -> [f32; 3] {
+        let world = |screen: usize, axis: usize, f: i32| {
+            let (scale, offset) = views[0].screen_axis(screen, axis);
+            // Depth-buffer pixel p has its centre at tile pixel
+            // (p + 0.5) * BLOCK.
+            let tile = (f64::from(f) / f64::from(SUB) + 0.5) * BLOCK as f64;
+            ((tile - offset) / scale) as f32
+        };
+        [world(0, 0, fixed[0]), 0.5, world(1, 2, fixed[1])]
+    }
+
+    /// The pixels whose centres lie in the triangle `t` (fixed-point
+    /// corners) or on its edges, by brute force over the whole view: the
+    /// signs of the three edge functions, in `i64`.
+    fn covered_by(t: [[i32; 2]; 3]) -> Vec<usize> {
+        let mut out = Vec::new();
+        for y in 0..DEPTH {
+            for x in 0..DEPTH {
+                let (px, py) = (x as i64 * i64::from(SUB), y as i64 * i64::from(SUB));
+                let e = |a: [i32; 2], b: [i32; 2]| {
+                    let (ax, ay, bx, by) = (a[0] as i64, a[1] as i64, b[0] as i64, b[1] as i64);
+                    (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+                };
+                let w = [e(t[0], t[1]), e(t[1], t[2]), e(t[2], t[0])];
+                if w.iter().all(|&w| w >= 0) || w.iter().all(|&w| w <= 0) {
+                    out.push(y * DEPTH + x);
+                }
+            }
+        }
+        out
+    }
+
+    /// Triangles with corners exactly on pixel centres (the box's first
+    /// and last centre on its edge), drawn by both rasterising paths: the
+    /// pixels are exactly those whose centres a brute-force test puts in
+    /// the triangle or on its edges. A box rounded up by a whole pixel
+    /// where the corner is on a centre (`+ SUB` for `+ SUB - 1`) loses the
+    /// corner's pixel; one rounded the other way at the far side gains
+    /// pixels outside.
+    #[test]
+    fn triangles_with_corners_on_pixel_centres_cover_exactly_their_centres() {
+        let views = unit_views();
+        let c = |x: i32, y: i32| [x * SUB, y * SUB];
+        let cases: [[[i32; 2]; 3]; 4] = [
+            // The smallest x and y on a centre, the rest between centres.
+            [
+                c(100, 100),
+                [105 * SUB + 51, 101 * SUB + 179],
+                [101 * SUB + 7, 105 * SUB + 90],
+            ],
+            // The largest x and y on a centre.
+            [
+                c(60, 60),
+                [54 * SUB + 33, 58 * SUB + 200],
+                [58 * SUB + 120, 54 * SUB + 3],
+            ],
+            // Every corner on a centre; a thin one.
+            [c(30, 200), c(40, 201), c(31, 203)],
+            // A triangle within one pixel, its corner on the centre.
+            [
+                c(150, 150),
+                [150 * SUB + 100, 150 * SUB + 20],
+                [150 * SUB + 30, 150 * SUB + 90],
+            ],
+        ];
+        for t in cases {
+            let v: Vec<[f32; 3]> = t.iter().map(|&f| at_fixed(&views, f)).collect();
+            let want = covered_by(t);
+            assert!(!want.is_empty());
+            let mut four = Raster::new();
+            four.draw(&views, &v, &[[0, 1, 2]]);
+            let mut one = Raster::new();
+            one.draw_view(&views, 0, &v, &[[0, 1, 2]]);
+            for (name, r) in [("draw", &four), ("draw_view", &one)] {
+                let got: Vec<usize> = (0..DEPTH * DEPTH)
+                    .filter(|&i| r.tile(0)[i] != EMPTY)
+                    .collect();
+                assert_eq!(got, want, "{name} {t:?}");
+            }
         }
     }
 

@@ -58,7 +58,7 @@ impl Workers {
                 let rx = raster_rx.clone();
                 let mut lines = lines.clone();
                 std::thread::spawn(move || {
-                    let mut raster = Raster::new();
+                    let mut raster = Raster::empty();
                     for job in rx {
                         match &mut lines {
                             Some(l) => {
@@ -125,9 +125,10 @@ impl Workers {
         let (mut raster, lines) = merged.unwrap_or_default();
         if let Some(lines) = lines.filter(|l| !self.checked || l.fit()) {
             for view in (0..3).filter(|&v| lines.dense(v)) {
-                raster.set_tile(view, &lines.tile(view));
+                raster.set_tile(view, lines.tile(view));
             }
         }
+        raster.complete();
         let verdict = self
             .topology
             .take()
@@ -210,8 +211,8 @@ impl PreviewSink {
             title,
             bounds,
             grid: GridOfMesh::Extracted,
-            // Each worker holds a depth buffer of 1 MiB and at most 3 MiB of
-            // line depths.
+            // Each worker holds at most 1 MiB of depth buffers (256 KiB per
+            // view it draws) and at most 3 MiB of line depths.
             threads: threads.clamp(1, MAX_WORKERS),
             iso: f64::NAN,
             workers: None,
@@ -322,8 +323,11 @@ impl MeshSink for PreviewSink {
             .map(|t| t[0].max(t[1]).max(t[2]))
             .max();
         let past = top.map_or(0, |i| i.saturating_add(1).saturating_sub(own32));
+        // Room for the next chunk's vertices too (`flush`).
+        let mut vertices = Vec::with_capacity(own + past as usize);
+        vertices.extend_from_slice(&chunk.vertices);
         let job = Job {
-            vertices: chunk.vertices.clone(),
+            vertices,
             own: own32,
             triangles: chunk.triangles.clone(),
         };

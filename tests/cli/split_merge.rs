@@ -376,7 +376,11 @@ fn the_shell_script_removes_its_parts_when_interrupted() {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
-    // Each part of 400^3 noise takes a second or so on one thread.
+    // Four parts of 400^3 noise, one at a time (JOBS=1), each about half
+    // a second on one thread: the script is still running seconds after
+    // the first part starts, even when this thread is late to see it (the
+    // test binary runs other tests beside it; with two parts at once, a
+    // CI run once signalled the script only after it had finished).
     let input = synth(dir.path(), "noise", "400,400,400", "u8", "v.raw");
     let out_dir = dir.path().join("out");
     std::fs::create_dir(&out_dir).unwrap();
@@ -384,9 +388,10 @@ fn the_shell_script_removes_its_parts_when_interrupted() {
     // In a process group of its own, signalled as a whole, as Ctrl-C does.
     let mut child = std::process::Command::new("sh")
         .arg(&script)
-        .args([s(&input), "2", s(&merged)])
+        .args([s(&input), "4", s(&merged)])
         .args(["--dims", "400,400,400", "--dtype", "u8", "--iso", "127.5"])
         .env("TMC", common::cli::tmc_path())
+        .env("JOBS", "1")
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
         .process_group(0)

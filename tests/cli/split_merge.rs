@@ -368,6 +368,24 @@ fn merge_opens_one_part_at_a_time() {
     assert_merged_by(&mut sh, &merged, &whole);
 }
 
+/// A command running `program` with SIGINT, SIGTERM and SIGHUP at their
+/// defaults, through GNU `env --default-signal` where it is there (without
+/// it, as inherited).
+fn default_signals(program: &str) -> std::process::Command {
+    let env_resets = std::process::Command::new("env")
+        .args(["--default-signal=INT,TERM,HUP", "true"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if env_resets {
+        let mut command = std::process::Command::new("env");
+        command.args(["--default-signal=INT,TERM,HUP", program]);
+        command
+    } else {
+        println!("note: env --default-signal is absent; SIGINT as inherited");
+        std::process::Command::new(program)
+    }
+}
+
 #[test]
 fn the_shell_script_removes_its_parts_when_interrupted() {
     use std::os::unix::process::CommandExt;
@@ -378,15 +396,18 @@ fn the_shell_script_removes_its_parts_when_interrupted() {
     let dir = tempfile::tempdir().unwrap();
     // Four parts of 400^3 noise, one at a time (JOBS=1), each about half
     // a second on one thread: the script is still running seconds after
-    // the first part starts, even when this thread is late to see it (the
-    // test binary runs other tests beside it; with two parts at once, a
-    // CI run once signalled the script only after it had finished).
+    // the first part starts, even when this thread is late to see it.
     let input = synth(dir.path(), "noise", "400,400,400", "u8", "v.raw");
     let out_dir = dir.path().join("out");
     std::fs::create_dir(&out_dir).unwrap();
     let merged = out_dir.join("merged.tmesh");
     // In a process group of its own, signalled as a whole, as Ctrl-C does.
-    let mut child = std::process::Command::new("sh")
+    // With SIGINT at its default: a test run started in the background by
+    // a shell without job control (`cmd &` in a script, nohup) inherits
+    // SIGINT ignored, and a shell cannot trap a signal ignored on entry, so
+    // the script would run to its end (exit 0) whatever it does.
+    let mut child = default_signals("sh");
+    let mut child = child
         .arg(&script)
         .args([s(&input), "4", s(&merged)])
         .args(["--dims", "400,400,400", "--dtype", "u8", "--iso", "127.5"])

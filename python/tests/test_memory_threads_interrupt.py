@@ -162,6 +162,10 @@ def test_two_threads_extract_at_once_and_agree():
         np.testing.assert_array_equal(mesh.triangles, expected.triangles)
 
 
+def _sigint_at_default() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize("call", ["extract", "extract_to"])
 def test_ctrl_c_stops_within_half_a_second(tmp_path, call):
     out = tmp_path / "out.ply"
@@ -186,6 +190,10 @@ def test_ctrl_c_stops_within_half_a_second(tmp_path, call):
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        # SIGINT at its default in the child: a Python started with it
+        # ignored (a suite run in the background, nohup) keeps it ignored
+        # and would never raise KeyboardInterrupt.
+        preexec_fn=_sigint_at_default,
     )
     assert child.stdout.readline().strip() == "start"
     time.sleep(1.0)

@@ -368,24 +368,6 @@ fn merge_opens_one_part_at_a_time() {
     assert_merged_by(&mut sh, &merged, &whole);
 }
 
-/// A command running `program` with SIGINT, SIGTERM and SIGHUP at their
-/// defaults, through GNU `env --default-signal` where it is there (without
-/// it, as inherited).
-fn default_signals(program: &str) -> std::process::Command {
-    let env_resets = std::process::Command::new("env")
-        .args(["--default-signal=INT,TERM,HUP", "true"])
-        .status()
-        .is_ok_and(|s| s.success());
-    if env_resets {
-        let mut command = std::process::Command::new("env");
-        command.args(["--default-signal=INT,TERM,HUP", program]);
-        command
-    } else {
-        println!("note: env --default-signal is absent; SIGINT as inherited");
-        std::process::Command::new(program)
-    }
-}
-
 #[test]
 fn the_shell_script_removes_its_parts_when_interrupted() {
     use std::os::unix::process::CommandExt;
@@ -406,7 +388,7 @@ fn the_shell_script_removes_its_parts_when_interrupted() {
     // a shell without job control (`cmd &` in a script, nohup) inherits
     // SIGINT ignored, and a shell cannot trap a signal ignored on entry, so
     // the script would run to its end (exit 0) whatever it does.
-    let mut child = default_signals("sh");
+    let mut child = common::signals::default_signals("sh");
     let mut child = child
         .arg(&script)
         .args([s(&input), "4", s(&merged)])

@@ -3,15 +3,46 @@
 //! one line, nothing left) and how long it took.
 
 use super::cli::{names, temp_files, tmc_path};
+use std::ffi::OsStr;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::OnceLock;
 use std::thread::sleep;
 use std::time::{Duration, Instant};
 
-/// Starts `tmc` with `args`, its stderr captured.
+/// A command running `program` with SIGINT, SIGTERM and SIGHUP at their
+/// defaults, through GNU `env --default-signal` where it is there (without
+/// it, as inherited, saying so once). A test suite started in the
+/// background by a shell without job control (`cmd &`, nohup) hands every
+/// process SIGINT ignored; tmc keeps a signal it inherits ignored (the
+/// nohup convention, cli/signals.rs), and a shell cannot trap one, so the
+/// interrupt tests would test nothing there.
+pub fn default_signals(program: impl AsRef<OsStr>) -> Command {
+    static ENV_RESETS: OnceLock<bool> = OnceLock::new();
+    let env_resets = *ENV_RESETS.get_or_init(|| {
+        let works = Command::new("env")
+            .args(["--default-signal=INT,TERM,HUP", "true"])
+            .status()
+            .is_ok_and(|s| s.success());
+        if !works {
+            println!("note: env --default-signal is absent; signals as inherited");
+        }
+        works
+    });
+    if env_resets {
+        let mut command = Command::new("env");
+        command.arg("--default-signal=INT,TERM,HUP").arg(program);
+        command
+    } else {
+        Command::new(program)
+    }
+}
+
+/// Starts `tmc` with `args` (signals at their defaults, see
+/// [`default_signals`]), its stderr captured.
 pub fn spawn(args: &[&str]) -> Child {
-    Command::new(tmc_path())
+    default_signals(tmc_path())
         .args(args)
         .stdin(Stdio::null())
         .stdout(Stdio::null())

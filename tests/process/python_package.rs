@@ -4,7 +4,6 @@
 //! it the test says how to get one and passes without running anything.
 
 use std::path::Path;
-use std::process::Command;
 
 #[test]
 fn pytest_suite_of_the_python_package() {
@@ -17,7 +16,9 @@ fn pytest_suite_of_the_python_package() {
         return;
     };
     let tests = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/tests");
-    let status = Command::new(&python)
+    // Signals at their defaults: the interrupt tests send SIGINT, which a
+    // Python started with it ignored keeps ignored.
+    let status = crate::common::signals::default_signals(&python)
         .args(["-m", "pytest", "-q", "-rs"])
         .arg(&tests)
         .env("TMC_BIN", env!("CARGO_BIN_EXE_tmc"))

@@ -6,10 +6,13 @@
 //! buffer's surface, from its slope in x and y (the depth is in pixels, as
 //! x and y are). Of the two one-sided differences on each axis the smaller
 //! is taken, so that a step in depth (one surface in front of another)
-//! does not shade as a steep slope; a pixel with no covered neighbour on an
-//! axis is taken as flat along it. Lambert's cosine against a light at the
-//! viewer's upper left, plus some ambient light. Each depth-buffer pixel
-//! is shaded once and fills a [`BLOCK`] by [`BLOCK`] square of its tile.
+//! does not shade as a steep slope, and none where both are steep and
+//! differ in sign (a lone pixel of a surface behind others, as steps
+//! between grid lines leave, would otherwise be a dark dot); a pixel with
+//! no covered neighbour on an axis is taken as flat along it. Lambert's
+//! cosine against a light at the viewer's upper left, plus some ambient
+//! light. Each depth-buffer pixel is shaded once and fills a [`BLOCK`] by
+//! [`BLOCK`] square of its tile.
 
 use super::font;
 use super::raster::{Raster, BACK, EMPTY};
@@ -96,6 +99,11 @@ pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
 /// viewer's back): from the upper left, a little in front; unit length.
 const LIGHT: [f32; 3] = [-0.4 / 1.233_15, 0.6 / 1.233_15, -1.0 / 1.233_15];
 
+/// Depth difference (in pixels) beyond which a pixel whose two neighbours
+/// on an axis are both nearer, or both farther, is a lone pixel of another
+/// surface rather than a smooth peak or pit.
+const LONE_STEP: f32 = 1.0;
+
 /// The depth of a key, `None` for [`EMPTY`].
 #[inline]
 fn depth(key: u32) -> Option<f32> {
@@ -103,13 +111,20 @@ fn depth(key: u32) -> Option<f32> {
 }
 
 /// The slope of the depth at `here` from its neighbours `before` and
-/// `after` on one axis: the smaller one-sided difference.
+/// `after` on one axis: the smaller one-sided difference, or none where
+/// the two differ in sign and both exceed [`LONE_STEP`].
 #[inline]
 fn slope(before: Option<f32>, here: f32, after: Option<f32>) -> f32 {
     match (before, after) {
         (Some(b), Some(a)) => {
             let (l, r) = (here - b, a - here);
-            if l.abs() <= r.abs() {
+            if l * r < 0.0 && l.abs().min(r.abs()) > LONE_STEP {
+                // A steep peak or pit along the axis: a lone pixel of a
+                // surface behind (or in front of) its neighbours, as a
+                // step between grid lines leaves, shades flat rather than
+                // as a dark dot.
+                0.0
+            } else if l.abs() <= r.abs() {
                 l
             } else {
                 r
@@ -157,4 +172,46 @@ pub fn covered(raster: &Raster) -> usize {
         .map(|v| raster.tile(v).iter().filter(|&&k| k != EMPTY).count())
         .sum();
     depth_pixels * BLOCK * BLOCK
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Row 1 of a three-row tile: `middle` is the row's keys, the rows
+    /// above and below hold `around` in every pixel.
+    fn shaded(middle: &[f32], around: f32) -> Vec<u8> {
+        let key = |d: f32| d.to_bits() & !BACK;
+        let mut tile = vec![EMPTY; DEPTH * 3];
+        for x in 0..middle.len() {
+            tile[x] = key(around);
+            tile[DEPTH + x] = key(middle[x]);
+            tile[2 * DEPTH + x] = key(around);
+        }
+        let mut out = BACKGROUND.repeat(DEPTH);
+        shade_row(&tile, 1, &mut out);
+        out
+    }
+
+    #[test]
+    fn a_lone_pixel_behind_its_neighbours_shades_as_they_do() {
+        let flat = shaded(&[50.0; 5], 50.0);
+        let pit = shaded(&[50.0, 50.0, 80.0, 50.0, 50.0], 50.0);
+        assert_eq!(pit[6..9], flat[6..9], "the pit is lit as the flat surface");
+        let peak = shaded(&[50.0, 50.0, 20.0, 50.0, 50.0], 50.0);
+        assert_eq!(peak[6..9], flat[6..9], "and so is a lone pixel in front");
+    }
+
+    #[test]
+    fn a_slope_and_a_step_still_shade_by_the_surface() {
+        // A ramp rising toward the viewer to the right: lit differently
+        // from flat, and its last pixel, at a step down behind, keeps the
+        // ramp's slope (the smaller one-sided difference).
+        let flat = shaded(&[50.0; 5], 50.0);
+        let ramp = shaded(&[54.0, 53.0, 52.0, 51.0, 50.0], 50.0);
+        assert_ne!(ramp[3..6], flat[3..6]);
+        let step = shaded(&[54.0, 53.0, 52.0, 51.0, 90.0], 50.0);
+        assert_eq!(step[9..12], ramp[9..12]);
+        assert_ne!(step[9..12], flat[9..12]);
+    }
 }

@@ -79,8 +79,10 @@ fn output_dir(path: &Path) -> Result<&Path> {
             dir.display()
         ))),
         Err(_) => Err(Error::Invalid(format!(
-            "{}: output directory {} does not exist",
+            "{}: output directory {} does not exist (tmc makes no directories: \
+             create it first, e.g. mkdir -p {})",
             path.display(),
+            dir.display(),
             dir.display()
         ))),
     }

@@ -46,7 +46,7 @@ pub(crate) struct ExtractArgs {
     /// sample that does not is an error). --stats/--json give per label
     /// triangles, components, genus, area and enclosed volume beside the
     /// label's voxel count times the voxel volume.
-    #[arg(long, value_name = "all|L1,L2,...",
+    #[arg(long, value_name = "all|L1,L2,...", allow_hyphen_values = true,
           conflicts_with_all = ["iso", "manifest", "require_surface"])]
     pub labels: Option<String>,
 

@@ -55,6 +55,9 @@ pub(crate) struct ExtractArgs {
         long,
         value_name = "V",
         requires = "labels",
+        // `requires` alone lets `--iso V --background B` through (clap
+        // waives it when the required argument conflicts with one given).
+        conflicts_with_all = ["iso", "manifest"],
         allow_hyphen_values = true
     )]
     pub background: Option<i64>,

@@ -1,10 +1,10 @@
 //! `tmc extract --labels` on the command line: how its arguments are read
-//! (negative labels), each checked against a run whose meaning is not in
-//! doubt.
+//! (negative labels, options that do not apply), each checked against a
+//! run whose meaning is not in doubt.
 
 use crate::common;
 
-use common::cli::{names, s};
+use common::cli::{assert_one_line, names, s, tmc};
 use common::labels::{ok, write};
 use std::fs;
 use std::path::Path;
@@ -58,5 +58,37 @@ fn a_list_may_start_with_a_negative_label() {
     for name in ["-5.ply", "7.ply"] {
         let a = fs::read(spaced.join(name)).unwrap();
         assert_eq!(a, fs::read(joined.join(name)).unwrap(), "{name}");
+    }
+}
+
+/// Runs `tmc extract INPUT -q ARGS` in `dir` (paths ending in `.ply` or
+/// `.png` are taken in `dir`) and asserts a usage error naming `named`
+/// and nothing written.
+fn refused(dir: &Path, input: &Path, extra: &[&str], named: &str) {
+    let mut args = vec!["extract", s(input), "-q"];
+    let joined: Vec<String> = extra
+        .iter()
+        .map(|a| match a.ends_with(".ply") || a.ends_with(".png") {
+            true => s(&dir.join(a)).to_string(),
+            false => a.to_string(),
+        })
+        .collect();
+    args.extend(joined.iter().map(String::as_str));
+    let err = assert_one_line(&tmc(&args), 2);
+    assert!(err.contains(named), "{extra:?}: {err}");
+    assert_eq!(names(dir), ["map.nrrd"], "{extra:?}");
+}
+
+#[test]
+fn background_without_labels_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = negative_map(dir.path());
+    // --background chooses among the labels of --labels all; with an
+    // isovalue it would change nothing.
+    for extra in [
+        &["--iso", "0.5", "--background", "3", "-o", "x.ply"],
+        &["--background", "3", "--iso", "0.5", "-o", "x.ply"],
+    ] {
+        refused(dir.path(), &input, extra, "--background");
     }
 }

@@ -45,9 +45,10 @@ pub(crate) struct ExtractArgs {
     /// (--inside low is refused). Float inputs must hold whole numbers (the first
     /// sample that does not is an error). --stats/--json give per label
     /// triangles, components, genus, area and enclosed volume beside the
-    /// label's voxel count times the voxel volume.
+    /// label's voxel count times the voxel volume. Not with --preview (draw
+    /// a label's file with 'tmc preview').
     #[arg(long, value_name = "all|L1,L2,...", allow_hyphen_values = true,
-          conflicts_with_all = ["iso", "manifest", "require_surface"])]
+          conflicts_with_all = ["iso", "manifest", "require_surface", "preview"])]
     pub labels: Option<String>,
 
     /// With --labels all: the value that is no label (0 by default).

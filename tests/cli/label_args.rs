@@ -92,3 +92,16 @@ fn background_without_labels_is_refused() {
         refused(dir.path(), &input, extra, "--background");
     }
 }
+
+#[test]
+fn preview_with_labels_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = negative_map(dir.path());
+    // --preview draws one mesh; --labels writes one per label.
+    for extra in [
+        &["--labels", "all", "-o", "{label}.ply", "--preview", "p.png"][..],
+        &["--preview", "p.png", "--labels", "7", "-o", "all.ply"],
+    ] {
+        refused(dir.path(), &input, extra, "--preview");
+    }
+}

@@ -105,3 +105,22 @@ fn preview_with_labels_is_refused() {
         refused(dir.path(), &input, extra, "--preview");
     }
 }
+
+#[test]
+fn a_whole_float_beyond_2_53_is_not_called_a_fraction() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut values = vec![0.0; 27];
+    values[13] = 2f64.powi(53) + 2.0;
+    let input = d.join("big.nrrd");
+    write(&input, [3, 3, 3], values, ScalarType::F64);
+    let out = d.join("{label}.ply");
+    let err = assert_one_line(
+        &tmc(&["extract", s(&input), "--labels", "all", "-o", s(&out)]),
+        1,
+    );
+    assert!(err.contains("(x 1, y 1, z 1) is 9007199254740994"), "{err}");
+    assert!(err.contains("beyond ±2^53"), "{err}");
+    assert!(!err.contains("not a whole number"), "{err}");
+    assert_eq!(names(d), ["big.nrrd"]);
+}

@@ -134,6 +134,8 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             input.display()
         )));
     }
+    // Every label's file stays open until all are committed.
+    super::open_files::raise_limit();
     let outputs: Vec<PathBuf> = if per_label {
         let text = text.replace("{stem}", &super::manifest::stem(input));
         labels

@@ -1,5 +1,6 @@
 //! `tmc extract --labels` on the command line: how its arguments are read
-//! (negative labels, options that do not apply), each checked against a
+//! (negative labels, options that do not apply, hundreds of labels under
+//! a low limit on open files), each checked against a
 //! run whose meaning is not in doubt.
 
 use crate::common;
@@ -123,4 +124,106 @@ fn a_whole_float_beyond_2_53_is_not_called_a_fraction() {
     assert!(err.contains("beyond ±2^53"), "{err}");
     assert!(!err.contains("not a whole number"), "{err}");
     assert_eq!(names(d), ["big.nrrd"]);
+}
+
+/// Runs the built `tmc` with `args` under a soft limit of `files` open
+/// files (the hard limit unchanged, as a login shell's `ulimit -n` leaves
+/// it); `None` when the hard limit is below `need` (the test is skipped).
+fn tmc_with_soft_limit(files: u32, need: u32, args: &[&str]) -> Option<std::process::Output> {
+    let hard = std::process::Command::new("sh")
+        .args(["-c", "ulimit -H -n"])
+        .output()
+        .unwrap();
+    let hard = String::from_utf8_lossy(&hard.stdout).trim().to_string();
+    if hard != "unlimited" && hard.parse::<u32>().unwrap() < need {
+        println!("SKIPPED: the hard limit on open files, {hard}, is below {need}");
+        return None;
+    }
+    let script = format!("ulimit -S -n {files} && exec \"$0\" \"$@\"");
+    let out = std::process::Command::new("sh")
+        .args(["-c", &script, common::cli::tmc_path()])
+        .args(args)
+        .output()
+        .unwrap();
+    Some(out)
+}
+
+#[test]
+fn hundreds_of_labels_run_under_a_low_soft_limit_on_open_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 300 labels, each a few samples: a file (and its spools) per label.
+    let dims = [20, 20, 8];
+    let values: Vec<f64> = (0..3200).map(|i| f64::from(i % 301)).collect();
+    let input = d.join("many.nrrd");
+    write(&input, dims, values, ScalarType::U16);
+    let free = d.join("free");
+    let limited = d.join("limited");
+    fs::create_dir(&free).unwrap();
+    fs::create_dir(&limited).unwrap();
+    let each = |dir: &Path| s(&dir.join("{label}.ply")).to_string();
+    ok(&[
+        "extract",
+        s(&input),
+        "--labels",
+        "all",
+        "-o",
+        &each(&free),
+        "-q",
+    ]);
+    let run = [
+        "extract",
+        s(&input),
+        "--labels",
+        "all",
+        "-o",
+        &each(&limited),
+        "-q",
+    ];
+    // Three files a label are open at once; 64 is far below that.
+    let Some(out) = tmc_with_soft_limit(64, 2048, &run) else {
+        return;
+    };
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(names(&limited).len(), 300);
+    for name in names(&free) {
+        let a = fs::read(free.join(&name)).unwrap();
+        assert!(a == fs::read(limited.join(&name)).unwrap(), "{name}");
+    }
+    // Merging the label parts into one file opens every label's too.
+    let parts = d.join("parts");
+    fs::create_dir(&parts).unwrap();
+    let mut merge = vec!["merge".to_string()];
+    for i in 1..=2 {
+        let part = s(&parts.join(format!("{{label}}.{i}.tmesh"))).to_string();
+        let spec = format!("{i}/2");
+        ok(&[
+            "extract",
+            s(&input),
+            "--labels",
+            "all",
+            "--part",
+            &spec,
+            "-o",
+            &part,
+            "-q",
+        ]);
+    }
+    merge.extend(names(&parts).iter().map(|n| s(&parts.join(n)).to_string()));
+    let one = d.join("one.ply");
+    merge.extend(["-o".to_string(), s(&one).to_string()]);
+    let merge: Vec<&str> = merge.iter().map(String::as_str).collect();
+    let out = tmc_with_soft_limit(64, 2048, &merge).unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let whole = d.join("whole.ply");
+    ok(&[
+        "extract",
+        s(&input),
+        "--labels",
+        "all",
+        "-o",
+        s(&whole),
+        "-q",
+    ]);
+    assert!(fs::read(&one).unwrap() == fs::read(&whole).unwrap());
 }

@@ -227,3 +227,31 @@ fn hundreds_of_labels_run_under_a_low_soft_limit_on_open_files() {
     ]);
     assert!(fs::read(&one).unwrap() == fs::read(&whole).unwrap());
 }
+
+#[test]
+fn more_labels_than_one_pass_takes_are_refused_before_any_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 65536 labels besides the background; one pass takes 65534.
+    let values: Vec<f64> = (0..65537).map(f64::from).collect();
+    let input = d.join("map.nrrd");
+    write(&input, [65537, 1, 1], values, ScalarType::U32);
+    let out = d.join("{label}.tmesh");
+    let err = assert_one_line(
+        &tmc(&[
+            "extract",
+            s(&input),
+            "--labels",
+            "all",
+            "--close",
+            "-o",
+            s(&out),
+        ]),
+        1,
+    );
+    assert!(
+        err.contains("65536 labels; one pass takes at most 65534"),
+        "{err}"
+    );
+    assert_eq!(names(d), ["map.nrrd"]);
+}

@@ -126,6 +126,11 @@ fn a_whole_float_beyond_2_53_is_not_called_a_fraction() {
     assert_eq!(names(d), ["big.nrrd"]);
 }
 
+/// `tmc extract INPUT --labels all -o OUT -q`, asserting success.
+fn all_labels(input: &Path, out: &str) {
+    ok(&["extract", s(input), "--labels", "all", "-o", out, "-q"]);
+}
+
 /// Runs the built `tmc` with `args` under a soft limit of `files` open
 /// files (the hard limit unchanged, as a login shell's `ulimit -n` leaves
 /// it); `None` when the hard limit is below `need` (the test is skipped).
@@ -162,15 +167,7 @@ fn hundreds_of_labels_run_under_a_low_soft_limit_on_open_files() {
     fs::create_dir(&free).unwrap();
     fs::create_dir(&limited).unwrap();
     let each = |dir: &Path| s(&dir.join("{label}.ply")).to_string();
-    ok(&[
-        "extract",
-        s(&input),
-        "--labels",
-        "all",
-        "-o",
-        &each(&free),
-        "-q",
-    ]);
+    all_labels(&input, &each(&free));
     let run = [
         "extract",
         s(&input),
@@ -216,15 +213,7 @@ fn hundreds_of_labels_run_under_a_low_soft_limit_on_open_files() {
     let out = tmc_with_soft_limit(64, 2048, &merge).unwrap();
     assert!(out.status.success(), "{out:?}");
     let whole = d.join("whole.ply");
-    ok(&[
-        "extract",
-        s(&input),
-        "--labels",
-        "all",
-        "-o",
-        s(&whole),
-        "-q",
-    ]);
+    all_labels(&input, s(&whole));
     assert!(fs::read(&one).unwrap() == fs::read(&whole).unwrap());
 }
 

@@ -279,9 +279,9 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
             genus: None,
         };
         let note = format!(
-            "components, Euler characteristic and genus left out: they hold the mesh in memory, about {} MiB, over --topology-memory {} MiB",
-            most >> 20,
-            limit >> 20
+            "components, Euler characteristic and genus left out: they hold the mesh in memory, about {}, over --topology-memory {}",
+            super::report::human_bytes(most),
+            super::report::human_bytes(limit)
         );
         (none.clone(), none, Some(note))
     };

@@ -45,9 +45,10 @@ pub(crate) struct ExtractArgs {
     /// (--inside low is refused). Float inputs must hold whole numbers (the first
     /// sample that does not is an error). --stats/--json give per label
     /// triangles, components, genus, area and enclosed volume beside the
-    /// label's voxel count times the voxel volume.
-    #[arg(long, value_name = "all|L1,L2,...",
-          conflicts_with_all = ["iso", "manifest", "require_surface"])]
+    /// label's voxel count times the voxel volume. Not with --preview (draw
+    /// a label's file with 'tmc preview').
+    #[arg(long, value_name = "all|L1,L2,...", allow_hyphen_values = true,
+          conflicts_with_all = ["iso", "manifest", "require_surface", "preview"])]
     pub labels: Option<String>,
 
     /// With --labels all: the value that is no label (0 by default).
@@ -55,6 +56,9 @@ pub(crate) struct ExtractArgs {
         long,
         value_name = "V",
         requires = "labels",
+        // `requires` alone lets `--iso V --background B` through (clap
+        // waives it when the required argument conflicts with one given).
+        conflicts_with_all = ["iso", "manifest"],
         allow_hyphen_values = true
     )]
     pub background: Option<i64>,

@@ -134,6 +134,17 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             input.display()
         )));
     }
+    // Before a file is created: the pass would refuse them after.
+    if labels.len() > tmc::stream::MOST_LABELS {
+        return Err(Error::Invalid(format!(
+            "{}: {} labels; one pass takes at most {}",
+            input.display(),
+            labels.len(),
+            tmc::stream::MOST_LABELS
+        )));
+    }
+    // Every label's file stays open until all are committed.
+    super::open_files::raise_limit();
     let outputs: Vec<PathBuf> = if per_label {
         let text = text.replace("{stem}", &super::manifest::stem(input));
         labels

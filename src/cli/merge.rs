@@ -30,6 +30,8 @@ pub(crate) fn run(args: &MergeArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     for part in &args.parts {
         tmc::files::check_distinct(part, &args.output)?;
     }
+    // Label parts merge into a file per label, all open at once.
+    super::open_files::raise_limit();
     let never = AtomicBool::new(false);
     tmc::part::merge(&args.parts, &args.output, cancel.unwrap_or(&never)).map(|_| ())
 }

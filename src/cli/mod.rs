@@ -22,6 +22,7 @@ mod manifest;
 mod memory;
 mod merge;
 mod monitor;
+mod open_files;
 mod output;
 mod preview;
 mod progress;

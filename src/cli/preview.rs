@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use tmc::meshfile::TmeshReader;
 use tmc::preview::{Bounds, PreviewSink};
-use tmc::{Error, MeshInfo, MeshSink, Result, Totals};
+use tmc::{MeshInfo, MeshSink, Result, Totals};
 
 /// Draw a mesh into a PNG picture: three orthogonal views and one oblique.
 ///
@@ -37,7 +37,7 @@ pub(crate) struct PreviewArgs {
 }
 
 /// Runs `tmc preview`; setting `cancel` stops it before the next chunk with
-/// [`Error::Interrupted`], leaving no picture.
+/// [`tmc::Error::Interrupted`], leaving no picture.
 pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     tmc::files::check_input_kind(&args.input)?;
     tmc::preview::check_png_path(&args.output)?;
@@ -58,13 +58,15 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
         return Ok(());
     }
     let mesh = tmc::check::read_mesh(&args.input)?;
+    // The readers refuse coordinates that are not finite, so there is no
+    // box only when there are no vertices: an empty mesh (what `tmc
+    // extract` writes for an isovalue that meets nothing), drawn in any
+    // frame as `extract --preview` draws it, "empty: no surface".
     let bounds =
-        Bounds::of_points(mesh.vertices.iter().map(|v| v.map(f64::from))).ok_or_else(|| {
-            Error::Invalid(format!(
-                "{}: no vertices, or a vertex that is not finite: nothing to frame",
-                args.input.display()
-            ))
-        })?;
+        Bounds::of_points(mesh.vertices.iter().map(|v| v.map(f64::from))).unwrap_or(Bounds {
+            min: [0.0; 3],
+            max: [1.0; 3],
+        });
     let mut sink =
         PreviewSink::new(args.output.clone(), title, Some(bounds), threads).without_grid();
     let info = MeshInfo {

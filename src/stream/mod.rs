@@ -41,7 +41,7 @@ pub mod seam;
 pub mod threads;
 
 pub use entry::{extract, extract_part_to, extract_to};
-pub use labels::extract_labels_to;
+pub use labels::{extract_labels_to, MOST_LABELS};
 pub use parts::layer_range;
 pub use pass::extract_many_to;
 pub use preflight::check_grid;

@@ -106,8 +106,13 @@ fn count_planes(
         }
         plane_runs(source, z, &mut plane, |y, x, end, v| {
             if !(v.fract() == 0.0 && v.abs() <= LIMIT) {
+                let why = match v.fract() == 0.0 {
+                    // Whole, but beyond the integers an `f64` holds exactly.
+                    true => "beyond ±2^53",
+                    false => "not a whole number",
+                };
                 return Err(Error::Invalid(format!(
-                    "sample (x {x}, y {y}, z {z}) is {v}, not a whole number: a label map holds integer labels"
+                    "sample (x {x}, y {y}, z {z}) is {v}, {why}: a label map holds integer labels (whole numbers within ±2^53)"
                 )));
             }
             *counts.entry(v as i64).or_default() += (end - x) as u64;

@@ -306,7 +306,9 @@ fn topology_beyond_its_bound_is_left_out_and_said() {
         assert!(json[side]["triangles"].as_u64().unwrap() > 10_000);
     }
     let note = json["topology_note"].as_str().unwrap();
-    assert!(note.contains("--topology-memory"), "{note}");
+    // The bound as given, not rounded down to whole MiB ("0 MiB").
+    assert!(note.contains("over --topology-memory 64.0 KiB"), "{note}");
+    assert!(!note.contains(" 0 MiB"), "{note}");
     // The table says so too.
     let out = tmc(&[
         "compare",

@@ -12,6 +12,7 @@ mod batch;
 mod compare;
 mod export_stream;
 mod io;
+mod label_args;
 mod meshfile;
 mod normals;
 mod preview;

@@ -122,6 +122,35 @@ fn a_sphere_preview_decodes_has_its_size_and_shows_the_ball() {
 }
 
 #[test]
+fn tmc_preview_of_an_empty_mesh_draws_the_empty_views() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = sphere(d);
+    // An isovalue above every sample: `extract` writes empty meshes and
+    // draws empty views.
+    let drawn = d.join("extract.png");
+    extract(&input, "1e30", &d.join("none.ply"), &drawn, &[]);
+    let (w, _, expected) = decode(&drawn);
+    let tiles = (w * w * 3) as usize;
+    for ext in ["obj", "off"] {
+        let mesh = d.join(format!("none.{ext}"));
+        let out = tmc(&["extract", s(&input), "--iso", "1e30", "-o", s(&mesh), "-q"]);
+        assert!(out.status.success(), "{out:?}");
+    }
+    for ext in ["ply", "obj", "off"] {
+        let picture = d.join(format!("{ext}.png"));
+        let mesh = d.join(format!("none.{ext}"));
+        let out = tmc(&["preview", s(&mesh), "-o", s(&picture)]);
+        assert!(out.status.success(), "{ext}: {out:?}");
+        let (w, h, rgb) = decode(&picture);
+        assert_eq!((w, h), SIZE, "{ext}");
+        assert_eq!(shown(&picture), 0, "{ext}");
+        // The four views (the caption below differs: no isovalue).
+        assert!(rgb[..tiles] == expected[..tiles], "{ext}");
+    }
+}
+
+#[test]
 fn threads_slabs_a_merged_split_and_tmc_preview_give_the_same_bytes() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

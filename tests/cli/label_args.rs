@@ -1,0 +1,246 @@
+//! `tmc extract --labels` on the command line: how its arguments are read
+//! (negative labels, options that do not apply, hundreds of labels under
+//! a low limit on open files), each checked against a
+//! run whose meaning is not in doubt.
+
+use crate::common;
+
+use common::cli::{assert_one_line, names, s, tmc};
+use common::labels::{ok, write};
+use std::fs;
+use std::path::Path;
+use tmc::volume::ScalarType;
+
+/// A 6x6x6 map of labels -5 (a 2x2x2 block), 7 (one sample) and 0.
+fn negative_map(dir: &Path) -> std::path::PathBuf {
+    let dims = [6, 6, 6];
+    let mut values = vec![0.0; 216];
+    for z in 2..4 {
+        for y in 2..4 {
+            for x in 2..4 {
+                values[x + 6 * (y + 6 * z)] = -5.0;
+            }
+        }
+    }
+    values[1 + 6 * (1 + 6 * 4)] = 7.0;
+    let input = dir.join("map.nrrd");
+    write(&input, dims, values, ScalarType::I16);
+    input
+}
+
+#[test]
+fn a_list_may_start_with_a_negative_label() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = negative_map(dir.path());
+    let spaced = dir.path().join("spaced");
+    let joined = dir.path().join("joined");
+    fs::create_dir(&spaced).unwrap();
+    fs::create_dir(&joined).unwrap();
+    // `--labels -5,7` as `--iso -500,500` and `--background -5` are read;
+    // `--labels=-5,7` is the form no parser can take for an option.
+    ok(&[
+        "extract",
+        s(&input),
+        "--labels",
+        "-5,7",
+        "-o",
+        s(&spaced.join("{label}.ply")),
+        "-q",
+    ]);
+    ok(&[
+        "extract",
+        s(&input),
+        "--labels=-5,7",
+        "-o",
+        s(&joined.join("{label}.ply")),
+        "-q",
+    ]);
+    assert_eq!(names(&spaced), ["-5.ply", "7.ply"]);
+    for name in ["-5.ply", "7.ply"] {
+        let a = fs::read(spaced.join(name)).unwrap();
+        assert_eq!(a, fs::read(joined.join(name)).unwrap(), "{name}");
+    }
+}
+
+/// Runs `tmc extract INPUT -q ARGS` in `dir` (paths ending in `.ply` or
+/// `.png` are taken in `dir`) and asserts a usage error naming `named`
+/// and nothing written.
+fn refused(dir: &Path, input: &Path, extra: &[&str], named: &str) {
+    let mut args = vec!["extract", s(input), "-q"];
+    let joined: Vec<String> = extra
+        .iter()
+        .map(|a| match a.ends_with(".ply") || a.ends_with(".png") {
+            true => s(&dir.join(a)).to_string(),
+            false => a.to_string(),
+        })
+        .collect();
+    args.extend(joined.iter().map(String::as_str));
+    let err = assert_one_line(&tmc(&args), 2);
+    assert!(err.contains(named), "{extra:?}: {err}");
+    assert_eq!(names(dir), ["map.nrrd"], "{extra:?}");
+}
+
+#[test]
+fn background_without_labels_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = negative_map(dir.path());
+    // --background chooses among the labels of --labels all; with an
+    // isovalue it would change nothing.
+    for extra in [
+        &["--iso", "0.5", "--background", "3", "-o", "x.ply"],
+        &["--background", "3", "--iso", "0.5", "-o", "x.ply"],
+    ] {
+        refused(dir.path(), &input, extra, "--background");
+    }
+}
+
+#[test]
+fn preview_with_labels_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = negative_map(dir.path());
+    // --preview draws one mesh; --labels writes one per label.
+    for extra in [
+        &["--labels", "all", "-o", "{label}.ply", "--preview", "p.png"][..],
+        &["--preview", "p.png", "--labels", "7", "-o", "all.ply"],
+    ] {
+        refused(dir.path(), &input, extra, "--preview");
+    }
+}
+
+#[test]
+fn a_whole_float_beyond_2_53_is_not_called_a_fraction() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut values = vec![0.0; 27];
+    values[13] = 2f64.powi(53) + 2.0;
+    let input = d.join("big.nrrd");
+    write(&input, [3, 3, 3], values, ScalarType::F64);
+    let out = d.join("{label}.ply");
+    let err = assert_one_line(
+        &tmc(&["extract", s(&input), "--labels", "all", "-o", s(&out)]),
+        1,
+    );
+    assert!(err.contains("(x 1, y 1, z 1) is 9007199254740994"), "{err}");
+    assert!(err.contains("beyond ±2^53"), "{err}");
+    assert!(!err.contains("not a whole number"), "{err}");
+    assert_eq!(names(d), ["big.nrrd"]);
+}
+
+/// `tmc extract INPUT --labels all -o OUT -q`, asserting success.
+fn all_labels(input: &Path, out: &str) {
+    ok(&["extract", s(input), "--labels", "all", "-o", out, "-q"]);
+}
+
+/// Runs the built `tmc` with `args` under a soft limit of `files` open
+/// files (the hard limit unchanged, as a login shell's `ulimit -n` leaves
+/// it); `None` when the hard limit is below `need` (the test is skipped).
+fn tmc_with_soft_limit(files: u32, need: u32, args: &[&str]) -> Option<std::process::Output> {
+    let hard = std::process::Command::new("sh")
+        .args(["-c", "ulimit -H -n"])
+        .output()
+        .unwrap();
+    let hard = String::from_utf8_lossy(&hard.stdout).trim().to_string();
+    if hard != "unlimited" && hard.parse::<u32>().unwrap() < need {
+        println!("SKIPPED: the hard limit on open files, {hard}, is below {need}");
+        return None;
+    }
+    let script = format!("ulimit -S -n {files} && exec \"$0\" \"$@\"");
+    let out = std::process::Command::new("sh")
+        .args(["-c", &script, common::cli::tmc_path()])
+        .args(args)
+        .output()
+        .unwrap();
+    Some(out)
+}
+
+#[test]
+fn hundreds_of_labels_run_under_a_low_soft_limit_on_open_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 300 labels, each a few samples: a file (and its spools) per label.
+    let dims = [20, 20, 8];
+    let values: Vec<f64> = (0..3200).map(|i| f64::from(i % 301)).collect();
+    let input = d.join("many.nrrd");
+    write(&input, dims, values, ScalarType::U16);
+    let free = d.join("free");
+    let limited = d.join("limited");
+    fs::create_dir(&free).unwrap();
+    fs::create_dir(&limited).unwrap();
+    let each = |dir: &Path| s(&dir.join("{label}.ply")).to_string();
+    all_labels(&input, &each(&free));
+    let run = [
+        "extract",
+        s(&input),
+        "--labels",
+        "all",
+        "-o",
+        &each(&limited),
+        "-q",
+    ];
+    // Three files a label are open at once; 64 is far below that.
+    let Some(out) = tmc_with_soft_limit(64, 2048, &run) else {
+        return;
+    };
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(names(&limited).len(), 300);
+    for name in names(&free) {
+        let a = fs::read(free.join(&name)).unwrap();
+        assert!(a == fs::read(limited.join(&name)).unwrap(), "{name}");
+    }
+    // Merging the label parts into one file opens every label's too.
+    let parts = d.join("parts");
+    fs::create_dir(&parts).unwrap();
+    let mut merge = vec!["merge".to_string()];
+    for i in 1..=2 {
+        let part = s(&parts.join(format!("{{label}}.{i}.tmesh"))).to_string();
+        let spec = format!("{i}/2");
+        ok(&[
+            "extract",
+            s(&input),
+            "--labels",
+            "all",
+            "--part",
+            &spec,
+            "-o",
+            &part,
+            "-q",
+        ]);
+    }
+    merge.extend(names(&parts).iter().map(|n| s(&parts.join(n)).to_string()));
+    let one = d.join("one.ply");
+    merge.extend(["-o".to_string(), s(&one).to_string()]);
+    let merge: Vec<&str> = merge.iter().map(String::as_str).collect();
+    let out = tmc_with_soft_limit(64, 2048, &merge).unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let whole = d.join("whole.ply");
+    all_labels(&input, s(&whole));
+    assert!(fs::read(&one).unwrap() == fs::read(&whole).unwrap());
+}
+
+#[test]
+fn more_labels_than_one_pass_takes_are_refused_before_any_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 65536 labels besides the background; one pass takes 65534.
+    let values: Vec<f64> = (0..65537).map(f64::from).collect();
+    let input = d.join("map.nrrd");
+    write(&input, [65537, 1, 1], values, ScalarType::U32);
+    let out = d.join("{label}.tmesh");
+    let err = assert_one_line(
+        &tmc(&[
+            "extract",
+            s(&input),
+            "--labels",
+            "all",
+            "--close",
+            "-o",
+            s(&out),
+        ]),
+        1,
+    );
+    assert!(
+        err.contains("65536 labels; one pass takes at most 65534"),
+        "{err}"
+    );
+    assert_eq!(names(d), ["map.nrrd"]);
+}

@@ -62,8 +62,10 @@ pub struct Tables {
     pub ambiguous_faces: [u8; 256],
     /// Contour sets, packed: at [`Tables::set_index`].
     pub contours: Vec<ContourSet>,
-    /// Where the sets of each configuration start in `contours`.
-    pub set_start: [u16; 256],
+    /// Where the sets of each configuration start in `contours`, and (at
+    /// 256) where the last one ends: the sets of `config` are
+    /// `set_start[config]..set_start[config + 1]`.
+    pub set_start: [u16; 257],
     /// `packed[mask][joined]`: the bits of `joined` on the faces of `mask`,
     /// moved down to the lowest bits in face order.
     pub packed: [[u8; 64]; 64],
@@ -113,17 +115,26 @@ impl Tables {
     #[inline]
     pub fn touch_sets(&self, config: u8) {
         let mask = self.ambiguous_faces[config as usize];
-        let first = usize::from(self.set_start[config as usize]);
-        let last = first + (1 << mask.count_ones()) - 1;
+        let (first, end) = (
+            usize::from(self.set_start[config as usize]),
+            usize::from(self.set_start[config as usize + 1]),
+        );
+        // The configuration's heads and sets as two slices (one bounds
+        // check each), of which the first and last are read: cheaper than
+        // counting the sets from `mask` and checking four indices.
+        let (heads, sets) = (&self.heads[first..end], &self.contours[first..end]);
+        let byte = |head: Option<&SetHead>, set: Option<&ContourSet>| {
+            let head = head.copied().unwrap_or_default();
+            let fan = self.table_fans.get(usize::from(head.fan_start));
+            head.fan_len ^ fan.map_or(0, |f| f[0]) ^ set.map_or(0, |c| c.count)
+        };
         // One byte of each, combined, handed to `black_box` once (each
         // `black_box` is a store).
-        let byte = |i: usize| {
-            let head = self.heads.get(i).copied().unwrap_or_default();
-            let fan = self.table_fans.get(usize::from(head.fan_start));
-            let count = self.contours.get(i).map_or(0, |c| c.count);
-            head.fan_len ^ fan.map_or(0, |f| f[0]) ^ count
-        };
-        black_box(self.packed[mask as usize & 63][0] ^ byte(first) ^ byte(last));
+        black_box(
+            self.packed[mask as usize & 63][0]
+                ^ byte(heads.first(), sets.first())
+                ^ byte(heads.last(), sets.last()),
+        );
     }
 }
 
@@ -137,7 +148,7 @@ fn build() -> Tables {
     let mut is_ambiguous = [false; 256];
     let mut ambiguous_faces = [0u8; 256];
     let mut contours = Vec::new();
-    let mut set_start = [0u16; 256];
+    let mut set_start = [0u16; 257];
     let mut mc_tris = Vec::new();
     let mut mc_start = [0u16; 257];
     let mut table_fans = Vec::new();
@@ -176,6 +187,7 @@ fn build() -> Tables {
         }
     }
     mc_start[256] = mc_tris.len() as u16;
+    set_start[256] = contours.len() as u16;
     Tables {
         is_ambiguous,
         ambiguous_faces,

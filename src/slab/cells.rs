@@ -197,7 +197,9 @@ pub(super) fn ambiguous_cell(
         (rest != [0.0; 8]).then_some(&rest)
     };
     cell.clear();
-    let origin = DVec3::from_array(place.index(x, y, bottom.z));
+    // The cell's corner in grid index coordinates, for interior vertices
+    // only (most ambiguous cells take table fans over edge vertices).
+    let origin = || DVec3::from_array(place.index(x, y, bottom.z));
     match triangulate_ambiguous(&g, residual, config, stats, cell) {
         Triangles::Table(fans) => {
             // Edge vertices only, as MC.
@@ -206,8 +208,11 @@ pub(super) fn ambiguous_cell(
             block.triangles.extend(refs);
             Ok(())
         }
-        Triangles::Centred(fans, centre) => push_cell(block, place, edges, fans, [origin + centre]),
+        Triangles::Centred(fans, centre) => {
+            push_cell(block, place, edges, fans, [origin() + centre])
+        }
         Triangles::Mesh => {
+            let origin = origin();
             let interior = cell.interior.iter().map(|p| origin + *p);
             push_cell(block, place, edges, &cell.triangles, interior)
         }

@@ -10,9 +10,11 @@
 mod atomic;
 pub mod fatal_cleanup;
 mod paths;
+mod withdraw;
 
 pub(crate) use atomic::without_temp_path;
 pub use atomic::{write_atomically, AtomicFile};
 pub use paths::{
     check_distinct, check_input_kind, check_output_file, check_output_files, lowercase_extension,
 };
+pub use withdraw::withdraw;

@@ -161,18 +161,9 @@ pub(crate) fn extract_labels_to(
             .iter()
             .zip(&stats)
             .enumerate()
-            .map(|(i, (&label, stats))| LabelReport {
-                label,
-                output: outputs[i.min(outputs.len() - 1)].display().to_string(),
-                triangles: stats.triangles,
-                vertices: stats.vertices,
-                samples: counts.samples(label),
-                voxel_volume: counts.samples(label) as f64 * voxel,
-                components: None,
-                genus: None,
-                closed: None,
-                area: None,
-                enclosed_volume: None,
+            .map(|(i, (&label, stats))| {
+                let output = outputs[i.min(outputs.len() - 1)].display().to_string();
+                LabelReport::new(label, output, stats, counts.samples(label), voxel)
             })
             .collect();
         let run = LabelRun {

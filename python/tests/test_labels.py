@@ -8,15 +8,13 @@ here), and the frog's labels with the CLI's files."""
 
 from __future__ import annotations
 
-import os
-import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import tmc
-from conftest import SHARED_DATA, read_ply, run_cli, tmc_binary
+from conftest import SHARED_DATA, read_ply, run_cli, sigint_latency
 
 ndimage = pytest.importorskip("scipy.ndimage")
 
@@ -388,34 +386,13 @@ def test_a_nifti_path_gives_each_indicator_files_mesh(tmp_path):
 def test_ctrl_c_stops_the_pass_and_leaves_no_file(tmp_path, call):
     """SIGINT during the pass: KeyboardInterrupt within half a second (the
     GIL is released and the signal seen), and no label file behind."""
-    import signal
-    import sys
-    import textwrap
-    import time
-
-    code = textwrap.dedent(
-        f"""
-        import time, numpy as np, tmc
+    setup = f"""
+        import numpy as np, tmc
         OUT = {str(tmp_path)!r}
         # Noise of 60 labels: every label's window is every slab, so the
         # pass is about 60 extractions of the volume (seconds).
         seg = np.random.default_rng(1).integers(0, 61, (300, 300, 300), dtype=np.uint8)
-        print("start", flush=True)
-        try:
-            {call}
-            print("finished", flush=True)
-        except KeyboardInterrupt:
-            print("interrupted", time.time(), flush=True)
         """
-    )
-    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True)
-    assert child.stdout.readline().strip() == "start"
-    time.sleep(1.5)
-    sent = time.time()
-    child.send_signal(signal.SIGINT)
-    out, err = child.communicate(timeout=120)
-    words = out.split()
-    assert words and words[0] == "interrupted", (out, err)
-    assert float(words[1]) - sent < 0.5
+    latency = sigint_latency(setup, call, 1.5)
+    assert latency < 0.5
     assert list(tmp_path.iterdir()) == []

@@ -345,9 +345,23 @@ def _label_list(labels: Any) -> Optional[List[int]]:
     return chosen
 
 
-def _label_source_args(volume: Any, spacing: Any, origin: Any) -> Tuple[Any, ...]:
-    """:func:`_source_args` for a label map: 64-bit integers that do not
-    fit 32 bits are taken as float64 when exact (within ±2**53)."""
+def _label_args(
+    volume: Any,
+    labels: Any,
+    background: Any,
+    spacing: Any,
+    origin: Any,
+    close: Any,
+    threads: Any,
+    normals: Any,
+    series: Any,
+    segment: Any,
+) -> Tuple[Any, Tuple[Any, ...]]:
+    """The input and the other arguments of the library's label calls.
+    An array is taken as :func:`_source_args` takes it, except that 64-bit
+    integers that do not fit 32 bits are taken as float64 when exact
+    (within ±2**53)."""
+    chosen = _label_list(labels)
     if not isinstance(volume, (str, os.PathLike)):
         array = volume if isinstance(volume, np.ndarray) else np.asarray(volume)
         if array.dtype.kind in "iu" and array.dtype.itemsize == 8 and array.size:
@@ -355,8 +369,10 @@ def _label_source_args(volume: Any, spacing: Any, origin: Any) -> Tuple[Any, ...
             fits32 = np.iinfo(np.int32).min <= low and high <= np.iinfo(np.uint32).max
             if not fits32 and -(2**53) <= low and high <= 2**53:
                 volume = array.astype(np.float64)
-    array, _, spacing, origin, mapped = _source_args(volume, 0.5, spacing, origin)
-    return array, spacing, origin, mapped
+    array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
+    rest = (chosen, operator.index(background), spacing3, origin3, mapped, bool(close),
+            _threads(threads), bool(normals), *_select(series, segment))
+    return array, rest
 
 
 def extract_labels(
@@ -425,20 +441,9 @@ def extract_labels(
         ``TypeError`` for an unsupported dtype, ``OSError`` for a file that
         cannot be read, ``KeyboardInterrupt`` on Ctrl-C.
     """
-    chosen = _label_list(labels)
-    array, spacing3, origin3, mapped = _label_source_args(volume, spacing, origin)
-    meshes = _tmc.extract_labels(
-        array,
-        chosen,
-        operator.index(background),
-        spacing3,
-        origin3,
-        mapped,
-        bool(close),
-        _threads(threads),
-        bool(normals),
-        *_select(series, segment),
-    )
+    array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
+                              normals, series, segment)
+    meshes = _tmc.extract_labels(array, *rest)
     result: Dict[int, Mesh] = {}
     for label, (vertices, triangles, vertex_normals, report, record) in meshes:
         mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
@@ -481,21 +486,9 @@ def extract_labels_to(
     ``enclosed_volume`` need the meshes in memory and are left out (take
     them from :func:`extract_labels` and ``Mesh.check``).
     """
-    chosen = _label_list(labels)
-    array, spacing3, origin3, mapped = _label_source_args(volume, spacing, origin)
-    report = _tmc.extract_labels_to(
-        array,
-        os.fspath(output),
-        chosen,
-        operator.index(background),
-        spacing3,
-        origin3,
-        mapped,
-        bool(close),
-        _threads(threads),
-        bool(normals),
-        *_select(series, segment),
-    )
+    array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
+                              normals, series, segment)
+    report = _tmc.extract_labels_to(array, os.fspath(output), *rest)
     return json.loads(report)
 
 

@@ -161,17 +161,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             let checked = mesh.as_ref().map(|m| (check_mesh(m), area_and_volume(m)));
             let samples = counts.samples(label);
             LabelReport {
-                label,
-                output,
-                triangles: stats.triangles,
-                vertices: stats.vertices,
-                samples,
-                voxel_volume: samples as f64 * voxel,
                 components: checked.as_ref().map(|(r, _)| r.components),
                 genus: checked.as_ref().and_then(|(r, _)| r.total_genus()),
                 closed: checked.as_ref().map(|(r, _)| r.is_closed_manifold()),
                 area: checked.as_ref().map(|(_, a)| a.0),
                 enclosed_volume: checked.as_ref().map(|(_, a)| a.1),
+                ..LabelReport::new(label, output, stats, samples, voxel)
             }
         })
         .collect();

@@ -10,6 +10,7 @@
 
 use crate::grid::Grid;
 use crate::mesh::Mesh;
+use crate::stats::Stats;
 use serde::Serialize;
 
 /// One label's figures. Serialized (serde), the optional figures are left
@@ -43,6 +44,27 @@ pub struct LabelReport {
     /// Volume its mesh encloses ([`area_and_volume`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub enclosed_volume: Option<f64>,
+}
+
+impl LabelReport {
+    /// The figures of `label` that need not its mesh: written to `output`
+    /// with `stats`, `samples` samples of `voxel` volume each; the others
+    /// absent.
+    pub fn new(label: i64, output: String, stats: &Stats, samples: u64, voxel: f64) -> Self {
+        LabelReport {
+            label,
+            output,
+            triangles: stats.triangles,
+            vertices: stats.vertices,
+            samples,
+            voxel_volume: samples as f64 * voxel,
+            components: None,
+            genus: None,
+            closed: None,
+            area: None,
+            enclosed_volume: None,
+        }
+    }
 }
 
 /// The report of a label map's pass, keys in this order.

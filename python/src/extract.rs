@@ -17,13 +17,13 @@ use tmc::{ExtractParams, Inside, Method, PipelineOptions, SampleSource};
 
 /// The volume argument: an array (with its grid) or a path to open, with
 /// what to read of it (a DICOM series or segment).
-enum Input<'a> {
+pub(crate) enum Input<'a> {
     Array(Box<tmc::volume::StridedVolume<'a>>),
     Path(PathBuf, ZarrSelect),
 }
 
 impl<'a> Input<'a> {
-    fn new(
+    pub(crate) fn new(
         input: &'a Bound<'_, PyAny>,
         spacing: [f64; 3],
         origin: [f64; 3],
@@ -43,7 +43,7 @@ impl<'a> Input<'a> {
 
     /// Opens the volume (a path is opened by the CLI's readers) and runs
     /// `work` on it, all with the GIL released and Ctrl-C watched.
-    fn run<T: Send>(
+    pub(crate) fn run<T: Send>(
         &self,
         py: Python<'_>,
         work: impl FnOnce(&dyn SampleSource, Option<&Path>, &AtomicBool) -> tmc::Result<T> + Send,
@@ -70,7 +70,7 @@ pub(crate) fn select(series: Option<String>, segment: Option<u32>) -> ZarrSelect
 }
 
 /// The extraction parameters from the package's names.
-fn params(
+pub(crate) fn params(
     iso: f64,
     method: &str,
     inside: &str,
@@ -110,7 +110,7 @@ fn params(
 /// closed, inside the range of f32 coordinates; an output that is neither
 /// the input nor a file the input reads), then the pipeline options of a
 /// run that `cancel` stops.
-fn preflight<'a>(
+pub(crate) fn preflight<'a>(
     source: &dyn SampleSource,
     input: Option<&Path>,
     params: &ExtractParams,
@@ -144,7 +144,7 @@ struct Report {
 }
 
 /// [`Report`] as JSON text.
-fn report(
+pub(crate) fn report(
     input: Option<&Path>,
     output: Option<&Path>,
     source: &dyn SampleSource,
@@ -163,7 +163,7 @@ fn report(
 /// One extraction collected in memory: the vertices (f64), the triangles,
 /// the normals (empty without `params.normals`), the report JSON and the
 /// record a `.tmesh` needs.
-type Collected = (
+pub(crate) type Collected = (
     Vec<[f64; 3]>,
     Vec<[u32; 3]>,
     Vec<[f32; 3]>,

@@ -5,7 +5,8 @@
 //! with the CLI's readers, every extraction runs with the GIL released and
 //! stops on Ctrl-C (`interrupt.rs`), and meshes go back to numpy without a
 //! copy where the types allow (`output.rs`), or are written in
-//! scikit-image's layout by the extraction's sink (`skimage.rs`). The Python API (argument
+//! scikit-image's layout by the extraction's sink (`skimage.rs`); a label
+//! map's labels come in one pass (`labels.rs`). The Python API (argument
 //! handling, `Mesh`, `marching_cubes`) is in `python/tmc/__init__.py`.
 
 #![deny(clippy::undocumented_unsafe_blocks)]
@@ -14,6 +15,7 @@ mod array;
 mod errors;
 mod extract;
 mod interrupt;
+mod labels;
 mod mesh_io;
 mod output;
 mod record;
@@ -28,6 +30,8 @@ fn _tmc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(extract::extract, m)?)?;
     m.add_function(wrap_pyfunction!(extract::extract_to, m)?)?;
     m.add_function(wrap_pyfunction!(extract::marching_cubes, m)?)?;
+    m.add_function(wrap_pyfunction!(labels::extract_labels, m)?)?;
+    m.add_function(wrap_pyfunction!(labels::extract_labels_to, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::write_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::check_mesh, m)?)?;

@@ -6,7 +6,11 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
+import sys
+import textwrap
+import time
 from pathlib import Path
 
 import numpy as np
@@ -112,3 +116,43 @@ def gyroid(n=48, period=16.0):
     """The gyroid sin x cos y + sin y cos z + sin z cos x on an n^3 grid."""
     z, y, x = np.indices((n, n, n), dtype=np.float64) * (2 * np.pi / period)
     return (np.sin(x) * np.cos(y) + np.sin(y) * np.cos(z) + np.sin(z) * np.cos(x)).astype(np.float32)
+
+
+def _sigint_at_default() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def sigint_latency(setup: str, call: str, wait: float) -> float:
+    """Runs the Python `setup`, then `call` (one line), in a child, sends
+    it SIGINT `wait` seconds after `call` began and returns the seconds
+    from the signal to the KeyboardInterrupt (the test fails if the child
+    was not interrupted)."""
+    code = textwrap.dedent(setup) + textwrap.dedent(
+        f"""
+        import time
+        print("start", flush=True)
+        try:
+            {call}
+            print("finished", flush=True)
+        except KeyboardInterrupt:
+            print("interrupted", time.time(), flush=True)
+        """
+    )
+    child = subprocess.Popen(
+        [sys.executable, "-c", code],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        # SIGINT at its default in the child: a Python started with it
+        # ignored (a suite run in the background, nohup) keeps it ignored
+        # and would never raise KeyboardInterrupt.
+        preexec_fn=_sigint_at_default,
+    )
+    assert child.stdout.readline().strip() == "start"
+    time.sleep(wait)
+    sent = time.time()
+    child.send_signal(signal.SIGINT)
+    out_text, err = child.communicate(timeout=120)
+    words = out_text.split()
+    assert words and words[0] == "interrupted", (out_text, err)
+    return float(words[1]) - sent

@@ -6,7 +6,6 @@ within half a second with KeyboardInterrupt and nothing written."""
 from __future__ import annotations
 
 import os
-import signal
 import subprocess
 import sys
 import textwrap
@@ -18,7 +17,7 @@ import numpy as np
 import pytest
 
 import tmc
-from conftest import sphere
+from conftest import sigint_latency, sphere
 
 
 def run_python(code: str, timeout: float = 600) -> subprocess.CompletedProcess:
@@ -162,47 +161,15 @@ def test_two_threads_extract_at_once_and_agree():
         np.testing.assert_array_equal(mesh.triangles, expected.triangles)
 
 
-def _sigint_at_default() -> None:
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-
-
 @pytest.mark.parametrize("call", ["extract", "extract_to"])
 def test_ctrl_c_stops_within_half_a_second(tmp_path, call):
     out = tmp_path / "out.ply"
     target = f"tmc.extract_to(volume, 0.5, {str(out)!r})" if call == "extract_to" else "tmc.extract(volume, 0.5)"
-    child = subprocess.Popen(
-        [
-            sys.executable,
-            "-c",
-            textwrap.dedent(
-                f"""
-                import sys, time, numpy as np, tmc
-                volume = np.random.default_rng(1).random((400, 400, 400), dtype=np.float32)
-                print("start", flush=True)
-                try:
-                    {target}
-                    print("finished", flush=True)
-                except KeyboardInterrupt:
-                    print("interrupted", time.time(), flush=True)
-                """
-            ),
-        ],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        # SIGINT at its default in the child: a Python started with it
-        # ignored (a suite run in the background, nohup) keeps it ignored
-        # and would never raise KeyboardInterrupt.
-        preexec_fn=_sigint_at_default,
-    )
-    assert child.stdout.readline().strip() == "start"
-    time.sleep(1.0)
-    sent = time.time()
-    child.send_signal(signal.SIGINT)
-    out_text, err = child.communicate(timeout=60)
-    words = out_text.split()
-    assert words[0] == "interrupted", (out_text, err)
-    latency = float(words[1]) - sent
+    setup = """
+        import numpy as np, tmc
+        volume = np.random.default_rng(1).random((400, 400, 400), dtype=np.float32)
+        """
+    latency = sigint_latency(setup, target, 1.0)
     print(f"{call}: KeyboardInterrupt {latency * 1000:.0f} ms after SIGINT")
     assert latency < 0.5
     assert list(tmp_path.iterdir()) == []

@@ -10,7 +10,8 @@ Two conventions live side by side:
 * :func:`marching_cubes` is a drop-in for ``skimage.measure.marching_cubes``:
   the same arguments and the same ``(verts, faces, normals, values)``, with
   vertices in array index order (``volume[i, j, k]`` gives ``(i, j, k)``).
-* :func:`extract`, :func:`extract_to`, :func:`read_mesh` and :func:`info`
+* :func:`extract`, :func:`extract_to`, :func:`extract_labels`,
+  :func:`extract_labels_to`, :func:`read_mesh` and :func:`info`
   follow the ``tmc`` command line: a 3-D array is indexed ``[z][y][x]`` (the
   last axis is x, as in a ``.npy`` file), vertices are ``[x, y, z]`` in
   physical coordinates, and a sample is inside iff its value is above the
@@ -21,8 +22,9 @@ from __future__ import annotations
 
 import json
 import mmap
+import operator
 import os
-from typing import Any, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -33,6 +35,8 @@ __all__ = [
     "marching_cubes",
     "extract",
     "extract_to",
+    "extract_labels",
+    "extract_labels_to",
     "read_mesh",
     "info",
     "__version__",
@@ -319,6 +323,172 @@ def extract_to(
     report = _tmc.extract_to(
         array, os.fspath(output), *rest, *options, bool(normals), *_select(series, segment)
     )
+    return json.loads(report)
+
+
+def _label_list(labels: Any) -> Optional[List[int]]:
+    """``None`` for ``"all"``, else the labels as a list of ints."""
+    if isinstance(labels, str):
+        if labels != "all":
+            raise ValueError(f"labels must be 'all' or a sequence of integers, not {labels!r}")
+        return None
+    if isinstance(labels, (int, np.integer)):
+        labels = [labels]
+    try:
+        chosen = [operator.index(label) for label in labels]
+    except TypeError:
+        raise TypeError(
+            f"labels must be 'all' or a sequence of integers, not {labels!r}"
+        ) from None
+    if not chosen:
+        raise ValueError("labels is empty: give 'all' or at least one label")
+    return chosen
+
+
+def _label_args(
+    volume: Any,
+    labels: Any,
+    background: Any,
+    spacing: Any,
+    origin: Any,
+    close: Any,
+    threads: Any,
+    normals: Any,
+    series: Any,
+    segment: Any,
+) -> Tuple[Any, Tuple[Any, ...]]:
+    """The input and the other arguments of the library's label calls.
+    An array is taken as :func:`_source_args` takes it, except that 64-bit
+    integers that do not fit 32 bits are taken as float64 when exact
+    (within ±2**53)."""
+    chosen = _label_list(labels)
+    if not isinstance(volume, (str, os.PathLike)):
+        array = volume if isinstance(volume, np.ndarray) else np.asarray(volume)
+        if array.dtype.kind in "iu" and array.dtype.itemsize == 8 and array.size:
+            low, high = int(array.min()), int(array.max())
+            fits32 = np.iinfo(np.int32).min <= low and high <= np.iinfo(np.uint32).max
+            if not fits32 and -(2**53) <= low and high <= 2**53:
+                volume = array.astype(np.float64)
+    array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
+    rest = (chosen, operator.index(background), spacing3, origin3, mapped, bool(close),
+            _threads(threads), bool(normals), *_select(series, segment))
+    return array, rest
+
+
+def extract_labels(
+    volume: Any,
+    labels: Union[str, Sequence[int]] = "all",
+    *,
+    background: int = 0,
+    spacing: Optional[Sequence[float]] = None,
+    origin: Optional[Sequence[float]] = None,
+    close: bool = False,
+    threads: int = 0,
+    normals: bool = False,
+    series: Optional[Union[int, str]] = None,
+    segment: Optional[int] = None,
+) -> Dict[int, Mesh]:
+    """The surface of every label of a segmentation label map, in one pass
+    over the volume, as ``tmc extract --labels`` extracts them.
+
+    Label ``L``'s mesh is exactly what ``extract((seg == L).astype(np.uint8),
+    0.5, ...)`` gives with the same options (the same vertex, triangle and
+    normal arrays): the boundary of the label's samples as the trilinear
+    interpolant of its 0/1 indicator has it, with Grosso's TMC. But the
+    volume is read once, however many labels, and no indicator volume is
+    made: the pass holds what one extraction holds, plus a slab's worth of
+    label codes per worker.
+
+    Parameters
+    ----------
+    volume : ndarray or path
+        A 3-D label map indexed ``[z][y][x]`` (any integer dtype whose
+        values fit 32 bits, or up to ±2**53 for 64-bit ones; float32 or
+        float64 holding whole numbers; any order or strides), or the path
+        of any volume file ``tmc extract`` reads (NRRD, NIfTI, Zarr, a
+        DICOM Segmentation ...).
+    labels : "all" or sequence of int
+        The labels to extract; "all" is every value present but
+        ``background``. A label that is absent gets an empty mesh.
+    background : int
+        The value "all" leaves out (default 0).
+    spacing, origin : 3 floats, optional
+        ``[x, y, z]`` sample spacing and first-sample position of an array.
+    close : bool
+        Treat everything outside the volume as no label, so that every
+        label's surface is a closed 2-manifold.
+    threads : int
+        Worker threads; 0 uses every core.
+    normals : bool
+        Unit outward vertex normals from the gradient of each label's
+        indicator, as :func:`extract` computes them.
+    series, segment : optional
+        What to read of a DICOM path, as in :func:`extract`.
+
+    Returns
+    -------
+    dict of int to Mesh
+        One :class:`Mesh` per label, keyed by the label's integer value, in
+        the order of ``labels`` (ascending for "all"); each mesh's ``stats``
+        is what :func:`extract` reports for the label's indicator.
+
+    Raises
+    ------
+    ValueError
+        A sample that is not a whole number (NaN, a fraction, an infinity;
+        the message names the first one's position ``(x, y, z)``), a label
+        asked for twice, no label but the background, bad arguments.
+        ``TypeError`` for an unsupported dtype, ``OSError`` for a file that
+        cannot be read, ``KeyboardInterrupt`` on Ctrl-C.
+    """
+    array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
+                              normals, series, segment)
+    meshes = _tmc.extract_labels(array, *rest)
+    result: Dict[int, Mesh] = {}
+    for label, (vertices, triangles, vertex_normals, report, record) in meshes:
+        mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
+        mesh._record = record
+        result[int(label)] = mesh
+    return result
+
+
+def extract_labels_to(
+    volume: Any,
+    output: PathLike,
+    labels: Union[str, Sequence[int]] = "all",
+    *,
+    background: int = 0,
+    spacing: Optional[Sequence[float]] = None,
+    origin: Optional[Sequence[float]] = None,
+    close: bool = False,
+    threads: int = 0,
+    normals: bool = False,
+    series: Optional[Union[int, str]] = None,
+    segment: Optional[int] = None,
+) -> Dict[str, Any]:
+    """Streams the surface of every label into files in one pass, the
+    bytes ``tmc extract --labels`` writes, without holding the meshes.
+
+    ``output`` names the files: with ``{label}`` in it (``"out/{label}.ply"``)
+    one file per label, ``{label}`` replaced by the label's value, in any
+    format :func:`extract_to` writes (``.tmesh``, ``.ply``, ``.obj``,
+    ``.off``, ``.stl``); without, one ``.ply`` or ``.tmesh`` holding every
+    label, each triangle with its label (PLY: a ``uint label`` face
+    property; ``.tmesh``: the labels attribute). The files appear all,
+    whole, or none (an error or Ctrl-C leaves none behind). The other
+    arguments are those of :func:`extract_labels`.
+
+    Returns the report of ``tmc extract --labels --json``: ``input``
+    (``"array"`` for an array), ``close``, ``method``, ``background``,
+    ``labels`` (per label: ``label``, ``output``, ``triangles``,
+    ``vertices``, ``samples``, ``voxel_volume``) and the seconds spent;
+    the CLI's per-label ``components``, ``genus``, ``closed``, ``area`` and
+    ``enclosed_volume`` need the meshes in memory and are left out (take
+    them from :func:`extract_labels` and ``Mesh.check``).
+    """
+    array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
+                              normals, series, segment)
+    report = _tmc.extract_labels_to(array, os.fspath(output), *rest)
     return json.loads(report)
 
 

@@ -65,6 +65,40 @@ def extract_to(
     """Streams the isosurface into a mesh file without holding the mesh
     (with ``normals``, the vertex normals too, as ``tmc extract --normals``)."""
 
+def extract_labels(
+    volume: ArrayOrPath,
+    labels: Union[str, Sequence[int]] = ...,
+    *,
+    background: int = ...,
+    spacing: Optional[Sequence[float]] = ...,
+    origin: Optional[Sequence[float]] = ...,
+    close: bool = ...,
+    threads: int = ...,
+    normals: bool = ...,
+    series: Optional[Union[int, str]] = ...,
+    segment: Optional[int] = ...,
+) -> Dict[int, Mesh]:
+    """Every label's surface of a label map in one pass, keyed by label:
+    each the extraction of the label's 0/1 indicator at 0.5."""
+
+def extract_labels_to(
+    volume: ArrayOrPath,
+    output: PathLike,
+    labels: Union[str, Sequence[int]] = ...,
+    *,
+    background: int = ...,
+    spacing: Optional[Sequence[float]] = ...,
+    origin: Optional[Sequence[float]] = ...,
+    close: bool = ...,
+    threads: int = ...,
+    normals: bool = ...,
+    series: Optional[Union[int, str]] = ...,
+    segment: Optional[int] = ...,
+) -> Dict[str, Any]:
+    """Streams every label's surface into files in one pass (``{label}`` in
+    ``output`` for a file per label, else one .ply or .tmesh with a
+    per-face label), as ``tmc extract --labels``; returns its report."""
+
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a .tmesh, PLY, OBJ or OFF file."""
 

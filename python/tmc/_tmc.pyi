@@ -1,7 +1,7 @@
 """Type stubs of the extension module tmc._tmc (the Rust side; use the
 functions of the tmc package instead)."""
 
-from typing import Any, Optional, Tuple
+from typing import Any, List, Optional, Tuple
 
 import numpy as np
 
@@ -48,6 +48,39 @@ def extract_to(
     normals: bool,
 ) -> str:
     """Streams into a file (with vertex normals if ``normals``); returns the report JSON."""
+
+def extract_labels(
+    input: Any,
+    labels: Optional[List[int]],
+    background: int,
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    mapped: Optional[Tuple[str, int]],
+    close: bool,
+    threads: int,
+    normals: bool,
+    series: Optional[str] = ...,
+    segment: Optional[int] = ...,
+) -> List[Tuple[int, Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]]]:
+    """Every label's mesh in one pass (None: every value present but
+    background): (label, extract's tuple for its indicator) per label."""
+
+def extract_labels_to(
+    input: Any,
+    output: str,
+    labels: Optional[List[int]],
+    background: int,
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    mapped: Optional[Tuple[str, int]],
+    close: bool,
+    threads: int,
+    normals: bool,
+    series: Optional[str] = ...,
+    segment: Optional[int] = ...,
+) -> str:
+    """Streams every label's mesh into the files output names; returns the
+    report JSON."""
 
 def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
     """Reads a mesh file: (vertices float64, triangles uint32)."""

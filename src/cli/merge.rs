@@ -31,7 +31,7 @@ pub(crate) fn run(args: &MergeArgs, cancel: Option<&AtomicBool>) -> Result<()> {
         tmc::files::check_distinct(part, &args.output)?;
     }
     // Label parts merge into a file per label, all open at once.
-    super::open_files::raise_limit();
+    tmc::files::raise_open_file_limit();
     let never = AtomicBool::new(false);
     tmc::part::merge(&args.parts, &args.output, cancel.unwrap_or(&never)).map(|_| ())
 }

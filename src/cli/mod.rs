@@ -22,7 +22,6 @@ mod manifest;
 mod memory;
 mod merge;
 mod monitor;
-mod open_files;
 mod output;
 mod preview;
 mod progress;

@@ -18,25 +18,7 @@ pub(crate) fn to_stdout(
     }
 }
 
-/// The error of a run whose outputs were committed but whose report (the
-/// JSON on stdout, the --stats table, a --report line) could not be
-/// written: the outputs are removed again, so that a run that exits 1
-/// leaves no new output (a file that was at an output path before the run
-/// was replaced when the mesh was committed and is not restored).
-pub(crate) fn withdraw<'a>(
-    outputs: impl IntoIterator<Item = &'a std::path::Path>,
-    e: tmc::Error,
-) -> tmc::Error {
-    let removed: Vec<String> = outputs
-        .into_iter()
-        .filter(|o| std::fs::remove_file(o).is_ok())
-        .map(|o| o.display().to_string())
-        .collect();
-    if removed.is_empty() {
-        return e;
-    }
-    tmc::Error::Invalid(format!("{e}; removed the output {}", removed.join(", ")))
-}
+pub(crate) use tmc::files::withdraw;
 
 /// Joins the lines of `text` into one.
 pub(crate) fn one_line(text: &str) -> String {

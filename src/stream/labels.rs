@@ -38,9 +38,7 @@ use std::sync::{Mutex, PoisonError};
 /// label, as in each label's padded indicator).
 const TIE: u16 = u16::MAX;
 
-/// The most labels one pass takes (their codes are `u16`, 0 kept for no
-/// label and one for `--close`'s border).
-pub const MOST_LABELS: usize = u16::MAX as usize - 1;
+pub use crate::volume::MOST_LABELS;
 
 /// Extracts the boundary surface of each of `labels` in one pass over
 /// `source`, streaming label `labels[i]`'s mesh to `sinks[i]`; returns the

@@ -26,11 +26,12 @@
 //! a chunk's content depends on its two planes only (see [`crate::slab`]).
 //! A finished run is described by a [`RunSummary`] ([`report`]). A label
 //! map is the same pass with one output per label ([`labels`]): only what a
-//! worker does with a slab differs.
+//! worker does with a slab differs; [`label_report`] describes its run.
 
 pub mod budget;
 pub mod cancellable;
 pub mod entry;
+pub mod label_report;
 pub mod labels;
 pub mod parts;
 pub mod pass;
@@ -41,6 +42,7 @@ pub mod seam;
 pub mod threads;
 
 pub use entry::{extract, extract_part_to, extract_to};
+pub use label_report::{LabelReport, LabelRun};
 pub use labels::{extract_labels_to, MOST_LABELS};
 pub use parts::layer_range;
 pub use pass::extract_many_to;

@@ -1,13 +1,19 @@
 //! [`scan_labels`]: the values of a label map and how many samples each
 //! has, read plane by plane, with the first sample that is not a whole
-//! number refused.
+//! number refused ([`scan_label_map`] for a pass over a label map's
+//! labels, [`LabelCounts::select`] for the labels it extracts).
 
 use super::{LentPlane, Sample, SampleSource};
 use crate::error::make_room;
 use crate::fan_out::fan_out;
 use crate::{Error, Result};
 use std::collections::BTreeMap;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
+
+/// The most labels one pass takes (the pass codes them as `u16`, 0 kept
+/// for no label and one for `--close`'s border).
+pub const MOST_LABELS: usize = u16::MAX as usize - 1;
 
 /// The values of a label map, ascending, each with its number of samples.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -32,6 +38,61 @@ impl LabelCounts {
             .filter(|&l| l != background)
             .collect()
     }
+
+    /// The labels a pass over the label map `input` extracts: `wanted`, or
+    /// without it every value present but `background`; an error when that
+    /// leaves none.
+    pub fn select(
+        &self,
+        wanted: Option<&[i64]>,
+        background: i64,
+        input: &Path,
+    ) -> Result<Vec<i64>> {
+        let labels = match wanted {
+            Some(wanted) => wanted.to_vec(),
+            None => self.labels_except(background),
+        };
+        if labels.is_empty() {
+            return Err(Error::Invalid(format!(
+                "{}: no label but the background {background}",
+                input.display()
+            )));
+        }
+        // Before any file is made for them: the pass would refuse them.
+        if labels.len() > MOST_LABELS {
+            return Err(Error::Invalid(format!(
+                "{}: {} labels; one pass takes at most {MOST_LABELS}",
+                input.display(),
+                labels.len()
+            )));
+        }
+        Ok(labels)
+    }
+}
+
+/// Counts the values of the label map `input` read from `source` (as
+/// [`scan_labels_on`]), first refusing a DICOM Segmentation whose segments
+/// overlap: its label map gives a shared sample to one segment only, so
+/// the meshes would not be the segments'. Errors name `input`.
+pub fn scan_label_map(
+    input: &Path,
+    source: &dyn SampleSource,
+    cancel: Option<&AtomicBool>,
+    threads: usize,
+) -> Result<LabelCounts> {
+    let pairs = &source.notes().overlapping_segments;
+    if !pairs.is_empty() {
+        let pairs: Vec<String> = pairs.iter().map(|[a, b]| format!("{a} and {b}")).collect();
+        return Err(Error::Invalid(format!(
+            "{}: segments {} overlap, and a label map holds one segment per sample; extract each with --segment N --iso 0.5",
+            input.display(),
+            pairs.join(", ")
+        )));
+    }
+    scan_labels_on(source, cancel, threads).map_err(|e| match e {
+        Error::Invalid(m) => Error::Invalid(format!("{}: {m}", input.display())),
+        other => other,
+    })
 }
 
 /// Reads every plane of `source` once (in z order, one plane of `f64` in

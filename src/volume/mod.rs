@@ -57,7 +57,9 @@ pub use held::HeldPlanes;
 pub use info::{
     automatic_plane_step, describe, volume_info, VolumeInfo, HISTOGRAM_BUDGET, MAX_BINS, MIN_BINS,
 };
-pub use labels::{plane_runs, scan_labels, scan_labels_on, LabelCounts};
+pub use labels::{
+    plane_runs, scan_label_map, scan_labels, scan_labels_on, LabelCounts, MOST_LABELS,
+};
 pub use lent::{LentPlane, PlaneView};
 pub use notes::{ChunkNotes, SegmentNote, SourceNotes, ValueFrom};
 pub use open::{

@@ -1,5 +1,6 @@
 //! The limit on open files, raised for the runs that hold a file per
-//! label at once (`extract --labels`, `merge` of label parts).
+//! label at once (`extract --labels`, `merge` of label parts, the Python
+//! package's `extract_labels_to`).
 
 use rustix::process::{getrlimit, setrlimit, Resource};
 
@@ -11,7 +12,7 @@ use rustix::process::{getrlimit, setrlimit, Resource};
 /// unlimited the soft one goes to 2^20 (Linux's default `nr_open`), and a
 /// refusal leaves the limit as it was (a run that needs more then fails
 /// with the system's one-line error, leaving nothing).
-pub(crate) fn raise_limit() {
+pub fn raise_open_file_limit() {
     let limit = getrlimit(Resource::Nofile);
     let target = limit.maximum.unwrap_or(1 << 20);
     if limit.current.is_some_and(|current| current < target) {

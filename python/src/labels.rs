@@ -1,0 +1,188 @@
+//! Label maps: every label's surface in one pass over the volume
+//! ([`tmc::stream::extract_labels_to`]), into numpy arrays
+//! (`extract_labels`) or streamed into files as `tmc extract --labels`
+//! writes them (`extract_labels_to`, with the library's
+//! [`tmc::export::LabelFiles`]).
+
+use crate::array::MappedAt;
+use crate::extract::{params, preflight, report, select, Collected, Input};
+use crate::output::arrays;
+use crate::record::Recorder;
+use pyo3::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use tmc::export::{LabelFiles, LabelSink};
+use tmc::stream::label_report::voxel_volume;
+use tmc::stream::{LabelReport, LabelRun};
+use tmc::volume::LabelCounts;
+use tmc::{ExtractParams, MeshSink, SampleSource};
+
+/// The labels of `source` to extract (`labels`, or every value present
+/// but `background`), with the counts of its values; a sample that is not
+/// a whole number is an error naming its position.
+fn choose(
+    source: &dyn SampleSource,
+    path: Option<&Path>,
+    labels: Option<&[i64]>,
+    background: i64,
+    params: &ExtractParams,
+    cancel: &AtomicBool,
+) -> tmc::Result<(Vec<i64>, LabelCounts)> {
+    let name = path.unwrap_or(Path::new("array"));
+    let counts = tmc::volume::scan_label_map(name, source, Some(cancel), params.threads)?;
+    let chosen = counts.select(labels, background, name)?;
+    Ok((chosen, counts))
+}
+
+/// The parameters of every label's indicator: isovalue 0.5, inside high,
+/// the method of TMC.
+fn label_params(close: bool, threads: usize, normals: bool) -> PyResult<ExtractParams> {
+    params(0.5, "tmc", "high", close, threads, normals)
+}
+
+/// One label's mesh as `extract` returns it: the label, then `extract`'s
+/// tuple.
+type LabelMesh<'py> = (i64, Bound<'py, PyAny>);
+
+/// Extracts the surface of each label of `input` (a 3-D array indexed
+/// `[z][y][x]`, or a path) in one pass into memory. `labels` is the list
+/// to extract, `None` for every value present but `background`. Returns a
+/// list of `(label, (vertices, triangles, normals or None, report JSON,
+/// record))`, each tuple what `extract` gives for that label's 0/1
+/// indicator at 0.5.
+#[pyfunction]
+#[pyo3(signature = (input, labels, background, spacing, origin, mapped, close, threads, normals, series = None, segment = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn extract_labels<'py>(
+    py: Python<'py>,
+    input: &Bound<'py, PyAny>,
+    labels: Option<Vec<i64>>,
+    background: i64,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    mapped: MappedAt,
+    close: bool,
+    threads: usize,
+    normals: bool,
+    series: Option<String>,
+    segment: Option<u32>,
+) -> PyResult<Vec<LabelMesh<'py>>> {
+    let params = label_params(close, threads, normals)?;
+    let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
+    let collected: Vec<(i64, Collected)> = input.run(py, |source, path, cancel| {
+        let options = preflight(source, path, &params, None, cancel)?;
+        let (labels, _) = choose(source, path, labels.as_deref(), background, &params, cancel)?;
+        // One collector per label: the meshes asked for, nothing more.
+        let mut recorders: Vec<Recorder<[f64; 3]>> =
+            labels.iter().map(|_| Recorder::default()).collect();
+        let mut sinks: Vec<&mut dyn MeshSink> = recorders
+            .iter_mut()
+            .map(|r| r as &mut dyn MeshSink)
+            .collect();
+        let stats =
+            tmc::stream::extract_labels_to(source, &labels, &params, &options, None, &mut sinks)?;
+        drop(sinks);
+        let mut out = Vec::with_capacity(labels.len());
+        for ((label, recorder), stats) in labels.into_iter().zip(recorders).zip(&stats) {
+            let report = report(path, None, source, &params, stats)?;
+            let record = recorder.record();
+            let (vertices, triangles, normals) = recorder.collector.into_parts();
+            out.push((label, (vertices, triangles, normals, report, record)));
+        }
+        Ok(out)
+    })?;
+    let mut meshes = Vec::with_capacity(collected.len());
+    for (label, (vertices, triangles, n, report, record)) in collected {
+        let (v, t, n) = arrays(py, vertices, triangles, normals.then_some(n))?;
+        let mesh = (v, t, n, report, record).into_pyobject(py)?.into_any();
+        meshes.push((label, mesh));
+    }
+    Ok(meshes)
+}
+
+/// Streams the surface of each label of `input` (array or path) into the
+/// files `output` names, in one pass, as `tmc extract --labels` writes
+/// them: `{label}` in `output` for a file per label, else one `.ply` or
+/// `.tmesh` with a per-face label. Every file appears whole or none does.
+/// Returns the report JSON (`tmc extract --labels --json`'s object, without
+/// the figures that need the meshes in memory).
+#[pyfunction]
+#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, series = None, segment = None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn extract_labels_to(
+    py: Python<'_>,
+    input: &Bound<'_, PyAny>,
+    output: PathBuf,
+    labels: Option<Vec<i64>>,
+    background: i64,
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    mapped: MappedAt,
+    close: bool,
+    threads: usize,
+    normals: bool,
+    series: Option<String>,
+    segment: Option<u32>,
+) -> PyResult<String> {
+    let params = label_params(close, threads, normals)?;
+    let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
+    input.run(py, |source, path, cancel| {
+        let started = Instant::now();
+        // The name's form first, before the volume is read.
+        tmc::export::label_outputs(&output, &[])?;
+        let options = preflight(source, path, &params, None, cancel)?;
+        let (labels, counts) =
+            choose(source, path, labels.as_deref(), background, &params, cancel)?;
+        let scan_seconds = started.elapsed().as_secs_f64();
+        let outputs = tmc::export::label_outputs(&output, &labels)?;
+        for output in &outputs {
+            for data in path.into_iter().chain(source.data_files()) {
+                tmc::files::check_distinct(data, output)?;
+            }
+        }
+        tmc::export::check_output_paths(outputs.iter().map(PathBuf::as_path))?;
+        // Every label's file stays open until all are committed.
+        tmc::files::raise_open_file_limit();
+        let pass_start = Instant::now();
+        let mut files = LabelFiles::create(&output, &labels, &outputs, |target, _| {
+            LabelSink::create(target, labels.len())
+        })?;
+        let mut sinks: Vec<&mut dyn MeshSink> = files
+            .sinks()
+            .iter_mut()
+            .map(|f| f as &mut dyn MeshSink)
+            .collect();
+        let stats =
+            tmc::stream::extract_labels_to(source, &labels, &params, &options, None, &mut sinks)?;
+        drop(sinks);
+        files.finish(Some(cancel))?;
+        let pass_seconds = pass_start.elapsed().as_secs_f64();
+        let voxel = voxel_volume(source.grid());
+        let reports: Vec<LabelReport> = labels
+            .iter()
+            .zip(&stats)
+            .enumerate()
+            .map(|(i, (&label, stats))| {
+                let output = outputs[i.min(outputs.len() - 1)].display().to_string();
+                LabelReport::new(label, output, stats, counts.samples(label), voxel)
+            })
+            .collect();
+        let run = LabelRun {
+            input: path.unwrap_or(Path::new("array")).display().to_string(),
+            close: params.close,
+            method: params.method.name(),
+            background,
+            labels: &reports,
+            scan_seconds,
+            pass_seconds,
+            seconds: started.elapsed().as_secs_f64(),
+        };
+        serde_json::to_string(&run).map_err(|e| {
+            tmc::files::withdraw(
+                outputs.iter().map(PathBuf::as_path),
+                tmc::Error::Invalid(e.to_string()),
+            )
+        })
+    })
+}

@@ -1,0 +1,125 @@
+//! What a label map's pass reports (`tmc extract --labels --json`, the
+//! Python package's `extract_labels_to`): [`LabelRun`], with one
+//! [`LabelReport`] per label, and the figures it is made of
+//! ([`voxel_volume`], [`area_and_volume`]).
+//!
+//! The library owns the report so that every caller gives it under the
+//! same names, in the same order. The figures that need a label's whole
+//! mesh (components, genus, area, enclosed volume) are optional: a caller
+//! that streams the meshes to files without holding them leaves them out.
+
+use crate::grid::Grid;
+use crate::mesh::Mesh;
+use crate::stats::Stats;
+use serde::Serialize;
+
+/// One label's figures. Serialized (serde), the optional figures are left
+/// out when absent.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LabelReport {
+    /// The label's value.
+    pub label: i64,
+    /// The file its mesh went to (the one file, for one file of every label).
+    pub output: String,
+    /// Triangles of its mesh.
+    pub triangles: u64,
+    /// Vertices of its mesh.
+    pub vertices: u64,
+    /// Samples of the label.
+    pub samples: u64,
+    /// `samples` times the volume of a voxel ([`voxel_volume`]).
+    pub voxel_volume: f64,
+    /// Connected components of its mesh.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub components: Option<usize>,
+    /// Total genus of its mesh (when every component is a closed manifold).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub genus: Option<i64>,
+    /// Whether its mesh is a closed manifold.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closed: Option<bool>,
+    /// Surface area of its mesh ([`area_and_volume`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub area: Option<f64>,
+    /// Volume its mesh encloses ([`area_and_volume`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub enclosed_volume: Option<f64>,
+}
+
+impl LabelReport {
+    /// The figures of `label` that need not its mesh: written to `output`
+    /// with `stats`, `samples` samples of `voxel` volume each; the others
+    /// absent.
+    pub fn new(label: i64, output: String, stats: &Stats, samples: u64, voxel: f64) -> Self {
+        LabelReport {
+            label,
+            output,
+            triangles: stats.triangles,
+            vertices: stats.vertices,
+            samples,
+            voxel_volume: samples as f64 * voxel,
+            components: None,
+            genus: None,
+            closed: None,
+            area: None,
+            enclosed_volume: None,
+        }
+    }
+}
+
+/// The report of a label map's pass, keys in this order.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LabelRun<'a> {
+    /// The label map's path (or what stands for it, `"array"`).
+    pub input: String,
+    /// Whether the surfaces were closed at the volume's boundary.
+    pub close: bool,
+    /// The method's name ([`Method::name`](crate::params::Method::name)).
+    pub method: &'static str,
+    /// The value that `all` leaves out.
+    pub background: i64,
+    /// Each label's figures, in the order of the labels.
+    pub labels: &'a [LabelReport],
+    /// Seconds spent counting the values before the pass.
+    pub scan_seconds: f64,
+    /// Seconds of the pass, files finished included.
+    pub pass_seconds: f64,
+    /// Seconds of the whole run.
+    pub seconds: f64,
+}
+
+/// The volume of one voxel of `grid`: |det| of its index-to-world map's
+/// matrix.
+pub fn voxel_volume(grid: &Grid) -> f64 {
+    let m: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| grid.direction[i][j] * grid.spacing[j]));
+    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    det.abs()
+}
+
+/// Surface area and enclosed volume of `mesh` (divergence theorem,
+/// outward triangles: positive for a closed surface), in `f64`.
+pub fn area_and_volume(mesh: &Mesh) -> (f64, f64) {
+    let (mut area, mut volume) = (0.0, 0.0);
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|k| mesh.vertices[k as usize].map(f64::from));
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        area += (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0;
+        // a . (b x c) / 6
+        let bc = [
+            b[1] * c[2] - b[2] * c[1],
+            b[2] * c[0] - b[0] * c[2],
+            b[0] * c[1] - b[1] * c[0],
+        ];
+        volume += (a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2]) / 6.0;
+    }
+    (area, volume)
+}

@@ -13,15 +13,17 @@ use super::extract_args::{ExtractArgs, InsideArg};
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
 use serde::Serialize;
+use std::cell::RefCell;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-use tmc::check::check_mesh;
+use tmc::check::{Scratch, StreamCheck, Verdict};
 use tmc::fan_out::fan_out;
 use tmc::files::check_distinct;
 use tmc::stream::check_grid;
-use tmc::{Chunk, ChunkEncoder, Error, MeshBuilder, MeshInfo, MeshSink, Result, Totals};
+use tmc::{Chunk, ChunkEncoder, Error, MeshInfo, MeshSink, Result, Totals};
 
 /// One label's figures for `--stats` and `--json`.
 #[derive(Serialize)]
@@ -192,6 +194,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         None => None,
     };
     let mut sinks = Vec::with_capacity(labels.len());
+    // One working space for every label's check: the pass writes one
+    // label's chunk at a time.
+    let scratch = Rc::new(RefCell::new(Scratch::default()));
     for (target, &label) in targets.iter().zip(&labels) {
         let inner = match &record {
             Some(record) => {
@@ -208,7 +213,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         };
         sinks.push(Measured {
             inner,
-            mesh: measure.then(MeshBuilder::default),
+            measure: measure.then(|| Measure::new(Rc::clone(&scratch))),
             totals: None,
         });
     }
@@ -254,24 +259,26 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         .enumerate()
         .map(|(i, ((&label, sink), stats))| {
             let output = outputs[if per_label { i } else { 0 }].display().to_string();
-            let mesh = sink.mesh.take().map(MeshBuilder::into_mesh);
-            let checked = mesh.as_ref().map(|m| (check_mesh(m), area_and_volume(m)));
+            let measured = sink.measure.take().map(Measure::finish).transpose()?;
+            let checked = measured
+                .as_ref()
+                .and_then(|(v, sums)| Some((v.checked()?, sums)));
             let samples = counts.samples(label);
-            LabelReport {
+            Ok(LabelReport {
                 label,
                 output,
                 triangles: stats.triangles,
                 vertices: stats.vertices,
                 samples,
                 voxel_volume: samples as f64 * voxel,
-                components: checked.as_ref().map(|(r, _)| r.components),
-                genus: checked.as_ref().and_then(|(r, _)| r.total_genus()),
-                closed: checked.as_ref().map(|(r, _)| r.is_closed_manifold()),
-                area: checked.as_ref().map(|(_, a)| a.0),
-                enclosed_volume: checked.as_ref().map(|(_, a)| a.1),
-            }
+                components: checked.map(|(c, _)| c.components as usize),
+                genus: checked.and_then(|(c, _)| c.genus),
+                closed: checked.map(|(c, _)| c.closed_manifold),
+                area: checked.map(|(_, s)| s.area),
+                enclosed_volume: checked.map(|(_, s)| s.volume),
+            })
         })
-        .collect();
+        .collect::<Result<_>>()?;
     let written: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
     if args.stats {
         write_table(&reports)
@@ -342,28 +349,40 @@ fn voxel_volume(grid: &tmc::Grid) -> f64 {
 }
 
 /// Surface area and enclosed volume (divergence theorem, outward
-/// triangles: positive for a closed surface), in `f64`.
-fn area_and_volume(mesh: &tmc::Mesh) -> (f64, f64) {
-    let (mut area, mut volume) = (0.0, 0.0);
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|k| mesh.vertices[k as usize].map(f64::from));
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let n = [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ];
-        area += (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0;
-        // a . (b x c) / 6
-        let bc = [
-            b[1] * c[2] - b[2] * c[1],
-            b[2] * c[0] - b[0] * c[2],
-            b[0] * c[1] - b[1] * c[0],
-        ];
-        volume += (a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2]) / 6.0;
+/// triangles: positive for a closed surface), summed in `f64` triangle by
+/// triangle in the order of the file, so that the sums do not depend on
+/// the threads, the slab depth or the parts.
+#[derive(Debug, Default, Clone, Copy)]
+struct Sums {
+    area: f64,
+    volume: f64,
+}
+
+impl Sums {
+    /// Adds `triangles`, whose corners index `vertices`.
+    fn add(&mut self, vertices: &[[f32; 3]], triangles: &[[u32; 3]]) {
+        for t in triangles {
+            let corner = |k: u32| vertices.get(k as usize).map(|p| p.map(f64::from));
+            let (Some(a), Some(b), Some(c)) = (corner(t[0]), corner(t[1]), corner(t[2])) else {
+                continue;
+            };
+            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            let n = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            self.area += (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0;
+            // a . (b x c) / 6
+            let bc = [
+                b[1] * c[2] - b[2] * c[1],
+                b[2] * c[0] - b[0] * c[2],
+                b[0] * c[1] - b[1] * c[0],
+            ];
+            self.volume += (a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2]) / 6.0;
+        }
     }
-    (area, volume)
 }
 
 /// The `--stats` table on stderr.
@@ -392,15 +411,99 @@ fn write_table(reports: &[LabelReport]) -> std::io::Result<()> {
     Ok(())
 }
 
-/// A label's sink: its file's, and the mesh for `--stats` (components,
-/// genus, area and volume need the whole label mesh). The pass's `finish`
-/// only notes the totals: the files are finished after the pass, all
-/// labels at once ([`finish_all`]).
+/// A label's sink: its file's, and the figures for `--stats`. The pass's
+/// `finish` only notes the totals: the files are finished after the pass,
+/// all labels at once ([`finish_all`]).
 struct Measured {
     inner: Inner,
-    mesh: Option<MeshBuilder>,
+    measure: Option<Measure>,
     /// What the pass's `finish` was given.
     totals: Option<Totals>,
+}
+
+/// A label's figures for `--stats`, counted while its chunks stream: a
+/// [`StreamCheck::full`] (components, genus, closed: the figures `tmc
+/// check` gives the label's file) and the [`Sums`], over a window of two
+/// chunks. Each chunk waits for the next one's vertices, which its
+/// triangles end in; a label absent from the planes being written holds
+/// nothing but counters.
+struct Measure {
+    check: StreamCheck,
+    /// The working space of every label's check.
+    scratch: Rc<RefCell<Scratch>>,
+    sums: Sums,
+    pending: Option<Pending>,
+}
+
+/// The last chunk's vertices (with room for the next one's first) and
+/// triangles, and how many of the next chunk's vertices they use.
+struct Pending {
+    vertices: Vec<[f32; 3]>,
+    triangles: Vec<[u32; 3]>,
+    next: u32,
+}
+
+impl Measure {
+    fn new(scratch: Rc<RefCell<Scratch>>) -> Self {
+        Measure {
+            check: StreamCheck::full(),
+            scratch,
+            sums: Sums::default(),
+            pending: None,
+        }
+    }
+
+    /// Counts the pending chunk with the first vertices of `after` (none
+    /// after the last).
+    fn flush(&mut self, after: &[[f32; 3]]) -> Result<()> {
+        let Some(Pending {
+            mut vertices,
+            triangles,
+            next,
+        }) = self.pending.take()
+        else {
+            return Ok(());
+        };
+        let Some(first) = after.get(..next as usize) else {
+            return Err(Error::Invalid(
+                "a label's triangle refers to a vertex past the next chunk's".into(),
+            ));
+        };
+        let own = vertices.len() as u32;
+        vertices.extend_from_slice(first);
+        self.sums.add(&vertices, &triangles);
+        let mut scratch = self.scratch.borrow_mut();
+        self.check.chunk(&mut scratch, own, next, &triangles);
+        Ok(())
+    }
+
+    /// Takes `chunk` in, counting the one before.
+    fn chunk(&mut self, chunk: &Chunk) -> Result<()> {
+        self.flush(&chunk.vertices)?;
+        let Ok(own) = u32::try_from(chunk.vertices.len()) else {
+            return Err(Error::Invalid("a label's chunk is too large".into()));
+        };
+        let top = chunk
+            .triangles
+            .iter()
+            .map(|t| t[0].max(t[1]).max(t[2]))
+            .max();
+        let next = top.map_or(0, |i| i.saturating_add(1).saturating_sub(own));
+        let mut vertices = Vec::with_capacity(own as usize + next as usize);
+        vertices.extend_from_slice(&chunk.vertices);
+        self.pending = Some(Pending {
+            vertices,
+            triangles: chunk.triangles.clone(),
+            next,
+        });
+        Ok(())
+    }
+
+    /// The verdict and the sums once the last chunk is in.
+    fn finish(mut self) -> Result<(Verdict, Sums)> {
+        self.flush(&[])?;
+        Ok((self.check.finish(), self.sums))
+    }
 }
 
 /// A label's file sink: one that may be finished on another thread (the
@@ -421,30 +524,24 @@ impl Inner {
 
 impl MeshSink for Measured {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
-        if let Some(m) = &mut self.mesh {
-            m.begin(info)?;
-        }
         self.inner.sink().begin(info)
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
-        if let Some(m) = &mut self.mesh {
-            m.chunk(base, chunk)?;
+        if let Some(m) = &mut self.measure {
+            m.chunk(chunk)?;
         }
         self.inner.sink().chunk(base, chunk)
     }
 
     fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
-        if let Some(m) = &mut self.mesh {
-            m.chunk(base, chunk)?;
+        if let Some(m) = &mut self.measure {
+            m.chunk(chunk)?;
         }
         self.inner.sink().chunk_cancellable(base, chunk, cancel)
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
-        if let Some(m) = &mut self.mesh {
-            m.finish(totals)?;
-        }
         self.totals = Some(*totals);
         Ok(())
     }

@@ -88,9 +88,9 @@ impl Verdict {
     /// (`None` but from [`StreamCheck::full`]); see [`Checked`].
     pub fn checked(&self) -> Option<Checked> {
         let links = self.links?;
-        let vertices = self.vertices - links.unreferenced_vertices;
+        let vertices = self.vertices.saturating_sub(links.unreferenced_vertices);
         // An unreferenced vertex is a class of its own, counted once.
-        let components = self.components - links.unreferenced_vertices;
+        let components = self.components.saturating_sub(links.unreferenced_vertices);
         let euler = vertices as i64 - self.edges as i64 + self.triangles as i64;
         let manifold = self.nonmanifold_edges == 0 && links.non_manifold_vertices == 0;
         let oriented = links.inconsistent_edges == 0;

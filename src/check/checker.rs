@@ -2,6 +2,7 @@
 //! edge once, checks the vertex links, and gathers the counts per component.
 
 use super::geometry::check_geometry;
+use super::link::LinkScratch;
 use super::report::{ComponentReport, MeshReport};
 use super::union_find::{ParityUnionFind, UnionFind, NONE};
 use crate::mesh::Mesh;
@@ -105,7 +106,7 @@ pub fn check_mesh(mesh: &Mesh) -> MeshReport {
     let mut orient = ParityUnionFind::new(tris.len());
     let mut boundary: Vec<(u32, u32)> = Vec::new();
     let mut entries: Vec<(u32, bool, u32)> = Vec::new();
-    let mut link = LinkScratch::default();
+    let mut link = LinkScratch::<u32>::default();
     for v in 0..nv {
         let around = &incident[offsets[v]..offsets[v + 1]];
         if around.is_empty() {
@@ -213,84 +214,6 @@ fn component_report(c: &Counters) -> ComponentReport {
         consistently_oriented: c.inconsistent_edges == 0,
         genus,
     }
-}
-
-/// Scratch space for testing whether the link of a vertex (the edges
-/// opposite to it in its triangles) is a single path or cycle.
-#[derive(Default)]
-struct LinkScratch {
-    edges: Vec<(u32, u32)>,
-    nodes: Vec<u32>,
-    degree: Vec<u8>,
-    parent: Vec<u8>,
-}
-
-impl LinkScratch {
-    fn clear(&mut self) {
-        self.edges.clear();
-    }
-
-    fn push(&mut self, a: u32, b: u32) {
-        self.edges.push((a, b));
-    }
-
-    /// A connected multigraph without loops whose degrees are at most 2 is
-    /// a path or a cycle, i.e. the triangles form one fan.
-    fn is_single_fan(&mut self) -> bool {
-        self.nodes.clear();
-        self.nodes
-            .extend(self.edges.iter().flat_map(|&(a, b)| [a, b]));
-        self.nodes.sort_unstable();
-        self.nodes.dedup();
-        let n = self.nodes.len();
-        if n > 255 {
-            // Too many neighbours for the compact scratch arrays.
-            return self.is_single_fan_large();
-        }
-        self.degree.clear();
-        self.degree.resize(n, 0);
-        self.parent.clear();
-        self.parent.extend(0..n as u8);
-        let mut pieces = n;
-        for &(a, b) in &self.edges {
-            let ia = self.nodes.binary_search(&a).unwrap_or(0);
-            let ib = self.nodes.binary_search(&b).unwrap_or(0);
-            for i in [ia, ib] {
-                self.degree[i] += 1;
-                if self.degree[i] > 2 {
-                    return false;
-                }
-            }
-            let (ra, rb) = (find_u8(&mut self.parent, ia), find_u8(&mut self.parent, ib));
-            if ra != rb {
-                self.parent[ra] = rb as u8;
-                pieces -= 1;
-            }
-        }
-        pieces == 1
-    }
-
-    fn is_single_fan_large(&self) -> bool {
-        let index = |x: u32| self.nodes.binary_search(&x).unwrap_or(0) as u32;
-        let mut degree = vec![0u32; self.nodes.len()];
-        let mut uf = UnionFind::new(self.nodes.len());
-        for &(a, b) in &self.edges {
-            let (ia, ib) = (index(a), index(b));
-            degree[ia as usize] += 1;
-            degree[ib as usize] += 1;
-            uf.union(ia, ib);
-        }
-        let root = uf.find(0);
-        degree.iter().all(|&d| d <= 2) && (0..self.nodes.len() as u32).all(|i| uf.find(i) == root)
-    }
-}
-
-fn find_u8(parent: &mut [u8], mut x: usize) -> usize {
-    while parent[x] as usize != x {
-        parent[x] = parent[parent[x] as usize];
-        x = parent[x] as usize;
-    }
-    x
 }
 
 #[cfg(test)]

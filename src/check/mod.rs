@@ -10,6 +10,12 @@
 //! shares code with the extraction kernel: the checker is the referee of the
 //! kernel's tests and of `tmc check`.
 //!
+//! [`StreamCheck`] counts the same while a mesh streams, chunk by chunk,
+//! over a window of two chunks, without holding the mesh: the preview's
+//! closed/genus caption, and `tmc extract --labels --stats`
+//! ([`StreamCheck::full`], whose [`Verdict::checked`] gives the figures of
+//! `check_mesh`).
+//!
 //! ## Definitions
 //! * A triangle is **invalid** when an index is out of range and
 //!   **degenerate** when it repeats an index. Both kinds are counted and then
@@ -51,11 +57,16 @@
 
 mod checker;
 mod geometry;
+mod link;
 mod read;
 mod report;
+mod stream;
+mod stream_links;
 mod union_find;
 
 pub use checker::check_mesh;
 pub use geometry::check_geometry;
 pub use read::read_mesh;
 pub use report::{ComponentReport, Geometry, MeshReport};
+pub use stream::{Scratch, StreamCheck, Verdict};
+pub use stream_links::{Checked, Links};

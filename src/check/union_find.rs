@@ -1,5 +1,17 @@
 //! Union-find structures of the checker: over vertices (components) and,
-//! with parity, over triangles (orientability).
+//! with parity, over triangles (orientability); [`find`] for the streaming
+//! check's windows.
+
+/// The root of `x`, halving the path on the way.
+#[inline]
+pub(super) fn find(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let p = parent[x as usize];
+        parent[x as usize] = parent[p as usize];
+        x = parent[x as usize];
+    }
+    x
+}
 
 /// Marker for "no value" in the `u32` index arrays.
 pub(super) const NONE: u32 = u32::MAX;

@@ -10,8 +10,8 @@
 //! [`lines`] (the three axis views of an extracted mesh from its vertices
 //! on grid lines, exact and without triangles), [`raster`] (depth buffers keeping the smallest `(depth, shade)` key per
 //! pixel: the pixels do not depend on the order of the triangles, hence
-//! not on threads, slabs or parts), [`topology`] (the closed/genus verdict,
-//! counted over a window of two chunks), [`picture`] (colours and the
+//! not on threads, slabs or parts), [`crate::check::StreamCheck`] (the
+//! closed/genus verdict, counted over a window of two chunks), [`picture`] (colours and the
 //! caption, in the hand-drawn [`font`]) and [`png_out`] (the file, written
 //! atomically); [`pair`] puts two pictures side by side with marks
 //! (`tmc compare --preview`).
@@ -23,11 +23,10 @@ pub mod picture;
 pub mod png_out;
 pub mod raster;
 pub mod sink;
-pub mod topology;
 pub mod views;
 
+pub use crate::check::Verdict;
 pub use pair::{side_by_side, Marks, MARK, PAIR_DIMENSIONS};
 pub use png_out::{check_png_path, write_png};
 pub use sink::PreviewSink;
-pub use topology::Verdict;
 pub use views::Bounds;

@@ -7,14 +7,14 @@
 //! own depth buffers ([`Raster`], merged by the per-pixel minimum at the
 //! end, so the picture does not depend on which worker drew what), and one
 //! topology worker that counts it, in plane order, for the verdict
-//! ([`Topology`]). Channels between them are bounded, so memory is a few
+//! ([`StreamCheck`]). Channels between them are bounded, so memory is a few
 //! chunks and one depth buffer per worker, whatever the mesh.
 
 use super::lines::GridLines;
 use super::picture;
 use super::raster::Raster;
-use super::topology::{Topology, Verdict};
 use super::views::{Bounds, View};
+use crate::check::{Scratch, StreamCheck, Verdict};
 use crate::{Chunk, Error, MeshInfo, MeshSink, Result, Totals};
 use crossbeam::channel::{bounded, Sender};
 use std::path::PathBuf;
@@ -76,10 +76,10 @@ impl Workers {
             .collect();
         let (topology_tx, topology_rx) = bounded::<Arc<Job>>(2 * threads + 2);
         let topology = std::thread::spawn(move || {
-            let mut count = Topology::default();
+            let (mut count, mut scratch) = (StreamCheck::default(), Scratch::default());
             for job in topology_rx {
                 let next = job.vertices.len() as u32 - job.own;
-                count.chunk(job.own, next, &job.triangles);
+                count.chunk(&mut scratch, job.own, next, &job.triangles);
             }
             count.finish()
         });

@@ -1,7 +1,7 @@
 //! What a label map's pass reports (`tmc extract --labels --json`, the
 //! Python package's `extract_labels_to`): [`LabelRun`], with one
 //! [`LabelReport`] per label, and the figures it is made of
-//! ([`voxel_volume`], [`area_and_volume`]).
+//! ([`voxel_volume`], [`SurfaceSums`]).
 //!
 //! The library owns the report so that every caller gives it under the
 //! same names, in the same order. The figures that need a label's whole
@@ -9,7 +9,6 @@
 //! that streams the meshes to files without holding them leaves them out.
 
 use crate::grid::Grid;
-use crate::mesh::Mesh;
 use crate::stats::Stats;
 use serde::Serialize;
 
@@ -38,10 +37,10 @@ pub struct LabelReport {
     /// Whether its mesh is a closed manifold.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub closed: Option<bool>,
-    /// Surface area of its mesh ([`area_and_volume`]).
+    /// Surface area of its mesh ([`SurfaceSums`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub area: Option<f64>,
-    /// Volume its mesh encloses ([`area_and_volume`]).
+    /// Volume its mesh encloses ([`SurfaceSums`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub enclosed_volume: Option<f64>,
 }
@@ -99,27 +98,42 @@ pub fn voxel_volume(grid: &Grid) -> f64 {
     det.abs()
 }
 
-/// Surface area and enclosed volume of `mesh` (divergence theorem,
-/// outward triangles: positive for a closed surface), in `f64`.
-pub fn area_and_volume(mesh: &Mesh) -> (f64, f64) {
-    let (mut area, mut volume) = (0.0, 0.0);
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|k| mesh.vertices[k as usize].map(f64::from));
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let n = [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ];
-        area += (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0;
-        // a . (b x c) / 6
-        let bc = [
-            b[1] * c[2] - b[2] * c[1],
-            b[2] * c[0] - b[0] * c[2],
-            b[0] * c[1] - b[1] * c[0],
-        ];
-        volume += (a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2]) / 6.0;
+/// Surface area and enclosed volume of a mesh (divergence theorem,
+/// outward triangles: positive for a closed surface), summed in `f64`
+/// triangle by triangle as its chunks stream: in the order of the file,
+/// the sums do not depend on the threads, the slab depth or the parts.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct SurfaceSums {
+    /// Surface area so far.
+    pub area: f64,
+    /// Enclosed volume so far.
+    pub volume: f64,
+}
+
+impl SurfaceSums {
+    /// Adds `triangles`, whose corners index `vertices` (a triangle with a
+    /// corner outside `vertices` is skipped).
+    pub fn add(&mut self, vertices: &[[f32; 3]], triangles: &[[u32; 3]]) {
+        for t in triangles {
+            let corner = |k: u32| vertices.get(k as usize).map(|p| p.map(f64::from));
+            let (Some(a), Some(b), Some(c)) = (corner(t[0]), corner(t[1]), corner(t[2])) else {
+                continue;
+            };
+            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+            let n = [
+                u[1] * v[2] - u[2] * v[1],
+                u[2] * v[0] - u[0] * v[2],
+                u[0] * v[1] - u[1] * v[0],
+            ];
+            self.area += (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() / 2.0;
+            // a . (b x c) / 6
+            let bc = [
+                b[1] * c[2] - b[2] * c[1],
+                b[2] * c[0] - b[0] * c[2],
+                b[0] * c[1] - b[1] * c[0],
+            ];
+            self.volume += (a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2]) / 6.0;
+        }
     }
-    (area, volume)
 }

@@ -1,6 +1,7 @@
 //! Running out of resources: a full disk is one clean error with nothing
-//! left behind, and `--max-memory` bounds the pipeline without changing the
-//! output (its refusal when too small is a row of `bad_inputs.rs`).
+//! left behind, `--max-memory` bounds the pipeline without changing the
+//! output (its refusal when too small is a row of `bad_inputs.rs`), and
+//! `--labels --json` counts each label's figures without holding its mesh.
 
 use crate::common;
 
@@ -135,5 +136,66 @@ fn max_memory_holds_on_the_densest_surface() {
     assert!(
         peak <= 48.0 * (1 << 20) as f64,
         "peak {peak} bytes beyond --max-memory 48M (without it: {free_peak})"
+    );
+}
+
+/// The peak resident memory of `tmc args` in bytes, from `/usr/bin/time
+/// -f %M` (`None` where there is no such program).
+fn peak_rss(args: &[&str]) -> Option<f64> {
+    let time = Path::new("/usr/bin/time");
+    if !time.exists() {
+        return None;
+    }
+    let out = Command::new(time)
+        .args(["-f", "peak %M"])
+        .arg(common::cli::tmc_path())
+        .args(args)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{args:?}: {out:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    let kib: f64 = err.lines().last()?.strip_prefix("peak ")?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+#[test]
+fn label_stats_hold_no_label_mesh() {
+    // Three labels at random: about 2.5 triangles a voxel each, some
+    // 100 MiB of meshes in all, over a pipeline held to 48 MiB.
+    use rand::{Rng, SeedableRng};
+    let dir = tempfile::tempdir().unwrap();
+    let dims = [128, 128, 48];
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(5);
+    let values = (0..dims.iter().product::<usize>())
+        .map(|_| f64::from(rng.gen_range(1..4u8)))
+        .collect();
+    let input = dir.path().join("labels.nrrd");
+    common::labels::write(&input, dims, values, tmc::volume::ScalarType::U16);
+    let out = dir.path().join("{label}.tmesh");
+    let args = |extra: &'static str| {
+        let mut a = vec!["extract", s(&input), "--labels", "all", "-o", s(&out)];
+        a.extend(["-q", "--threads", "2", "--max-memory", "48M", extra]);
+        a.retain(|a| !a.is_empty());
+        a
+    };
+    let Some(plain) = peak_rss(&args("")) else {
+        println!("skipped: no /usr/bin/time here");
+        return;
+    };
+    let with_stats = peak_rss(&args("--json")).unwrap();
+    let json = common::labels::ok(&args("--json"));
+    let json: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    // The labels' meshes as a MeshBuilder holds them: 12 bytes a vertex
+    // and a triangle.
+    let meshes: f64 = json["labels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| 12.0 * (r["triangles"].as_f64().unwrap() + r["vertices"].as_f64().unwrap()))
+        .sum();
+    assert!(meshes > 80.0 * (1 << 20) as f64, "meshes of {meshes} bytes");
+    assert!(
+        with_stats < plain + meshes / 3.0,
+        "--json peaks at {with_stats} bytes, {plain} without it, for {meshes} bytes of meshes"
     );
 }

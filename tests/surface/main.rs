@@ -11,6 +11,7 @@ mod common;
 mod check_geometry;
 mod check_meshes;
 mod edge_values;
+mod label_stats;
 mod labels;
 mod normals;
 mod oracle_selftest;

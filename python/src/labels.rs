@@ -106,7 +106,8 @@ pub(crate) fn extract_labels<'py>(
 /// them: `{label}` in `output` for a file per label, else one `.ply` or
 /// `.tmesh` with a per-face label. Every file appears whole or none does.
 /// Returns the report JSON (`tmc extract --labels --json`'s object, without
-/// the figures that need the meshes in memory).
+/// the figures the CLI counts from the streaming meshes: components, genus,
+/// closed, area, enclosed volume).
 #[pyfunction]
 #[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, series = None, segment = None))]
 #[allow(clippy::too_many_arguments)]
@@ -136,12 +137,8 @@ pub(crate) fn extract_labels_to(
             choose(source, path, labels.as_deref(), background, &params, cancel)?;
         let scan_seconds = started.elapsed().as_secs_f64();
         let outputs = tmc::export::label_outputs(&output, &labels)?;
-        for output in &outputs {
-            for data in path.into_iter().chain(source.data_files()) {
-                tmc::files::check_distinct(data, output)?;
-            }
-        }
-        tmc::export::check_output_paths(outputs.iter().map(PathBuf::as_path))?;
+        let inputs: Vec<&Path> = path.into_iter().chain(source.data_files()).collect();
+        tmc::export::check_label_outputs(&outputs, &inputs)?;
         // Every label's file stays open until all are committed.
         tmc::files::raise_open_file_limit();
         let pass_start = Instant::now();

@@ -483,8 +483,8 @@ def extract_labels_to(
     ``labels`` (per label: ``label``, ``output``, ``triangles``,
     ``vertices``, ``samples``, ``voxel_volume``) and the seconds spent;
     the CLI's per-label ``components``, ``genus``, ``closed``, ``area`` and
-    ``enclosed_volume`` need the meshes in memory and are left out (take
-    them from :func:`extract_labels` and ``Mesh.check``).
+    ``enclosed_volume`` are left out (take them from
+    :func:`extract_labels` and ``Mesh.check``).
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment)

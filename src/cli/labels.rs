@@ -23,7 +23,6 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tmc::check::{Scratch, StreamCheck, Verdict};
 use tmc::export::{LabelFile, LabelFiles, LabelSink};
-use tmc::files::check_distinct;
 use tmc::stream::label_report::{voxel_volume, SurfaceSums};
 use tmc::stream::{check_grid, LabelReport, LabelRun};
 use tmc::{Chunk, ChunkEncoder, Error, MeshInfo, MeshSink, Result, Totals};
@@ -84,14 +83,10 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         false => template.clone(),
     };
     let outputs = tmc::export::label_outputs(&template, &labels)?;
-    for output in &outputs {
-        check_distinct(input, output)?;
-        for data in source.data_files() {
-            check_distinct(data, output)?;
-        }
-    }
-    // One file created and removed per directory, not per label.
-    tmc::export::check_output_paths(outputs.iter().map(PathBuf::as_path))?;
+    let inputs: Vec<&Path> = std::iter::once(input.as_path())
+        .chain(source.data_files())
+        .collect();
+    tmc::export::check_label_outputs(&outputs, &inputs)?;
     let measure = args.stats || args.json;
     // With --part, one part file per label, recording its label.
     let record = match args.part {

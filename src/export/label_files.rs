@@ -46,6 +46,18 @@ pub fn label_outputs(template: &Path, labels: &[i64]) -> Result<Vec<PathBuf>> {
     Ok(vec![template.to_path_buf()])
 }
 
+/// Refuses, before the pass, label files that would overwrite one of the
+/// input's files (`inputs`: the path given and the data files it names)
+/// or that cannot be written (each directory tried once).
+pub fn check_label_outputs(outputs: &[PathBuf], inputs: &[&Path]) -> Result<()> {
+    for output in outputs {
+        for input in inputs {
+            crate::files::check_distinct(input, output)?;
+        }
+    }
+    super::check_output_paths(outputs.iter().map(PathBuf::as_path))
+}
+
 /// A label's file sink: one that may be finished on another thread (the
 /// `.tmesh` and part writers), or one that may not.
 pub enum LabelSink {

@@ -16,7 +16,7 @@ use common::cli::{s, tmc};
 use common::signals::{
     interrupt_and_check, median, out_dir, signal, spawn, still_running_after, wait_for_temp,
 };
-use std::fs::File;
+use std::fs::{self, File};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
@@ -47,9 +47,12 @@ fn write_noise(path: &Path, planes: usize) {
     out.flush().unwrap();
 }
 
-/// The noise volumes, written once per test run.
+/// The noise volumes, written once per test run into a directory under
+/// cargo's scratch directory for integration tests (`target/tmp`), which
+/// the next run empties first: a static `TempDir` is never dropped, and
+/// left about 1 GB in the system's temporary directory after every run.
 struct Volumes {
-    dir: tempfile::TempDir,
+    dir: PathBuf,
     /// The dense case (288 MiB).
     dense: PathBuf,
     /// Its first 13 planes.
@@ -60,8 +63,12 @@ struct Volumes {
 fn volumes() -> &'static Volumes {
     static VOLUMES: OnceLock<Volumes> = OnceLock::new();
     VOLUMES.get_or_init(|| {
-        let dir = tempfile::tempdir().unwrap();
-        let (dense, thin) = (dir.path().join("dense.raw"), dir.path().join("thin.raw"));
+        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("interrupt-latency");
+        if dir.exists() {
+            fs::remove_dir_all(&dir).unwrap();
+        }
+        fs::create_dir_all(&dir).unwrap();
+        let (dense, thin) = (dir.join("dense.raw"), dir.join("thin.raw"));
         write_noise(&dense, 256);
         write_noise(&thin, 13);
         Volumes { dir, dense, thin }
@@ -159,7 +166,7 @@ fn info_stops_within_its_passes() {
 fn thin_meshes() -> &'static (PathBuf, [PathBuf; 2]) {
     static MESHES: OnceLock<(PathBuf, [PathBuf; 2])> = OnceLock::new();
     MESHES.get_or_init(|| {
-        let dir = volumes().dir.path();
+        let dir = &volumes().dir;
         let whole = dir.join("thin.tmesh");
         let parts = [dir.join("part1.tmesh"), dir.join("part2.tmesh")];
         let jobs = [

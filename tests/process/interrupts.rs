@@ -11,7 +11,7 @@ use common::signals::{
     interrupt_and_check, out_dir, signal, spawn, still_running_after, wait_for_temp,
 };
 use std::fs;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::AtomicBool;
 use std::sync::{Mutex, OnceLock};
@@ -25,28 +25,35 @@ const N: usize = 600;
 /// One extraction at a time: the timings must not compete for the cores.
 static SERIAL: Mutex<()> = Mutex::new(());
 
-/// A directory holding `noise.raw`, written once per test run.
+/// A directory holding `noise.raw`, made once and kept under cargo's
+/// scratch directory for integration tests (`target/tmp`), so that runs
+/// reuse it and none leaves 216 MB behind in the system's temporary
+/// directory (a static `TempDir` is never dropped). tmc writes its outputs
+/// whole or not at all, so a file of the right size is a finished one.
 fn volume() -> &'static Path {
-    static DIR: OnceLock<tempfile::TempDir> = OnceLock::new();
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("noise.raw");
-        let dims = format!("{N},{N},{N}");
-        let out = tmc(&[
-            "synth",
-            "noise",
-            "--dims",
-            &dims,
-            "--dtype",
-            "u8",
-            "-o",
-            s(&path),
-            "--quiet",
-        ]);
-        assert!(out.status.success(), "{out:?}");
+        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("interrupts-noise-{N}"));
+        fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("noise.raw");
+        let made = fs::metadata(&path).is_ok_and(|m| m.len() == (N * N * N) as u64);
+        if !made {
+            let dims = format!("{N},{N},{N}");
+            let out = tmc(&[
+                "synth",
+                "noise",
+                "--dims",
+                &dims,
+                "--dtype",
+                "u8",
+                "-o",
+                s(&path),
+                "--quiet",
+            ]);
+            assert!(out.status.success(), "{out:?}");
+        }
         dir
     })
-    .path()
 }
 
 /// Starts `tmc extract` of `input` (the noise volume's layout) into

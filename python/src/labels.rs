@@ -112,7 +112,7 @@ pub(crate) fn extract_labels<'py>(
 /// volume counted while its chunks stream ([`tmc::check::Measured`], as
 /// the CLI counts them), else without them.
 #[pyfunction]
-#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, stats, series = None, segment = None))]
+#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, series = None, segment = None, stats = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_labels_to(
     py: Python<'_>,
@@ -126,9 +126,9 @@ pub(crate) fn extract_labels_to(
     close: bool,
     threads: usize,
     normals: bool,
-    stats: bool,
     series: Option<String>,
     segment: Option<u32>,
+    stats: bool,
 ) -> PyResult<String> {
     let params = label_params(close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;

@@ -497,9 +497,7 @@ def extract_labels_to(
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment)
-    # The library takes stats after normals, before series and segment.
-    rest = (*rest[:8], bool(stats), *rest[8:])
-    report = _tmc.extract_labels_to(array, os.fspath(output), *rest)
+    report = _tmc.extract_labels_to(array, os.fspath(output), *rest, stats=bool(stats))
     return json.loads(report)
 
 

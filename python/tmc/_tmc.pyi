@@ -76,9 +76,9 @@ def extract_labels_to(
     close: bool,
     threads: int,
     normals: bool,
-    stats: bool,
     series: Optional[str] = ...,
     segment: Optional[int] = ...,
+    stats: bool = ...,
 ) -> str:
     """Streams every label's mesh into the files output names; returns the
     report JSON (with stats, each label's components, genus, closed, area

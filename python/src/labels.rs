@@ -2,7 +2,8 @@
 //! ([`tmc::stream::extract_labels_to`]), into numpy arrays
 //! (`extract_labels`) or streamed into files as `tmc extract --labels`
 //! writes them (`extract_labels_to`, with the library's
-//! [`tmc::export::LabelFiles`]).
+//! [`tmc::export::LabelFiles`], and the figures of its `--json` counted by
+//! [`tmc::check::Measured`]).
 
 use crate::array::MappedAt;
 use crate::extract::{params, preflight, report, select, Collected, Input};
@@ -12,9 +13,10 @@ use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
+use tmc::check::{measure_reports, Measured};
 use tmc::export::{LabelFiles, LabelSink};
-use tmc::stream::label_report::voxel_volume;
-use tmc::stream::{LabelReport, LabelRun};
+use tmc::stream::label_report::label_reports;
+use tmc::stream::LabelRun;
 use tmc::volume::LabelCounts;
 use tmc::{ExtractParams, MeshSink, SampleSource};
 
@@ -105,11 +107,12 @@ pub(crate) fn extract_labels<'py>(
 /// files `output` names, in one pass, as `tmc extract --labels` writes
 /// them: `{label}` in `output` for a file per label, else one `.ply` or
 /// `.tmesh` with a per-face label. Every file appears whole or none does.
-/// Returns the report JSON (`tmc extract --labels --json`'s object, without
-/// the figures the CLI counts from the streaming meshes: components, genus,
-/// closed, area, enclosed volume).
+/// Returns the report JSON (`tmc extract --labels --json`'s object); with
+/// `stats`, each label's components, genus, closed, area and enclosed
+/// volume counted while its chunks stream ([`tmc::check::Measured`], as
+/// the CLI counts them), else without them.
 #[pyfunction]
-#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, series = None, segment = None))]
+#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, series = None, segment = None, stats = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_labels_to(
     py: Python<'_>,
@@ -125,6 +128,7 @@ pub(crate) fn extract_labels_to(
     normals: bool,
     series: Option<String>,
     segment: Option<u32>,
+    stats: bool,
 ) -> PyResult<String> {
     let params = label_params(close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
@@ -145,26 +149,23 @@ pub(crate) fn extract_labels_to(
         let mut files = LabelFiles::create(&output, &labels, &outputs, |target, _| {
             LabelSink::create(target, labels.len())
         })?;
-        let mut sinks: Vec<&mut dyn MeshSink> = files
-            .sinks()
+        let mut measured = Measured::all(
+            files.sinks().iter_mut().map(|f| f as &mut dyn MeshSink),
+            stats,
+        );
+        let mut sinks: Vec<&mut dyn MeshSink> = measured
             .iter_mut()
-            .map(|f| f as &mut dyn MeshSink)
+            .map(|m| m as &mut dyn MeshSink)
             .collect();
-        let stats =
+        let label_stats =
             tmc::stream::extract_labels_to(source, &labels, &params, &options, None, &mut sinks)?;
         drop(sinks);
+        let grid = source.grid();
+        let mut reports = label_reports(&labels, &outputs, &label_stats, &counts, grid);
+        // Each label's last chunk counted before any file is put in place.
+        measure_reports(measured, &mut reports)?;
         files.finish(Some(cancel))?;
         let pass_seconds = pass_start.elapsed().as_secs_f64();
-        let voxel = voxel_volume(source.grid());
-        let reports: Vec<LabelReport> = labels
-            .iter()
-            .zip(&stats)
-            .enumerate()
-            .map(|(i, (&label, stats))| {
-                let output = outputs[i.min(outputs.len() - 1)].display().to_string();
-                LabelReport::new(label, output, stats, counts.samples(label), voxel)
-            })
-            .collect();
         let run = LabelRun {
             input: path.unwrap_or(Path::new("array")).display().to_string(),
             close: params.close,

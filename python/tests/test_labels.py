@@ -8,6 +8,7 @@ here), and the frog's labels with the CLI's files."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -396,3 +397,143 @@ def test_ctrl_c_stops_the_pass_and_leaves_no_file(tmp_path, call):
     latency = sigint_latency(setup, call, 1.5)
     assert latency < 0.5
     assert list(tmp_path.iterdir()) == []
+
+
+# The figures `extract_labels_to(..., stats=True)` adds to each label.
+FIGURES = ("components", "genus", "closed", "area", "enclosed_volume")
+
+
+def same_figures(got: dict, want: dict) -> None:
+    """The same per-label figures; floats bit for bit."""
+    for key in FIGURES:
+        assert key in got and key in want, key
+        a, b = got[key], want[key]
+        if isinstance(b, float):
+            assert isinstance(a, float) and a.hex() == b.hex(), (got["label"], key, a, b)
+        else:
+            assert type(a) is type(b) and a == b, (got["label"], key, a, b)
+
+
+def test_stats_are_off_by_default(tmp_path):
+    report = tmc.extract_labels_to(label_map(), tmp_path / "{label}.tmesh", close=True)
+    for entry in report["labels"]:
+        assert not set(FIGURES) & set(entry), entry
+
+
+@pytest.mark.parametrize("template", ["{label}.tmesh", "{label}.ply", "all.ply"])
+@pytest.mark.parametrize("close", [True, False], ids=["close", "open"])
+def test_stats_are_the_cli_json_figures(tmp_path, template, close):
+    """Each label's figures are those of `tmc extract --labels --json` for
+    the same map (the same code counts them: this holds the package to
+    calling it, on every label, with the CLI's options)."""
+    seg = label_map()
+    npy = tmp_path / "seg.npy"
+    np.save(npy, seg)
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    flags = ["--close"] if close else []
+    done = run_cli("extract", str(npy), "--labels", "all", *flags, "--json", "--quiet",
+                   "-o", str(tmp_path / "cli" / template))
+    cli = json.loads(done.stdout)
+    for volume in (seg, npy):
+        py = tmc.extract_labels_to(volume, tmp_path / "py" / template, close=close, stats=True)
+        assert [e["label"] for e in py["labels"]] == [e["label"] for e in cli["labels"]]
+        for got, want in zip(py["labels"], cli["labels"]):
+            same_figures(got, want)
+            rest = lambda e: {k: v for k, v in e.items() if k != "output"}  # noqa: E731
+            assert rest(got) == rest(want)
+    # Open, the labels on the volume's border have a boundary.
+    assert {e["closed"] for e in cli["labels"]} == ({True} if close else {True, False})
+
+
+def test_the_frogs_stats_are_the_cli_json_figures(tmp_path):
+    frog = SHARED_DATA / "frog_tissues.nrrd"
+    if not frog.is_file():
+        pytest.skip(f"{frog} is absent (the shared test data)")
+    done = run_cli("extract", str(frog), "--labels", "all", "--close", "--json", "--quiet",
+                   "-o", str(tmp_path / "cli{label}.tmesh"))
+    cli = json.loads(done.stdout)["labels"]
+    py = tmc.extract_labels_to(frog, tmp_path / "py{label}.tmesh", close=True, stats=True)
+    assert len(cli) >= 5 and len(py["labels"]) == len(cli)
+    assert any(e["genus"] > 0 for e in cli) and any(e["components"] > 1 for e in cli)
+    for got, want in zip(py["labels"], cli):
+        assert got["label"] == want["label"]
+        same_figures(got, want)
+
+
+def file_figures(path: Path) -> dict:
+    """Components, genus, area and enclosed volume of the mesh in `path` (a
+    PLY tmc wrote), computed here: components of the vertex graph
+    (scipy.sparse.csgraph), genus `(2C - χ - b) / 2` from `χ = V - E + F`
+    over the distinct edges and `b`, the components of the graph of the
+    edges of one triangle; area and volume summed in float64 in the order
+    of the file's triangles from its float32 vertices, `|u x v| / 2` and
+    `a . (b x c) / 6` (np.cumsum adds one term after the other)."""
+    csgraph = pytest.importorskip("scipy.sparse.csgraph")
+    sparse = pytest.importorskip("scipy.sparse")
+    vertices, triangles = read_ply(path)
+    t = triangles.astype(np.int64)
+    n = len(vertices)
+    assert len(t) > 0
+    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    distinct, uses = np.unique(edges, axis=0, return_counts=True)
+    assert uses.max() <= 2, "no edge of three triangles"
+
+    def components(pairs: np.ndarray, nodes: np.ndarray) -> int:
+        graph = sparse.coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), (n, n))
+        labels = csgraph.connected_components(graph, directed=False)[1]
+        return len(np.unique(labels[nodes]))
+
+    used = np.unique(t)
+    assert len(used) == n, "every vertex used"
+    count = components(distinct, used)
+    boundary = distinct[uses == 1]
+    loops = components(boundary, np.unique(boundary)) if len(boundary) else 0
+    euler = n - len(distinct) + len(t)
+    assert (2 * count - euler - loops) % 2 == 0
+    a, b, c = (vertices[t[:, k]].astype(np.float64) for k in range(3))
+
+    def cross(u, v):
+        return np.stack([u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1],
+                         u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2],
+                         u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]], axis=1)
+
+    normal = cross(b - a, c - a)
+    area = np.sqrt(normal[:, 0] * normal[:, 0] + normal[:, 1] * normal[:, 1]
+                   + normal[:, 2] * normal[:, 2]) / 2.0
+    bc = cross(b, c)
+    volume = (a[:, 0] * bc[:, 0] + a[:, 1] * bc[:, 1] + a[:, 2] * bc[:, 2]) / 6.0
+    total = lambda x: float(np.cumsum(x)[-1]) if len(x) else 0.0  # noqa: E731
+    return {"components": count, "genus": (2 * count - euler - loops) // 2,
+            "closed": len(boundary) == 0, "area": total(area), "enclosed_volume": total(volume)}
+
+
+# Generated maps and the genus of each label's closed surface by
+# construction: label_map's ring (8) has one tunnel; Voronoi cells are
+# convex, so none has.
+MAPS = {"labels": (label_map, {8: 1}), "300-labels": (voronoi_map, {})}
+
+
+@pytest.mark.parametrize("close", [True, False], ids=["close", "open"])
+@pytest.mark.parametrize("name", sorted(MAPS))
+def test_stats_match_an_independent_count(tmp_path, name, close):
+    """Each label's figures against its file, counted here (file_figures),
+    floats bit for bit; with close, the components are scipy.ndimage's
+    6-connected components of the indicator (none has a cavity) and the
+    genus is that of the map's shapes (MAPS)."""
+    make, genus = MAPS[name]
+    seg = make()
+    spacing, origin = (0.5, 1.25, 2.0), (3.0, -1.0, 0.25)
+    report = tmc.extract_labels_to(seg, tmp_path / "{label}.ply", close=close, stats=True,
+                                   spacing=spacing, origin=origin, threads=2)
+    assert len(report["labels"]) == len(np.unique(seg)) - (0 in seg)
+    for entry in report["labels"]:
+        label = entry["label"]
+        want = file_figures(tmp_path / f"{label}.ply")
+        want["label"] = label
+        same_figures(entry, want)
+        if close:
+            assert entry["closed"] is True
+            assert entry["components"] == oracle_components(seg == label), label
+            assert entry["genus"] == genus.get(label, 0), label
+            assert entry["enclosed_volume"] > 0, "outward triangles"

@@ -92,12 +92,15 @@ def extract_labels_to(
     close: bool = ...,
     threads: int = ...,
     normals: bool = ...,
+    stats: bool = ...,
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
 ) -> Dict[str, Any]:
     """Streams every label's surface into files in one pass (``{label}`` in
     ``output`` for a file per label, else one .ply or .tmesh with a
-    per-face label), as ``tmc extract --labels``; returns its report."""
+    per-face label), as ``tmc extract --labels``; returns its report
+    (with ``stats``, each label's components, genus, closed, area and
+    enclosed_volume, as ``--json`` gives them)."""
 
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a .tmesh, PLY, OBJ or OFF file."""

@@ -78,9 +78,11 @@ def extract_labels_to(
     normals: bool,
     series: Optional[str] = ...,
     segment: Optional[int] = ...,
+    stats: bool = ...,
 ) -> str:
     """Streams every label's mesh into the files output names; returns the
-    report JSON."""
+    report JSON (with stats, each label's components, genus, closed, area
+    and enclosed_volume counted as its chunks stream)."""
 
 def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
     """Reads a mesh file: (vertices float64, triangles uint32)."""

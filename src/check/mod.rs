@@ -14,7 +14,9 @@
 //! over a window of two chunks, without holding the mesh: the preview's
 //! closed/genus caption, and `tmc extract --labels --stats`
 //! ([`StreamCheck::full`], whose [`Verdict::checked`] gives the figures of
-//! `check_mesh`).
+//! `check_mesh`). [`Measured`] counts them, with the area and enclosed
+//! volume, for each label of a label map's pass, for the CLI and the
+//! Python package alike.
 //!
 //! ## Definitions
 //! * A triangle is **invalid** when an index is out of range and
@@ -58,6 +60,7 @@
 mod checker;
 mod geometry;
 mod link;
+mod measure;
 mod read;
 mod report;
 mod stream;
@@ -66,6 +69,7 @@ mod union_find;
 
 pub use checker::check_mesh;
 pub use geometry::check_geometry;
+pub use measure::{measure_reports, Measured, Measurement};
 pub use read::read_mesh;
 pub use report::{ComponentReport, Geometry, MeshReport};
 pub use stream::{Scratch, StreamCheck, Verdict};

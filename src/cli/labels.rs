@@ -8,24 +8,24 @@
 //! refuses a sample that is not a whole number); `all` is every value
 //! present but the background. The label files
 //! ([`tmc::export::LabelFiles`], which the Python package shares) are
-//! finished after the pass, several at once. What this file adds is the
-//! command line: the options, part files, and the figures of `--stats`
-//! and `--json`, counted while each label's chunks stream.
+//! finished after the pass, several at once, and the figures of `--stats`
+//! and `--json` are counted while each label's chunks stream
+//! ([`tmc::check::Measured`], which the Python package shares too). What
+//! this file adds is the command line: the options, part files, the table
+//! and the JSON.
 
 use super::extract_args::{ExtractArgs, InsideArg};
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
-use std::cell::RefCell;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::rc::Rc;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-use tmc::check::{Scratch, StreamCheck, Verdict};
-use tmc::export::{LabelFile, LabelFiles, LabelSink};
-use tmc::stream::label_report::{voxel_volume, SurfaceSums};
+use tmc::check::{measure_reports, Measured};
+use tmc::export::{LabelFiles, LabelSink};
+use tmc::stream::label_report::label_reports;
 use tmc::stream::{check_grid, LabelReport, LabelRun};
-use tmc::{Chunk, ChunkEncoder, Error, MeshInfo, MeshSink, Result, Totals};
+use tmc::{Error, MeshSink, Result};
 
 /// Runs `tmc extract --labels`.
 pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
@@ -116,17 +116,10 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             None => LabelSink::create(target, labels.len()),
         },
     )?;
-    // One working space for every label's check: the pass writes one
-    // label's chunk at a time.
-    let scratch = Rc::new(RefCell::new(Scratch::default()));
-    let mut sinks: Vec<Measured> = files
-        .sinks()
-        .iter_mut()
-        .map(|file| Measured {
-            file,
-            measure: measure.then(|| Measure::new(Rc::clone(&scratch))),
-        })
-        .collect();
+    let mut sinks = Measured::all(
+        files.sinks().iter_mut().map(|f| f as &mut dyn MeshSink),
+        measure,
+    );
     let mut dyn_sinks: Vec<&mut dyn MeshSink> =
         sinks.iter_mut().map(|s| s as &mut dyn MeshSink).collect();
     let params = args.params(0.5);
@@ -144,39 +137,15 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         &mut dyn_sinks,
     )?;
     drop(dyn_sinks);
+    let mut reports = label_reports(&labels, &outputs, &stats, &counts, &grid);
     // Each label's last chunk counted before any file is put in place.
-    let measured: Vec<Option<(Verdict, SurfaceSums)>> = sinks
-        .into_iter()
-        .map(|s| s.measure.map(Measure::finish).transpose())
-        .collect::<Result<_>>()?;
+    measure_reports(sinks, &mut reports)?;
     files.finish(cancel)?;
     monitor.finish();
     let pass_seconds = pass_start.elapsed().as_secs_f64();
     if !measure {
         return Ok(());
     }
-    let voxel = voxel_volume(&grid);
-    let reports: Vec<LabelReport> = labels
-        .iter()
-        .zip(measured)
-        .zip(&stats)
-        .enumerate()
-        .map(|(i, ((&label, measured), stats))| {
-            let output = outputs[if per_label { i } else { 0 }].display().to_string();
-            let checked = measured
-                .as_ref()
-                .and_then(|(v, sums)| Some((v.checked()?, sums)));
-            let samples = counts.samples(label);
-            LabelReport {
-                components: checked.map(|(c, _)| c.components as usize),
-                genus: checked.and_then(|(c, _)| c.genus),
-                closed: checked.map(|(c, _)| c.closed_manifold),
-                area: checked.map(|(_, s)| s.area),
-                enclosed_volume: checked.map(|(_, s)| s.volume),
-                ..LabelReport::new(label, output, stats, samples, voxel)
-            }
-        })
-        .collect();
     let written: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
     if args.stats {
         write_table(&reports)
@@ -243,125 +212,4 @@ fn write_table(reports: &[LabelReport]) -> std::io::Result<()> {
         )?;
     }
     Ok(())
-}
-
-/// A label's sink: its file's, and the figures for `--stats`. The file's
-/// `finish` only notes the totals: the files are finished after the pass,
-/// all labels at once ([`LabelFiles::finish`]).
-struct Measured<'a> {
-    file: &'a mut LabelFile,
-    measure: Option<Measure>,
-}
-
-/// A label's figures for `--stats`, counted while its chunks stream: a
-/// [`StreamCheck::full`] (components, genus, closed: the figures `tmc
-/// check` gives the label's file) and the [`SurfaceSums`], over a window of two
-/// chunks. Each chunk waits for the next one's vertices, which its
-/// triangles end in; a label absent from the planes being written holds
-/// nothing but counters.
-struct Measure {
-    check: StreamCheck,
-    /// The working space of every label's check.
-    scratch: Rc<RefCell<Scratch>>,
-    sums: SurfaceSums,
-    pending: Option<Pending>,
-}
-
-/// The last chunk's vertices (with room for the next one's first) and
-/// triangles, and how many of the next chunk's vertices they use.
-struct Pending {
-    vertices: Vec<[f32; 3]>,
-    triangles: Vec<[u32; 3]>,
-    next: u32,
-}
-
-impl Measure {
-    fn new(scratch: Rc<RefCell<Scratch>>) -> Self {
-        Measure {
-            check: StreamCheck::full(),
-            scratch,
-            sums: SurfaceSums::default(),
-            pending: None,
-        }
-    }
-
-    /// Counts the pending chunk with the first vertices of `after` (none
-    /// after the last).
-    fn flush(&mut self, after: &[[f32; 3]]) -> Result<()> {
-        let Some(Pending {
-            mut vertices,
-            triangles,
-            next,
-        }) = self.pending.take()
-        else {
-            return Ok(());
-        };
-        let Some(first) = after.get(..next as usize) else {
-            return Err(Error::Invalid(
-                "a label's triangle refers to a vertex past the next chunk's".into(),
-            ));
-        };
-        let own = vertices.len() as u32;
-        vertices.extend_from_slice(first);
-        self.sums.add(&vertices, &triangles);
-        let mut scratch = self.scratch.borrow_mut();
-        self.check.chunk(&mut scratch, own, next, &triangles);
-        Ok(())
-    }
-
-    /// Takes `chunk` in, counting the one before.
-    fn chunk(&mut self, chunk: &Chunk) -> Result<()> {
-        self.flush(&chunk.vertices)?;
-        let Ok(own) = u32::try_from(chunk.vertices.len()) else {
-            return Err(Error::Invalid("a label's chunk is too large".into()));
-        };
-        let top = chunk
-            .triangles
-            .iter()
-            .map(|t| t[0].max(t[1]).max(t[2]))
-            .max();
-        let next = top.map_or(0, |i| i.saturating_add(1).saturating_sub(own));
-        let mut vertices = Vec::with_capacity(own as usize + next as usize);
-        vertices.extend_from_slice(&chunk.vertices);
-        self.pending = Some(Pending {
-            vertices,
-            triangles: chunk.triangles.clone(),
-            next,
-        });
-        Ok(())
-    }
-
-    /// The verdict and the sums once the last chunk is in.
-    fn finish(mut self) -> Result<(Verdict, SurfaceSums)> {
-        self.flush(&[])?;
-        Ok((self.check.finish(), self.sums))
-    }
-}
-
-impl MeshSink for Measured<'_> {
-    fn begin(&mut self, info: &MeshInfo) -> Result<()> {
-        self.file.begin(info)
-    }
-
-    fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
-        if let Some(m) = &mut self.measure {
-            m.chunk(chunk)?;
-        }
-        self.file.chunk(base, chunk)
-    }
-
-    fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
-        if let Some(m) = &mut self.measure {
-            m.chunk(chunk)?;
-        }
-        self.file.chunk_cancellable(base, chunk, cancel)
-    }
-
-    fn finish(&mut self, totals: &Totals) -> Result<()> {
-        self.file.finish(totals)
-    }
-
-    fn encoder(&self) -> Option<ChunkEncoder> {
-        self.file.encoder()
-    }
 }

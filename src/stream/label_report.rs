@@ -1,16 +1,19 @@
 //! What a label map's pass reports (`tmc extract --labels --json`, the
 //! Python package's `extract_labels_to`): [`LabelRun`], with one
-//! [`LabelReport`] per label, and the figures it is made of
-//! ([`voxel_volume`], [`SurfaceSums`]).
+//! [`LabelReport`] per label ([`label_reports`]), and the figures it is
+//! made of ([`voxel_volume`], [`SurfaceSums`]).
 //!
 //! The library owns the report so that every caller gives it under the
-//! same names, in the same order. The figures that need a label's whole
-//! mesh (components, genus, area, enclosed volume) are optional: a caller
-//! that streams the meshes to files without holding them leaves them out.
+//! same names, in the same order. The figures counted from a label's mesh
+//! as its chunks stream (components, genus, closed, area, enclosed volume:
+//! `crate::check::Measured`, which fills them in) are optional: a caller
+//! that does not count them leaves them out.
 
 use crate::grid::Grid;
 use crate::stats::Stats;
+use crate::volume::LabelCounts;
 use serde::Serialize;
+use std::path::PathBuf;
 
 /// One label's figures. Serialized (serde), the optional figures are left
 /// out when absent.
@@ -64,6 +67,31 @@ impl LabelReport {
             enclosed_volume: None,
         }
     }
+}
+
+/// The figures of each of `labels` that need not its mesh
+/// ([`LabelReport::new`]): written to its output (`outputs`, one per label
+/// or the one file of every label), with its `stats` (in the order of
+/// `labels`), its samples in `counts`, on `grid`.
+pub fn label_reports(
+    labels: &[i64],
+    outputs: &[PathBuf],
+    stats: &[Stats],
+    counts: &LabelCounts,
+    grid: &Grid,
+) -> Vec<LabelReport> {
+    let voxel = voxel_volume(grid);
+    labels
+        .iter()
+        .zip(stats)
+        .enumerate()
+        .map(|(i, (&label, stats))| {
+            let output = outputs.get(i).or(outputs.last());
+            let output = output.map(|p| p.display().to_string());
+            let samples = counts.samples(label);
+            LabelReport::new(label, output.unwrap_or_default(), stats, samples, voxel)
+        })
+        .collect()
 }
 
 /// The report of a label map's pass, keys in this order.

@@ -14,7 +14,9 @@
 //! over a window of two chunks, without holding the mesh: the preview's
 //! closed/genus caption, and `tmc extract --labels --stats`
 //! ([`StreamCheck::full`], whose [`Verdict::checked`] gives the figures of
-//! `check_mesh`).
+//! `check_mesh`). [`check_tmesh`] checks a `.tmesh` file that way, with
+//! every component's figures and the geometric counts, so that `tmc
+//! check` gives `check_mesh`'s report of a mesh larger than memory.
 //!
 //! ## Definitions
 //! * A triangle is **invalid** when an index is out of range and
@@ -61,12 +63,16 @@ mod link;
 mod read;
 mod report;
 mod stream;
+mod stream_components;
+mod stream_file;
+mod stream_geometry;
 mod stream_links;
 mod union_find;
 
 pub use checker::check_mesh;
 pub use geometry::check_geometry;
-pub use read::read_mesh;
+pub use read::{is_tmesh, read_mesh};
 pub use report::{ComponentReport, Geometry, MeshReport};
 pub use stream::{Scratch, StreamCheck, Verdict};
+pub use stream_file::check_tmesh;
 pub use stream_links::{Checked, Links};

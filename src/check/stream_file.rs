@@ -18,12 +18,13 @@ use std::path::Path;
 /// `read_mesh`.
 ///
 /// Memory is that of a window of chunks, not of the mesh: three chunks
-/// (the geometric counts, [`StreamGeometry`]), the streaming check's
+/// (the geometric counts), the streaming check's
 /// window of two ([`StreamCheck`]: the edges, links and classes of the
 /// vertices still open, those of the next chunk that the current chunk's
 /// triangles reach), and a few words per component for the report. Vertices
 /// sharing a position are looked for among those of consecutive chunks,
-/// where every file tmc writes has them (see [`StreamGeometry`]).
+/// where every file tmc writes has them: a chunk holds the vertices
+/// between its grid plane and the next.
 pub fn check_tmesh(path: &Path) -> Result<Option<MeshReport>> {
     crate::part::PartRecord::refuse_part(path)?;
     let mut reader = TmeshReader::open(path)?;

@@ -178,19 +178,9 @@ pub fn check_mesh(mesh: &Mesh) -> MeshReport {
         }
     }
 
-    report.components = counters.len();
-    report.per_component = counters.iter().map(component_report).collect();
-    report
-        .per_component
-        .sort_by_key(|c| std::cmp::Reverse((c.triangles, c.vertices)));
-    for c in &report.per_component {
-        report.edges += c.edges;
-        report.boundary_edges += c.boundary_edges;
-        report.non_manifold_edges += c.non_manifold_edges;
-        report.non_manifold_vertices += c.non_manifold_vertices;
-        report.inconsistent_edges += c.inconsistent_edges;
-        report.euler += c.euler;
-    }
+    let mut per_component: Vec<ComponentReport> = counters.iter().map(component_report).collect();
+    per_component.sort_by_key(|c| std::cmp::Reverse((c.triangles, c.vertices)));
+    report.set_components(per_component);
     report
 }
 

@@ -46,7 +46,7 @@ pub fn check_geometry(mesh: &Mesh) -> Geometry {
 /// three points are collinear (or two coincide), for coordinates within
 /// 2^29 of one another in magnitude (the differences and products are then
 /// exact). A NaN coordinate gives no zero.
-fn zero_area([a, b, c]: [[f32; 3]; 3]) -> bool {
+pub(super) fn zero_area([a, b, c]: [[f32; 3]; 3]) -> bool {
     let d = |p: [f32; 3]| std::array::from_fn::<f64, 3, _>(|i| f64::from(p[i]) - f64::from(a[i]));
     let (u, w) = (d(b), d(c));
     let cross = [

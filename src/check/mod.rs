@@ -16,7 +16,9 @@
 //! ([`StreamCheck::full`], whose [`Verdict::checked`] gives the figures of
 //! `check_mesh`). [`Measured`] counts them, with the area and enclosed
 //! volume, for each label of a label map's pass, for the CLI and the
-//! Python package alike.
+//! Python package alike. [`check_tmesh`] checks a `.tmesh` file that way,
+//! with every component's figures and the geometric counts, so that `tmc
+//! check` gives `check_mesh`'s report of a mesh larger than memory.
 //!
 //! ## Definitions
 //! * A triangle is **invalid** when an index is out of range and
@@ -64,13 +66,17 @@ mod measure;
 mod read;
 mod report;
 mod stream;
+mod stream_components;
+mod stream_file;
+mod stream_geometry;
 mod stream_links;
 mod union_find;
 
 pub use checker::check_mesh;
 pub use geometry::check_geometry;
 pub use measure::{measure_reports, Measured, Measurement};
-pub use read::read_mesh;
+pub use read::{is_tmesh, read_mesh};
 pub use report::{ComponentReport, Geometry, MeshReport};
 pub use stream::{Scratch, StreamCheck, Verdict};
+pub use stream_file::check_tmesh;
 pub use stream_links::{Checked, Links};

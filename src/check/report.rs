@@ -177,6 +177,21 @@ impl MeshReport {
         .join(", ")
     }
 
+    /// Sets the components (in the order the report lists them) and the
+    /// whole mesh's counts that are their sums.
+    pub(super) fn set_components(&mut self, per_component: Vec<ComponentReport>) {
+        self.components = per_component.len();
+        for c in &per_component {
+            self.edges += c.edges;
+            self.boundary_edges += c.boundary_edges;
+            self.non_manifold_edges += c.non_manifold_edges;
+            self.non_manifold_vertices += c.non_manifold_vertices;
+            self.inconsistent_edges += c.inconsistent_edges;
+            self.euler += c.euler;
+        }
+        self.per_component = per_component;
+    }
+
     /// Sum of the genera of the components, when every component has one.
     pub fn total_genus(&self) -> Option<i64> {
         self.per_component.iter().map(|c| c.genus).sum()

@@ -26,6 +26,7 @@
 //! (nothing but a few counters when a chunk has no triangles), and the
 //! working space of a chunk is a [`Scratch`] that several checks may share.
 
+use super::stream_components::{ComponentScratch, ComponentState, Tally};
 use super::stream_links::{Checked, LinkState, Links, SweepScratch};
 use super::union_find::find;
 
@@ -146,6 +147,8 @@ pub struct StreamCheck {
     carried_edges: Vec<[u32; 3]>,
     /// The vertex sweep of [`StreamCheck::full`].
     links: Option<LinkState>,
+    /// The per-component tallies of [`StreamCheck::per_component`].
+    parts: Option<ComponentState>,
 }
 
 /// The working space of [`StreamCheck::chunk`], as large as the largest
@@ -168,6 +171,8 @@ pub struct Scratch {
     valid: Vec<[u32; 3]>,
     /// The vertex sweep's.
     sweep: SweepScratch,
+    /// The per-component tallies'.
+    parts: ComponentScratch,
 }
 
 impl StreamCheck {
@@ -180,6 +185,17 @@ impl StreamCheck {
         StreamCheck {
             links: Some(LinkState::default()),
             ..StreamCheck::default()
+        }
+    }
+
+    /// A [`StreamCheck::full`] that also counts every component's figures
+    /// (`check_mesh`'s [`ComponentReport`](super::ComponentReport)s, from
+    /// [`StreamCheck::finish_components`]): a tally more per vertex of the
+    /// window and per component.
+    pub(super) fn per_component() -> Self {
+        StreamCheck {
+            parts: Some(ComponentState::default()),
+            ..StreamCheck::full()
         }
     }
 
@@ -224,32 +240,63 @@ impl StreamCheck {
     /// chunk's first vertex in the mesh.
     fn count(&mut self, s: &mut Scratch, base: u64, own: u32, next: u32, triangles: &[[u32; 3]]) {
         self.verdict.triangles += triangles.len() as u64;
-        self.components(s, own, next, triangles);
+        let at = match self.parts {
+            Some(_) => {
+                let at = &mut s.parts.at;
+                at.clear();
+                at.resize((own + next) as usize, Tally::default());
+                for t in triangles {
+                    at[t[0] as usize].triangles += 1;
+                }
+                true
+            }
+            None => false,
+        };
+        self.unite(s, own, next, triangles);
         self.edges(s, own, next, triangles);
         if let Some(links) = &mut self.links {
-            links.chunk(&mut s.sweep, base, own, next, triangles);
+            let at = at.then_some(&mut s.parts.at[..]);
+            links.chunk(&mut s.sweep, base, own, next, triangles, at);
         }
+        self.close(s, own, next);
     }
 
     /// The verdict once the last chunk has been counted.
-    pub fn finish(mut self) -> Verdict {
-        self.verdict.components += u64::from(self.classes);
-        for [_, _, count] in std::mem::take(&mut self.carried_edges) {
-            self.verdict.tally(count);
-        }
-        self.verdict.links = self.links.map(LinkState::finish);
-        self.verdict
+    pub fn finish(self) -> Verdict {
+        self.finish_components().0
     }
 
-    /// Union-find over the carried classes and the next chunk's prefix.
-    fn components(&mut self, s: &mut Scratch, own: u32, next: u32, triangles: &[[u32; 3]]) {
+    /// [`StreamCheck::finish`], with the finished components of a
+    /// [`StreamCheck::per_component`] (`None` from any other check).
+    pub(super) fn finish_components(mut self) -> (Verdict, Option<ComponentState>) {
+        self.verdict.components += u64::from(self.classes);
+        for [lo, _, count] in std::mem::take(&mut self.carried_edges) {
+            self.verdict.tally(count);
+            // Only where the last chunk said its triangles reach past it.
+            if let Some(parts) = &mut self.parts {
+                if let Some(t) = parts.carried.get_mut(self.carry[lo as usize] as usize) {
+                    t.edge(count);
+                }
+            }
+        }
+        if let Some(parts) = &mut self.parts {
+            for t in std::mem::take(&mut parts.carried) {
+                parts.finish(t);
+            }
+        }
+        self.verdict.links = self.links.map(LinkState::finish);
+        (self.verdict, self.parts)
+    }
+
+    /// Union-find over the carried classes and the next chunk's prefix:
+    /// the chunk's triangles join them.
+    fn unite(&mut self, s: &mut Scratch, own: u32, next: u32, triangles: &[[u32; 3]]) {
         // Vertices past the carried prefix start classes of their own.
         while (self.carry.len() as u32) < own {
             self.carry.push(self.classes);
             self.classes += 1;
         }
         let k = self.classes;
-        let size = (k + next) as usize;
         s.parent.clear();
         s.parent.extend(0..k + next);
         let carry = &self.carry[..own as usize];
@@ -274,6 +321,31 @@ impl StreamCheck {
                 parent[hi as usize] = lo;
             }
         }
+    }
+
+    /// After [`StreamCheck::unite`] and the counts: the classes that
+    /// finish in this chunk, and those carried to the next one (with
+    /// their tallies in a [`StreamCheck::per_component`]).
+    fn close(&mut self, s: &mut Scratch, own: u32, next: u32) {
+        let k = self.classes;
+        let size = (k + next) as usize;
+        let parent = &mut s.parent[..];
+        if let Some(parts) = &mut self.parts {
+            let root = &mut s.parts.root;
+            root.clear();
+            root.resize(size, Tally::default());
+            for (class, t) in parts.carried.iter().enumerate() {
+                root[find(parent, class as u32) as usize].add(t);
+            }
+            for (v, t) in s.parts.at.iter().enumerate() {
+                let v = v as u32;
+                let element = match self.carry.get(v as usize) {
+                    Some(&class) if v < own => class,
+                    _ => k + v - own,
+                };
+                root[find(parent, element) as usize].add(t);
+            }
+        }
         // Roots reaching the next chunk (mark 1), and the classes that
         // finish here (counted, mark 2).
         s.roots.clear();
@@ -289,17 +361,26 @@ impl StreamCheck {
             if s.mark[r] == 0 {
                 s.mark[r] = 2;
                 self.verdict.components += 1;
+                if let Some(parts) = &mut self.parts {
+                    parts.finish(s.parts.root[r]);
+                }
             }
         }
         // Classes for the next chunk's prefix, numbered by first use (the
         // mark of a reaching root becomes its class plus 3).
         self.carry.clear();
         self.classes = 0;
+        if let Some(parts) = &mut self.parts {
+            parts.carried.clear();
+        }
         for &r in &s.roots {
             let m = &mut s.mark[r as usize];
             if *m == 1 {
                 *m = self.classes + 3;
                 self.classes += 1;
+                if let Some(parts) = &mut self.parts {
+                    parts.carried.push(s.parts.root[r as usize]);
+                }
             }
             self.carry.push(*m - 3);
         }
@@ -335,11 +416,15 @@ impl StreamCheck {
             add_edge(used, places, spill, [lo, hi], count);
         }
         carried.clear();
+        let mut at = self.parts.as_ref().map(|_| &mut s.parts.at[..]);
         let mut edge = |lo: u32, hi: u32, count: u32| {
             if lo >= own {
                 carried.push([lo - own, hi - own, count]);
             } else {
                 self.verdict.tally(count);
+                if let Some(at) = &mut at {
+                    at[lo as usize].edge(count);
+                }
             }
         };
         for (lo, &in_use) in s.used.iter().enumerate() {
@@ -507,6 +592,7 @@ mod tests {
 #[cfg(test)]
 mod full_tests {
     use super::super::checker::check_mesh;
+    use super::super::report::MeshReport;
     use super::{Scratch, StreamCheck};
     use crate::mesh::Mesh;
 
@@ -623,6 +709,70 @@ mod full_tests {
             }
         }
         assert!(genus_seen > 50, "{genus_seen} cases with a genus");
+    }
+
+    #[test]
+    fn the_per_component_stream_check_gives_check_meshs_report() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let (mut compared, mut several, mut broken) = (0, 0, 0);
+        for case in 0..400 {
+            let (rows, ring) = (2 + rng.below(7) as u32, 3 + rng.below(6) as u32);
+            let damage = [0, 2, 5, 10, 30][case % 5];
+            // Two cylinders side by side, each chunk holding a ring of
+            // each (the second's vertices after the first's).
+            let (a, b) = (
+                damaged_cylinder(rows, ring, &mut rng, damage),
+                damaged_cylinder(rows, ring, &mut rng, damage / 2),
+            );
+            let place = |v: u32, second: u32| (v / ring) * 2 * ring + v % ring + second * ring;
+            let chunks: Vec<Vec<[u32; 3]>> = a
+                .iter()
+                .zip(&b)
+                .map(|(ta, tb)| {
+                    let ta = ta.iter().map(|t| t.map(|v| place(v, 0)));
+                    ta.chain(tb.iter().map(|t| t.map(|v| place(v, 1))))
+                        .collect()
+                })
+                .collect();
+            let mesh = Mesh {
+                vertices: vec![[0.0; 3]; (2 * rows * ring) as usize],
+                triangles: chunks.concat(),
+                normals: Vec::new(),
+            };
+            let mut report = check_mesh(&mesh);
+            let (mut check, mut scratch) = (StreamCheck::per_component(), Scratch::default());
+            for (r, tris) in chunks.iter().enumerate() {
+                let base = r as u32 * 2 * ring;
+                let local: Vec<[u32; 3]> = tris.iter().map(|t| t.map(|i| i - base)).collect();
+                let next = if r as u32 + 1 == rows { 0 } else { 2 * ring };
+                check.chunk(&mut scratch, 2 * ring, next, &local);
+            }
+            let (_, parts) = check.finish_components();
+            let streamed = parts.unwrap().reports();
+            if report.inconsistent_edges > 0 {
+                assert_eq!(streamed, None, "case {case}");
+                continue;
+            }
+            let streamed = streamed.unwrap();
+            report.geometry = Default::default();
+            let mut from_stream = MeshReport {
+                vertices: report.vertices,
+                triangles: report.triangles,
+                invalid_triangles: report.invalid_triangles,
+                degenerate_triangles: report.degenerate_triangles,
+                unreferenced_vertices: report.unreferenced_vertices,
+                ..MeshReport::default()
+            };
+            from_stream.set_components(streamed);
+            assert_eq!(from_stream, report, "case {case}");
+            compared += 1;
+            several += usize::from(report.components > 1);
+            broken += usize::from(report.non_manifold_vertices > 0);
+        }
+        assert!(
+            compared > 120 && several > 120 && broken > 20,
+            "{compared} compared, {several} with several components, {broken} not manifold"
+        );
     }
 
     #[test]

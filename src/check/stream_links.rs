@@ -13,12 +13,13 @@
 //! edges) are counted as boundary vertices less the unions that joined two
 //! of their classes, with a union-find over the window's vertices that
 //! carries the classes of the next chunk's first vertices, as the
-//! components do. On a mesh whose vertices are all manifold, each boundary
-//! vertex has two boundary edges, so the count is that of `check_mesh`;
-//! with a non-manifold vertex no genus is given, and the count does not
-//! matter.
+//! components do. A boundary vertex is one with an edge of one triangle:
+//! at a manifold vertex, one whose link is a path; at a non-manifold one,
+//! found among its edges (so that the count is `check_mesh`'s on any
+//! mesh, which [`super::stream_components`] reports per component).
 
 use super::link::LinkScratch;
+use super::stream_components::Tally;
 use super::union_find::find;
 
 /// What a [`StreamCheck::full`](super::StreamCheck::full) counts beside
@@ -34,8 +35,7 @@ pub struct Links {
     pub non_manifold_vertices: u64,
     /// Edges of two triangles that traverse them in the same direction.
     pub inconsistent_edges: u64,
-    /// Components of the graph of boundary edges, when every vertex is
-    /// manifold (otherwise a count of no meaning).
+    /// Components of the graph of boundary edges.
     pub boundary_loops: u64,
 }
 
@@ -94,6 +94,8 @@ pub(super) struct SweepScratch {
     /// Per corner: the corners after and before it, numbered in the mesh.
     corners: Vec<(u64, u64)>,
     fan: LinkScratch<u64>,
+    /// A non-manifold vertex's neighbours, once per triangle edge.
+    others: Vec<u64>,
     /// A vertex's edges to later vertices: the other end, and whether the
     /// triangle traverses it from the vertex.
     ends: Vec<(u64, bool)>,
@@ -113,7 +115,9 @@ impl LinkState {
     }
 
     /// Sweeps a chunk (as [`StreamCheck::chunk`](super::StreamCheck::chunk)
-    /// is given it, proper triangles only) whose first vertex is `base`.
+    /// is given it, proper triangles only) whose first vertex is `base`;
+    /// with `at`, also tallies what it finds at each vertex of the window
+    /// there.
     pub(super) fn chunk(
         &mut self,
         s: &mut SweepScratch,
@@ -121,6 +125,7 @@ impl LinkState {
         own: u32,
         next: u32,
         triangles: &[[u32; 3]],
+        mut at: Option<&mut [Tally]>,
     ) {
         let number = |i: u32| base + u64::from(i);
         let carried = std::mem::take(&mut self.carried);
@@ -178,22 +183,29 @@ impl LinkState {
                 self.counts.unreferenced_vertices += 1;
                 continue;
             }
-            let at = number(v);
+            let number_v = number(v);
             s.fan.clear();
             s.ends.clear();
             for &(n, p) in around {
                 s.fan.push(n, p);
-                if n > at {
+                if n > number_v {
                     s.ends.push((n, true));
                 }
-                if p > at {
+                if p > number_v {
                     s.ends.push((p, false));
                 }
             }
+            let mut tally = Tally {
+                first: number_v,
+                vertices: 1,
+                ..Tally::default()
+            };
             if !s.fan.is_single_fan() {
-                self.counts.non_manifold_vertices += 1;
+                tally.non_manifold_vertices = 1;
+                // Its boundary edges, if any, are those of one triangle.
+                tally.boundary_vertices = u64::from(has_lone_edge(&mut s.others, around));
             } else if s.fan.is_path() {
-                self.boundary_vertices += 1;
+                tally.boundary_vertices = 1;
             }
             s.ends.sort_unstable();
             for group in s.ends.chunk_by(|a, b| a.0 == b.0) {
@@ -202,18 +214,30 @@ impl LinkState {
                     [(w, _)] if w - base < u64::from(own + next) => {
                         s.boundary.push([v, (w - base) as u32])
                     }
-                    [(_, d1), (_, d2)] if d1 == d2 => self.counts.inconsistent_edges += 1,
+                    [(_, d1), (_, d2)] if d1 == d2 => tally.inconsistent_edges += 1,
                     _ => {}
                 }
             }
+            self.counts.non_manifold_vertices += tally.non_manifold_vertices;
+            self.counts.inconsistent_edges += tally.inconsistent_edges;
+            self.boundary_vertices += tally.boundary_vertices;
+            if let Some(at) = &mut at {
+                at[v as usize].add(&tally);
+            }
         }
-        self.merges += self.unite(s, own, next);
+        self.merges += self.unite(s, own, next, at);
     }
 
     /// Unites the ends of the boundary edges found, over the window's
     /// vertices with the carried classes; the unions that joined two
     /// classes. Leaves the classes of the next chunk's first vertices.
-    fn unite(&mut self, s: &mut SweepScratch, own: u32, next: u32) -> u64 {
+    fn unite(
+        &mut self,
+        s: &mut SweepScratch,
+        own: u32,
+        next: u32,
+        mut at: Option<&mut [Tally]>,
+    ) -> u64 {
         if s.boundary.is_empty() {
             // The next chunk's vertices are joined to nothing yet.
             self.loop_carry = Vec::new();
@@ -237,6 +261,9 @@ impl LinkState {
             if ra != rb {
                 s.parent[ra.max(rb) as usize] = ra.min(rb);
                 merges += 1;
+                if let Some(at) = &mut at {
+                    at[a as usize].boundary_merges += 1;
+                }
             }
         }
         // Classes of the next chunk's first vertices, by first use.
@@ -267,4 +294,13 @@ impl LinkState {
             ..self.counts
         }
     }
+}
+
+/// Whether one of the edges round a vertex (its corners' `around`: the
+/// corners after and before it) is used by one triangle only.
+fn has_lone_edge(others: &mut Vec<u64>, around: &[(u64, u64)]) -> bool {
+    others.clear();
+    others.extend(around.iter().flat_map(|&(n, p)| [n, p]));
+    others.sort_unstable();
+    others.chunk_by(|a, b| a == b).any(|run| run.len() == 1)
 }

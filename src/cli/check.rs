@@ -21,6 +21,15 @@ use tmc::{Error, Result};
 /// position (with the numbers of the first few triangles of each); they
 /// fail the check only with --strict.
 ///
+/// A .tmesh file is checked while its chunks stream, in memory bounded by
+/// a few chunks (plus a few words per component), so that a mesh larger
+/// than memory can be checked; vertices sharing a position are then
+/// looked for among those of neighbouring chunks, where every file tmc
+/// writes has them (--in-memory reads the mesh whole instead, as for the
+/// other formats). Where the stream finds inconsistently oriented edges,
+/// whether they can be oriented needs the whole mesh: it is read whole,
+/// with a note on stderr.
+///
 /// An empty mesh (no triangles) is a manifold only vacuously: the report
 /// says "closed manifold  yes (empty)" and a note on stderr gives its
 /// counts; the exit status is 0, or 1 with --require-surface.
@@ -44,12 +53,18 @@ pub(crate) struct CheckArgs {
     /// or two vertices share a position.
     #[arg(long)]
     pub strict: bool,
+
+    /// Read a .tmesh file whole into memory before checking it, instead of
+    /// checking it while its chunks stream: vertices sharing a position
+    /// are then looked for among all vertices, not only among those of
+    /// neighbouring chunks. Memory grows with the mesh.
+    #[arg(long)]
+    pub in_memory: bool,
 }
 
 /// Runs `tmc check`.
 pub(crate) fn run(args: &CheckArgs) -> Result<()> {
-    let mesh = tmc::check::read_mesh(&args.mesh)?;
-    let report = tmc::check::check_mesh(&mesh);
+    let report = report(args)?;
     super::output::to_stdout(|out| {
         if args.json {
             serde_json::to_writer(&mut *out, &report)?;
@@ -86,4 +101,21 @@ pub(crate) fn run(args: &CheckArgs) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// The report of `args.mesh`: streamed for a `.tmesh` file (but with
+/// `--in-memory`, or where the stream cannot tell), read whole otherwise.
+fn report(args: &CheckArgs) -> Result<tmc::check::MeshReport> {
+    let path = &args.mesh;
+    if !args.in_memory && tmc::check::is_tmesh(path)? {
+        if let Some(report) = tmc::check::check_tmesh(path)? {
+            return Ok(report);
+        }
+        say!(
+            "tmc: note: {}: inconsistently oriented edges; reading the whole mesh into memory to tell whether they can be oriented",
+            path.display()
+        );
+    }
+    let mesh = tmc::check::read_mesh(path)?;
+    Ok(tmc::check::check_mesh(&mesh))
 }

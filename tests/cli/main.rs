@@ -9,6 +9,7 @@
 mod common;
 
 mod batch;
+mod check_stream;
 mod compare;
 mod export_stream;
 mod io;

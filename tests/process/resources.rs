@@ -1,7 +1,8 @@
 //! Running out of resources: a full disk is one clean error with nothing
 //! left behind, `--max-memory` bounds the pipeline without changing the
 //! output (its refusal when too small is a row of `bad_inputs.rs`), and
-//! `--labels --json` counts each label's figures without holding its mesh.
+//! `--labels --json` counts each label's figures without holding its mesh,
+//! and `tmc check` checks a `.tmesh` file without holding its mesh.
 
 use crate::common;
 
@@ -197,5 +198,36 @@ fn label_stats_hold_no_label_mesh() {
     assert!(
         with_stats < plain + meshes / 3.0,
         "--json peaks at {with_stats} bytes, {plain} without it, for {meshes} bytes of meshes"
+    );
+}
+
+#[test]
+fn check_streams_a_tmesh_without_holding_it() {
+    // A gyroid of some 2.5 million triangles: about 45 MiB as a mesh in
+    // memory (12 bytes a vertex and a triangle), more than twice that for
+    // the in-memory checker; `tmc check` streams the file's chunks.
+    let dir = tempfile::tempdir().unwrap();
+    let volume = synth(dir.path(), "gyroid", "256,256,256", "u8", "g.nrrd");
+    let mesh = dir.path().join("g.tmesh");
+    let out = tmc(&["extract", s(&volume), "--iso", "128", "-o", s(&mesh), "-q"]);
+    assert!(out.status.success(), "{out:?}");
+    fs::remove_file(&volume).unwrap();
+    let Some(streamed) = peak_rss(&["check", s(&mesh)]) else {
+        println!("skipped: no /usr/bin/time here");
+        return;
+    };
+    let whole = peak_rss(&["check", s(&mesh), "--in-memory"]).unwrap();
+    let json = tmc(&["check", s(&mesh), "--json"]);
+    let bytes =
+        12.0 * (json_number(&json.stdout, "vertices") + json_number(&json.stdout, "triangles"));
+    assert!(bytes > 40.0 * (1 << 20) as f64, "a mesh of {bytes} bytes");
+    // The in-memory check holds the mesh (so the bound below can fail).
+    assert!(
+        whole > bytes,
+        "--in-memory peaks at {whole} bytes, for {bytes} bytes of mesh"
+    );
+    assert!(
+        streamed < bytes / 2.0,
+        "the streamed check peaks at {streamed} bytes, for {bytes} bytes of mesh ({whole} in memory)"
     );
 }

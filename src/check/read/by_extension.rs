@@ -23,10 +23,29 @@ use std::path::Path;
 /// so it carries no connectivity to check. A `.tmesh` file must fit a
 /// [`Mesh`] (at most `u32::MAX` vertices).
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
+    match open(path)? {
+        (Format::Ply, Some(mut src)) => read_ply(&mut src),
+        (Format::Obj, Some(mut src)) => read_obj(&mut src),
+        (Format::Off, Some(mut src)) => read_off(&mut src),
+        _ => read_tmesh(path),
+    }
+}
+
+/// Whether [`read_mesh`] reads `path` as a `.tmesh` file (by its
+/// extension or, failing that, its first bytes); an error where it
+/// refuses the file for its extension or first bytes.
+pub fn is_tmesh(path: &Path) -> Result<bool> {
+    Ok(matches!(open(path)?.0, Format::Tmesh))
+}
+
+/// The format of `path` (by its extension or, failing that, its first
+/// bytes), with the file opened for the text readers (not for a file
+/// named `.tmesh`, which its own reader opens).
+fn open(path: &Path) -> Result<(Format, Option<Source<'_>>)> {
     let ext = lowercase_extension(path);
     match ext.as_str() {
         "stl" => return Err(stl_error(path)),
-        "tmesh" => return read_tmesh(path),
+        "tmesh" => return Ok((Format::Tmesh, None)),
         _ => {}
     }
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
@@ -44,12 +63,7 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
         "off" => Format::Off,
         _ => src.sniff()?,
     };
-    match format {
-        Format::Ply => read_ply(&mut src),
-        Format::Obj => read_obj(&mut src),
-        Format::Off => read_off(&mut src),
-        Format::Tmesh => read_tmesh(path),
-    }
+    Ok((format, Some(src)))
 }
 
 /// Reads a whole `.tmesh` file, chunk by chunk, into a [`Mesh`].

@@ -20,4 +20,4 @@ mod off;
 mod ply;
 mod source;
 
-pub use by_extension::read_mesh;
+pub use by_extension::{is_tmesh, read_mesh};

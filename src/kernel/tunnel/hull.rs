@@ -19,9 +19,10 @@
 //! So if `D <= 0` everywhere on `[0, 1]` (closed: `D < 0`) the sweep
 //! cannot find the pair joined, and it need not run; [`possible_pairs`]
 //! decides that exactly from `D(0)`, `D(1)` and, when the vertex of a
-//! concave `D` lies strictly inside `(0, 1)`, the sign of its value. Leaving out pairs
-//! that cannot join keeps the first join among the others, so
-//! [`super::sweep_both`] on the pairs left gives the same answer.
+//! concave `D` lies strictly inside `(0, 1)`, the sign of its value.
+//! Leaving out pairs that cannot join keeps the first join among the
+//! others, so [`super::sweep_both`] on the pairs left gives the same
+//! answer.
 
 use super::super::sweep_pairs::DIAGONALS;
 
@@ -40,9 +41,9 @@ use super::super::sweep_pairs::DIAGONALS;
 ///
 /// Exact for `|h| < 2^14` (every term fits in `i64`): products of two values
 /// are below `2^28`, `E(0)` and `E(1)` below `2^29`, `m = 2 B1` (the middle
-/// Bernstein coefficient, doubled) below `2^30`, the coefficients `qa = E(0)
-/// - m + E(1)` and `qb = m - 2 E(0)` below `2^31`, and `qb^2` and `4 qa
-/// E(0)` below `2^62`, so the discriminant (plus 1) below `2^63`.
+/// Bernstein coefficient, doubled) below `2^30`, the coefficients
+/// `qa = E(0) - m + E(1)` and `qb = m - 2 E(0)` below `2^31`, and `qb^2` and
+/// `4 qa E(0)` below `2^62`, so the discriminant (plus 1) below `2^63`.
 #[inline(always)]
 pub(super) fn possible_pairs(h: &[i64; 8], pairs: u8) -> u8 {
     let (k, kk, j, jj) = DIAGONALS[0];

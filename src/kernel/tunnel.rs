@@ -79,7 +79,7 @@ pub fn labelled_joins(
             // Every 8- and 16-bit volume at an integer isovalue: no scaling,
             // and only the pairs whose determinant can have the sign of a
             // join somewhere on the cell's height (on lidc_chest_ct @ 114,
-            // 4,175 of 10,346 pairs; see `hull`).
+            // about 4,200 of 10,346 pairs; see `hull`).
             let pairs = possible_pairs(&ints, pairs);
             if pairs == 0 {
                 return None;

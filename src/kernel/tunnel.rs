@@ -41,8 +41,10 @@ use std::convert::Infallible;
 use std::hint::select_unpredictable;
 
 mod arith;
+mod hull;
 
 use arith::{is_in, Doubt, Filtered, Logic, Num, Unit};
+use hull::possible_pairs;
 
 /// Two surface components (corner labels) that the interior joins.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -74,7 +76,14 @@ pub fn labelled_joins(
     }
     if residual.is_none() {
         if let Some(ints) = small_integers(g) {
-            // Every 8- and 16-bit volume at an integer isovalue: no scaling.
+            // Every 8- and 16-bit volume at an integer isovalue: no scaling,
+            // and only the pairs whose determinant can have the sign of a
+            // join somewhere on the cell's height (on lidc_chest_ct @ 114,
+            // about 4,200 of 10,346 pairs; see `hull`).
+            let pairs = possible_pairs(&ints, pairs);
+            if pairs == 0 {
+                return None;
+            }
             return exact(sweep_both(&ints, pairs, labels));
         }
     }

@@ -115,8 +115,56 @@ impl Placement {
         a: f64,
         b: f64,
     ) -> [f32; 3] {
-        start[axis] += self.crossing(start, axis, a, b);
-        self.at_in::<ALIGNED>(start)
+        let t = self.crossing(start, axis, a, b);
+        let from = start;
+        start[axis] += t;
+        let p = self.at_in::<ALIGNED>(start);
+        // Within TIE_OFFSET of an end (or anywhere in a grid whose f32
+        // coordinates may not resolve that offset) the crossing may round
+        // onto the end sample's own position; tie crossings never take
+        // this branch where the offset resolves (they are exactly
+        // TIE_OFFSET from their end). A negated range test, so that a NaN
+        // takes the branch too.
+        if !(TIE_OFFSET..=1.0 - TIE_OFFSET).contains(&t) || !self.resolves_ties {
+            return self.off_the_end(from, axis, t, p);
+        }
+        p
+    }
+
+    /// The vertex `p`, the crossing `t` of the edge from `start` along
+    /// `axis`, unless `p` is (in `f32`) the position of the edge's end
+    /// sample nearer to `t`: then where a tie at that sample would put the
+    /// vertex ([`TIE_OFFSET`] of the edge from it, or further where `f32`
+    /// needs it: [`Placement::far_tie_fraction`]). A crossing very near a
+    /// sample (a value within about 2^-14 of the edge's difference from
+    /// the isovalue, near the origin; less far from it) rounds onto the
+    /// sample, where the crossings of the sample's other edges may round
+    /// too, and the triangles between them would have no area. Only those
+    /// vertices move, so every other vertex keeps its bytes; the move is a
+    /// function of the edge alone, like a tie's.
+    #[cold]
+    #[inline(never)]
+    fn off_the_end(&self, start: [f64; 3], axis: usize, t: f64, p: [f32; 3]) -> [f32; 3] {
+        let at_start = t <= 0.5 || t.is_nan();
+        let mut end = start;
+        if !at_start {
+            end[axis] += 1.0;
+        }
+        if p != self.at(end) {
+            return p;
+        }
+        let fraction = if self.resolves_ties {
+            if at_start {
+                TIE_OFFSET
+            } else {
+                1.0 - TIE_OFFSET
+            }
+        } else {
+            self.far_tie_fraction(start[0], start[1], start[2], axis, at_start)
+        };
+        let mut moved = start;
+        moved[axis] += fraction;
+        self.at(moved)
     }
 
     /// Where the vertex of the crossed edge from `start` along `axis`
@@ -293,6 +341,63 @@ mod tests {
             }
         }
         assert_eq!(resolved, 3);
+    }
+
+    #[test]
+    fn crossings_that_round_onto_a_sample_move_off_it() {
+        // A value 2^-40 of the edge's difference above the isovalue puts the
+        // crossing within f32's rounding of the sample, near the origin as
+        // far from it; such a vertex goes where a tie's would, every other
+        // crossing stays where the plain formula puts it.
+        for (origin, spacing) in [(0.0, 1.0), (1e3, 0.5), (1e6, 1.0), (0.0, 1e-40)] {
+            let grid = Grid {
+                dims: [3000, 300, 300],
+                spacing: [spacing; 3],
+                origin: [origin; 3],
+                ..Grid::unit([3000, 300, 300])
+            };
+            let place = Placement::new(&grid);
+            let tiny = 2f64.powi(-40);
+            let mut moved = 0;
+            for x in [0usize, 1, 1500, 2998] {
+                let start = [x as f64, 7.0, 9.0];
+                for axis in 0..3 {
+                    let mut end = start;
+                    end[axis] += 1.0;
+                    let (low, high) = (place.at(start), place.at(end));
+                    let near_low = place.edge(start, axis, tiny, -1.0);
+                    let near_high = place.edge(start, axis, -1.0, tiny);
+                    assert_ne!(near_low, low, "{origin} {spacing} {x} {axis}");
+                    assert_ne!(near_high, high, "{origin} {spacing} {x} {axis}");
+                    // A tie's position (a tie at that end) where the plain
+                    // crossing rounds onto the sample, else the plain one.
+                    let plain = |t: f64| {
+                        let mut p = start;
+                        p[axis] += t;
+                        place.at(p)
+                    };
+                    let (t_low, t_high) = (tiny / (tiny + 1.0), -1.0 / (-1.0 - tiny));
+                    let expect_low = match plain(t_low) {
+                        p if p == low => place.edge(start, axis, 0.0, -1.0),
+                        p => p,
+                    };
+                    let expect_high = match plain(t_high) {
+                        p if p == high => place.edge(start, axis, -1.0, 0.0),
+                        p => p,
+                    };
+                    assert_eq!(near_low, expect_low);
+                    assert_eq!(near_high, expect_high);
+                    moved += usize::from(plain(t_low) == low) + usize::from(plain(t_high) == high);
+                    // The plain crossing elsewhere, bit for bit.
+                    let mut middle = start;
+                    middle[axis] += 0.25;
+                    assert_eq!(place.edge(start, axis, 1.0, -3.0), place.at(middle));
+                }
+            }
+            // Most of these crossings round onto their sample: the test
+            // sees the move, not only vertices that never needed it.
+            assert!(moved >= 12, "{origin} {spacing}: {moved}");
+        }
     }
 
     #[test]

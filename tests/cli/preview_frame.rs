@@ -19,7 +19,7 @@ const IDENTITY: &str = "space directions: (1,0,0) (0,1,0) (0,0,1)";
 
 /// A ball volume of `dims` in `dir`, with `directions` (an NRRD `space
 /// directions` value) instead of the identity: its path.
-fn ball_on_grid(dir: &Path, dims: &str, directions: &str, name: &str) -> PathBuf {
+pub(crate) fn ball_on_grid(dir: &Path, dims: &str, directions: &str, name: &str) -> PathBuf {
     let plain = synth(dir, "sphere", dims, "f32", &format!("plain-{name}"));
     let bytes = fs::read(&plain).unwrap();
     let end = bytes.windows(2).position(|w| w == b"\n\n").unwrap();

@@ -14,8 +14,11 @@ use tmc::{MeshInfo, MeshSink, Result, Totals};
 /// A .tmesh file is read one chunk at a time, so any size works, and the
 /// picture is framed by the volume's box recorded in it: the bytes are
 /// those 'tmc extract --preview' wrote for the same mesh (give --title the
-/// input's name). PLY, OBJ and OFF files are read whole and framed by
-/// their vertices' box.
+/// input's name). A .tmesh keeps no direction cosines: a mesh extracted on
+/// a rotated or mirrored grid that leaves the recorded box is read a
+/// second time and framed by its vertices' box (with a note on stderr).
+/// PLY, OBJ and OFF files are read whole and framed by their vertices'
+/// box.
 #[derive(Debug, Args)]
 pub(crate) struct PreviewArgs {
     /// The mesh: .tmesh (streamed), .ply, .obj or .off (read whole).
@@ -34,6 +37,11 @@ pub(crate) struct PreviewArgs {
     /// depend on it.
     #[arg(long, value_name = "N", value_parser = values::threads)]
     pub threads: Option<usize>,
+
+    /// Print nothing on stderr but errors (no note when a .tmesh is read a
+    /// second time to frame it).
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Runs `tmc preview`; setting `cancel` stops it before the next chunk with
@@ -55,6 +63,18 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
         let mut sink =
             PreviewSink::new(args.output.clone(), title, None, threads).with_recorded_grid();
         tmc::export::replay_cancellable(&mut reader, &mut sink, cancel)?;
+        if let Some(mut again) = sink.reframed() {
+            if !args.quiet {
+                say!(
+                    "tmc: note: {}: the mesh leaves the box of the grid recorded with it \
+                     (a rotated or mirrored grid: a .tmesh keeps no direction); \
+                     read again and framed by its own box",
+                    args.input.display()
+                );
+            }
+            let mut reader = TmeshReader::open(&args.input)?;
+            tmc::export::replay_cancellable(&mut reader, &mut again, cancel)?;
+        }
         return Ok(());
     }
     let mesh = tmc::check::read_mesh(&args.input)?;

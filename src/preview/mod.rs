@@ -14,9 +14,13 @@
 //! closed/genus verdict, counted over a window of two chunks), [`picture`] (colours and the
 //! caption, in the hand-drawn [`font`]) and [`png_out`] (the file, written
 //! atomically); [`pair`] puts two pictures side by side with marks
-//! (`tmc compare --preview`).
+//! (`tmc compare --preview`). [`frame`] tracks the box of the vertices
+//! drawn: a `.tmesh` extracted on a rotated or mirrored grid (whose
+//! direction the format does not keep) may leave the box its views were
+//! fitted to, and is then drawn again, framed by its own box.
 
 pub mod font;
+pub mod frame;
 pub mod lines;
 pub mod pair;
 pub mod picture;

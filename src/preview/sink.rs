@@ -9,7 +9,16 @@
 //! topology worker that counts it, in plane order, for the verdict
 //! ([`StreamCheck`]). Channels between them are bounded, so memory is a few
 //! chunks and one depth buffer per worker, whatever the mesh.
+//!
+//! The views are fitted before the first triangle. For a `.tmesh`
+//! ([`PreviewSink::with_recorded_grid`]) that is to the recorded grid's
+//! box, which holds the mesh unless the grid was rotated or mirrored (the
+//! format keeps no direction cosines); the workers also track the
+//! vertices' box ([`Reach`]), and when it leaves the frame the sink writes
+//! nothing and [`PreviewSink::reframed`] gives the sink of a second pass
+//! over the mesh, framed by that box.
 
+use super::frame::Reach;
 use super::lines::GridLines;
 use super::picture;
 use super::raster::Raster;
@@ -34,14 +43,37 @@ struct Job {
     triangles: Vec<[u32; 3]>,
 }
 
+/// What a raster worker hands back: its depth buffers, its grid lines
+/// and the box of the vertices it was handed (tracked when `checked`,
+/// [`Workers::start`]).
+struct Drawn {
+    raster: Raster,
+    lines: Option<GridLines>,
+    reach: Reach,
+}
+
+/// The workers' results merged: the depth buffers and the verdict, or,
+/// when the mesh left the frame, the box of its vertices to frame it by.
+enum Joined {
+    /// The picture's depth buffers and the verdict.
+    Drawn(Raster, Verdict),
+    /// A vertex fell outside the frame: the vertices' box, and the verdict.
+    Reframe(Bounds, Verdict),
+}
+
 /// The worker threads and the channels that feed them.
 struct Workers {
     raster_tx: Option<Sender<Arc<Job>>>,
+    /// `None` when the verdict is known ([`Workers::start`]).
     topology_tx: Option<Sender<Arc<Job>>>,
-    rasters: Vec<JoinHandle<(Raster, Option<GridLines>)>>,
+    rasters: Vec<JoinHandle<Drawn>>,
     topology: Option<JoinHandle<Verdict>>,
+    /// The verdict of an earlier pass over the same mesh.
+    known: Option<Verdict>,
     /// See [`Workers::start`].
     checked: bool,
+    /// What the views were fitted to.
+    frame: Bounds,
 }
 
 impl Workers {
@@ -50,8 +82,18 @@ impl Workers {
     /// vertices on grid lines and the others are rasterised; without, all
     /// four are. `checked`: the lines' grid may not be the mesh's
     /// ([`GridOfMesh::Recorded`]): all four views are rasterised too, and
-    /// the lines are used only if the vertices were on them.
-    fn start(views: [View; 4], threads: usize, lines: Option<GridLines>, checked: bool) -> Workers {
+    /// the lines are used only if the vertices were on them, and the
+    /// vertices' box is tracked, to tell whether they stayed in `frame`
+    /// (what `views` were fitted to). `known`: the verdict of an earlier
+    /// pass over the same mesh, which no topology worker counts again.
+    fn start(
+        frame: Bounds,
+        threads: usize,
+        lines: Option<GridLines>,
+        checked: bool,
+        known: Option<Verdict>,
+    ) -> Workers {
+        let views = View::four(&frame);
         let (raster_tx, raster_rx) = bounded::<Arc<Job>>(2 * threads + 2);
         let rasters = (0..threads)
             .map(|_| {
@@ -59,7 +101,11 @@ impl Workers {
                 let mut lines = lines.clone();
                 std::thread::spawn(move || {
                     let mut raster = Raster::empty();
+                    let mut reach = Reach::default();
                     for job in rx {
+                        if checked {
+                            reach.add(&job.vertices[..job.own as usize]);
+                        }
                         match &mut lines {
                             Some(l) => {
                                 l.add(&job.vertices[..job.own as usize]);
@@ -70,25 +116,37 @@ impl Workers {
                             None => raster.draw(&views, &job.vertices, &job.triangles),
                         }
                     }
-                    (raster, lines)
+                    Drawn {
+                        raster,
+                        lines,
+                        reach,
+                    }
                 })
             })
             .collect();
-        let (topology_tx, topology_rx) = bounded::<Arc<Job>>(2 * threads + 2);
-        let topology = std::thread::spawn(move || {
-            let (mut count, mut scratch) = (StreamCheck::default(), Scratch::default());
-            for job in topology_rx {
-                let next = job.vertices.len() as u32 - job.own;
-                count.chunk(&mut scratch, job.own, next, &job.triangles);
+        let (topology_tx, topology) = match known {
+            Some(_) => (None, None),
+            None => {
+                let (tx, rx) = bounded::<Arc<Job>>(2 * threads + 2);
+                let topology = std::thread::spawn(move || {
+                    let (mut count, mut scratch) = (StreamCheck::default(), Scratch::default());
+                    for job in rx {
+                        let next = job.vertices.len() as u32 - job.own;
+                        count.chunk(&mut scratch, job.own, next, &job.triangles);
+                    }
+                    count.finish()
+                });
+                (Some(tx), Some(topology))
             }
-            count.finish()
-        });
+        };
         Workers {
             raster_tx: Some(raster_tx),
-            topology_tx: Some(topology_tx),
+            topology_tx,
             rasters,
-            topology: Some(topology),
+            topology,
+            known,
             checked,
+            frame,
         }
     }
 
@@ -96,45 +154,68 @@ impl Workers {
     fn send(&self, job: Job) -> Result<()> {
         let job = Arc::new(job);
         let gone = || Error::Invalid("a preview worker stopped".into());
-        let (Some(raster), Some(topology)) = (&self.raster_tx, &self.topology_tx) else {
+        let Some(raster) = &self.raster_tx else {
             return Err(gone());
         };
-        raster.send(Arc::clone(&job)).map_err(|_| gone())?;
-        topology.send(job).map_err(|_| gone())
+        match (&self.topology_tx, self.known) {
+            (Some(topology), _) => {
+                raster.send(Arc::clone(&job)).map_err(|_| gone())?;
+                topology.send(job).map_err(|_| gone())
+            }
+            (None, Some(_)) => raster.send(job).map_err(|_| gone()),
+            (None, None) => Err(gone()),
+        }
     }
 
-    /// Waits for the workers; the merged depth buffers and the verdict.
-    fn join(&mut self) -> (Raster, Verdict) {
+    /// Waits for the workers; the merged depth buffers and the verdict, or
+    /// (`checked`) the vertices' box when they left the frame.
+    fn join(&mut self) -> Joined {
         self.raster_tx = None;
         self.topology_tx = None;
-        let mut merged: Option<(Raster, Option<GridLines>)> = None;
+        let mut merged: Option<Drawn> = None;
         for handle in self.rasters.drain(..) {
-            let (raster, lines) = handle
+            let drawn = handle
                 .join()
                 .unwrap_or_else(|p| std::panic::resume_unwind(p));
             match &mut merged {
-                Some((m, l)) => {
-                    m.merge(&raster);
-                    if let (Some(l), Some(lines)) = (l, &lines) {
+                Some(m) => {
+                    m.raster.merge(&drawn.raster);
+                    if let (Some(l), Some(lines)) = (&mut m.lines, &drawn.lines) {
                         l.merge(lines);
                     }
+                    m.reach.merge(&drawn.reach);
                 }
-                None => merged = Some((raster, lines)),
+                None => merged = Some(drawn),
             }
         }
-        let (mut raster, lines) = merged.unwrap_or_default();
+        let verdict = self
+            .topology
+            .take()
+            .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+            .or(self.known)
+            .unwrap_or_default();
+        let Some(Drawn {
+            mut raster,
+            lines,
+            reach,
+        }) = merged
+        else {
+            let mut raster = Raster::empty();
+            raster.complete();
+            return Joined::Drawn(raster, verdict);
+        };
+        if self.checked && !reach.within(&self.frame) {
+            if let Some(bounds) = reach.bounds() {
+                return Joined::Reframe(bounds, verdict);
+            }
+        }
         if let Some(lines) = lines.filter(|l| !self.checked || l.fit()) {
             for view in (0..3).filter(|&v| lines.dense(v)) {
                 raster.set_tile(view, lines.tile(view));
             }
         }
         raster.complete();
-        let verdict = self
-            .topology
-            .take()
-            .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-            .unwrap_or_default();
-        (raster, verdict)
+        Joined::Drawn(raster, verdict)
     }
 }
 
@@ -175,6 +256,12 @@ pub struct PreviewSink {
     summary: Option<(usize, Verdict)>,
     /// The finished picture's RGB bytes, kept by a sink without a path.
     picture: Option<Vec<u8>>,
+    /// For the second pass over a mesh ([`PreviewSink::reframed`]): the
+    /// first pass's verdict and totals.
+    known: Option<(Verdict, Totals)>,
+    /// After a first pass whose mesh left the frame: the vertices' box,
+    /// the verdict and the totals ([`PreviewSink::reframed`]).
+    again: Option<(Bounds, Verdict, Totals)>,
 }
 
 /// What the grid of [`MeshInfo`] is to the mesh a [`PreviewSink`] draws.
@@ -188,7 +275,9 @@ enum GridOfMesh {
     /// views are drawn both ways, and the lines kept only if the vertices
     /// were on them ([`GridLines::fit`]): on an unrotated grid, the same
     /// picture as the extraction's; on a rotated one, every view from the
-    /// triangles (framed by the unrotated grid's box).
+    /// triangles, framed by the unrotated grid's box if the mesh lies in
+    /// it, else by the mesh's own box in a second pass
+    /// ([`PreviewSink::reframed`]).
     Recorded,
     /// A grid that says nothing of the mesh: every view rasterised.
     Unknown,
@@ -219,6 +308,8 @@ impl PreviewSink {
             pending: None,
             summary: None,
             picture: None,
+            known: None,
+            again: None,
         }
     }
 
@@ -244,10 +335,31 @@ impl PreviewSink {
     /// (a `.tmesh`), without its direction: the axis views are drawn from
     /// the triangles and from the grid lines, and the lines kept only if
     /// the vertices were on them ([`GridLines::fit`]); a mesh extracted on
-    /// a rotated grid is then drawn from its triangles.
+    /// a rotated grid is then drawn from its triangles. If a vertex falls
+    /// outside the box the views were framed by (a rotated or mirrored
+    /// grid's mesh), `finish` writes nothing: see
+    /// [`PreviewSink::reframed`].
     pub fn with_recorded_grid(mut self) -> Self {
         self.grid = GridOfMesh::Recorded;
         self
+    }
+
+    /// After `finish` of a sink made [`PreviewSink::with_recorded_grid`]
+    /// that wrote no picture because a vertex fell outside the frame: the
+    /// sink of a second pass over the same mesh (its chunks given again
+    /// from `begin`), framed by the box of its vertices and drawn from its
+    /// triangles (the picture `tmc preview` draws of the mesh as a PLY,
+    /// with the isovalue in the caption). The verdict of the first pass is
+    /// kept, not counted again; the second pass fails if the totals
+    /// differ. `None` when the first pass wrote its picture.
+    pub fn reframed(&mut self) -> Option<PreviewSink> {
+        let (bounds, verdict, totals) = self.again.take()?;
+        let mut sink = PreviewSink::new(PathBuf::new(), self.title.clone(), Some(bounds), 1);
+        sink.path.clone_from(&self.path);
+        sink.threads = self.threads;
+        sink.grid = GridOfMesh::Unknown;
+        sink.known = Some((verdict, totals));
+        Some(sink)
     }
 
     /// After `finish` of a sink made by [`PreviewSink::in_memory`]: the
@@ -301,13 +413,13 @@ impl MeshSink for PreviewSink {
             }
         };
         self.iso = info.iso;
-        let views = View::four(&bounds);
         let lines = match self.grid {
             GridOfMesh::Unknown => None,
-            _ => GridLines::new(&info.grid, &views),
+            _ => GridLines::new(&info.grid, &View::four(&bounds)),
         };
         let checked = self.grid == GridOfMesh::Recorded;
-        self.workers = Some(Workers::start(views, self.threads, lines, checked));
+        let known = self.known.map(|(verdict, _)| verdict);
+        self.workers = Some(Workers::start(bounds, self.threads, lines, checked, known));
         Ok(())
     }
 
@@ -341,7 +453,24 @@ impl MeshSink for PreviewSink {
             .workers
             .take()
             .ok_or_else(|| Error::Invalid("preview: finish before begin".into()))?;
-        let (raster, verdict) = workers.join();
+        if let Some((_, first)) = self.known {
+            if first != *totals {
+                return Err(Error::Invalid(format!(
+                    "{}: the mesh read again to frame it is not the one read first \
+                     ({} triangles, then {})",
+                    self.shown_path(),
+                    first.triangles,
+                    totals.triangles
+                )));
+            }
+        }
+        let (raster, verdict) = match workers.join() {
+            Joined::Drawn(raster, verdict) => (raster, verdict),
+            Joined::Reframe(bounds, verdict) => {
+                self.again = Some((bounds, verdict, *totals));
+                return Ok(());
+            }
+        };
         let caption = [
             self.title.clone(),
             format!(

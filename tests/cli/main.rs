@@ -17,5 +17,6 @@ mod label_args;
 mod meshfile;
 mod normals;
 mod preview;
+mod preview_frame;
 mod scripts;
 mod split_merge;

@@ -44,6 +44,11 @@ pub(crate) struct CheckArgs {
     /// or two vertices share a position.
     #[arg(long)]
     pub strict: bool,
+
+    /// Print nothing on stderr but errors (no note on an empty mesh); the
+    /// report on stdout is printed all the same.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Runs `tmc check`.
@@ -69,7 +74,9 @@ pub(crate) fn run(args: &CheckArgs) -> Result<()> {
                 "{empty}, and --require-surface asks for a surface"
             )));
         }
-        say!("tmc: note: {empty}: closed only vacuously, there is no surface");
+        if !args.quiet {
+            say!("tmc: note: {empty}: closed only vacuously, there is no surface");
+        }
     }
     if !report.is_oriented_manifold() {
         return Err(Error::Format(format!(

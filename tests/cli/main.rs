@@ -11,6 +11,7 @@ mod common;
 mod batch;
 mod compare;
 mod export_stream;
+mod huge_dims;
 mod io;
 mod label_args;
 mod label_names;

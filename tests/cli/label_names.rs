@@ -105,6 +105,16 @@ fn label_parts(input: &Path, parts: &Path) {
     }
 }
 
+/// A temporary directory with the map of [`two_labels`] and its label
+/// parts in `parts/` (see [`label_parts`]).
+fn parts_of_two_labels() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let input = two_labels(dir.path());
+    let parts = dir.path().join("parts");
+    label_parts(&input, &parts);
+    (dir, parts)
+}
+
 /// `tmc merge` of the files of `parts` into `out`.
 fn merge(parts: &Path, out: &Path) -> std::process::Output {
     let files: Vec<PathBuf> = names(parts).iter().map(|n| parts.join(n)).collect();
@@ -115,10 +125,7 @@ fn merge(parts: &Path, out: &Path) -> std::process::Output {
 
 #[test]
 fn a_merge_names_the_label_of_a_missing_part() {
-    let dir = tempfile::tempdir().unwrap();
-    let input = two_labels(dir.path());
-    let parts = dir.path().join("parts");
-    label_parts(&input, &parts);
+    let (dir, parts) = parts_of_two_labels();
     let out = dir.path().join("out");
     fs::create_dir(&out).unwrap();
     fs::remove_file(parts.join("7.2.tmesh")).unwrap();
@@ -142,10 +149,7 @@ fn a_merge_names_the_label_of_a_missing_part() {
 
 #[test]
 fn a_merge_into_a_file_per_label_that_fails_leaves_no_label_file() {
-    let dir = tempfile::tempdir().unwrap();
-    let input = two_labels(dir.path());
-    let parts = dir.path().join("parts");
-    label_parts(&input, &parts);
+    let (dir, parts) = parts_of_two_labels();
     // A damaged chunk in label 7's last part, merged after label 3's
     // files are written: the merge fails there.
     let damaged = parts.join("7.3.tmesh");
@@ -213,10 +217,7 @@ fn names_that_are_no_utf8_are_kept_with_placeholders() {
 
 #[test]
 fn a_merge_into_a_file_per_label_does_not_write_over_a_part() {
-    let dir = tempfile::tempdir().unwrap();
-    let input = two_labels(dir.path());
-    let parts = dir.path().join("parts");
-    label_parts(&input, &parts);
+    let (_dir, parts) = parts_of_two_labels();
     let before: Vec<Vec<u8>> = names(&parts)
         .iter()
         .map(|n| fs::read(parts.join(n)).unwrap())

@@ -67,6 +67,12 @@ def test_bad_arguments(tmp_path):
         tmc.extract(GOOD, 0.5, inside="middle")
     with pytest.raises(ValueError, match="threads"):
         tmc.extract(GOOD, 0.5, threads=-1)
+    # As --threads: at most 1024 (not an OverflowError of the binding),
+    # and a whole number (1.5 was taken as 1, "2" as 2).
+    for bad, error in [(10**30, ValueError), (1025, ValueError), (1.5, TypeError), ("2", TypeError)]:
+        with pytest.raises(error, match="threads"):
+            tmc.extract(GOOD, 0.5, threads=bad)
+    assert len(tmc.extract(GOOD, 0.5, threads=np.int64(2)).triangles) == 0
     with pytest.raises(ValueError, match="header"):
         tmc.extract(tmp_path / "v.npy", 0.5, spacing=(1, 1, 1))
 

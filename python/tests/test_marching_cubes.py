@@ -280,3 +280,25 @@ def test_the_four_arrays_do_not_depend_on_the_threads():
                 for a, b in zip(first, again):
                     assert a.dtype == b.dtype
                     np.testing.assert_array_equal(a, b)
+
+
+
+def test_the_default_level_is_the_middle_of_the_finite_samples():
+    """NaN samples are outside, so the default level is the middle of the
+    finite samples' range (numpy's min and max of an array with a NaN are
+    NaN, which gave a NaN level the caller never asked for); infinite
+    samples are left out of the range too. No finite sample: a ValueError
+    saying to give the level."""
+    volume = sphere(shape=(12, 13, 14), center=(5.5, 6.2, 6.7), radius=4.0)
+    for bad in (np.nan, np.inf, -np.inf):
+        spoiled = volume.copy()
+        spoiled[0, 0, 0] = bad
+        finite = spoiled[np.isfinite(spoiled)]
+        level = 0.5 * (float(finite.min()) + float(finite.max()))
+        got = tmc.marching_cubes(spoiled)
+        given = tmc.marching_cubes(spoiled, level)
+        assert len(got[1]) > 0
+        for a, b in zip(got, given):
+            np.testing.assert_array_equal(a, b)
+    with pytest.raises(ValueError, match="no finite sample"):
+        tmc.marching_cubes(np.full((3, 3, 3), np.nan, dtype=np.float32))

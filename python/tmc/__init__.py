@@ -24,6 +24,7 @@ import json
 import mmap
 import operator
 import os
+import warnings
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -214,9 +215,18 @@ def _method(method: str) -> str:
 
 
 def _threads(threads: int) -> int:
-    threads = int(threads)
+    """``threads`` as the CLI's ``--threads`` takes it: a whole number, 0
+    (all cores) to 1024; 1.5 or "2" are refused (TypeError), not rounded."""
+    if isinstance(threads, bool):
+        raise TypeError(f"threads must be an integer, not {threads!r}")
+    try:
+        threads = operator.index(threads)
+    except TypeError:
+        raise TypeError(f"threads must be an integer, not {threads!r}") from None
     if threads < 0:
         raise ValueError(f"threads must be 0 (all cores) or more, not {threads}")
+    if threads > 1024:
+        raise ValueError(f"threads must be at most 1024, not {threads}")
     return threads
 
 
@@ -565,7 +575,9 @@ def marching_cubes(
         The samples; read in place for u8, i8, u16, i16, u32, i32, f32 and
         f64 (any order or strides, ``numpy.memmap`` included).
     level : float, optional
-        The isovalue; default the mean of the volume's minimum and maximum.
+        The isovalue; default the mean of the volume's minimum and maximum
+        (of its finite samples: NaN samples are outside, as everywhere in
+        tmc).
     spacing : 3 floats
         Sample spacing along the array's axes (M, N, P).
     gradient_direction : {"descent", "ascent"}
@@ -638,8 +650,14 @@ def marching_cubes(
                 "without changing the surface; crop the volume instead "
                 "(volume[z0:z1, y0:y1, x0:x1] is a view, not a copy)"
             )
+    low, high = _finite_range(array)
     if level is None:
-        level = 0.5 * (float(array.min()) + float(array.max()))
+        if low is None:
+            raise ValueError(
+                "level: the volume has no finite sample, so there is no range "
+                "to take the middle of; give level"
+            )
+        level = 0.5 * (low + high)
     spacing_ijk = tuple(float(s) * step for s in spacing)
     if step > 1:
         array = array[::step, ::step, ::step]
@@ -655,12 +673,30 @@ def marching_cubes(
         _threads(threads),
     )
     if len(faces) == 0:
-        if not float(array.min()) <= float(level) <= float(array.max()):
+        if low is None or not low <= float(level) <= high:
             raise ValueError("Surface level must be within volume data range.")
         raise RuntimeError("No surface found at the given iso value.")
     if not allow_degenerate:
         verts, faces, normals, values = _without_degenerate(verts, faces, normals, values)
     return verts, faces, normals, values
+
+
+def _finite_range(array: np.ndarray) -> Tuple[Optional[float], Optional[float]]:
+    """The least and the greatest finite sample of ``array``, or ``(None,
+    None)`` when it has none (all NaN or infinite)."""
+    if array.dtype.kind not in "fc":
+        return float(array.min()), float(array.max())
+    with warnings.catch_warnings():
+        # An all-NaN array warns and gives NaN, taken below.
+        warnings.simplefilter("ignore", RuntimeWarning)
+        low, high = float(np.nanmin(array)), float(np.nanmax(array))
+    if np.isfinite(low) and np.isfinite(high):
+        return low, high
+    # Infinite samples (rare): the finite ones, copied.
+    finite = array[np.isfinite(array)]
+    if finite.size == 0:
+        return None, None
+    return float(finite.min()), float(finite.max())
 
 
 def _without_degenerate(

@@ -60,6 +60,12 @@ pub(crate) struct CheckArgs {
     /// neighbouring chunks. Memory grows with the mesh.
     #[arg(long)]
     pub in_memory: bool,
+
+    /// Print nothing on stderr but errors (no note on an empty mesh or on
+    /// reading a .tmesh whole); the report on stdout is printed all the
+    /// same.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Runs `tmc check`.
@@ -84,7 +90,9 @@ pub(crate) fn run(args: &CheckArgs) -> Result<()> {
                 "{empty}, and --require-surface asks for a surface"
             )));
         }
-        say!("tmc: note: {empty}: closed only vacuously, there is no surface");
+        if !args.quiet {
+            say!("tmc: note: {empty}: closed only vacuously, there is no surface");
+        }
     }
     if !report.is_oriented_manifold() {
         return Err(Error::Format(format!(
@@ -111,10 +119,12 @@ fn report(args: &CheckArgs) -> Result<tmc::check::MeshReport> {
         if let Some(report) = tmc::check::check_tmesh(path)? {
             return Ok(report);
         }
-        say!(
-            "tmc: note: {}: inconsistently oriented edges; reading the whole mesh into memory to tell whether they can be oriented",
-            path.display()
-        );
+        if !args.quiet {
+            say!(
+                "tmc: note: {}: inconsistently oriented edges; reading the whole mesh into memory to tell whether they can be oriented",
+                path.display()
+            );
+        }
     }
     let mesh = tmc::check::read_mesh(path)?;
     Ok(tmc::check::check_mesh(&mesh))

@@ -25,6 +25,11 @@ pub(crate) struct ConvertArgs {
     /// fails.
     #[arg(short, long, value_name = "OUTPUT")]
     pub output: PathBuf,
+
+    /// Print nothing on stderr but errors (it prints nothing else today;
+    /// accepted so that scripts can pass -q to every subcommand).
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Runs `tmc convert`; setting `cancel` (SIGINT, SIGTERM) stops it before

@@ -18,6 +18,15 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     if args.labels.is_some() {
         return super::labels::run(args, cancel);
     }
+    // Without --labels, {label} would stay in the file's name.
+    for template in args.output.iter().chain(&args.preview) {
+        if tmc::files::has_placeholder(template, "{label}") {
+            return Err(Error::Invalid(format!(
+                "{}: {{label}} names the files of --labels; an isosurface's output may use {{stem}} and {{iso}}",
+                template.display()
+            )));
+        }
+    }
     let (input, iso, template) = match (&args.input[..], &args.iso[..], &args.output) {
         ([input], [iso], Some(output)) if !args.batch.given() => (input, *iso, output),
         _ => return super::batch::run(args, cancel),

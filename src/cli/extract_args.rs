@@ -9,6 +9,11 @@ use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use tmc::{ExtractParams, Inside, Method, PipelineOptions};
 
+/// Extract the isosurface of a volume into a mesh file (several inputs or
+/// isovalues in one batch; a label map's surfaces with --labels).
+///
+/// Streams the volume slab by slab on all cores and the mesh into the
+/// output as it is made, so neither is held whole.
 #[derive(Debug, Args)]
 #[command(after_help = CONVENTIONS)]
 pub(crate) struct ExtractArgs {

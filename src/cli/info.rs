@@ -103,6 +103,12 @@ pub(crate) struct InfoArgs {
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub plane_step: usize,
 
+    /// Print nothing on stderr but errors (no notes on --spacing or
+    /// --origin overriding the file's); the report on stdout is printed
+    /// all the same.
+    #[arg(short, long)]
+    pub quiet: bool,
+
     /// Headerless input: --dims, --dtype, --endian, ...
     #[command(flatten)]
     pub raw: RawArgs,
@@ -121,7 +127,7 @@ pub(crate) fn run(args: &InfoArgs, cancel: Option<&AtomicBool>) -> Result<()> {
         });
     }
     let raw = args.raw.options();
-    let source = super::raw_input::open_input(&args.input, &args.raw, cancel, false)?;
+    let source = super::raw_input::open_input(&args.input, &args.raw, cancel, args.quiet)?;
     let never = AtomicBool::new(false);
     let source = Cancellable {
         inner: source.as_ref(),

@@ -27,6 +27,20 @@ use tmc::stream::label_report::label_reports;
 use tmc::stream::{check_grid, LabelReport, LabelRun};
 use tmc::{Error, MeshSink, Result};
 
+/// The output name `template` with `{stem}` replaced by the name of
+/// `input`; `{iso}`, which batch scripts often carry, is refused: a label
+/// map's pass has no isovalue, and `{label}` names its files.
+fn expand_template(template: &Path, input: &Path) -> Result<PathBuf> {
+    if tmc::files::has_placeholder(template, "{iso}") {
+        return Err(Error::Invalid(format!(
+            "{}: {{iso}} has no value with --labels (a label's surface is no isovalue's): use {{label}} instead, e.g. -o 'out/{{stem}}_{{label}}.ply'",
+            template.display()
+        )));
+    }
+    let stem = super::manifest::stem(input);
+    Ok(tmc::files::fill_placeholder(template, "{stem}", &stem))
+}
+
 /// Runs `tmc extract --labels`.
 pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     let started = Instant::now();
@@ -40,8 +54,8 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     };
     let spec = args.labels.as_deref().unwrap_or("all");
     let background = args.background.unwrap_or(0);
-    let text = template.to_string_lossy();
-    let per_label = text.contains("{label}");
+    let template = &expand_template(template, input)?;
+    let per_label = tmc::files::has_placeholder(template, "{label}");
     // A name without {label} must be one .ply or .tmesh: refused before
     // the input is read.
     tmc::export::label_outputs(template, &[])?;
@@ -77,12 +91,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let labels = counts.select(wanted.as_deref(), background, input)?;
     // Every label's file stays open until all are committed.
     tmc::files::raise_open_file_limit();
-    // {stem}: the input's name, in a file per label's name.
-    let template = match per_label {
-        true => PathBuf::from(text.replace("{stem}", &super::manifest::stem(input))),
-        false => template.clone(),
-    };
-    let outputs = tmc::export::label_outputs(&template, &labels)?;
+    let outputs = tmc::export::label_outputs(template, &labels)?;
     let inputs: Vec<&Path> = std::iter::once(input.as_path())
         .chain(source.data_files())
         .collect();
@@ -99,14 +108,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         }
         None => None,
     };
-    let mut files = LabelFiles::create(
-        &template,
-        &labels,
-        &outputs,
-        |target, label| match &record {
+    let mut files =
+        LabelFiles::create(template, &labels, &outputs, |target, label| match &record {
             Some(record) => {
                 let record = tmc::part::PartRecord {
                     label: Some(label),
+                    label_count: Some(labels.len()),
                     ..record.clone()
                 };
                 Ok(LabelSink::Send(Box::new(tmc::part::PartWriter::create(
@@ -114,8 +121,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
                 )?)))
             }
             None => LabelSink::create(target, labels.len()),
-        },
-    )?;
+        })?;
     let mut sinks = Measured::all(
         files.sinks().iter_mut().map(|f| f as &mut dyn MeshSink),
         measure,

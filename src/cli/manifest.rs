@@ -143,24 +143,26 @@ fn check_unique(items: Vec<Item>) -> Result<Vec<Item>> {
 /// replaced; with several isovalues and no `{iso}`, `_iso{iso}` goes before
 /// the extension.
 pub(crate) fn outputs(template: &Path, input: &Path, isos: &[f64]) -> Vec<PathBuf> {
-    let mut text = template.to_string_lossy().into_owned();
-    if !text.contains('{') {
-        if isos.len() == 1 {
-            return vec![template.to_path_buf()];
-        }
-    } else {
-        text = text.replace("{stem}", &stem(input));
-    }
-    if isos.len() > 1 && !text.contains("{iso}") {
-        let name_start = text.rfind('/').map_or(0, |i| i + 1);
-        let dot = text[name_start..]
-            .rfind('.')
-            .map_or(text.len(), |i| name_start + i);
-        text.insert_str(dot, "_iso{iso}");
+    use tmc::files::{fill_placeholder, has_placeholder, insert_before_extension};
+    let mut path = fill_placeholder(template, "{stem}", &stem(input));
+    if isos.len() > 1 && !has_placeholder(&path, "{iso}") {
+        path = insert_before_extension(&path, "_iso{iso}");
     }
     isos.iter()
-        .map(|iso| PathBuf::from(text.replace("{iso}", &iso.to_string())))
+        .map(|iso| fill_placeholder(&path, "{iso}", &iso_text(*iso)))
         .collect()
+}
+
+/// `iso` as `{iso}` writes it: as a decimal (`1600`, `0.25`), or with an
+/// exponent (`1e300`, `1.5e-30`) where the decimal would be longer than a
+/// file name should be (every finite double's decimal is exact, up to
+/// 309 digits before the point and 330 after it).
+fn iso_text(iso: f64) -> String {
+    let decimal = iso.to_string();
+    match decimal.len() > 24 {
+        true => format!("{iso:e}"),
+        false => decimal,
+    }
 }
 
 /// The input's name without its extension, and without a compression
@@ -196,6 +198,29 @@ pub(crate) fn stem(input: &Path) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `{iso}` of an isovalue far from 1 is a name a file system takes
+    /// (a decimal of 1e300 has 301 digits, more than a name's 255 bytes).
+    #[test]
+    fn iso_names_stay_short() {
+        let names = outputs(
+            Path::new("out/{iso}.ply"),
+            Path::new("v.nrrd"),
+            &[1600.0, 0.25, -0.0, 1e300, -1.5e-30, 1e-7],
+        );
+        let names: Vec<String> = names.iter().map(|p| p.display().to_string()).collect();
+        assert_eq!(
+            names,
+            [
+                "out/1600.ply",
+                "out/0.25.ply",
+                "out/-0.ply",
+                "out/1e300.ply",
+                "out/-1.5e-30.ply",
+                "out/0.0000001.ply"
+            ]
+        );
+    }
 
     #[test]
     fn outputs_are_templated_or_suffixed() {

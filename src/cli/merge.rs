@@ -22,6 +22,11 @@ pub(crate) struct MergeArgs {
     /// extract'. Written atomically.
     #[arg(short, long, value_name = "OUTPUT")]
     pub output: PathBuf,
+
+    /// Print nothing on stderr but errors (it prints nothing else today;
+    /// accepted so that scripts can pass -q to every subcommand).
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 /// Runs `tmc merge`; setting `cancel` (SIGINT, SIGTERM) stops it before

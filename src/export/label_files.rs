@@ -10,7 +10,7 @@
 
 use super::{create_sink, write_labelled};
 use crate::fan_out::fan_out;
-use crate::files::withdraw;
+use crate::files::{fill_placeholder, has_placeholder, withdraw};
 use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink, Totals};
 use crate::meshfile::TmeshWriter;
 use crate::{Error, Result};
@@ -22,11 +22,10 @@ use std::sync::atomic::AtomicBool;
 /// without, `template` itself, which must then be a `.ply` or `.tmesh` (a
 /// per-face label) and every label must fit its `uint32`.
 pub fn label_outputs(template: &Path, labels: &[i64]) -> Result<Vec<PathBuf>> {
-    let text = template.to_string_lossy();
-    if text.contains("{label}") {
+    if has_placeholder(template, "{label}") {
         return Ok(labels
             .iter()
-            .map(|l| PathBuf::from(text.replace("{label}", &l.to_string())))
+            .map(|l| fill_placeholder(template, "{label}", &l.to_string()))
             .collect());
     }
     if template
@@ -156,7 +155,7 @@ impl LabelFiles {
         outputs: &[PathBuf],
         mut open: impl FnMut(&Path, i64) -> Result<LabelSink>,
     ) -> Result<LabelFiles> {
-        let one = match (template.to_string_lossy().contains("{label}"), outputs) {
+        let one = match (has_placeholder(template, "{label}"), outputs) {
             (true, _) if outputs.len() == labels.len() => None,
             (false, [path]) => {
                 let dir = path

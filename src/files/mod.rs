@@ -11,6 +11,7 @@ mod atomic;
 pub mod fatal_cleanup;
 mod open_files;
 mod paths;
+mod placeholders;
 mod withdraw;
 
 pub(crate) use atomic::without_temp_path;
@@ -19,4 +20,5 @@ pub use open_files::raise_open_file_limit;
 pub use paths::{
     check_distinct, check_input_kind, check_output_file, check_output_files, lowercase_extension,
 };
+pub use placeholders::{fill_placeholder, has_placeholder, insert_before_extension};
 pub use withdraw::withdraw;

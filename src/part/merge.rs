@@ -195,6 +195,14 @@ pub(super) fn same_run(first: &Part, p: &Part) -> Result<()> {
     if a.input != b.input || a.total_layers != b.total_layers {
         return differ(&format!("inputs ({} vs {})", a.input_name, b.input_name));
     }
+    if a.label_count != b.label_count {
+        let count = |n: Option<usize>| n.map_or("none".to_string(), |n| n.to_string());
+        return differ(&format!(
+            "label counts ({} vs {})",
+            count(a.label_count),
+            count(b.label_count)
+        ));
+    }
     if a.label != b.label {
         let label = |l: Option<i64>| l.map_or("none".to_string(), |l| l.to_string());
         return differ(&format!(
@@ -251,9 +259,22 @@ fn merge_labels(parts: Vec<Part>, output: &Path, cancel: &AtomicBool) -> Result<
     }
     let groups: Vec<(i64, Vec<Part>)> = groups
         .into_iter()
-        .map(|(label, group)| Ok((label, order(group)?)))
+        .map(|(label, group)| match order(group) {
+            Ok(group) => Ok((label, group)),
+            Err(Error::Invalid(m)) => Err(Error::Invalid(format!("label {label}: {m}"))),
+            Err(e) => Err(e),
+        })
         .collect::<Result<_>>()?;
     let first = &groups[0].1[0];
+    if let Some(n) = first.record.label_count.filter(|&n| n > groups.len()) {
+        let given: Vec<String> = groups.iter().map(|(l, _)| l.to_string()).collect();
+        return Err(Error::Invalid(format!(
+            "the parts are of a run with {n} labels, but only those of {} are given (labels {}): all the part files of {} label(s) are missing",
+            groups.len(),
+            given.join(", "),
+            n - groups.len()
+        )));
+    }
     for (_, group) in &groups {
         let other = &group[0];
         // One run: everything but the label agrees.
@@ -268,18 +289,40 @@ fn merge_labels(parts: Vec<Part>, output: &Path, cancel: &AtomicBool) -> Result<
         };
         same_run(first, &relabelled)?;
     }
-    let text = output.to_string_lossy();
     let mut totals = Totals::default();
-    if text.contains("{label}") {
+    if crate::files::has_placeholder(output, "{label}") {
         let outputs: Vec<PathBuf> = groups
             .iter()
-            .map(|(l, _)| PathBuf::from(text.replace("{label}", &l.to_string())))
+            .map(|(l, _)| crate::files::fill_placeholder(output, "{label}", &l.to_string()))
             .collect();
         for path in &outputs {
+            // A label's file over a part file (`-o 'parts/{label}.1.tmesh'`)
+            // would destroy an input, as a merge of one mesh refuses to.
+            for (_, group) in &groups {
+                for part in group {
+                    crate::files::check_distinct(&part.path, path)?;
+                }
+            }
             crate::export::check_output_path(path)?;
         }
-        for ((_, group), path) in groups.iter().zip(&outputs) {
-            let t = stitch(group, path, cancel)?;
+        // All or none: the labels merged before a failure are taken back.
+        for (k, ((_, group), path)) in groups.iter().zip(&outputs).enumerate() {
+            let t = match stitch(group, path, cancel) {
+                Ok(t) => t,
+                Err(Error::Interrupted) => {
+                    crate::files::withdraw(
+                        outputs[..k].iter().map(PathBuf::as_path),
+                        Error::Interrupted,
+                    );
+                    return Err(Error::Interrupted);
+                }
+                Err(e) => {
+                    return Err(crate::files::withdraw(
+                        outputs[..k].iter().map(PathBuf::as_path),
+                        e,
+                    ))
+                }
+            };
             totals.vertices += t.vertices;
             totals.triangles += t.triangles;
             totals.chunks += t.chunks;

@@ -47,6 +47,11 @@ pub struct PartRecord {
     /// `None` for an isosurface (and absent from its JSON).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub label: Option<i64>,
+    /// How many labels the run made parts of (each label's part files hold
+    /// the same count), so that a merge missing every part of a label
+    /// says so; `None` for an isosurface and for parts of older versions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub label_count: Option<usize>,
 }
 
 impl PartRecord {
@@ -73,6 +78,7 @@ impl PartRecord {
             seam_crc: seam_checksums(source, close, range)?,
             input_name: input.display().to_string(),
             label: None,
+            label_count: None,
         })
     }
 }

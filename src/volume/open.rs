@@ -130,7 +130,7 @@ pub fn open_selected(
                     path.display()
                 )));
             }
-            return Ok(Box::new(hdf5::open(&file, Some(&dataset))?));
+            return checked_size(path, Box::new(hdf5::open(&file, Some(&dataset))?));
         }
     }
     check_input_kind(path)?;
@@ -182,7 +182,7 @@ pub fn open_selected(
             path.display()
         ))
     })?;
-    Ok(match format {
+    let source: Box<dyn SampleSource> = match format {
         Format::Raw => {
             return Err(crate::Error::Invalid(format!(
                 "{}: raw samples need --dims and --dtype",
@@ -199,7 +199,26 @@ pub fn open_selected(
         Format::Dicom => dicom::open_source(path, select.series.as_deref(), select.segment)?,
         Format::Zarr => Box::new(zarr::open(path, select)?),
         Format::Hdf5 => Box::new(hdf5::open(path, select.dataset.as_deref())?),
-    })
+    };
+    checked_size(path, source)
+}
+
+/// Refuses a grid whose samples cannot be counted in a `usize`, or whose
+/// plane of `f64` samples could not be addressed (the readers of chunked
+/// stores, Zarr and HDF5, take any shape their metadata state; the
+/// others check their sizes against their data).
+fn checked_size(path: &Path, source: Box<dyn SampleSource>) -> Result<Box<dyn SampleSource>> {
+    let [x, y, z] = source.grid().dims;
+    let plane = x
+        .checked_mul(y)
+        .filter(|p| p.checked_mul(8).is_some_and(|b| b <= isize::MAX as usize));
+    if plane.and_then(|p| p.checked_mul(z)).is_none() {
+        return Err(crate::Error::Invalid(format!(
+            "{}: dims {x}x{y}x{z} are too large (more samples than 64 bits count, or planes larger than memory can address)",
+            path.display()
+        )));
+    }
+    Ok(source)
 }
 
 /// The series of `path` when it is a DICOM directory of more than one

@@ -158,15 +158,10 @@ impl Range {
     }
 }
 
-/// Runs `add` on every plane `z` in `planes`, in parallel, one plane buffer
-/// per worker, and merges the accumulators.
-fn scan<A, I, F, M>(
-    source: &dyn SampleSource,
-    planes: Vec<usize>,
-    init: I,
-    add: F,
-    merge: M,
-) -> Result<A>
+/// Runs `add` on every `step`-th plane `z` (from 0), in parallel, one
+/// plane buffer per worker, and merges the accumulators. (The planes are
+/// not listed first: a list of 2^32 plane numbers would not fit in memory.)
+fn scan<A, I, F, M>(source: &dyn SampleSource, step: usize, init: I, add: F, merge: M) -> Result<A>
 where
     A: Send,
     I: Fn() -> A + Sync + Send,
@@ -174,8 +169,9 @@ where
     M: Fn(A, A) -> A + Sync + Send,
 {
     let plane_len = source.grid().plane_len();
-    planes
+    (0..source.grid().dims[2])
         .into_par_iter()
+        .step_by(step)
         .try_fold(
             || (init(), Vec::new()),
             |(mut acc, mut buf), z| {
@@ -195,22 +191,15 @@ where
 /// Summarizes `source` in two streamed passes (see the module docs).
 pub fn summarize(source: &dyn SampleSource, options: &SummaryOptions) -> Result<Summary> {
     let grid = source.grid();
-    let nz = grid.dims[2];
     let samples = grid.dims.iter().map(|&n| n as u64).product();
-    let range = scan(
-        source,
-        (0..nz).collect(),
-        || Range::EMPTY,
-        Range::add_plane,
-        Range::merge,
-    )?;
+    let range = scan(source, 1, || Range::EMPTY, Range::add_plane, Range::merge)?;
     let step = options.plane_step.max(1);
     let finite = range.finite > 0;
     let histogram = if finite && range.min < range.max {
         let template = histogram_bins(range.min, range.max, range.integer, options.bins);
         let h = scan(
             source,
-            (0..nz).step_by(step).collect(),
+            step,
             || template.clone(),
             |h, plane| {
                 for &v in plane {
@@ -292,8 +281,19 @@ fn nice_value(edge: f64, width: f64, min: f64, max: f64, integer: bool) -> f64 {
         return edge.floor() + 0.5;
     }
     if width > 0.0 && width.is_finite() {
-        let unit = 10f64.powf(width.log10().floor());
-        let rounded = (edge / unit).round() * unit;
+        // A negative power of ten divides by its exact inverse, so that
+        // 1629 units of 1e-4 give 0.1629, not 0.16290000000000002.
+        let power = width.log10().floor();
+        let rounded = match power < 0.0 {
+            true => {
+                let inverse = 10f64.powf(-power);
+                (edge * inverse).round() / inverse
+            }
+            false => {
+                let unit = 10f64.powf(power);
+                (edge / unit).round() * unit
+            }
+        };
         if rounded > min && rounded < max && rounded.is_finite() {
             return rounded;
         }
@@ -361,6 +361,22 @@ mod tests {
         assert!(min < t && t < max, "{t}");
         // Rounded to a multiple of 1e-4 (bin width about 8.5e-4).
         assert!((t * 1e4 - (t * 1e4).round()).abs() < 1e-6, "{t}");
+    }
+
+    /// A suggestion prints as the round number it is: users copy it into
+    /// `--iso` and into file names (`{iso}`).
+    #[test]
+    fn rounded_suggestions_print_short() {
+        for (edge, width, text) in [
+            (0.16287, 8.5e-4, "0.1629"),
+            (0.50291, 8.5e-4, "0.5029"),
+            (0.7, 0.3, "0.7"),
+            (1234.4, 17.0, "1230"),
+            (3.3e-7, 2e-9, "0.00000033"),
+        ] {
+            let t = nice_value(edge, width, 0.0, 2000.0, false);
+            assert_eq!(t.to_string(), text, "edge {edge} width {width}");
+        }
     }
 
     #[test]

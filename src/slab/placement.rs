@@ -21,6 +21,11 @@ pub(super) struct Placement {
     /// cell's boundary keeps from it ([`CellMesh::tie_margin`](crate::kernel::CellMesh::tie_margin)):
     /// [`TIE_OFFSET`] where that resolves, else [`interior_tie_margin`].
     pub(super) interior_margin: f64,
+    /// A crossing closer than this to an end of its edge (a fraction of
+    /// the edge) may round onto the end sample in `f32` and is checked
+    /// ([`Placement::near_end_fraction`]): [`TIE_OFFSET`] where `f32`
+    /// resolves it everywhere in the grid, else `0.5` (every crossing).
+    pub(super) near: f64,
     /// The x and y grid index of the slab's sample (0, 0) (not zero only
     /// when the slab is a [`Window`] of the grid), added to
     /// every index before it is placed, so that a window places its
@@ -37,6 +42,7 @@ impl Placement {
             grid: *grid,
             axis_aligned: grid.direction == IDENTITY,
             resolves_ties: resolves_offset(grid, TIE_OFFSET),
+            near: near_end(resolves_offset(grid, TIE_OFFSET)),
             interior_margin: interior_tie_margin(grid),
             offset: [0; 2],
         }
@@ -51,6 +57,7 @@ impl Placement {
             grid: *grid,
             axis_aligned: grid.direction == IDENTITY,
             resolves_ties: resolves_offset(&window.full, TIE_OFFSET),
+            near: near_end(resolves_offset(&window.full, TIE_OFFSET)),
             interior_margin: interior_tie_margin(&window.full),
             offset: window.offset,
         }
@@ -115,56 +122,8 @@ impl Placement {
         a: f64,
         b: f64,
     ) -> [f32; 3] {
-        let t = self.crossing(start, axis, a, b);
-        let from = start;
-        start[axis] += t;
-        let p = self.at_in::<ALIGNED>(start);
-        // Within TIE_OFFSET of an end (or anywhere in a grid whose f32
-        // coordinates may not resolve that offset) the crossing may round
-        // onto the end sample's own position; tie crossings never take
-        // this branch where the offset resolves (they are exactly
-        // TIE_OFFSET from their end). A negated range test, so that a NaN
-        // takes the branch too.
-        if !(TIE_OFFSET..=1.0 - TIE_OFFSET).contains(&t) || !self.resolves_ties {
-            return self.off_the_end(from, axis, t, p);
-        }
-        p
-    }
-
-    /// The vertex `p`, the crossing `t` of the edge from `start` along
-    /// `axis`, unless `p` is (in `f32`) the position of the edge's end
-    /// sample nearer to `t`: then where a tie at that sample would put the
-    /// vertex ([`TIE_OFFSET`] of the edge from it, or further where `f32`
-    /// needs it: [`Placement::far_tie_fraction`]). A crossing very near a
-    /// sample (a value within about 2^-14 of the edge's difference from
-    /// the isovalue, near the origin; less far from it) rounds onto the
-    /// sample, where the crossings of the sample's other edges may round
-    /// too, and the triangles between them would have no area. Only those
-    /// vertices move, so every other vertex keeps its bytes; the move is a
-    /// function of the edge alone, like a tie's.
-    #[cold]
-    #[inline(never)]
-    fn off_the_end(&self, start: [f64; 3], axis: usize, t: f64, p: [f32; 3]) -> [f32; 3] {
-        let at_start = t <= 0.5 || t.is_nan();
-        let mut end = start;
-        if !at_start {
-            end[axis] += 1.0;
-        }
-        if p != self.at(end) {
-            return p;
-        }
-        let fraction = if self.resolves_ties {
-            if at_start {
-                TIE_OFFSET
-            } else {
-                1.0 - TIE_OFFSET
-            }
-        } else {
-            self.far_tie_fraction(start[0], start[1], start[2], axis, at_start)
-        };
-        let mut moved = start;
-        moved[axis] += fraction;
-        self.at(moved)
+        start[axis] += self.crossing(start, axis, a, b);
+        self.at_in::<ALIGNED>(start)
     }
 
     /// Where the vertex of the crossed edge from `start` along `axis`
@@ -189,7 +148,51 @@ impl Placement {
                 1.0 - TIE_OFFSET
             }
         } else {
-            a / (a - b)
+            let t = a / (a - b);
+            // Within `near` of an end the crossing may round onto the end
+            // sample (a negated range test: a NaN takes the branch too).
+            if !(t >= self.near && t <= 1.0 - self.near) {
+                return self.near_end_fraction(start[0], start[1], start[2], axis, t);
+            }
+            t
+        }
+    }
+
+    /// The crossing `t` of the edge from `(x, y, z)` along `axis`, unless
+    /// its `f32` position is that of the edge's end sample nearer to `t`:
+    /// then the fraction a tie at that sample would give ([`TIE_OFFSET`] of
+    /// the edge from it, or further where `f32` needs it:
+    /// [`Placement::far_tie_fraction`]). A crossing very near a sample (a
+    /// value within about 2^-14 of the edge's difference from the
+    /// isovalue, near the origin; less far from it) rounds onto the
+    /// sample, where the crossings of the sample's other edges may round
+    /// too, and the triangles between them would have no area. Only those
+    /// vertices move, so every other vertex keeps its bytes; the move is a
+    /// function of the edge alone, like a tie's. (Scalars, as in
+    /// [`Placement::far_tie_fraction`], and cold: the vertex loops keep
+    /// their registers.)
+    #[cold]
+    #[inline(never)]
+    fn near_end_fraction(&self, x: f64, y: f64, z: f64, axis: usize, t: f64) -> f64 {
+        let start = [x, y, z];
+        let at_start = t <= 0.5 || t.is_nan();
+        let mut end = start;
+        if !at_start {
+            end[axis] += 1.0;
+        }
+        let mut p = start;
+        p[axis] += t;
+        if self.at(p) != self.at(end) {
+            return t;
+        }
+        if self.resolves_ties {
+            if at_start {
+                TIE_OFFSET
+            } else {
+                1.0 - TIE_OFFSET
+            }
+        } else {
+            self.far_tie_fraction(x, y, z, axis, at_start)
         }
     }
 
@@ -221,6 +224,15 @@ impl Placement {
             }
             offset *= 2.0;
         }
+    }
+}
+
+/// [`Placement::near`] of a grid that resolves [`TIE_OFFSET`] or not.
+fn near_end(resolves_ties: bool) -> f64 {
+    if resolves_ties {
+        TIE_OFFSET
+    } else {
+        0.5
     }
 }
 

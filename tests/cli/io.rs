@@ -390,6 +390,23 @@ fn extract_is_quiet_without_stats_and_reads_raw_and_nrrd() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(!parse_stl(&fs::read(&output).unwrap()).is_empty());
+
+    // `tmc check` refuses the STL as STL, and a volume given by mistake
+    // (binary, not an STL's 84 + 50 n bytes) as an unknown mesh format.
+    let check = tmc(&["check", s(&output)]);
+    let said = String::from_utf8_lossy(&check.stderr);
+    assert!(
+        !check.status.success() && said.contains("STL does not share"),
+        "{said}"
+    );
+    let check = tmc(&["check", s(&demo)]);
+    let said = String::from_utf8_lossy(&check.stderr);
+    assert!(!check.status.success(), "{said}");
+    assert!(
+        said.contains("unrecognised mesh format") && !said.contains("STL"),
+        "{said}"
+    );
+    assert_eq!(said.lines().count(), 1, "{said}");
 }
 
 /// Writes `tmc::synth::noise(24, 3, 1)` as a little-endian f64 `.npy`.

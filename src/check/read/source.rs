@@ -76,7 +76,7 @@ impl Source<'_> {
             Ok(Format::Ply)
         } else if word.ends_with("OFF") {
             Ok(Format::Off)
-        } else if word == "solid" || (head.len() >= 84 && !text.is_ascii()) {
+        } else if word == "solid" || binary_stl(self.path, head) {
             Err(stl_error(self.path))
         } else if ["v", "vn", "vt", "f", "o", "g", "s", "mtllib", "usemtl"].contains(&word) {
             Ok(Format::Obj)
@@ -188,6 +188,18 @@ pub(super) fn push_fan(triangles: &mut Vec<[u32; 3]>, polygon: &[u32]) {
     for i in 1..polygon.len().saturating_sub(1) {
         triangles.push([polygon[0], polygon[i], polygon[i + 1]]);
     }
+}
+
+/// Whether the file at `path`, whose first bytes are `head`, is a binary
+/// STL: an 80-byte header, a triangle count `n` and `n` records of 50
+/// bytes, so the file is exactly `84 + 50 n` bytes long. Any other binary
+/// file (a volume given by mistake, say) is an unknown format, not STL.
+fn binary_stl(path: &Path, head: &[u8]) -> bool {
+    let Some(count) = head.get(80..84) else {
+        return false;
+    };
+    let count = u32::from_le_bytes(count.try_into().expect("four bytes"));
+    std::fs::metadata(path).is_ok_and(|m| m.len() == 84 + 50 * u64::from(count))
 }
 
 /// The error for an STL file, which the checker does not read.

@@ -399,7 +399,8 @@ fn extract_is_quiet_without_stats_and_reads_raw_and_nrrd() {
         !check.status.success() && said.contains("STL does not share"),
         "{said}"
     );
-    let check = tmc(&["check", s(&demo)]);
+    let volume = noise_npy(dir.path(), "volume.npy");
+    let check = tmc(&["check", s(&volume)]);
     let said = String::from_utf8_lossy(&check.stderr);
     assert!(!check.status.success(), "{said}");
     assert!(

@@ -15,6 +15,7 @@ fn pytest_suite_of_the_python_package() {
         );
         return;
     };
+    let _cores = crate::CORES.write().unwrap_or_else(|e| e.into_inner());
     let tests = Path::new(env!("CARGO_MANIFEST_DIR")).join("python/tests");
     // Signals at their defaults: the interrupt tests send SIGINT, which a
     // Python started with it ignored keeps ignored.

@@ -50,6 +50,7 @@ impl Drop for SmallDisk {
 
 #[test]
 fn a_full_disk_is_one_clean_error_with_nothing_left() {
+    let _cores = crate::CORES.read().unwrap_or_else(|e| e.into_inner());
     let Some(disk) = SmallDisk::mount("1m") else {
         println!("skipped: cannot mount a tmpfs here (needs root)");
         return;
@@ -91,6 +92,7 @@ fn slabs(json: &[u8]) -> u64 {
 
 #[test]
 fn max_memory_thins_the_slabs_and_keeps_the_output() {
+    let _cores = crate::CORES.read().unwrap_or_else(|e| e.into_inner());
     let dir = tempfile::tempdir().unwrap();
     let input = synth(dir.path(), "gyroid", "200,200,100", "f32", "gyroid.npy");
     let run = |name: &str, extra: &[&str]| {
@@ -116,6 +118,7 @@ fn max_memory_thins_the_slabs_and_keeps_the_output() {
 
 #[test]
 fn max_memory_holds_on_the_densest_surface() {
+    let _cores = crate::CORES.read().unwrap_or_else(|e| e.into_inner());
     // Uniform random samples: about 3.8 triangles a cell, some 25 times
     // what the budget's first estimate of a slab's mesh assumed.
     let dir = tempfile::tempdir().unwrap();
@@ -161,6 +164,7 @@ fn peak_rss(args: &[&str]) -> Option<f64> {
 
 #[test]
 fn label_stats_hold_no_label_mesh() {
+    let _cores = crate::CORES.read().unwrap_or_else(|e| e.into_inner());
     // Three labels at random: about 2.5 triangles a voxel each, some
     // 100 MiB of meshes in all, over a pipeline held to 48 MiB.
     use rand::{Rng, SeedableRng};
@@ -203,6 +207,7 @@ fn label_stats_hold_no_label_mesh() {
 
 #[test]
 fn check_streams_a_tmesh_without_holding_it() {
+    let _cores = crate::CORES.read().unwrap_or_else(|e| e.into_inner());
     // A gyroid of some 2.5 million triangles: about 45 MiB as a mesh in
     // memory (12 bytes a vertex and a triangle), more than twice that for
     // the in-memory checker; `tmc check` streams the file's chunks.

@@ -12,7 +12,7 @@ As a module:
     # vertices: float32 (N, 3); triangles: uint64 (M, 3), global indices,
     # counter-clockwise seen from outside; info: dict (grid, iso, ...);
     # info["normals"]: float32 (N, 3) unit outward vertex normals when the
-    # file has them (version 2, the normals attribute), else None;
+    # file has them (the normals attribute), else None;
     # info["labels"]: uint32 (M,) the label of each triangle when the file
     # holds several labels' surfaces (tmc extract --labels -o ONE.tmesh,
     # the labels attribute), else None
@@ -44,6 +44,14 @@ VERSION = 1
 # stored after the triangles in each chunk's payload; bit 1: a uint32 label
 # per triangle, stored after the normals).
 VERSION_ATTRIBUTES = 2
+# Version 3 (what tmc writes now): version 2 with the positions, triangle
+# indices and labels packed before compression (the normals as they are):
+# positions as the first vertex's float32 bits, then each component XOR the
+# same component of the vertex before; indices (one array of 3 x triangles)
+# and labels as zig-zag coded wrapping differences from the number before
+# (the first from 0); each packed array then as four byte planes, the lowest
+# byte of every number first.
+VERSION_PACKED = 3
 ATTRIBUTE_NORMALS = 1
 ATTRIBUTE_LABELS = 2
 HEADER_BYTES = 128
@@ -73,10 +81,10 @@ def _header(h):
     if h[0:8] != MAGIC:
         raise TmeshError("not a .tmesh file (wrong magic bytes)")
     version, size = struct.unpack_from("<II", h, 8)
-    if version not in (VERSION, VERSION_ATTRIBUTES):
+    if version not in (VERSION, VERSION_ATTRIBUTES, VERSION_PACKED):
         raise TmeshError(
             f".tmesh version {version} is not supported "
-            f"(this reads {VERSION} and {VERSION_ATTRIBUTES})"
+            f"(this reads {VERSION} to {VERSION_PACKED})"
         )
     if size != HEADER_BYTES or struct.unpack_from("<I", h, 124)[0] != _crc(h[:124]):
         raise TmeshError("header checksum mismatch")
@@ -108,7 +116,27 @@ def _header(h):
         "close": h[98] == 1,
         "has_normals": bool(attributes & ATTRIBUTE_NORMALS),
         "has_labels": bool(attributes & ATTRIBUTE_LABELS),
+        "packed": version == VERSION_PACKED,
     }
+
+
+def _words(raw, offset, n):
+    """The n uint32 words whose four byte planes start at raw[offset]."""
+    planes = np.frombuffer(raw, dtype=np.uint8, offset=offset, count=4 * n).reshape(4, n)
+    return np.ascontiguousarray(planes.T).view("<u4").reshape(n)
+
+
+def _unpack_triples(raw, offset, n):
+    """n float32 triples packed (version 3) at raw[offset]."""
+    deltas = _words(raw, offset, 3 * n).reshape(n, 3)
+    return np.bitwise_xor.accumulate(deltas, axis=0).view("<f4")
+
+
+def _unpack_numbers(raw, offset, n):
+    """n uint32 numbers packed (version 3) at raw[offset]."""
+    z = _words(raw, offset, n).astype(np.uint32)
+    steps = (z >> np.uint32(1)) ^ (np.uint32(0) - (z & np.uint32(1)))
+    return np.cumsum(steps, dtype=np.uint32)
 
 
 def _plane_bounds(info):
@@ -193,7 +221,7 @@ def _index(f, length, info):
     return (vertices, triangles), entries, index_offset
 
 
-def _chunk(f, i, e, next_nv, limit, decompressor, has_normals, has_labels):
+def _chunk(f, i, e, next_nv, limit, decompressor, has_normals, has_labels, packed):
     """Reads chunk i, whose payload must end by byte limit (where the next
     chunk or the index starts); returns (vertices float32 (n, 3), relative
     triangles uint32 (m, 3), normals float32 (n, 3) or None, labels uint32
@@ -228,29 +256,37 @@ def _chunk(f, i, e, next_nv, limit, decompressor, has_normals, has_labels):
         raise TmeshError(f"{name}: {err}") from None
     if len(raw) != expect:
         raise TmeshError(f"{name}: payload has the wrong size")
-    vertices = np.frombuffer(raw, dtype="<f4", count=3 * nv).reshape(nv, 3)
+    at = 12 * (nv + nt)
+    if packed:
+        vertices = _unpack_triples(raw, 0, nv)
+        triangles = _unpack_numbers(raw, 12 * nv, 3 * nt).reshape(nt, 3)
+    else:
+        vertices = np.frombuffer(raw, dtype="<f4", count=3 * nv).reshape(nv, 3)
+        triangles = np.frombuffer(raw, dtype="<u4", offset=12 * nv, count=3 * nt).reshape(nt, 3)
+    normals = None
+    if has_normals:
+        normals = np.frombuffer(raw, dtype="<f4", offset=at, count=3 * nv).reshape(nv, 3)
+        at += 12 * nv
+    labels = None
+    if has_labels:
+        if packed:
+            labels = _unpack_numbers(raw, at, nt)
+        else:
+            labels = np.frombuffer(raw, dtype="<u4", offset=at, count=nt)
     bad = np.flatnonzero(~np.isfinite(vertices).all(axis=1))
     if len(bad):
         raise TmeshError(
             f"{name}: vertex {int(bad[0])} has a coordinate that is not a finite number"
         )
-    triangles = np.frombuffer(raw, dtype="<u4", offset=12 * nv, count=3 * nt).reshape(nt, 3)
     if nt and int(triangles.max()) >= nv + next_nv:
         raise TmeshError(f"{name}: a triangle points beyond the next chunk")
-    normals = None
     if has_normals:
-        normals = np.frombuffer(raw, dtype="<f4", offset=12 * (nv + nt), count=3 * nv)
-        normals = normals.reshape(nv, 3)
         bad = np.flatnonzero(~np.isfinite(normals).all(axis=1))
         if len(bad):
             raise TmeshError(
                 f"{name}: the normal of vertex {int(bad[0])} has a component "
                 "that is not a finite number"
             )
-    labels = None
-    if has_labels:
-        at = 12 * (nv + nt + (nv if has_normals else 0))
-        labels = np.frombuffer(raw, dtype="<u4", offset=at, count=nt)
     return vertices, triangles, normals, labels
 
 
@@ -278,6 +314,7 @@ def read_tmesh(path):
         has_normals = info.pop("has_normals")
         normals = np.empty((nv, 3), dtype=np.float32) if has_normals else None
         has_labels = info.pop("has_labels")
+        packed = info.pop("packed")
         labels = np.empty(nt, dtype=np.uint32) if has_labels else None
         decompressor = zstandard.ZstdDecompressor()
         t = 0
@@ -286,7 +323,7 @@ def read_tmesh(path):
             next_nv = 0 if last else int(entries[i + 1]["nv"])
             limit = index_offset if last else int(entries[i + 1]["offset"])
             v, tri, n, lab = _chunk(
-                f, i, e, next_nv, limit, decompressor, has_normals, has_labels
+                f, i, e, next_nv, limit, decompressor, has_normals, has_labels, packed
             )
             base = int(e["base"])
             vertices[base : base + len(v)] = v

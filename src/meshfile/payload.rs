@@ -9,6 +9,7 @@
 //! is the same on any thread and in any order: the files stay byte for
 //! byte what one writing thread made.
 
+use super::packing::{pack_numbers, pack_triples, put_as_is};
 use super::ZSTD_LEVEL;
 use crate::mesh::Chunk;
 use crate::{Error, Result};
@@ -37,46 +38,18 @@ pub fn encode_payload(chunk: &Chunk) -> Result<Vec<u8>> {
     })
 }
 
-/// The payload of a chunk before compression: positions, then relative
-/// indices, then the normals if it has any, then the triangles' labels if
-/// it has any.
+/// The payload of a chunk before compression, packed
+/// ([`super::packing`]): positions, then relative indices, then the
+/// normals if it has any (as they are: see `packing.rs`), then the
+/// triangles' labels if it has any.
 fn raw_payload(chunk: &Chunk) -> Result<Vec<u8>> {
     let len = (chunk.vertices.len() + chunk.triangles.len() + chunk.normals.len())
         .saturating_mul(12)
         .saturating_add(chunk.labels.len().saturating_mul(4));
     let mut raw = crate::error::try_vec::<u8>("a .tmesh chunk", len)?;
-    put(&mut raw, chunk.vertices.as_flattened());
-    put(&mut raw, chunk.triangles.as_flattened());
-    put(&mut raw, chunk.normals.as_flattened());
-    put(&mut raw, &chunk.labels);
+    pack_triples(&mut raw, &chunk.vertices);
+    pack_numbers(&mut raw, chunk.triangles.as_flattened());
+    put_as_is(&mut raw, chunk.normals.as_flattened());
+    pack_numbers(&mut raw, &chunk.labels);
     Ok(raw)
-}
-
-/// Appends `numbers` to `raw`, little-endian.
-fn put<T: bytemuck::Pod + LittleEndian>(raw: &mut Vec<u8>, numbers: &[T]) {
-    if cfg!(target_endian = "little") {
-        // In memory they are the bytes the file wants: one copy.
-        raw.extend_from_slice(bytemuck::cast_slice(numbers));
-    } else {
-        for n in numbers {
-            raw.extend_from_slice(&n.le_bytes());
-        }
-    }
-}
-
-/// The 4-byte numbers of a payload, as little-endian bytes.
-trait LittleEndian {
-    fn le_bytes(&self) -> [u8; 4];
-}
-
-impl LittleEndian for f32 {
-    fn le_bytes(&self) -> [u8; 4] {
-        self.to_le_bytes()
-    }
-}
-
-impl LittleEndian for u32 {
-    fn le_bytes(&self) -> [u8; 4] {
-        self.to_le_bytes()
-    }
 }

@@ -1,6 +1,7 @@
 //! Reads `.tmesh` files: header, index and trailer first, then any chunk on
 //! demand, every checksum verified.
 
+use super::packing::{unpack_numbers, unpack_triples};
 use super::{
     decode_header, le_u32, le_u64, ChunkEntry, CHUNK_HEADER_BYTES, END_MAGIC, HEADER_BYTES,
     INDEX_ENTRY_BYTES, TRAILER_BYTES,
@@ -16,6 +17,8 @@ pub struct TmeshReader {
     file: File,
     path: PathBuf,
     info: MeshInfo,
+    /// The payload arrays are packed (version 3, `packing.rs`).
+    packed: bool,
     entries: Vec<ChunkEntry>,
     /// Where the index starts: the end of the last chunk's room.
     index_offset: u64,
@@ -57,7 +60,7 @@ impl TmeshReader {
             return Err(bad(format!("{len} bytes is too short for a .tmesh file")));
         }
         file.read_exact(&mut header).map_err(io)?;
-        let info = decode_header(&header).map_err(|e| bad(e.to_string()))?;
+        let (info, packed) = decode_header(&header).map_err(|e| bad(e.to_string()))?;
         let mut trailer = [0u8; TRAILER_BYTES];
         file.seek(SeekFrom::End(-(TRAILER_BYTES as i64)))
             .map_err(io)?;
@@ -142,6 +145,7 @@ impl TmeshReader {
             file,
             path: path.to_path_buf(),
             info,
+            packed,
             entries,
             index_offset,
             vertices,
@@ -243,27 +247,42 @@ impl TmeshReader {
         if raw.len() != expect {
             return Err(bad("payload has the wrong size"));
         }
-        let vertices = finite_triples(&raw[..nv * 12]).map_err(|k| {
-            bad(&format!(
+        let at_normals = nv * 12 + nt * 12;
+        let at_labels = at_normals + nn * 12;
+        let (vertices, indices, normals, labels) = if self.packed {
+            (
+                unpack_triples(&raw[..nv * 12]),
+                unpack_numbers(&raw[nv * 12..at_normals]),
+                triples(&raw[at_normals..at_labels]),
+                unpack_numbers(&raw[at_labels..]),
+            )
+        } else {
+            let numbers = |b: &[u8]| b.chunks_exact(4).map(le_u32).collect::<Vec<u32>>();
+            (
+                triples(&raw[..nv * 12]),
+                numbers(&raw[nv * 12..at_normals]),
+                triples(&raw[at_normals..at_labels]),
+                numbers(&raw[at_labels..]),
+            )
+        };
+        if let Some(k) = first_not_finite(&vertices) {
+            return Err(bad(&format!(
                 "vertex {k} has a coordinate that is not a finite number"
-            ))
-        })?;
-        let at_labels = nv * 12 + nt * 12 + nn * 12;
-        let normals = finite_triples(&raw[nv * 12 + nt * 12..at_labels]).map_err(|k| {
-            bad(&format!(
-                "the normal of vertex {k} has a component that is not a finite number"
-            ))
-        })?;
-        let bound = e.vertex_count as u64 + next as u64;
-        let mut triangles = crate::error::try_vec("a .tmesh chunk's triangles", nt)?;
-        for t in raw[nv * 12..nv * 12 + nt * 12].chunks_exact(12) {
-            let tri = [le_u32(t), le_u32(&t[4..]), le_u32(&t[8..])];
-            if tri.iter().any(|&k| k as u64 >= bound) {
-                return Err(bad("a triangle points beyond the next chunk"));
-            }
-            triangles.push(tri);
+            )));
         }
-        let labels = raw[at_labels..].chunks_exact(4).map(le_u32).collect();
+        if let Some(k) = first_not_finite(&normals) {
+            return Err(bad(&format!(
+                "the normal of vertex {k} has a component that is not a finite number"
+            )));
+        }
+        let bound = e.vertex_count as u64 + next as u64;
+        if indices.iter().any(|&k| k as u64 >= bound) {
+            return Err(bad("a triangle points beyond the next chunk"));
+        }
+        let triangles = indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect();
         Ok(Chunk {
             plane: e.plane,
             vertices,
@@ -276,19 +295,17 @@ impl TmeshReader {
     }
 }
 
-/// The little-endian `f32` triples of `raw`, or the number of the first
-/// triple with a component that is not finite.
-fn finite_triples(raw: &[u8]) -> std::result::Result<Vec<[f32; 3]>, usize> {
+/// The little-endian `f32` triples of `raw` (an array stored as it is).
+fn triples(raw: &[u8]) -> Vec<[f32; 3]> {
     let f = |b: &[u8]| f32::from_le_bytes(b[..4].try_into().expect("4 bytes"));
-    let triples: Vec<[f32; 3]> = raw
-        .chunks_exact(12)
+    raw.chunks_exact(12)
         .map(|v| [f(v), f(&v[4..]), f(&v[8..])])
-        .collect();
-    match triples
+        .collect()
+}
+
+/// The number of the first triple with a component that is not finite.
+fn first_not_finite(triples: &[[f32; 3]]) -> Option<usize> {
+    triples
         .iter()
         .position(|v| v.iter().any(|c| !c.is_finite()))
-    {
-        Some(k) => Err(k),
-        None => Ok(triples),
-    }
 }

@@ -301,8 +301,26 @@ fn unchecked_fields_are_refused() {
         (header(&|b| b[96] = 7), "unknown method byte 7"),
         (header(&|b| b[97] = 2), "unknown inside byte 2"),
         (header(&|b| b[98] = 255), "unknown close byte 255"),
-        (header(&|b| b[123] = 1), "reserved header bytes 99..124"),
-        (header(&|b| b[99] = 1), "reserved header bytes 99..124"),
+        (
+            header(&|b| {
+                b[8..12].copy_from_slice(&1u32.to_le_bytes());
+                b[123] = 1;
+            }),
+            "reserved header bytes 99..124",
+        ),
+        (
+            header(&|b| {
+                b[8..12].copy_from_slice(&1u32.to_le_bytes());
+                b[99] = 1;
+            }),
+            "reserved header bytes 99..124",
+        ),
+        (header(&|b| b[99] = 4), "unknown attribute bits 0x04"),
+        (header(&|b| b[123] = 1), "reserved header bytes 100..124"),
+        (
+            header(&|b| b[8..12].copy_from_slice(&4u32.to_le_bytes())),
+            ".tmesh version 4 is not supported",
+        ),
         (
             header(&|b| {
                 b[8..12].copy_from_slice(&2u32.to_le_bytes());
@@ -482,6 +500,102 @@ fn a_chunk_larger_than_a_plane_is_refused() {
                 most / 11 * 32
             );
             assert!(stderr.contains(&bound), "{stderr}");
+        }
+    }
+}
+
+/// Files that earlier builds wrote are still read, to the meshes those
+/// builds wrote: `tests/data/tmesh_v1.tmesh` (version 1, no attributes:
+/// `tmc synth gyroid --dims 9,8,7 --dtype f32 -o tmesh_v1_input.nrrd`,
+/// `tmc extract tmesh_v1_input.nrrd --iso 0.2 -o tmesh_v1.tmesh`) and
+/// `tmesh_v2.tmesh` (version 2, normals and labels: `tmc extract
+/// tmesh_v2_input.npy --labels all --close --normals -o tmesh_v2.tmesh`),
+/// with the `.ply` files the same build (commit f06d952) wrote by the same
+/// commands. This build's `tmc convert` of each old file writes that PLY
+/// byte for byte, and so does its own extraction through a version 3
+/// file (the packed payload unpacks to the same numbers); the Python
+/// reader, which shares no code with tmc, reads the old and the new file
+/// to the same arrays (when python3 has numpy and zstandard).
+#[test]
+fn earlier_versions_read_to_the_meshes_they_hold() {
+    use common::cli::{python_ready, read_tmesh_script, s, tmc};
+    let ok = |args: &[&str]| {
+        let out = tmc(args);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let python = python_ready();
+    let cases: [(&str, &str, &[&str]); 2] = [
+        ("tmesh_v1", "tmesh_v1_input.nrrd", &["--iso", "0.2"]),
+        (
+            "tmesh_v2",
+            "tmesh_v2_input.npy",
+            &["--labels", "all", "--close", "--normals"],
+        ),
+    ];
+    for (name, input, options) in cases {
+        let old = data.join(format!("{name}.tmesh"));
+        let version = u32::from_le_bytes(
+            std::fs::read(&old).expect("fixture")[8..12]
+                .try_into()
+                .unwrap(),
+        );
+        assert_eq!(version, if name == "tmesh_v1" { 1 } else { 2 });
+        let expected = std::fs::read(data.join(format!("{name}.ply"))).expect("fixture");
+        let converted = dir.path().join(format!("{name}-old.ply"));
+        ok(&["convert", s(&old), "-o", s(&converted), "-q"]);
+        assert!(
+            std::fs::read(&converted).unwrap() == expected,
+            "{name}: convert of the old file"
+        );
+        let new = dir.path().join(format!("{name}.tmesh"));
+        let input = data.join(input);
+        let mut args = vec!["extract", s(&input)];
+        args.extend_from_slice(options);
+        args.extend_from_slice(&["-o", s(&new), "-q"]);
+        ok(&args);
+        let version = u32::from_le_bytes(std::fs::read(&new).unwrap()[8..12].try_into().unwrap());
+        assert_eq!(version, 3, "{name}: this build writes version 3");
+        let reconverted = dir.path().join(format!("{name}-new.ply"));
+        ok(&["convert", s(&new), "-o", s(&reconverted), "-q"]);
+        assert!(
+            std::fs::read(&reconverted).unwrap() == expected,
+            "{name}: through version 3"
+        );
+        ok(&["check", s(&new), "-q"]);
+        if python {
+            let program = "import sys, numpy as np\n\
+                sys.path.insert(0, sys.argv[1])\n\
+                from read_tmesh import read_tmesh\n\
+                va, ta, ia = read_tmesh(sys.argv[2])\n\
+                vb, tb, ib = read_tmesh(sys.argv[3])\n\
+                assert va.tobytes() == vb.tobytes() and np.array_equal(ta, tb)\n\
+                for k in ('normals', 'labels'):\n\
+                \x20   a, b = ia[k], ib[k]\n\
+                \x20   assert (a is None) == (b is None) and (a is None or a.tobytes() == b.tobytes()), k\n\
+                print(len(va), len(ta), int(ia['normals'] is not None), int(ia['labels'] is not None))\n";
+            let out = std::process::Command::new("python3")
+                .args(["-c", program])
+                .arg(read_tmesh_script().parent().unwrap())
+                .args([&old, &new])
+                .output()
+                .expect("python3");
+            let stdout = String::from_utf8_lossy(&out.stdout);
+            assert!(
+                out.status.success(),
+                "{name}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let with = u8::from(name == "tmesh_v2");
+            assert!(
+                stdout.trim_end().ends_with(&format!("{with} {with}")),
+                "{name}: {stdout}"
+            );
         }
     }
 }

@@ -1,5 +1,5 @@
 //! `tmc extract --normals`: PLY `nx ny nz`, OBJ `vn` and `v//vn`, `.tmesh`
-//! version 2 with the normals attribute; the same bytes for any threads,
+//! with the normals attribute; the same bytes for any threads,
 //! slab depth and split into parts; kept by `tmc convert` and `tmc merge`;
 //! refused for formats without vertex normals; `scripts/read_tmesh.py`
 //! reads them.
@@ -160,8 +160,8 @@ fn tmesh_is_version_2_only_with_normals() {
         "-q",
     ]);
     let version = |p: &Path| u32::from_le_bytes(read(p)[8..12].try_into().unwrap());
-    assert_eq!((version(&with), read(&with)[99]), (2, 1));
-    assert_eq!((version(&without), read(&without)[99]), (1, 0));
+    assert_eq!((version(&with), read(&with)[99]), (3, 1));
+    assert_eq!((version(&without), read(&without)[99]), (3, 0));
     // Both are read (tmc check, and convert without normals to OFF).
     for p in [&with, &without] {
         ok(&["check", s(p)]);

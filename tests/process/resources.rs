@@ -56,8 +56,9 @@ fn a_full_disk_is_one_clean_error_with_nothing_left() {
         return;
     };
     let work = tempfile::tempdir().unwrap();
-    // Dense noise: a mesh of several MiB in every format, .tmesh included.
-    let input = synth(work.path(), "noise", "96,96,96", "f32", "noise.npy");
+    // Dense noise: a mesh of over 1 MiB in every format, .tmesh included
+    // (2.0 MB: version 3 packs 96^3's to 0.88 MB, which fit on the disk).
+    let input = synth(work.path(), "noise", "128,128,128", "f32", "noise.npy");
     for name in ["mesh.ply", "mesh.obj", "mesh.off", "mesh.stl", "mesh.tmesh"] {
         let output = disk.path().join(name);
         let out = tmc(&["extract", s(&input), "--iso", "0", "-o", s(&output)]);

@@ -32,8 +32,9 @@
 //! this pairing of XOR/zig-zag deltas with byte planes as a small, kept
 //! dependency.
 
-/// Appends the packed form of `triples` (the positions, as their bits): the first triple's bits, then each component XOR the same
-/// component of the triple before, as four byte planes.
+/// Appends the packed form of `triples` (the positions, as their bits):
+/// the first triple's bits, then each component XOR the same component of
+/// the triple before, as four byte planes.
 pub fn pack_triples(out: &mut Vec<u8>, triples: &[[f32; 3]]) {
     let bits: &[u32] = bytemuck::cast_slice(triples.as_flattened());
     let first = bits.len().min(3);

@@ -114,26 +114,36 @@ impl Tables {
     /// misses.
     #[inline]
     pub fn touch_sets(&self, config: u8) {
-        let mask = self.ambiguous_faces[config as usize];
-        let (first, end) = (
-            usize::from(self.set_start[config as usize]),
-            usize::from(self.set_start[config as usize + 1]),
+        let c = usize::from(config);
+        let mask = usize::from(self.ambiguous_faces[c]);
+        // Every configuration has at least one set (`build` makes the set
+        // of no face joined for each), so the one before the next
+        // configuration's first is its last. Indexed directly, the four
+        // reads cost a bounds check each and nothing else: cheaper than the
+        // `first()` and `last()` of two slices, whose emptiness is checked
+        // and whose heads are copied.
+        let (first, last) = (
+            usize::from(self.set_start[c]),
+            usize::from(self.set_start[c + 1]) - 1,
         );
-        // The configuration's heads and sets as two slices (one bounds
-        // check each), of which the first and last are read: cheaper than
-        // counting the sets from `mask` and checking four indices.
-        let (heads, sets) = (&self.heads[first..end], &self.contours[first..end]);
-        let byte = |head: Option<&SetHead>, set: Option<&ContourSet>| {
-            let head = head.copied().unwrap_or_default();
-            let fan = self.table_fans.get(usize::from(head.fan_start));
-            head.fan_len ^ fan.map_or(0, |f| f[0]) ^ set.map_or(0, |c| c.count)
+        let (head_first, head_last) = (&self.heads[first], &self.heads[last]);
+        // A set without table fans has its `fan_start` at the next set's
+        // fans, or at the end of them.
+        let fan = |head: &SetHead| {
+            self.table_fans
+                .get(usize::from(head.fan_start))
+                .map_or(0, |f| f[0])
         };
         // One byte of each, combined, handed to `black_box` once (each
         // `black_box` is a store).
         black_box(
-            self.packed[mask as usize & 63][0]
-                ^ byte(heads.first(), sets.first())
-                ^ byte(heads.last(), sets.last()),
+            self.packed[mask & 63][0]
+                ^ head_first.fan_len
+                ^ head_last.fan_len
+                ^ fan(head_first)
+                ^ fan(head_last)
+                ^ self.contours[first].count
+                ^ self.contours[last].count,
         );
     }
 }

@@ -7,6 +7,7 @@ use super::block::{local_index, Block, TRIANGLES, VERTICES};
 use super::edges::{CellEdges, EdgeRows, LayerNumbers};
 use super::placement::Placement;
 use super::plane::Plane;
+use super::samples::cell_samples;
 use crate::error::make_room;
 use crate::kernel::tables::Tables;
 use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles, INTERIOR};
@@ -177,11 +178,8 @@ pub(super) fn ambiguous_cell(
         ..
     } = *layer;
     let nx = place.grid.dims[0];
-    let i = y * nx + x;
     t.touch_sets(config);
-    let corners = [i, i + 1, i + nx, i + nx + 1];
-    let (low, high) = (bottom.values(corners), top.values(corners));
-    let values: [f64; 8] = std::array::from_fn(|c| if c < 4 { low[c] } else { high[c - 4] });
+    let values = cell_samples(bottom, top, y * nx + x, nx);
     // Both planes were read with the same level.
     let level = bottom.level;
     let g = if bottom.plain && top.plain {

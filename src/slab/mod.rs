@@ -43,6 +43,7 @@ mod normals;
 mod placement;
 mod plane;
 mod process;
+mod samples;
 mod spares;
 mod window;
 

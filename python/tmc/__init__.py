@@ -45,7 +45,10 @@ __all__ = [
 
 __version__: str = _tmc.__version__
 
-PathLike = Union[str, "os.PathLike[str]"]
+# Paths as Python's own open takes them; bytes go through os.fsdecode (the
+# file system encoding with surrogateescape), so a name that is no UTF-8
+# reaches the file system as it is.
+PathLike = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
 
 # The dtypes the library reads in place (the CLI's: u1 i1 u2 i2 u4 i4 f4 f8).
 _READ_IN_PLACE = {np.dtype(t).str[1:] for t in ("u1", "i1", "u2", "i2", "u4", "i4", "f4", "f8")}
@@ -106,9 +109,9 @@ class Mesh:
         from :func:`extract` writes the bytes :func:`extract_to` would have
         written; a mesh read from a file, or one whose sizes changed, cannot.
         """
-        if os.fspath(path).lower().endswith(".tmesh") and self._record is None:
+        if os.fsdecode(path).lower().endswith(".tmesh") and self._record is None:
             raise ValueError(
-                f"{os.fspath(path)}: a .tmesh file records the extraction that made the mesh, "
+                f"{os.fsdecode(path)}: a .tmesh file records the extraction that made the mesh, "
                 "and this mesh was not made by tmc.extract; write it with "
                 "tmc.extract_to(volume, iso, path)"
             )
@@ -117,7 +120,7 @@ class Mesh:
         normals = None
         if self.normals is not None:
             normals = np.ascontiguousarray(self.normals, dtype=np.float32)
-        _tmc.write_mesh(os.fspath(path), vertices, triangles, self._record, normals)
+        _tmc.write_mesh(os.fsdecode(path), vertices, triangles, self._record, normals)
 
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``: manifoldness, orientation,
@@ -141,7 +144,7 @@ def _mapped_file(array: np.ndarray) -> Optional[Tuple[str, int]]:
         return None
     start = array.__array_interface__["data"][0]
     root_start = root.__array_interface__["data"][0]
-    return os.fspath(root.filename), int(root.offset) + (start - root_start)
+    return os.fsdecode(root.filename), int(root.offset) + (start - root_start)
 
 
 def _as_samples(volume: Any) -> np.ndarray:
@@ -172,13 +175,13 @@ def _as_samples(volume: Any) -> np.ndarray:
 def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[Any, ...]:
     """The input, isovalue, spacing, origin and mapped-file arguments of
     the library's calls, for an array or a path."""
-    if isinstance(volume, (str, os.PathLike)):
+    if isinstance(volume, (str, bytes, os.PathLike)):
         if spacing is not None or origin is not None:
             raise ValueError(
                 "spacing and origin of a volume file come from its header; "
                 "pass them only with an array"
             )
-        return os.fspath(volume), float(iso), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
+        return os.fsdecode(volume), float(iso), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
     array = _as_samples(volume)
     spacing = _triple(spacing, "spacing", 1.0)
     origin = _triple(origin, "origin", 0.0)
@@ -331,7 +334,7 @@ def extract_to(
     array, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
     report = _tmc.extract_to(
-        array, os.fspath(output), *rest, *options, bool(normals), *_select(series, segment)
+        array, os.fsdecode(output), *rest, *options, bool(normals), *_select(series, segment)
     )
     return json.loads(report)
 
@@ -372,7 +375,7 @@ def _label_args(
     integers that do not fit 32 bits are taken as float64 when exact
     (within ±2**53)."""
     chosen = _label_list(labels)
-    if not isinstance(volume, (str, os.PathLike)):
+    if not isinstance(volume, (str, bytes, os.PathLike)):
         array = volume if isinstance(volume, np.ndarray) else np.asarray(volume)
         if array.dtype.kind in "iu" and array.dtype.itemsize == 8 and array.size:
             low, high = int(array.min()), int(array.max())
@@ -507,14 +510,14 @@ def extract_labels_to(
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment)
-    report = _tmc.extract_labels_to(array, os.fspath(output), *rest, stats=bool(stats))
+    report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=bool(stats))
     return json.loads(report)
 
 
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a ``.tmesh``, PLY, OBJ or OFF file into a :class:`Mesh`
     (vertices float64, triangles uint32; polygons are refused)."""
-    vertices, triangles = _tmc.read_mesh(os.fspath(path))
+    vertices, triangles = _tmc.read_mesh(os.fsdecode(path))
     return Mesh(vertices, triangles)
 
 
@@ -535,7 +538,7 @@ def info(
     dict per series with ``number``, ``uid``, ``modality``, ``description``,
     ``dims``, ``readable`` ...)."""
     return json.loads(
-        _tmc.info(os.fspath(path), int(bins), int(plane_step), *_select(series, segment))
+        _tmc.info(os.fsdecode(path), int(bins), int(plane_step), *_select(series, segment))
     )
 
 

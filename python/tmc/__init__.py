@@ -108,6 +108,8 @@ class Mesh:
         extraction that made the mesh (its grid, a chunk per plane): a mesh
         from :func:`extract` writes the bytes :func:`extract_to` would have
         written; a mesh read from a file, or one whose sizes changed, cannot.
+        Vertices must be finite as float32 and triangles integer indices
+        (``ValueError`` / ``TypeError`` otherwise, nothing written).
         """
         if os.fsdecode(path).lower().endswith(".tmesh") and self._record is None:
             raise ValueError(
@@ -116,7 +118,17 @@ class Mesh:
                 "tmc.extract_to(volume, iso, path)"
             )
         vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
-        triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
+        # The files hold float32, which tmc's readers (and others) refuse
+        # when not finite: a NaN, or a value past float32's range.
+        with np.errstate(over="ignore"):
+            finite = np.isfinite(vertices.astype(np.float32)).all(axis=-1)
+        if vertices.ndim == 2 and not finite.all():
+            i = int(np.argmin(finite))
+            raise ValueError(
+                f"{os.fsdecode(path)}: vertex {i} {vertices[i].tolist()} is not finite "
+                "as the float32 of a mesh file"
+            )
+        triangles = _indices(self.triangles)
         normals = None
         if self.normals is not None:
             normals = np.ascontiguousarray(self.normals, dtype=np.float32)
@@ -126,8 +138,20 @@ class Mesh:
         """The report of ``tmc check --json``: manifoldness, orientation,
         boundary, components and genus, computed from the indices alone."""
         vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
-        triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
-        return json.loads(_tmc.check_mesh(vertices, triangles))
+        return json.loads(_tmc.check_mesh(vertices, _indices(self.triangles)))
+
+
+def _indices(triangles: Any) -> np.ndarray:
+    """``triangles`` as uint32 vertex indices: ``TypeError`` for other than
+    integers (a cast would truncate 1.5 to 1), ``ValueError`` for a negative
+    index (a cast would wrap -1 to 4294967295)."""
+    array = np.asarray(triangles)
+    if array.size and array.dtype.kind not in "iu":
+        raise TypeError(f"triangles must be integer vertex indices, not {array.dtype}")
+    if array.size and array.dtype.kind == "i" and array.min() < 0:
+        row = int(np.argwhere(array < 0)[0][0])
+        raise ValueError(f"triangle {row} {array[row].tolist()} has a negative vertex index")
+    return np.ascontiguousarray(array, dtype=np.uint32)
 
 
 def _mapped_file(array: np.ndarray) -> Optional[Tuple[str, int]]:
@@ -197,6 +221,9 @@ def _triple(value: Any, name: str, default: float) -> Tuple[float, float, float]
     """Three floats (``[x, y, z]``), or ``ValueError``."""
     if value is None:
         return (default, default, default)
+    if isinstance(value, (str, bytes)):
+        # "123" would be taken digit by digit as (1, 2, 3).
+        raise ValueError(f"{name} must be three numbers, not {value!r}")
     try:
         values = tuple(float(v) for v in value)
     except (TypeError, ValueError):
@@ -538,8 +565,18 @@ def info(
     dict per series with ``number``, ``uid``, ``modality``, ``description``,
     ``dims``, ``readable`` ...)."""
     return json.loads(
-        _tmc.info(os.fsdecode(path), int(bins), int(plane_step), *_select(series, segment))
+        _tmc.info(os.fsdecode(path), _count(bins, "bins"), _count(plane_step, "plane_step"),
+                  *_select(series, segment))
     )
+
+
+def _count(value: Any, name: str) -> int:
+    """A whole number of 0 or more, or ``ValueError`` naming ``name`` (the
+    binding's OverflowError said only "can't convert negative int")."""
+    value = operator.index(value)
+    if value < 0:
+        raise ValueError(f"{name} must be 0 or more, not {value}")
+    return value
 
 
 def _select(series: Any, segment: Any) -> Tuple[Optional[str], Optional[int]]:

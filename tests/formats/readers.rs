@@ -699,7 +699,7 @@ fn nrrd_bad_files_give_errors() {
         (
             "nan spacing",
             with("encoding", Some("spacings: 1 nan 1\nencoding: raw")),
-            "finite and positive",
+            "'spacings' 1 NaN 1 must be finite and nonzero",
         ),
         (
             "bad line",

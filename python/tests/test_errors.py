@@ -96,3 +96,46 @@ def test_bad_files(tmp_path):
         tmc.read_mesh(junk)
     with pytest.raises(FileNotFoundError):
         tmc.info(tmp_path / "missing.nrrd")
+
+
+def test_bad_mesh_arrays(tmp_path):
+    """A Mesh's triangles must be integer indices, none negative (a cast
+    truncated 1.5 to 1 and wrapped -1 to 4294967295), and its vertices
+    finite as float32 (NaN or 1e300 was written into PLY, OBJ, OFF and STL
+    files that tmc check then refused); nothing is left at the path."""
+    mesh = tmc.extract(np.pad(np.ones((3, 3, 3), np.float32), 1), 0.5)
+    assert len(mesh.triangles) > 0
+    for bad in (mesh.triangles + 0.5, mesh.triangles.astype(float)):
+        with pytest.raises(TypeError, match="integer vertex indices"):
+            tmc.Mesh(mesh.vertices, bad).write(tmp_path / "f.ply")
+        with pytest.raises(TypeError, match="integer vertex indices"):
+            tmc.Mesh(mesh.vertices, bad).check()
+    negative = mesh.triangles.astype(np.int64)
+    negative[3, 1] = -1
+    with pytest.raises(ValueError, match="triangle 3 .* negative vertex index"):
+        tmc.Mesh(mesh.vertices, negative).check()
+    for value in (np.nan, np.inf, 1e300):
+        vertices = mesh.vertices.copy()
+        vertices[5, 2] = value
+        for suffix in (".ply", ".obj", ".off", ".stl"):
+            with pytest.raises(ValueError, match="vertex 5 .* not finite"):
+                tmc.Mesh(vertices, mesh.triangles).write(tmp_path / f"v{suffix}")
+    assert list(tmp_path.iterdir()) == []
+    # Integer triangles of any width, and the mesh itself, still write.
+    tmc.Mesh(mesh.vertices, mesh.triangles.astype(np.int64)).write(tmp_path / "ok.ply")
+    assert tmc.read_mesh(tmp_path / "ok.ply").triangles.shape == mesh.triangles.shape
+
+
+def test_arguments_not_taken_apart(tmp_path):
+    """A string is not three numbers ("123" was spacing (1, 2, 3)), and a
+    negative count is a ValueError naming it (was the binding's
+    OverflowError)."""
+    with pytest.raises(ValueError, match="spacing must be three numbers"):
+        tmc.extract(GOOD, 0.5, spacing="123")
+    with pytest.raises(ValueError, match="origin must be three numbers"):
+        tmc.extract(GOOD, 0.5, origin=b"000")
+    path = tmp_path / "v.npy"
+    np.save(path, GOOD)
+    for name in ("bins", "plane_step"):
+        with pytest.raises(ValueError, match=f"{name} must be 0 or more"):
+            tmc.info(path, **{name: -1})

@@ -4,6 +4,8 @@ the CLI writes for the same .npy file: every dtype, both memory orders,
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -182,3 +184,31 @@ def test_info_is_the_cli_info(tmp_path):
     np.save(npy, noise_volume("f4"))
     cli = __import__("json").loads(run_cli("info", str(npy), "--json").stdout)
     assert tmc.info(npy) == cli
+
+
+def test_paths_may_be_bytes_as_open_takes_them(tmp_path):
+    """str, bytes and os.PathLike name the same files, as in Python's own
+    open: a bytes name (undecodable bytes included) reaches the file system
+    as it is."""
+    volume = noise_volume("i2")
+    folder = tmp_path / "caf\xe9"  # written as UTF-8 by the file system encoding
+    folder.mkdir()
+    npy = folder / "v.npy"
+    np.save(npy, volume)
+    want = tmc.extract_to(npy, 0.0, tmp_path / "want.ply")
+    raw = os.fsencode(tmp_path) + b"/odd\xff"  # not UTF-8
+    os.mkdir(raw)
+    got = tmc.extract_to(os.fsencode(npy), 0.0, raw + b"/got.ply")
+    assert got["triangles"] == want["triangles"] > 0
+    assert open(raw + b"/got.ply", "rb").read() == (tmp_path / "want.ply").read_bytes()
+    mesh = tmc.read_mesh(raw + b"/got.ply")
+    assert len(mesh.triangles) == got["triangles"]
+    assert tmc.extract(os.fsencode(npy), 0.0).triangles.shape == mesh.triangles.shape
+    mesh.write(raw + b"/again.ply")
+    assert tmc.info(os.fsencode(npy))["dims"] == tmc.info(npy)["dims"]
+    labels = (volume > 0).astype(np.uint8)
+    np.save(folder / "l.npy", labels)
+    tmc.extract_labels_to(os.fsencode(folder / "l.npy"), raw + b"/l_{label}.ply")
+    assert os.path.exists(raw + b"/l_1.ply")
+    with pytest.raises(TypeError):
+        tmc.extract_to(npy, 0.0, 3)

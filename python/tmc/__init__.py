@@ -45,7 +45,10 @@ __all__ = [
 
 __version__: str = _tmc.__version__
 
-PathLike = Union[str, "os.PathLike[str]"]
+# Paths as Python's own open takes them; bytes go through os.fsdecode (the
+# file system encoding with surrogateescape), so a name that is no UTF-8
+# reaches the file system as it is.
+PathLike = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
 
 # The dtypes the library reads in place (the CLI's: u1 i1 u2 i2 u4 i4 f4 f8).
 _READ_IN_PLACE = {np.dtype(t).str[1:] for t in ("u1", "i1", "u2", "i2", "u4", "i4", "f4", "f8")}
@@ -105,26 +108,50 @@ class Mesh:
         extraction that made the mesh (its grid, a chunk per plane): a mesh
         from :func:`extract` writes the bytes :func:`extract_to` would have
         written; a mesh read from a file, or one whose sizes changed, cannot.
+        Vertices must be finite as float32 and triangles integer indices
+        (``ValueError`` / ``TypeError`` otherwise, nothing written).
         """
-        if os.fspath(path).lower().endswith(".tmesh") and self._record is None:
+        if os.fsdecode(path).lower().endswith(".tmesh") and self._record is None:
             raise ValueError(
-                f"{os.fspath(path)}: a .tmesh file records the extraction that made the mesh, "
+                f"{os.fsdecode(path)}: a .tmesh file records the extraction that made the mesh, "
                 "and this mesh was not made by tmc.extract; write it with "
                 "tmc.extract_to(volume, iso, path)"
             )
         vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
-        triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
+        # The files hold float32, which tmc's readers (and others) refuse
+        # when not finite: a NaN, or a value past float32's range.
+        with np.errstate(over="ignore"):
+            finite = np.isfinite(vertices.astype(np.float32)).all(axis=-1)
+        if vertices.ndim == 2 and not finite.all():
+            i = int(np.argmin(finite))
+            raise ValueError(
+                f"{os.fsdecode(path)}: vertex {i} {vertices[i].tolist()} is not finite "
+                "as the float32 of a mesh file"
+            )
+        triangles = _indices(self.triangles)
         normals = None
         if self.normals is not None:
             normals = np.ascontiguousarray(self.normals, dtype=np.float32)
-        _tmc.write_mesh(os.fspath(path), vertices, triangles, self._record, normals)
+        _tmc.write_mesh(os.fsdecode(path), vertices, triangles, self._record, normals)
 
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``: manifoldness, orientation,
         boundary, components and genus, computed from the indices alone."""
         vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
-        triangles = np.ascontiguousarray(self.triangles, dtype=np.uint32)
-        return json.loads(_tmc.check_mesh(vertices, triangles))
+        return json.loads(_tmc.check_mesh(vertices, _indices(self.triangles)))
+
+
+def _indices(triangles: Any) -> np.ndarray:
+    """``triangles`` as uint32 vertex indices: ``TypeError`` for other than
+    integers (a cast would truncate 1.5 to 1), ``ValueError`` for a negative
+    index (a cast would wrap -1 to 4294967295)."""
+    array = np.asarray(triangles)
+    if array.size and array.dtype.kind not in "iu":
+        raise TypeError(f"triangles must be integer vertex indices, not {array.dtype}")
+    if array.size and array.dtype.kind == "i" and array.min() < 0:
+        row = int(np.argwhere(array < 0)[0][0])
+        raise ValueError(f"triangle {row} {array[row].tolist()} has a negative vertex index")
+    return np.ascontiguousarray(array, dtype=np.uint32)
 
 
 def _mapped_file(array: np.ndarray) -> Optional[Tuple[str, int]]:
@@ -141,7 +168,7 @@ def _mapped_file(array: np.ndarray) -> Optional[Tuple[str, int]]:
         return None
     start = array.__array_interface__["data"][0]
     root_start = root.__array_interface__["data"][0]
-    return os.fspath(root.filename), int(root.offset) + (start - root_start)
+    return os.fsdecode(root.filename), int(root.offset) + (start - root_start)
 
 
 def _as_samples(volume: Any) -> np.ndarray:
@@ -172,13 +199,13 @@ def _as_samples(volume: Any) -> np.ndarray:
 def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[Any, ...]:
     """The input, isovalue, spacing, origin and mapped-file arguments of
     the library's calls, for an array or a path."""
-    if isinstance(volume, (str, os.PathLike)):
+    if isinstance(volume, (str, bytes, os.PathLike)):
         if spacing is not None or origin is not None:
             raise ValueError(
                 "spacing and origin of a volume file come from its header; "
                 "pass them only with an array"
             )
-        return os.fspath(volume), float(iso), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
+        return os.fsdecode(volume), float(iso), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
     array = _as_samples(volume)
     spacing = _triple(spacing, "spacing", 1.0)
     origin = _triple(origin, "origin", 0.0)
@@ -194,6 +221,9 @@ def _triple(value: Any, name: str, default: float) -> Tuple[float, float, float]
     """Three floats (``[x, y, z]``), or ``ValueError``."""
     if value is None:
         return (default, default, default)
+    if isinstance(value, (str, bytes)):
+        # "123" would be taken digit by digit as (1, 2, 3).
+        raise ValueError(f"{name} must be three numbers, not {value!r}")
     try:
         values = tuple(float(v) for v in value)
     except (TypeError, ValueError):
@@ -331,7 +361,7 @@ def extract_to(
     array, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
     report = _tmc.extract_to(
-        array, os.fspath(output), *rest, *options, bool(normals), *_select(series, segment)
+        array, os.fsdecode(output), *rest, *options, bool(normals), *_select(series, segment)
     )
     return json.loads(report)
 
@@ -372,7 +402,7 @@ def _label_args(
     integers that do not fit 32 bits are taken as float64 when exact
     (within ±2**53)."""
     chosen = _label_list(labels)
-    if not isinstance(volume, (str, os.PathLike)):
+    if not isinstance(volume, (str, bytes, os.PathLike)):
         array = volume if isinstance(volume, np.ndarray) else np.asarray(volume)
         if array.dtype.kind in "iu" and array.dtype.itemsize == 8 and array.size:
             low, high = int(array.min()), int(array.max())
@@ -507,14 +537,14 @@ def extract_labels_to(
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment)
-    report = _tmc.extract_labels_to(array, os.fspath(output), *rest, stats=bool(stats))
+    report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=bool(stats))
     return json.loads(report)
 
 
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a ``.tmesh``, PLY, OBJ or OFF file into a :class:`Mesh`
     (vertices float64, triangles uint32; polygons are refused)."""
-    vertices, triangles = _tmc.read_mesh(os.fspath(path))
+    vertices, triangles = _tmc.read_mesh(os.fsdecode(path))
     return Mesh(vertices, triangles)
 
 
@@ -535,8 +565,18 @@ def info(
     dict per series with ``number``, ``uid``, ``modality``, ``description``,
     ``dims``, ``readable`` ...)."""
     return json.loads(
-        _tmc.info(os.fspath(path), int(bins), int(plane_step), *_select(series, segment))
+        _tmc.info(os.fsdecode(path), _count(bins, "bins"), _count(plane_step, "plane_step"),
+                  *_select(series, segment))
     )
+
+
+def _count(value: Any, name: str) -> int:
+    """A whole number of 0 or more, or ``ValueError`` naming ``name`` (the
+    binding's OverflowError said only "can't convert negative int")."""
+    value = operator.index(value)
+    if value < 0:
+        raise ValueError(f"{name} must be 0 or more, not {value}")
+    return value
 
 
 def _select(series: Any, segment: Any) -> Tuple[Optional[str], Optional[int]]:

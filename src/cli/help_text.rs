@@ -9,8 +9,8 @@ Sign convention:
   so normals point toward the outside.
 
 Input formats:
-  .npy   numpy array, 3-D of shape (nz, ny, nx), C or Fortran order,
-         dtype u1 i1 u2 i2 u4 i4 f4 f8 in either byte order; unit spacing
+  .npy   numpy array of shape (nz, ny, nx) or (1, nz, ny, nx), C or Fortran
+         order, dtype u1 i1 u2 i2 u4 i4 f4 f8 in either byte order; unit spacing
          (set it with --spacing and --origin)
   .nrrd  NRRD, dimension 3, attached data or (also .nhdr) 'data file': one
   .nhdr  file, 'LIST [subdim]' (names on the following lines) or a printf
@@ -22,9 +22,11 @@ Input formats:
          and mirroring applied) or 'spacings', origin from 'space origin'
   .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types up to
          32 bits, float, double; scl_slope/scl_inter applied (ISO in physical
-         units); grid from the sform, else the qform, else pixdim
+         units); grid from the sform, else the qform, else pixdim (0 read
+         as 1, with a note)
   .mhd   MetaImage, also .mha; ElementDataFile LOCAL, a file or LIST; zlib
-         (CompressedData); HeaderSize; TransformMatrix, Offset, ElementSpacing
+         (CompressedData); HeaderSize; TransformMatrix, Offset, ElementSpacing;
+         NDims 3, or 4 with a 4th DimSize of 1
   .vtk   legacy VTK STRUCTURED_POINTS, binary (big-endian) or ASCII
   .vti   VTK XML ImageData: ascii, binary or appended, raw or base64, zlib;
          Origin, Spacing, Direction

@@ -156,8 +156,11 @@ pub(crate) fn outputs(template: &Path, input: &Path, isos: &[f64]) -> Vec<PathBu
 /// `iso` as `{iso}` writes it: as a decimal (`1600`, `0.25`), or with an
 /// exponent (`1e300`, `1.5e-30`) where the decimal would be longer than a
 /// file name should be (every finite double's decimal is exact, up to
-/// 309 digits before the point and 330 after it).
+/// 309 digits before the point and 330 after it). Zero is `0` whichever
+/// its sign: `-0` compares equal to `0` and cuts the same surface, so it
+/// gets the same name (and `--iso 0,-0` two outputs of one name, refused).
 fn iso_text(iso: f64) -> String {
+    let iso = if iso == 0.0 { 0.0 } else { iso };
     let decimal = iso.to_string();
     match decimal.len() > 24 {
         true => format!("{iso:e}"),
@@ -206,7 +209,7 @@ mod tests {
         let names = outputs(
             Path::new("out/{iso}.ply"),
             Path::new("v.nrrd"),
-            &[1600.0, 0.25, -0.0, 1e300, -1.5e-30, 1e-7],
+            &[1600.0, 0.25, -0.0, 1e300, -1.5e-30, 1e-7, 0.0, 1e3],
         );
         let names: Vec<String> = names.iter().map(|p| p.display().to_string()).collect();
         assert_eq!(
@@ -214,10 +217,12 @@ mod tests {
             [
                 "out/1600.ply",
                 "out/0.25.ply",
-                "out/-0.ply",
+                "out/0.ply",
                 "out/1e300.ply",
                 "out/-1.5e-30.ply",
-                "out/0.0000001.ply"
+                "out/0.0000001.ply",
+                "out/0.ply",
+                "out/1000.ply"
             ]
         );
     }

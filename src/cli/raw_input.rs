@@ -144,7 +144,7 @@ pub(crate) fn open_input(
     let source = tmc::volume::open_selected(input, raw, &select, cancel.unwrap_or(&never))?;
     let (source, notes) = tmc::volume::regrid(source, args.spacing, args.origin)?;
     if !quiet {
-        for note in notes {
+        for note in source.notes().warnings.into_iter().chain(notes) {
             say!("tmc: note: {}: {note}", input.display());
         }
     }

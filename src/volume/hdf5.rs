@@ -235,6 +235,7 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
             skipped: Vec::new(),
             segments: Vec::new(),
             overlapping_segments: Vec::new(),
+            warnings: Vec::new(),
         },
     })
 }

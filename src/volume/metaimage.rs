@@ -1,6 +1,9 @@
 //! The MetaImage reader (`.mhd` header + data file, `.mha` attached data).
 //!
-//! Understood keys: `ObjectType` (must be `Image`), `NDims` (must be 3),
+//! Understood keys: `ObjectType` (must be `Image`), `NDims` (3, or more
+//! when every axis after the third has size 1, as NIfTI readers take a 4-D
+//! file of one time point: the first three values of `ElementSpacing` and
+//! `Offset` and the 3x3 of `TransformMatrix` on those axes are used),
 //! `DimSize`, `ElementType` (`MET_UCHAR`, `MET_CHAR`, `MET_USHORT`,
 //! `MET_SHORT`, `MET_UINT`, `MET_INT`, `MET_FLOAT`, `MET_DOUBLE`),
 //! `ElementNumberOfChannels` (must be 1), `ElementSpacing` (else
@@ -136,12 +139,15 @@ impl SampleSource for MetaImageVolume {
 /// The keys of a MetaImage header that the reader uses.
 #[derive(Debug, Default)]
 struct Header {
-    dims: Option<[usize; 3]>,
+    /// `NDims` (3 when absent); the vectors below have as many values
+    /// (`matrix` its square), checked once the header is read.
+    ndims: Option<usize>,
+    dims: Option<Vec<usize>>,
     scalar: Option<ScalarType>,
-    spacing: Option<[f64; 3]>,
-    size: Option<[f64; 3]>,
-    origin: Option<[f64; 3]>,
-    matrix: Option<[f64; 9]>,
+    spacing: Option<Vec<f64>>,
+    size: Option<Vec<f64>>,
+    origin: Option<Vec<f64>>,
+    matrix: Option<Vec<f64>>,
     big_endian: bool,
     compressed: bool,
     /// `BinaryData = False`: the samples are written as text.
@@ -174,7 +180,21 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
         parse_line(&line, &mut header).map_err(fail)?;
     }
 
-    let dims = header.dims.ok_or_else(|| fail("missing DimSize".into()))?;
+    let n = header.ndims.unwrap_or(3);
+    let dims = header
+        .dims
+        .as_deref()
+        .ok_or_else(|| fail("missing DimSize".into()))?;
+    let dims = volume_dims(n, dims).map_err(&fail)?;
+    let first3 = |key: &str, v: &Option<Vec<f64>>| {
+        v.as_deref()
+            .map(|v| axes3(key, n, v))
+            .transpose()
+            .map_err(&fail)
+    };
+    let spacing = first3("ElementSpacing", &header.spacing)?;
+    let size = first3("ElementSize", &header.size)?;
+    let origin = first3("Offset", &header.origin)?;
     let scalar = header
         .scalar
         .ok_or_else(|| fail("missing ElementType".into()))?;
@@ -190,11 +210,11 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
                 .into(),
         ));
     }
-    let spacing = header.spacing.or(header.size).unwrap_or([1.0; 3]);
+    let spacing = spacing.or(size).unwrap_or([1.0; 3]);
     let mut grid = Grid {
         dims,
         spacing,
-        origin: header.origin.unwrap_or([0.0; 3]),
+        origin: origin.unwrap_or([0.0; 3]),
         direction: super::IDENTITY,
     };
     let endian = if header.big_endian {
@@ -202,9 +222,16 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
     } else {
         Endian::Little
     };
-    if let Some(m) = header.matrix {
-        // Consecutive triples are the axis vectors (columns).
-        let matrix = [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[3 * c + r]));
+    if let Some(m) = &header.matrix {
+        if m.len() != n * n {
+            return Err(fail(format!(
+                "bad TransformMatrix (need {} numbers for NDims {n}, found {})",
+                n * n,
+                m.len()
+            )));
+        }
+        // Consecutive n-tuples are the axis vectors (columns).
+        let matrix = [0, 1, 2].map(|r| [0, 1, 2].map(|c| m[n * c + r]));
         set_direction(&mut grid, matrix).map_err(|e| fail(format!("TransformMatrix: {e}")))?;
     }
     let data_len = data_bytes(dims, scalar)
@@ -265,14 +292,17 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
             let mut slices = Vec::with_capacity(names.len());
             for name in names {
                 let slice_path = dir.join(name);
-                super::check_input_kind(&slice_path)?;
-                let file = File::open(&slice_path).map_err(|e| Error::io(&slice_path, e))?;
-                let offset = data_offset(&slice_path, &file, header.header_size, plane_len)?;
-                let slice_layout = Layout {
-                    grid: plane,
-                    ..layout(offset)
+                let slice = || {
+                    super::check_input_kind(&slice_path)?;
+                    let file = File::open(&slice_path).map_err(|e| Error::io(&slice_path, e))?;
+                    let offset = data_offset(&slice_path, &file, header.header_size, plane_len)?;
+                    let slice_layout = Layout {
+                        grid: plane,
+                        ..layout(offset)
+                    };
+                    samples(&slice_path, &file, slice_layout, header.ascii)
                 };
-                slices.push(samples(&slice_path, &file, slice_layout, header.ascii)?);
+                slices.push(slice().map_err(|e| from_header(path, &slice_path, e))?);
             }
             Data::Slices(slices)
         }
@@ -288,28 +318,44 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
         }
         _ => {
             let data_path: PathBuf = dir.join(data_file.trim());
-            // A FIFO data file would block the open below.
-            super::check_input_kind(&data_path)?;
-            let file = File::open(&data_path).map_err(|e| Error::io(&data_path, e))?;
-            if header.compressed {
-                let samples = inflate(&data_path, file, data_len, cancel)?;
-                Data::Volume(Box::new(RawVolume::map_file(
-                    &data_path,
-                    &samples,
-                    layout(0),
-                )?))
-            } else {
-                let offset = data_offset(&data_path, &file, header.header_size, data_len)?;
-                Data::Volume(Box::new(samples(
-                    &data_path,
-                    &file,
-                    layout(offset),
-                    header.ascii,
-                )?))
-            }
+            let volume = || {
+                // A FIFO data file would block the open below.
+                super::check_input_kind(&data_path)?;
+                let file = File::open(&data_path).map_err(|e| Error::io(&data_path, e))?;
+                if header.compressed {
+                    let samples = inflate(&data_path, file, data_len, cancel)?;
+                    RawVolume::map_file(&data_path, &samples, layout(0))
+                } else {
+                    let offset = data_offset(&data_path, &file, header.header_size, data_len)?;
+                    samples(&data_path, &file, layout(offset), header.ascii)
+                }
+            };
+            let volume = volume().map_err(|e| from_header(path, &data_path, e))?;
+            Data::Volume(Box::new(volume))
         }
     };
     Ok(MetaImageVolume { grid, data })
+}
+
+/// `error`, met reading `data` (a data file that the header `header`
+/// names), as the user can follow it: naming the header they gave first,
+/// then the data file (`head.mhd: data file head.raw: ...`).
+fn from_header(header: &Path, data: &Path, error: Error) -> Error {
+    let prefix = format!("{}: data file {}", header.display(), data.display());
+    match error {
+        Error::Io { source, .. } => Error::Format(format!("{prefix}: {source}")),
+        Error::Format(what) => {
+            let own = format!("{}: ", data.display());
+            let what = what.strip_prefix(&own).unwrap_or(&what);
+            Error::Format(format!("{prefix}: {what}"))
+        }
+        Error::Invalid(what) => {
+            let own = format!("{}: ", data.display());
+            let what = what.strip_prefix(&own).unwrap_or(&what);
+            Error::Invalid(format!("{prefix}: {what}"))
+        }
+        other => other,
+    }
 }
 
 /// The samples of `layout` in `file` (opened from `path`): mapped, or
@@ -363,15 +409,53 @@ fn inflate(path: &Path, file: File, len: u64, cancel: &AtomicBool) -> Result<Fil
     Ok(samples)
 }
 
-/// Parses `n` numbers.
-fn numbers<const N: usize>(key: &str, value: &str) -> std::result::Result<[f64; N], String> {
+/// Parses finite numbers (as many as there are; their count is checked
+/// against `NDims` once the header is read).
+fn numbers(key: &str, value: &str) -> std::result::Result<Vec<f64>, String> {
     let parsed: Option<Vec<f64>> = value
         .split_whitespace()
         .map(|s| s.parse::<f64>().ok().filter(|x| x.is_finite()))
         .collect();
     parsed
-        .and_then(|v| <[f64; N]>::try_from(v).ok())
-        .ok_or_else(|| format!("bad {key} '{value}' (need {N} numbers)"))
+        .filter(|v| !v.is_empty())
+        .ok_or_else(|| format!("bad {key} '{value}' (need finite numbers)"))
+}
+
+/// The values of the first three axes of a per-axis vector of `NDims` = `n`
+/// values.
+fn axes3(key: &str, n: usize, v: &[f64]) -> std::result::Result<[f64; 3], String> {
+    match v {
+        [x, y, z, ..] if v.len() == n => Ok([*x, *y, *z]),
+        _ => Err(format!(
+            "bad {key} (need {n} numbers for NDims {n}, found {})",
+            v.len()
+        )),
+    }
+}
+
+/// The `[nx, ny, nz]` of a `DimSize` of `n` values (`NDims`): its first
+/// three, every later axis of size 1 (an error naming the first that is
+/// not, and what to do).
+fn volume_dims(n: usize, dims: &[usize]) -> std::result::Result<[usize; 3], String> {
+    let text = || {
+        let v: Vec<String> = dims.iter().map(usize::to_string).collect();
+        v.join(" ")
+    };
+    if dims.len() != n {
+        return Err(format!(
+            "bad DimSize '{}' (need {n} positive integers for NDims {n})",
+            text()
+        ));
+    }
+    if let Some(axis) = (3..n).find(|&a| dims[a] != 1) {
+        return Err(format!(
+            "DimSize '{}' is not one volume: axis {} has size {}, not 1 (only axes of size 1 may follow x, y, z); write one 3-D volume (e.g. a time point with SimpleITK's image[:, :, :, 0])",
+            text(),
+            axis + 1,
+            dims[axis]
+        ));
+    }
+    Ok([dims[0], dims[1], dims[2]])
 }
 
 /// Parses a boolean value (`True` / `False`, `1` / `0`).
@@ -399,7 +483,19 @@ fn parse_line(line: &str, header: &mut Header) -> std::result::Result<(), String
                 "ObjectType '{value}' is not supported (need Image)"
             ))
         }
-        "ndims" if value != "3" => return Err(format!("NDims {value} is not supported (need 3)")),
+        "ndims" => {
+            header.ndims = Some(
+                value
+                    .parse()
+                    .ok()
+                    .filter(|n| (3..=16).contains(n))
+                    .ok_or_else(|| {
+                        format!(
+                        "NDims {value} is not supported (need 3, or 4 with a 4th axis of size 1)"
+                    )
+                    })?,
+            )
+        }
         "dimsize" => {
             let parsed: Option<Vec<usize>> = value
                 .split_whitespace()
@@ -407,8 +503,8 @@ fn parse_line(line: &str, header: &mut Header) -> std::result::Result<(), String
                 .collect();
             header.dims = Some(
                 parsed
-                    .and_then(|v| <[usize; 3]>::try_from(v).ok())
-                    .ok_or_else(|| format!("bad DimSize '{value}' (need 3 positive integers)"))?,
+                    .filter(|v| !v.is_empty())
+                    .ok_or_else(|| format!("bad DimSize '{value}' (need positive integers)"))?,
             );
         }
         "elementtype" => {

@@ -20,7 +20,10 @@
 
 use super::raw::{data_bytes, dims_text, Layout, Order, RawVolume};
 use super::spill::spill;
-use super::{set_direction, Access, Endian, Grid, LentPlane, PlaneView, SampleSource, ScalarType};
+use super::{
+    set_direction, Access, Endian, Grid, LentPlane, PlaneView, SampleSource, ScalarType,
+    SourceNotes,
+};
 use crate::{Error, Result};
 use std::fs::File;
 use std::io::{BufReader, Read};
@@ -38,6 +41,9 @@ pub struct NiftiVolume {
     /// With scaling: one slot per plane, filled when it is first lent
     /// (`None` when the stored plane is not lent).
     scaled: Vec<OnceLock<Option<ScaledPlane>>>,
+    /// What was read otherwise than written (a zero `pixdim` as 1), one
+    /// line each, for [`SourceNotes::warnings`].
+    warnings: Vec<String>,
 }
 
 /// A plane of scaled samples, lent as a [`LentPlane::View`] of the stored
@@ -111,6 +117,14 @@ impl NiftiVolume {
 impl SampleSource for NiftiVolume {
     fn grid(&self) -> &Grid {
         self.inner.grid()
+    }
+
+    /// Spacing and origin from the header; a zero `pixdim` read as 1 said.
+    fn notes(&self) -> SourceNotes {
+        SourceNotes {
+            warnings: self.warnings.clone(),
+            ..SourceNotes::default()
+        }
     }
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
@@ -335,6 +349,7 @@ fn volume(header: Header, inner: RawVolume) -> NiftiVolume {
         version: header.version,
         scaling,
         scaled: (0..planes).map(|_| OnceLock::new()).collect(),
+        warnings: pixdim_warnings(&header),
     }
 }
 
@@ -358,12 +373,23 @@ fn layout(header: &Header, offset: f64) -> std::result::Result<Layout, String> {
 /// when `sform_code > 0` (its columns are the scaled axes), else the qform
 /// (quaternion rotation, `qfac` flipping the third axis, `|pixdim|`
 /// spacing, `qoffset` origin), else `pixdim` scaling alone. A negative
-/// `pixdim[1..3]` counts as its absolute value, as nibabel reads it (its
-/// header check sets them to their absolute values on load).
+/// `pixdim[1..3]` counts as its absolute value and a zero one as 1, as
+/// nibabel reads them (its header check sets them so on load, with a
+/// warning: [`pixdim_warnings`] says it here); a NaN or infinite one is
+/// refused where it would be used (nibabel would make a NaN affine).
 fn grid(h: &Header) -> std::result::Result<Grid, String> {
+    let pixdim = |i: usize| {
+        let p = h.pixdim[i];
+        if h.sform_code <= 0 && !p.is_finite() {
+            return Err(format!(
+                "pixdim[{i}] = {p} is not a voxel size (need a finite number; --spacing cannot mend the header, rewrite it)"
+            ));
+        }
+        Ok(if p == 0.0 { 1.0 } else { p.abs() })
+    };
     let mut grid = Grid {
         dims: h.dims,
-        spacing: [h.pixdim[1].abs(), h.pixdim[2].abs(), h.pixdim[3].abs()],
+        spacing: [pixdim(1)?, pixdim(2)?, pixdim(3)?],
         origin: [0.0; 3],
         direction: super::IDENTITY,
     };
@@ -387,6 +413,22 @@ fn grid(h: &Header) -> std::result::Result<Grid, String> {
         ));
     }
     Ok(grid)
+}
+
+/// The line saying which `pixdim[1..3]` are 0 and so read as 1 by [`grid`]
+/// (none when none is, or when the sform, which does not use them, places
+/// the grid).
+fn pixdim_warnings(h: &Header) -> Vec<String> {
+    let zero: Vec<usize> = (1..=3).filter(|&i| h.pixdim[i] == 0.0).collect();
+    if h.sform_code > 0 || zero.is_empty() {
+        return Vec::new();
+    }
+    let list = |f: &dyn Fn(usize) -> String| zero.iter().map(|&i| f(i)).collect::<Vec<_>>();
+    let axes = list(&|i| ["x", "y", "z"][i - 1].to_string()).join(", ");
+    let fields = list(&|i| format!("pixdim[{i}]")).join(", ");
+    vec![format!(
+        "{fields} = 0 (no voxel size along {axes}): spacing 1 used there, as nibabel reads it; --spacing sets it"
+    )]
 }
 
 /// The qform's rotation matrix, its third column multiplied by `qfac`.

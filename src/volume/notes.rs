@@ -111,6 +111,12 @@ pub struct SourceNotes {
     /// `[lower, higher]` ascending: a label map holds one segment per
     /// sample (the higher number), so `--labels` refuses such a file.
     pub overlapping_segments: Vec<[u32; 2]>,
+    /// What the reader read otherwise than the file wrote it, because as
+    /// written it was unusable (a NIfTI's zero `pixdim` read as spacing 1),
+    /// one line each: the CLI prints them as notes on stderr (unless
+    /// `-q`), so that a default stands in for a value silently nowhere.
+    #[serde(skip)]
+    pub warnings: Vec<String>,
 }
 
 impl Default for SourceNotes {
@@ -124,6 +130,7 @@ impl Default for SourceNotes {
             skipped: Vec::new(),
             segments: Vec::new(),
             overlapping_segments: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 }
@@ -139,6 +146,7 @@ impl SourceNotes {
             skipped: Vec::new(),
             segments: Vec::new(),
             overlapping_segments: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 }

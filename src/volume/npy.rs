@@ -1,7 +1,10 @@
 //! The `.npy` reader (numpy's array format, versions 1, 2 and 3).
 //!
-//! The array must be 3-D with shape `(nz, ny, nx)`: the logical array is
-//! indexed `[z][y][x]`. In C order x varies fastest in memory; in Fortran order
+//! The array must be 3-D with shape `(nz, ny, nx)`, or have leading axes of
+//! size 1 before those three (`(1, nz, ny, nx)` from a batch or channel
+//! axis, as NIfTI readers take a 4-D file of one time point): the logical
+//! array is indexed `[z][y][x]`, and unit axes change no byte's place in
+//! either order. In C order x varies fastest in memory; in Fortran order
 //! (`fortran_order: True`) z varies fastest, and planes are gathered with a
 //! stride from the memory map. Supported dtypes: `u1 i1 u2 i2 u4 i4 f4 f8` in
 //! either byte order. The grid has unit spacing and zero origin.
@@ -78,15 +81,7 @@ pub fn open(path: &Path) -> Result<RawVolume> {
             header.descr
         ))
     })?;
-    let [nz, ny, nx] = match header.shape[..] {
-        [nz, ny, nx] => [nz, ny, nx],
-        _ => {
-            return Err(fail(format!(
-                "expected a 3-D array of shape (nz, ny, nx), found shape {}",
-                shape_text(&header.shape)
-            )))
-        }
-    };
+    let [nz, ny, nx] = volume_shape(&header.shape).map_err(fail)?;
     let layout = Layout {
         grid: Grid::unit([nx, ny, nz]),
         scalar,
@@ -260,6 +255,25 @@ impl Parser<'_> {
                 }
             }
         }
+    }
+}
+
+/// The `[nz, ny, nx]` of `shape`: its last three axes, any axes before
+/// them of size 1 (an error naming the first that is not, and what to do).
+fn volume_shape(shape: &[usize]) -> std::result::Result<[usize; 3], String> {
+    let Some((extra, &[nz, ny, nx])) = shape.split_last_chunk::<3>() else {
+        return Err(format!(
+            "expected a 3-D array of shape (nz, ny, nx), found shape {}",
+            shape_text(shape)
+        ));
+    };
+    match extra.iter().position(|&n| n != 1) {
+        None => Ok([nz, ny, nx]),
+        Some(axis) => Err(format!(
+            "shape {} is not one volume: axis {axis} has size {}, not 1 (only axes of size 1 may come before (nz, ny, nx)); save one 3-D volume, e.g. np.save(path, a[0])",
+            shape_text(shape),
+            extra[axis]
+        )),
     }
 }
 

@@ -158,8 +158,12 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
                 [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { spacings[c] } else { 0.0 }));
             set_direction(&mut grid, matrix).map_err(|e| fail(format!("'spacings': {e}")))?;
         } else {
-            // Refused below, with the values.
-            grid.spacing = spacings.map(f64::abs);
+            // Here, naming the header: the data file's reader would name
+            // only itself, which the user of a detached header never gave.
+            let [x, y, z] = spacings;
+            return Err(fail(format!(
+                "'spacings' {x} {y} {z} must be finite and nonzero (a NaN marks a non-spatial axis, which a 3-D volume cannot have)"
+            )));
         }
     }
     if dims.contains(&0) {

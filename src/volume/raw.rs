@@ -107,7 +107,10 @@ impl RawVolume {
     ///
     /// The file must hold at least `header_bytes + dims product * sample size`
     /// bytes (trailing bytes are ignored); dims must be at least 1, spacing
-    /// finite and positive, origin finite.
+    /// finite and positive, origin finite. A file named and made as
+    /// compressed (`.gz`, `.bz2`, `.zst`, `.xz` with that format's magic) is
+    /// refused: its bytes are no samples, and read as such they would make a
+    /// mesh of noise whenever the compressed length happens to fit.
     pub fn open(path: &Path, options: &RawOptions) -> Result<RawVolume> {
         let layout = Layout {
             grid: Grid {
@@ -121,7 +124,19 @@ impl RawVolume {
             offset: options.header_bytes,
             order: Order::XFastest,
         };
-        let file = File::open(path).map_err(|e| Error::io(path, e))?;
+        let mut file = File::open(path).map_err(|e| Error::io(path, e))?;
+        if let Some(kind) = compressed(path, &mut file) {
+            return Err(Error::Format(format!(
+                "{}: {kind}-compressed data, not raw samples: decompress it first (e.g. {})",
+                path.display(),
+                match kind {
+                    "gzip" => "gunzip -k",
+                    "bzip2" => "bunzip2 -k",
+                    "zstd" => "unzstd",
+                    _ => "unxz -k",
+                }
+            )));
+        }
         Ok(RawVolume::map_file(path, &file, layout)?.without_stated_grid())
     }
 
@@ -358,6 +373,24 @@ pub(crate) fn data_bytes(dims: [usize; 3], scalar: ScalarType) -> Option<u64> {
     dims.iter().try_fold(scalar.size() as u64, |acc, &d| {
         acc.checked_mul(u64::try_from(d).ok()?)
     })
+}
+
+/// The compression of `file` when its name's extension says it and its
+/// first bytes agree (`gzip`, `bzip2`, `zstd`, `xz`); `None` otherwise, the
+/// file read from its start again.
+fn compressed(path: &Path, file: &mut File) -> Option<&'static str> {
+    use std::io::{Read, Seek};
+    let (kind, magic): (&str, &[u8]) = match crate::files::lowercase_extension(path).as_str() {
+        "gz" => ("gzip", b"\x1f\x8b"),
+        "bz2" => ("bzip2", b"BZh"),
+        "zst" => ("zstd", b"\x28\xb5\x2f\xfd"),
+        "xz" => ("xz", b"\xfd7zXZ\x00"),
+        _ => return None,
+    };
+    let mut head = [0u8; 6];
+    let n = file.read(&mut head).ok()?;
+    file.rewind().ok()?;
+    head[..n].starts_with(magic).then_some(kind)
 }
 
 /// `dims` as `XxYxZ`.

@@ -445,6 +445,7 @@ impl SampleSource for TiffStack {
             skipped: Vec::new(),
             segments: Vec::new(),
             overlapping_segments: Vec::new(),
+            warnings: Vec::new(),
         }
     }
 }

@@ -271,6 +271,7 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         skipped: Vec::new(),
         segments: Vec::new(),
         overlapping_segments: Vec::new(),
+        warnings: Vec::new(),
     };
     Ok(ZarrVolume {
         root: path.to_path_buf(),

@@ -66,6 +66,43 @@ fn check_quiet_drops_the_note_on_an_empty_mesh() {
     assert_eq!(quiet(&["check", s(&mesh), "-q"]), loud.stdout);
 }
 
+/// A NIfTI whose `pixdim[1]` is 0 reads with spacing 1 there (as nibabel
+/// reads it), saying so in a note on stderr that -q drops; the mesh is
+/// the same either way.
+#[test]
+fn zero_pixdim_is_read_as_one_with_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut bytes = std::fs::read(common::formats::data_dir().join("nifti1_u8.nii")).unwrap();
+    bytes[252..256].copy_from_slice(&[0; 4]); // qform_code = sform_code = 0
+    bytes[80..84].copy_from_slice(&0.0f32.to_le_bytes()); // pixdim[1] = 0
+    let input = d.join("flat.nii");
+    std::fs::write(&input, bytes).unwrap();
+    let (loud, quiet_mesh) = (d.join("loud.ply"), d.join("quiet.ply"));
+    let out = tmc(&["extract", s(&input), "--iso", "128", "-o", s(&loud)]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.starts_with("tmc: note: ") && stderr.contains("pixdim[1] = 0"),
+        "{stderr}"
+    );
+    quiet(&[
+        "extract",
+        s(&input),
+        "--iso",
+        "128",
+        "-o",
+        s(&quiet_mesh),
+        "-q",
+    ]);
+    assert_eq!(
+        std::fs::read(&loud).unwrap(),
+        std::fs::read(&quiet_mesh).unwrap()
+    );
+    let info = String::from_utf8(quiet(&["info", s(&input), "-q"])).unwrap();
+    assert!(info.contains("spacing"), "{info}");
+}
+
 /// `tmc --help` describes extract by its own words, not by those of the
 /// raw-input options it shares with info.
 #[test]

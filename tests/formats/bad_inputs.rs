@@ -77,6 +77,18 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
             1,
         ),
         (
+            // Read as samples, a compressed file whose length fits the dims
+            // made a mesh of noise.
+            "gzip-compressed raw data",
+            |d| {
+                let mut gz = vec![0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3];
+                gz.resize(2000, 0);
+                args(&file(d, "v.raw.gz", &gz), U16)
+            },
+            "v.raw.gz: gzip-compressed data, not raw samples: decompress it first (e.g. gunzip -k)",
+            1,
+        ),
+        (
             "truncated .npy data",
             |d| {
                 let dict = "{'descr': '<f4', 'fortran_order': False, 'shape': (8, 8, 8), }";
@@ -197,7 +209,7 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
                 let fields = "type: uchar\ndimension: 3\nsizes: 4 4 4\nspacings: nan 1 1\n";
                 args(&nrrd(d, "s.nrrd", fields, 64), &["--iso", "0"])
             },
-            "spacing [NaN, 1.0, 1.0] must be finite and positive",
+            "s.nrrd: 'spacings' NaN 1 1 must be finite and nonzero",
             1,
         ),
         (

@@ -189,11 +189,40 @@ fn bad_nifti_headers_are_errors() {
     sform_only[80..84].copy_from_slice(&0.0f32.to_le_bytes()); // pixdim[1] = 0
     let v = volume::open(&write(d, "pixdim0.nii", &sform_only), None).unwrap();
     assert_eq!(v.grid().spacing, [0.5, 1.0, 2.0]);
-    // With the qform only, pixdim is the spacing: zero is refused.
-    let mut bad = fs::read(data_dir().join("nifti1_i16_qform_flip.nii")).unwrap();
-    bad[80..84].copy_from_slice(&0.0f32.to_le_bytes());
-    let e = open_err(&write(d, "spacing.nii", &bad));
-    assert!(e.contains("spacing"), "{e}");
+    assert!(v.notes().warnings.is_empty(), "{:?}", v.notes().warnings);
+    // With the qform only, pixdim is the spacing: zero reads as 1, as
+    // nibabel reads it, with a note; NaN or infinite is refused.
+    let qform = fs::read(data_dir().join("nifti1_i16_qform_flip.nii")).unwrap();
+    let want = volume::open(&data_dir().join("nifti1_i16_qform_flip.nii"), None).unwrap();
+    let mut zero = qform.clone();
+    zero[80..84].copy_from_slice(&0.0f32.to_le_bytes());
+    let v = volume::open(&write(d, "spacing.nii", &zero), None).unwrap();
+    let spacing = want.grid().spacing;
+    assert_eq!(v.grid().spacing, [1.0, spacing[1], spacing[2]]);
+    let warnings = v.notes().warnings;
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("pixdim[1] = 0 (no voxel size along x)"),
+        "{warnings:?}"
+    );
+    for (name, value) in [("nan", f32::NAN), ("inf", f32::INFINITY)] {
+        let mut bad = qform.clone();
+        bad[84..88].copy_from_slice(&value.to_le_bytes());
+        let e = open_err(&write(d, &format!("{name}.nii"), &bad));
+        assert!(
+            e.contains("pixdim[2] = ") && e.contains("not a voxel size"),
+            "{e}"
+        );
+    }
+    // Neither sform nor qform: the same.
+    let mut bare = zero.clone();
+    bare[252..254].copy_from_slice(&0i16.to_le_bytes()); // qform_code = 0
+    let v = volume::open(&write(d, "bare.nii", &bare), None).unwrap();
+    assert_eq!(v.grid().spacing, [1.0, spacing[1], spacing[2]]);
+    assert_eq!(v.notes().warnings.len(), 1);
+    bare[88..92].copy_from_slice(&f32::NEG_INFINITY.to_le_bytes());
+    let e = open_err(&write(d, "bare_inf.nii", &bare));
+    assert!(e.contains("pixdim[3] = -inf"), "{e}");
 
     // A .hdr without its .img, and a single-file header named .hdr.
     let hdr = fs::read(data_dir().join("nifti1_pair.hdr")).unwrap();
@@ -238,8 +267,16 @@ fn bad_metaimage_headers_are_errors() {
         l[i] = line;
         header(&l)
     };
-    let e = open_err(&write(d, "dims.mhd", with(2, "DimSize = 9 7 7").as_bytes()));
-    assert!(e.contains("file has 378 bytes"), "{e}");
+    // An error in the data file names the header the user gave, then it.
+    let dims_mhd = write(d, "dims.mhd", with(2, "DimSize = 9 7 7").as_bytes());
+    let e = open_err(&dims_mhd);
+    let data_raw = d.join("data.raw");
+    let want = format!(
+        "{}: data file {}: file has 378 bytes",
+        dims_mhd.display(),
+        data_raw.display()
+    );
+    assert!(e.starts_with(&want), "{e}");
     let e = open_err(&write(d, "dims2.mhd", with(2, "DimSize = 9 7").as_bytes()));
     assert!(e.contains("bad DimSize"), "{e}");
     let e = open_err(&write(
@@ -267,6 +304,10 @@ fn bad_metaimage_headers_are_errors() {
         with(5, "ElementDataFile = gone.raw").as_bytes(),
     ));
     assert!(e.contains("gone.raw"), "{e}");
+    assert!(
+        e.starts_with(&*d.join("missing.mhd").to_string_lossy()),
+        "{e}"
+    );
     let e = open_err(&write(
         d,
         "notype.mhd",
@@ -318,6 +359,10 @@ fn bad_metaimage_headers_are_errors() {
     l.resize(l.len() + 5, "nowhere.raw");
     let e = open_err(&write(d, "list2.mhd", header(&l).as_bytes()));
     assert!(e.contains("nowhere.raw"), "{e}");
+    assert!(
+        e.starts_with(&*d.join("list2.mhd").to_string_lossy()),
+        "{e}"
+    );
 
     // Truncated, corrupt and too-short zlib data in a .mha.
     let mha = fs::read(data_dir().join("mha_f32_zlib.mha")).unwrap();
@@ -335,6 +380,61 @@ fn bad_metaimage_headers_are_errors() {
     let mha = fs::read(data_dir().join("mha_i16.mha")).unwrap();
     let e = open_err(&write(d, "cut16.mha", &mha[..mha.len() - 1]));
     assert!(e.contains("need 756"), "{e}");
+}
+
+/// A 4-D MetaImage whose 4th axis has size 1 (a time series of one point,
+/// as ITK writes it) is the 3-D volume; a longer 4th axis is refused,
+/// naming it.
+#[test]
+fn metaimage_unit_fourth_axis_is_one_volume() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(
+        d,
+        "data.raw",
+        &fs::read(data_dir().join("mhd_u8.raw")).unwrap(),
+    );
+    let header = |dims: &str| {
+        [
+            "ObjectType = Image",
+            "NDims = 4",
+            "TransformMatrix = 0 1 0 0 -1 0 0 0 0 0 1 0 0 0 0 1",
+            "Offset = 1 2 3 4",
+            "ElementSpacing = 0.5 1 2 3",
+            &format!("DimSize = {dims}"),
+            "ElementType = MET_UCHAR",
+            "ElementDataFile = data.raw",
+        ]
+        .join("\n")
+            + "\n"
+    };
+    let three = header("9 7 6 1")
+        .replace("NDims = 4", "NDims = 3")
+        .replace("0 1 0 0 -1 0 0 0 0 0 1 0 0 0 0 1", "0 1 0 -1 0 0 0 0 1")
+        .replace("1 2 3 4", "1 2 3")
+        .replace("0.5 1 2 3", "0.5 1 2")
+        .replace("9 7 6 1", "9 7 6");
+    let want = volume::open(&write(d, "three.mhd", three.as_bytes()), None).unwrap();
+    let got = volume::open(&write(d, "four.mhd", header("9 7 6 1").as_bytes()), None)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(got.grid(), want.grid());
+    assert_eq!(got.grid().origin, [1.0, 2.0, 3.0]);
+    assert_eq!(all_samples(got.as_ref()), all_samples(want.as_ref()));
+
+    let e = open_err(&write(d, "time.mhd", header("9 7 3 2").as_bytes()));
+    assert!(
+        e.contains("DimSize '9 7 3 2' is not one volume: axis 4 has size 2, not 1"),
+        "{e}"
+    );
+    let e = open_err(&write(
+        d,
+        "short.mhd",
+        header("9 7 6 1").replace("0.5 1 2 3", "0.5 1 2").as_bytes(),
+    ));
+    assert!(
+        e.contains("ElementSpacing (need 4 numbers for NDims 4, found 3)"),
+        "{e}"
+    );
 }
 
 /// `mha` with its DimSize value replaced (same length).

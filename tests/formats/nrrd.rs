@@ -345,6 +345,25 @@ fn bad_data_files_give_one_line_errors() {
         "{e}"
     );
 
+    // A detached header's NaN spacing: the error names the header the
+    // user gave (the data file's reader named only the data file).
+    copy_set(d, "nrrd_detached_rot_f64");
+    let nhdr = d.join("nrrd_detached_rot_f64.nhdr");
+    let text = fs::read_to_string(&nhdr).unwrap();
+    let directions = text
+        .lines()
+        .find(|l| l.starts_with("space directions"))
+        .unwrap();
+    edit(&nhdr, directions, "spacings: 1 2 nan");
+    let e = open_err(&nhdr);
+    assert!(
+        e.starts_with(&format!(
+            "{}: 'spacings' 1 2 NaN must be finite",
+            nhdr.display()
+        )),
+        "{e}"
+    );
+
     // Truncated ascii data.
     copy_set(d, "nrrd_ascii_i8");
     let ascii = d.join("nrrd_ascii_i8.nrrd");

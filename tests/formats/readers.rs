@@ -238,6 +238,50 @@ fn npy_accepts_python2_longs_and_double_quotes() {
     );
 }
 
+/// A leading axis of size 1 (a batch or channel axis from PyTorch or
+/// numpy) is one volume, in C and Fortran order, as NIfTI readers take a
+/// 4-D file of one time point; any other extra axis is refused naming it.
+#[test]
+fn npy_leading_unit_axes_are_one_volume() {
+    let dir = tempfile::tempdir().unwrap();
+    let data: Vec<u8> = (0..24u16).flat_map(|v| v.to_le_bytes()).collect();
+    for fortran in [false, true] {
+        let order = if fortran { "True" } else { "False" };
+        let three = npy_bytes(1, &npy_dict("<u2", fortran, [4, 3, 2]), &data);
+        let want = read_all(
+            volume::open(&write_file(dir.path(), "3d.npy", &three), None)
+                .unwrap()
+                .as_ref(),
+        );
+        for shape in ["(1, 2, 3, 4)", "(1, 1, 2, 3, 4)"] {
+            let dict = format!("{{'descr': '<u2', 'fortran_order': {order}, 'shape': {shape}, }}");
+            let path = write_file(dir.path(), "4d.npy", &npy_bytes(1, &dict, &data));
+            let source = volume::open(&path, None).unwrap_or_else(|e| panic!("{shape}: {e}"));
+            assert_eq!(source.grid().dims, [4, 3, 2], "{shape} {order}");
+            assert_same(&read_all(source.as_ref()), &want, shape);
+        }
+    }
+    let cases = [
+        (
+            "(2, 1, 3, 4)",
+            "shape (2, 1, 3, 4) is not one volume: axis 0 has size 2, not 1",
+        ),
+        ("(1, 2, 1, 3, 4)", "axis 1 has size 2, not 1"),
+        ("(2, 3, 4, 1)", "axis 0 has size 2, not 1"),
+    ];
+    for (shape, expected) in cases {
+        let dict = format!("{{'descr': '<u2', 'fortran_order': False, 'shape': {shape}, }}");
+        let err = open_err(
+            &write_file(dir.path(), "bad.npy", &npy_bytes(1, &dict, &data)),
+            None,
+        );
+        assert!(
+            err.contains(expected) && err.contains("np.save"),
+            "{shape}: {err}"
+        );
+    }
+}
+
 #[test]
 fn npy_read_plane_rejects_bad_requests() {
     let dir = tempfile::tempdir().unwrap();
@@ -655,7 +699,7 @@ fn nrrd_bad_files_give_errors() {
         (
             "nan spacing",
             with("encoding", Some("spacings: 1 nan 1\nencoding: raw")),
-            "finite and positive",
+            "'spacings' 1 NaN 1 must be finite and nonzero",
         ),
         (
             "bad line",

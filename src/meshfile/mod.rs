@@ -68,7 +68,8 @@
 //! are version 3 with the arrays stored as they are (not packed):
 //! version 1 has no attributes, version 2 the attribute byte. This build
 //! reads all three and writes version 3, whose packed arrays compress to
-//! about a fifth fewer bytes with about a third of zstd's work. The labels
+//! 0.66 to 0.87 of the bytes with about half of zstd's work (cthead: zstd
+//! 372 M instructions before, 189 M after). The labels
 //! bit came after the normals bit without a new version: a build that
 //! knows only the normals refuses a labelled file by its unknown
 //! attribute bit.
@@ -99,8 +100,9 @@ pub const VERSION: u32 = 1;
 /// The format version of files with attributes (the normals) and unpacked
 /// arrays, which this build also reads.
 pub const VERSION_ATTRIBUTES: u32 = 2;
-/// The format version this build writes: version 2's layout with every
-/// payload array packed (`packing.rs`).
+/// The format version this build writes: version 2's layout with the
+/// positions, indices and labels packed (`packing.rs`), the normals as
+/// they are.
 pub const VERSION_PACKED: u32 = 3;
 /// Bit of header byte 99 saying the chunks carry vertex normals.
 pub const ATTRIBUTE_NORMALS: u8 = 1;

@@ -106,8 +106,11 @@ pub fn scan_labels(source: &dyn SampleSource, cancel: Option<&AtomicBool>) -> Re
     scan_labels_on(source, cancel, 1)
 }
 
+/// Runs of planes per thread in [`scan_labels_on`].
+const JOBS_PER_THREAD: usize = 8;
+
 /// [`scan_labels`] on `threads` threads (0: one per core), each reading
-/// its own run of planes (one plane of `f64` each at most): the counts,
+/// runs of planes in turn (one plane of `f64` each at most): the counts,
 /// and the error, are those of one thread reading them all (the first
 /// sample that is not a whole number in the file's order).
 pub fn scan_labels_on(
@@ -121,9 +124,14 @@ pub fn scan_labels_on(
         n => n,
     }
     .clamp(1, nz.max(1));
-    let per = nz.div_ceil(threads);
-    let ranges: Vec<std::ops::Range<usize>> = (0..threads)
+    // Several runs of planes per thread, taken from one queue: a thread
+    // whose planes hold more runs (label maps are busier in some places)
+    // does fewer of them, so the threads finish together.
+    let jobs = (threads * JOBS_PER_THREAD).min(nz.max(1));
+    let per = nz.div_ceil(jobs);
+    let ranges: Vec<std::ops::Range<usize>> = (0..jobs)
         .map(|i| (i * per).min(nz)..((i + 1) * per).min(nz))
+        .filter(|r| !r.is_empty())
         .collect();
     // A thread stops once a thread with earlier planes has failed (its
     // error comes first); the ranges' results are merged in z order.
@@ -160,7 +168,7 @@ fn count_planes(
 ) -> Result<BTreeMap<i64, u64>> {
     const LIMIT: f64 = (1u64 << 53) as f64;
     let mut plane = Vec::new();
-    let mut counts: BTreeMap<i64, u64> = BTreeMap::new();
+    let mut counts = Tally::default();
     for z in planes {
         if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) || give_up() {
             return Err(Error::Interrupted);
@@ -176,11 +184,41 @@ fn count_planes(
                     "sample (x {x}, y {y}, z {z}) is {v}, {why}: a label map holds integer labels (whole numbers within ±2^53)"
                 )));
             }
-            *counts.entry(v as i64).or_default() += (end - x) as u64;
+            counts.add(v as i64, (end - x) as u64);
             Ok(())
         })?;
     }
-    Ok(counts)
+    Ok(counts.into_map())
+}
+
+/// Samples counted per value: values from 0 to 65535 (most label maps'
+/// labels) in an array, a run's count one addition; others in a map.
+#[derive(Default)]
+struct Tally {
+    /// `small[v]`: the samples of value `v` (empty until the first).
+    small: Vec<u64>,
+    other: BTreeMap<i64, u64>,
+}
+
+impl Tally {
+    fn add(&mut self, value: i64, samples: u64) {
+        match usize::try_from(value) {
+            Ok(v) if v < 1 << 16 => {
+                if self.small.is_empty() {
+                    self.small = vec![0; 1 << 16];
+                }
+                self.small[v] += samples;
+            }
+            _ => *self.other.entry(value).or_default() += samples,
+        }
+    }
+
+    fn into_map(self) -> BTreeMap<i64, u64> {
+        let mut map = self.other;
+        let present = self.small.iter().enumerate().filter(|&(_, &n)| n > 0);
+        map.extend(present.map(|(v, &n)| (v as i64, n)));
+        map
+    }
 }
 
 /// Calls `f(y, x, end, value)` for every run of equal samples

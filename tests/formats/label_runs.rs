@@ -67,7 +67,7 @@ fn runs_and_counts_match_the_samples_for_every_type_and_alignment() {
 }
 
 /// `scan_labels_on` at any number of threads: the counts a direct reading
-/// gives, and of two samples that are not whole numbers in different
+/// gives (small, negative and large values), and of two samples that are not whole numbers in different
 /// threads' planes, the first in the file's order named (whichever thread
 /// finds its own first).
 #[test]
@@ -76,7 +76,15 @@ fn scan_on_threads_counts_and_names_the_first_fraction() {
     let dir = tempfile::tempdir().unwrap();
     let dims = [7usize, 5, 12];
     let xyz = |i: usize| [i % dims[0], i / dims[0] % dims[1], i / (dims[0] * dims[1])];
-    let whole = |i: usize| label(xyz(i));
+    // Beside the small labels, values the scan keeps apart from its
+    // array of 0 to 65535: negative ones and ones from 65536 up.
+    let whole = |i: usize| match i % 13 {
+        0 => -3.0,
+        5 => 65536.0,
+        7 => 70001.0,
+        9 => 65535.0,
+        _ => label(xyz(i)),
+    };
     let mut want: BTreeMap<i64, u64> = BTreeMap::new();
     for i in 0..dims.iter().product::<usize>() {
         *want.entry(whole(i) as i64).or_default() += 1;

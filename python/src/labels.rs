@@ -145,6 +145,7 @@ pub(crate) fn extract_labels_to(
         tmc::export::check_label_outputs(&outputs, &inputs)?;
         // Every label's file stays open until all are committed.
         tmc::files::raise_open_file_limit();
+        tmc::files::check_open_files(labels.len(), tmc::export::open_files_per_label(&output))?;
         let pass_start = Instant::now();
         let mut files = LabelFiles::create(&output, &labels, &outputs, |target, _| {
             LabelSink::create(target, labels.len())

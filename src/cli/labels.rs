@@ -91,6 +91,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let labels = counts.select(wanted.as_deref(), background, input)?;
     // Every label's file stays open until all are committed.
     tmc::files::raise_open_file_limit();
+    tmc::files::check_open_files(labels.len(), tmc::export::open_files_per_label(template))?;
     let outputs = tmc::export::label_outputs(template, &labels)?;
     let inputs: Vec<&Path> = std::iter::once(input.as_path())
         .chain(source.data_files())

@@ -45,6 +45,21 @@ pub fn label_outputs(template: &Path, labels: &[i64]) -> Result<Vec<PathBuf>> {
     Ok(vec![template.to_path_buf()])
 }
 
+/// Files a label pass keeps open per label for the output name
+/// `template`: one for a `.tmesh` or `.stl` file per label and for one
+/// file of every label (a `.tmesh` per label in a temporary directory);
+/// three for a `.ply`, `.obj` or `.off` per label (the file and the two
+/// spools of its vertices and faces, see `spooled.rs`).
+pub fn open_files_per_label(template: &Path) -> usize {
+    let spooled = template
+        .extension()
+        .is_some_and(|e| e == "ply" || e == "obj" || e == "off");
+    match has_placeholder(template, "{label}") && spooled {
+        true => 3,
+        false => 1,
+    }
+}
+
 /// Refuses, before the pass, label files that would overwrite one of the
 /// input's files (`inputs`: the path given and the data files it names)
 /// or that cannot be written (each directory tried once).
@@ -89,12 +104,13 @@ impl LabelSink {
 }
 
 /// The bytes each label's `.tmesh` writer gathers before it writes them:
-/// 64 MiB shared by all labels, between 64 KiB and 1 MiB (a single
+/// 64 MiB shared by all labels, between 4 KiB and 1 MiB (a single
 /// extraction's buffer) each, so that hundreds of labels do not hold
 /// hundreds of MiB of output (each label's file is mostly smaller than
-/// 1 MiB, so it was held whole until the end).
+/// 1 MiB, so it was held whole until the end), nor thousands of labels
+/// (an instance segmentation's cells) a GiB of buffers.
 fn label_buffer(labels: usize) -> usize {
-    ((64 << 20) / labels.max(1)).clamp(64 << 10, 1 << 20)
+    ((64 << 20) / labels.max(1)).clamp(4 << 10, 1 << 20)
 }
 
 /// A label's sink in the pass: its file's, whose `finish` only notes the
@@ -146,9 +162,10 @@ pub struct LabelFiles {
 impl LabelFiles {
     /// The sinks of `labels` for the output name `template` (see
     /// [`label_outputs`], which gives `outputs`), each made by
-    /// `open(target, label)` (for example [`LabelSink::create`]): the
-    /// label's output, or, for one file of every label, a `.tmesh` in a
-    /// temporary directory beside it.
+    /// `open(target, label)` (for example [`LabelSink::create`]) for the
+    /// label's output; for one file of every label, each label's sink is a
+    /// `.tmesh` in a temporary directory beside it, not synced to disk (it
+    /// is read into the one file and removed).
     pub fn create(
         template: &Path,
         labels: &[i64],
@@ -186,8 +203,16 @@ impl LabelFiles {
         };
         let mut files = Vec::with_capacity(labels.len());
         for (target, &label) in targets.iter().zip(labels) {
+            let inner = match one {
+                // Read into the one file, then removed with the directory.
+                Some(_) => LabelSink::Send(Box::new(TmeshWriter::create_scratch(
+                    target,
+                    label_buffer(labels.len()),
+                )?)),
+                None => open(target, label)?,
+            };
             files.push(LabelFile {
-                inner: open(target, label)?,
+                inner,
                 totals: None,
             });
         }

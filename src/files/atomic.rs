@@ -16,6 +16,9 @@ pub struct AtomicFile {
     _registered: Option<Registered>,
     temp: tempfile::NamedTempFile,
     path: std::path::PathBuf,
+    /// Synced to disk before the rename: false for an intermediate file
+    /// that is read and removed within the run ([`AtomicFile::scratch`]).
+    durable: bool,
 }
 
 impl AtomicFile {
@@ -38,6 +41,19 @@ impl AtomicFile {
             _registered: fatal_cleanup::register(temp.path()),
             temp,
             path: path.to_path_buf(),
+            durable: true,
+        })
+    }
+
+    /// [`AtomicFile::create`] for an intermediate file, read and removed
+    /// by the same run (a label's `.tmesh` before one file of every label
+    /// is written from them): its commit renames it without syncing it to
+    /// disk, which for thousands of labels cost most of the run (the
+    /// blocks written, then discarded on removal).
+    pub fn scratch(path: &Path) -> Result<AtomicFile> {
+        Ok(AtomicFile {
+            durable: false,
+            ..AtomicFile::create(path)?
         })
     }
 
@@ -57,15 +73,20 @@ impl AtomicFile {
         parent_dir(&self.path)
     }
 
-    /// Syncs the data to disk and renames the file onto its target.
+    /// Syncs the data to disk (unless the file is a
+    /// [`scratch`](AtomicFile::scratch) one) and renames the file onto its
+    /// target.
     pub fn commit(self) -> Result<()> {
         let AtomicFile {
             _registered: registered,
             temp,
             path,
+            durable,
         } = self;
         drop(registered);
-        temp.as_file().sync_all().map_err(|e| Error::io(&path, e))?;
+        if durable {
+            temp.as_file().sync_all().map_err(|e| Error::io(&path, e))?;
+        }
         temp.persist(&path)
             .map_err(|e| Error::io(&path, without_temp_path(e.error)))?;
         Ok(())

@@ -8,9 +8,8 @@ use super::{encode_header, ChunkEntry, CHUNK_HEADER_BYTES, END_MAGIC, HEADER_BYT
 use crate::files::AtomicFile;
 use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink, Totals};
 use crate::{Error, Result};
-use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Bytes a [`TmeshWriter`] gathers before it writes them: a system call
 /// per chunk header and payload took a third of the time of volumes with
@@ -19,10 +18,13 @@ const BUFFER_BYTES: usize = 1 << 20;
 
 /// A `.tmesh` file being written.
 pub struct TmeshWriter {
-    file: Option<AtomicFile>,
-    /// The same file, buffered (a handle of its own, flushed before the
-    /// file is committed).
-    out: BufWriter<File>,
+    /// The file, buffered; taken out (flushed) and committed by `finish`.
+    /// One descriptor per file, not a second handle: a label pass holds a
+    /// file per label open at once, and the limit on open files bounds
+    /// how many labels it takes.
+    out: Option<BufWriter<AtomicFile>>,
+    /// Where the file appears, for errors.
+    path: PathBuf,
     offset: u64,
     index: Vec<ChunkEntry>,
     bytes: u64,
@@ -42,17 +44,29 @@ impl TmeshWriter {
     /// before it writes them: for many files written at once (one per
     /// label), whose buffers together should stay small.
     pub fn create_buffered(path: &Path, buffer: usize) -> Result<TmeshWriter> {
-        let mut file = AtomicFile::create(path)?;
-        let handle = file.file().try_clone().map_err(|e| Error::io(path, e))?;
-        Ok(TmeshWriter {
-            file: Some(file),
-            out: BufWriter::with_capacity(buffer, handle),
+        Ok(TmeshWriter::around(AtomicFile::create(path)?, path, buffer))
+    }
+
+    /// [`TmeshWriter::create_buffered`] for an intermediate file that the
+    /// run reads and removes ([`AtomicFile::scratch`]: not synced to disk).
+    pub fn create_scratch(path: &Path, buffer: usize) -> Result<TmeshWriter> {
+        Ok(TmeshWriter::around(
+            AtomicFile::scratch(path)?,
+            path,
+            buffer,
+        ))
+    }
+
+    fn around(file: AtomicFile, path: &Path, buffer: usize) -> TmeshWriter {
+        TmeshWriter {
+            out: Some(BufWriter::with_capacity(buffer, file)),
+            path: path.to_path_buf(),
             offset: 0,
             index: Vec::new(),
             bytes: 0,
             normals: false,
             labels: false,
-        })
+        }
     }
 
     /// Bytes written so far.
@@ -67,15 +81,11 @@ impl TmeshWriter {
     }
 
     fn write(&mut self, data: &[u8]) -> Result<()> {
-        self.out.write_all(data).map_err(|e| self.io_error(e))?;
+        let out = self.out.as_mut().expect("writer already finished");
+        out.write_all(data).map_err(|e| Error::io(&self.path, e))?;
         self.offset += data.len() as u64;
         self.bytes += data.len() as u64;
         Ok(())
-    }
-
-    fn io_error(&self, e: std::io::Error) -> Error {
-        let file = self.file.as_ref().expect("writer already finished");
-        Error::io(file.path(), e)
     }
 }
 
@@ -176,7 +186,10 @@ impl MeshSink for TmeshWriter {
         trailer.extend_from_slice(&totals.triangles.to_le_bytes());
         trailer.extend_from_slice(&END_MAGIC);
         self.write(&trailer)?;
-        self.out.flush().map_err(|e| self.io_error(e))?;
-        self.file.take().expect("finished once").commit()
+        let out = self.out.take().expect("finished once");
+        let file = out
+            .into_inner()
+            .map_err(|e| Error::io(&self.path, e.into_error()))?;
+        file.commit()
     }
 }

@@ -244,3 +244,60 @@ fn more_labels_than_one_pass_takes_are_refused_before_any_file() {
     );
     assert_eq!(names(d), ["map.nrrd"]);
 }
+
+/// More labels than the hard limit on open files lets one pass keep open:
+/// refused before any file is made, in one line that says how many labels
+/// fit and what to do (the run used to fail part way with the system's
+/// "Too many open files"); under a limit that holds them, the same labels
+/// are written, one open file per label for `.tmesh` files.
+#[test]
+fn more_labels_than_open_files_are_refused_before_the_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // 120 labels, one sample each, apart.
+    let dims = [12, 12, 12];
+    let mut values = vec![0.0; 12 * 12 * 12];
+    for l in 0..120usize {
+        let (x, y, z) = (1 + 2 * (l % 5), 1 + 2 * (l / 5 % 5), 1 + 2 * (l / 25));
+        values[x + 12 * (y + 12 * z)] = (l + 1) as f64;
+    }
+    let input = d.join("map.nrrd");
+    write(&input, dims, values, ScalarType::U16);
+    let under_limit = |files: u32, out: &Path| {
+        let script = format!("ulimit -S -n {files} && ulimit -H -n {files} && exec \"$0\" \"$@\"");
+        let template = out.join("{label}.tmesh");
+        std::process::Command::new("sh")
+            .args(["-c", &script, common::cli::tmc_path()])
+            .args([
+                "extract",
+                s(&input),
+                "--labels",
+                "all",
+                "-o",
+                s(&template),
+                "-q",
+            ])
+            .output()
+            .unwrap()
+    };
+    let refused = d.join("refused");
+    fs::create_dir(&refused).unwrap();
+    let out = under_limit(150, &refused);
+    let line = assert_one_line(&out, 1);
+    assert!(
+        line.contains("120 labels keep 120 files open at once (1 per label)")
+            && line.contains("may open 150")
+            && line.contains("at most 86 labels per run"),
+        "{line}"
+    );
+    assert!(names(&refused).is_empty(), "{:?}", names(&refused));
+    let written = d.join("written");
+    fs::create_dir(&written).unwrap();
+    let out = under_limit(200, &written);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(names(&written).len(), 120);
+}

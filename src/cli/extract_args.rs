@@ -56,7 +56,8 @@ pub(crate) struct ExtractArgs {
           conflicts_with_all = ["iso", "manifest", "require_surface", "preview"])]
     pub labels: Option<String>,
 
-    /// With --labels all: the value that is no label (0 by default).
+    /// With --labels all: the value that is no label (0 by default); a
+    /// whole number, which a float map's may be written as (-1.0).
     #[arg(
         long,
         value_name = "V",
@@ -64,7 +65,8 @@ pub(crate) struct ExtractArgs {
         // `requires` alone lets `--iso V --background B` through (clap
         // waives it when the required argument conflicts with one given).
         conflicts_with_all = ["iso", "manifest"],
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = values::label
     )]
     pub background: Option<i64>,
 

@@ -15,6 +15,22 @@ pub(crate) fn finite(text: &str) -> Result<f64, String> {
     }
 }
 
+/// Parses a label (`--background`): an integer, or a whole number written
+/// as a float (`3.0`, `-0`, `1e3`), as a float label map stores its labels,
+/// within ±2^53 (the labels a label map's scan accepts).
+pub(crate) fn label(text: &str) -> Result<i64, String> {
+    const LIMIT: f64 = (1u64 << 53) as f64;
+    if let Ok(v) = text.trim().parse::<i64>() {
+        return Ok(v);
+    }
+    match text.trim().parse::<f64>() {
+        Ok(v) if v.fract() == 0.0 && v.abs() <= LIMIT => Ok(v as i64),
+        _ => Err(format!(
+            "'{text}' is not a label: a label is a whole number within ±2^53"
+        )),
+    }
+}
+
 /// The most worker threads `--threads` takes: more is a typo, and starting
 /// that many threads would take longer than any extraction.
 const MAX_THREADS: usize = 1024;

@@ -84,8 +84,13 @@ impl PartRecord {
 }
 
 /// The identity of the input at `path` whose samples are read from
-/// `data_files` (see [`SampleSource::data_files`]).
+/// `data_files` (see [`SampleSource::data_files`]). An HDF5 dataset named
+/// in the path (`scan.h5:/exchange/data`, no file of that name) is
+/// identified by its file.
 pub fn identify(path: &Path, data_files: &[&Path]) -> Result<InputId> {
+    if let Some((file, _)) = crate::volume::hdf5::split_path(path) {
+        return identify(&file, data_files);
+    }
     let io = |e| Error::io(path, e);
     let meta = std::fs::metadata(path).map_err(io)?;
     if meta.is_dir() {

@@ -7,8 +7,9 @@
 //! The last three axes are z, y, x (C order, as numpy); axes before them
 //! (OME's `t` and `c`) must have one entry, which is read. A group is read
 //! through the array that `--array PATH` names, or through the level of
-//! its OME-Zarr `multiscales` (`--level N`, 0 by default), whose `scale`
-//! and `translation` become the spacing and origin, in millimetres when
+//! its OME-Zarr `multiscales` (`--level N`, 0 by default; a level opened
+//! by its path, `image.zarr/1`, alike), whose `scale` and `translation`
+//! become the spacing and origin, in millimetres when
 //! the axes' unit is known (see `zarr_ome.rs`).
 //!
 //! Planes are served from decoded *chunk layers* (`chunk_layers.rs`): the
@@ -96,6 +97,37 @@ fn root_attributes(root: &Path) -> Result<Option<Value>> {
     read(".zattrs")
 }
 
+/// The level of the OME-Zarr image whose dataset the array at `path` is
+/// (`image.zarr/1`: the group `image.zarr` lists `1` in its
+/// `multiscales`), looked for in the Zarr groups above it; `None` when no
+/// group above it is an image listing it.
+fn enclosing_level(path: &Path) -> Option<OmeLevel> {
+    let full = path.canonicalize().ok()?;
+    let mut names: Vec<String> = Vec::new();
+    let mut node = full.as_path();
+    while let (Some(parent), Some(name)) = (node.parent(), node.file_name()) {
+        names.insert(0, name.to_string_lossy().into_owned());
+        let is_node = [".zgroup", ".zattrs", "zarr.json"]
+            .iter()
+            .any(|m| parent.join(m).is_file());
+        if !is_node {
+            return None;
+        }
+        // A group above whose metadata does not parse places nothing:
+        // the array itself still reads.
+        let attributes = root_attributes(parent).ok().flatten();
+        let attributes = attributes.unwrap_or(Value::Null);
+        if zarr_ome::is_ome(&attributes) {
+            let wanted = names.join("/");
+            return (0..)
+                .map_while(|i| zarr_ome::level(&attributes, i).ok())
+                .find(|l| l.path.trim_matches('/') == wanted);
+        }
+        node = parent;
+    }
+    None
+}
+
 /// Whether the store's root is itself an array.
 fn root_is_array(root: &Path) -> bool {
     if root.join(".zarray").is_file() {
@@ -171,6 +203,9 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
                         "--level picks a level of an OME-Zarr image; this is an array".into(),
                     ));
                 }
+                // A level opened by its path (`image.zarr/1`) keeps its
+                // grid, as `image.zarr --array 1` and `--level 1` do.
+                level = enclosing_level(path);
                 String::new()
             }
             (None, false) if ome => {

@@ -94,6 +94,50 @@ fn background_without_labels_is_refused() {
     }
 }
 
+/// A float label map's background may be written as it is stored
+/// (`--background -5.0` is label -5, `-0` is 0); a fraction is refused in
+/// one line saying a label is a whole number.
+#[test]
+fn background_written_as_a_whole_float_is_that_label() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = negative_map(dir.path());
+    let but_minus_5 = ["0.ply", "7.ply"];
+    let but_0 = ["-5.ply", "7.ply"];
+    for (bg, sub, want) in [
+        ("-5", "int", but_minus_5),
+        ("-5.0", "float", but_minus_5),
+        ("-5e0", "exp", but_minus_5),
+        ("0", "zero", but_0),
+        ("-0.0", "negzero", but_0),
+    ] {
+        let out = dir.path().join(sub);
+        fs::create_dir(&out).unwrap();
+        let o = s(&out.join("{label}.ply")).to_string();
+        ok(&[
+            "extract",
+            s(&input),
+            "--labels",
+            "all",
+            "--background",
+            bg,
+            "-o",
+            &o,
+            "-q",
+        ]);
+        assert_eq!(names(&out), want, "--background {bg}");
+    }
+    for bg in ["0.5", "nan", "inf", "1e300", "x"] {
+        let extra = ["--labels", "all", "--background", bg, "-o", "{label}.ply"];
+        let mut args = vec!["extract", s(&input), "-q"];
+        args.extend_from_slice(&extra);
+        let err = assert_one_line(&tmc(&args), 2);
+        assert!(
+            err.contains("--background") && err.contains("whole number"),
+            "{bg}: {err}"
+        );
+    }
+}
+
 #[test]
 fn preview_with_labels_is_refused() {
     let dir = tempfile::tempdir().unwrap();

@@ -105,6 +105,16 @@ fn merged_real_volume_equals_a_single_run() {
     assert_equivalent(&path, &["--iso", "30"]);
 }
 
+/// An HDF5 dataset named in the input (`FILE:/dataset`): the part record
+/// identifies the file, not the path with the dataset (which is no file).
+#[test]
+fn merged_hdf5_dataset_named_in_the_path_equals_a_single_run() {
+    let file = common::formats::data_dir().join("h5_latest.h5");
+    let input = PathBuf::from(format!("{}:/fixed", file.display()));
+    assert_equivalent(&input, &["--iso", "41"]);
+    assert_equivalent(&input, &["--iso", "41", "--close"]);
+}
+
 /// Merges `parts` expecting one error line containing `needle`, and no output.
 fn refused(parts: &[&PathBuf], needle: &str) {
     let dir = tempfile::tempdir().unwrap();

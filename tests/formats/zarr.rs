@@ -100,6 +100,31 @@ fn groups_by_path_or_array_option_and_ome_levels() {
     }
 }
 
+/// A level of an OME-Zarr image opened by its path (`image.zarr/1`) is
+/// placed as `--level 1` places it (the image's scale and translation),
+/// not on a unit grid: the same array read two documented ways.
+#[test]
+fn an_ome_level_opened_by_its_path_keeps_the_image_grid() {
+    for name in ["zr_ome_04.zarr", "zr_ome_05.zarr"] {
+        for level in [0, 1] {
+            let select = ZarrSelect {
+                level: Some(level),
+                ..ZarrSelect::default()
+            };
+            let want = zarr::open(&data(name), &select).unwrap();
+            for path in [format!("{name}/{level}"), format!("{name}/{level}/")] {
+                let got = volume::open(&data(&path), None).unwrap();
+                assert_eq!(got.grid(), want.grid(), "{path}");
+                let from = got.notes().spacing_from;
+                assert!(matches!(from, ValueFrom::File { .. }), "{path}: {from:?}");
+            }
+        }
+    }
+    // A plain group's array keeps the unit grid.
+    let plain = volume::open(&data("zr_group.zarr/scans/ct"), None).unwrap();
+    assert_eq!(plain.grid().spacing, [1.0; 3]);
+}
+
 #[test]
 fn each_chunk_is_decompressed_once_per_pass() {
     let twin = volume::open(&data("zr_count.npy"), None).unwrap();

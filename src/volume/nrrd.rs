@@ -193,7 +193,16 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
     };
     let slabs = files
         .iter()
-        .map(|file| open_data(path, file, start, slab, &format, cancel))
+        .map(|file| {
+            open_data(file, start, slab, &format, cancel).map_err(|e| {
+                // A detached data file: its errors name the header first.
+                if file == path {
+                    e
+                } else {
+                    e.in_data_file(path, file)
+                }
+            })
+        })
         .collect::<Result<Vec<_>>>()?;
     Ok(NrrdVolume {
         scalar,

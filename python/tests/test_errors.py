@@ -162,7 +162,8 @@ def test_bool_options_take_only_bools(tmp_path, function, names, args):
         for bad in ("no", "False", 1, 0, None, 1.0, [True]):
             with pytest.raises(TypeError, match=f"{name} must be True or False, not"):
                 function(volume, *args, **{name: bad})
-        assert list(tmp_path.iterdir()) == []
+    assert list(tmp_path.iterdir()) == []
+    for name in names:
         for good in (True, False, np.bool_(True), np.bool_(False)):
             function(volume, *args, **{name: good})
 

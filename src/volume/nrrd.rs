@@ -406,7 +406,7 @@ fn volume_axes(header: &Header) -> std::result::Result<[usize; 3], String> {
             .copied()
             .filter(unit)
             .find(|&a| non_spatial(a))
-            .or_else(|| axes.iter().copied().filter(unit).last());
+            .or_else(|| axes.iter().copied().rfind(unit));
         match dropped {
             Some(a) => {
                 axes.remove(a);

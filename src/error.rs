@@ -8,7 +8,7 @@
 
 use std::borrow::Cow;
 use std::fmt::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Errors reported by the library; the CLI prints them as one line.
 #[derive(Debug, thiserror::Error)]
@@ -85,6 +85,28 @@ impl Error {
         Error::OutOfMemory(format!(
             "out of memory: cannot allocate {bytes} bytes for {what}"
         ))
+    }
+
+    /// This error, met reading `data` (a data file that the header file
+    /// `header` names: MetaImage, a detached NRRD), as the user can follow
+    /// it: naming the header they gave first, then the data file
+    /// (`head.mhd: data file head.raw: ...`), the data file's own prefix
+    /// dropped from the message.
+    pub(crate) fn in_data_file(self, header: &Path, data: &Path) -> Error {
+        let prefix = format!("{}: data file {}", header.display(), data.display());
+        let own = format!("{}: ", data.display());
+        match self {
+            Error::Io { source, .. } => Error::Format(format!("{prefix}: {source}")),
+            Error::Format(what) => {
+                let what = what.strip_prefix(&own).unwrap_or(&what);
+                Error::Format(format!("{prefix}: {what}"))
+            }
+            Error::Invalid(what) => {
+                let what = what.strip_prefix(&own).unwrap_or(&what);
+                Error::Invalid(format!("{prefix}: {what}"))
+            }
+            other => other,
+        }
     }
 }
 

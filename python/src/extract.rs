@@ -8,10 +8,12 @@ use crate::record::{Record, Recorder};
 use crate::skimage::SkimageArrays;
 use crate::values;
 use numpy::PyUntypedArray;
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
+use std::ffi::CString;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
+use std::sync::{Mutex, PoisonError};
 use tmc::volume::zarr::ZarrSelect;
 use tmc::{ExtractParams, Inside, Method, PipelineOptions, SampleSource};
 
@@ -42,20 +44,34 @@ impl<'a> Input<'a> {
     }
 
     /// Opens the volume (a path is opened by the CLI's readers) and runs
-    /// `work` on it, all with the GIL released and Ctrl-C watched.
+    /// `work` on it, all with the GIL released and Ctrl-C watched. The
+    /// reader's notes that the CLI prints on stderr (a NIfTI's zero
+    /// `pixdim` read as 1, ...) are raised as Python `UserWarning`s once
+    /// the GIL is back, whether `work` succeeded or not.
     pub(crate) fn run<T: Send>(
         &self,
         py: Python<'_>,
         work: impl FnOnce(&dyn SampleSource, Option<&Path>, &AtomicBool) -> tmc::Result<T> + Send,
     ) -> PyResult<T> {
-        interrupt::run(py, |cancel| match self {
+        let notes = Mutex::new(Vec::new());
+        let result = interrupt::run(py, |cancel| match self {
             Input::Array(volume) => work(volume.as_ref(), None, cancel),
             Input::Path(path, select) => {
                 tmc::files::check_input_kind(path)?;
                 let source = tmc::volume::open_selected(path, None, select, cancel)?;
+                *notes.lock().unwrap_or_else(PoisonError::into_inner) = source.notes().warnings;
                 work(source.as_ref(), Some(path), cancel)
             }
-        })
+        });
+        let user_warning = py.get_type::<PyUserWarning>();
+        for note in notes.into_inner().unwrap_or_else(PoisonError::into_inner) {
+            let message = CString::new(note.replace('\0', "\\0"))
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            // Level 2: the line of the user's code that called the
+            // package's Python function, which called this one.
+            PyErr::warn(py, &user_warning, &message, 2)?;
+        }
+        result
     }
 }
 

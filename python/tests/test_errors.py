@@ -15,7 +15,8 @@ GOOD = np.zeros((4, 5, 6), dtype=np.float32)
     "volume, error, words",
     [
         (np.zeros((4, 5)), ValueError, "expected a 3-D array"),
-        (np.zeros((2, 3, 4, 5)), ValueError, "expected a 3-D array"),
+        (np.zeros((2, 3, 4, 5)), ValueError, r"shape \(2, 3, 4, 5\) is not one volume: axis 0"),
+        (np.zeros((1, 2, 3, 4, 5)), ValueError, "is not one volume: axis 1 has size 2"),
         (np.zeros((4, 5, 6), dtype=np.complex64), TypeError, "unsupported dtype"),
         (np.zeros((4, 5, 6), dtype=object), TypeError, "unsupported dtype"),
         (np.zeros((4, 5, 6), dtype="U3"), TypeError, "unsupported dtype"),
@@ -139,3 +140,68 @@ def test_arguments_not_taken_apart(tmp_path):
     for name in ("bins", "plane_step"):
         with pytest.raises(ValueError, match=f"{name} must be 0 or more"):
             tmc.info(path, **{name: -1})
+
+
+BOOL_OPTIONS = [
+    (tmc.extract, ("close", "normals"), (0.5,)),
+    (tmc.extract_to, ("close", "normals"), (0.5, "OUT")),
+    (tmc.extract_labels, ("close", "normals"), ()),
+    (tmc.extract_labels_to, ("close", "normals", "stats"), ("OUT",)),
+    (tmc.marching_cubes, ("allow_degenerate",), (0.5,)),
+]
+
+
+@pytest.mark.parametrize("function, names, args", BOOL_OPTIONS)
+def test_bool_options_take_only_bools(tmp_path, function, names, args):
+    """A boolean option is True/False or a numpy bool; "no", 1 or None is a
+    TypeError naming it (``bool("no")`` is True: it silently meant yes)."""
+    volume = np.zeros((4, 5, 6), dtype=np.uint8)
+    volume[1:3, 1:4, 1:5] = 1
+    args = tuple(str(tmp_path / "out.ply") if a == "OUT" else a for a in args)
+    for name in names:
+        for bad in ("no", "False", 1, 0, None, 1.0, [True]):
+            with pytest.raises(TypeError, match=f"{name} must be True or False, not"):
+                function(volume, *args, **{name: bad})
+    assert list(tmp_path.iterdir()) == []
+    for name in names:
+        for good in (True, False, np.bool_(True), np.bool_(False)):
+            function(volume, *args, **{name: good})
+
+
+def test_masked_array_refused():
+    """A masked array's mask would be ignored: refused, pointing to
+    ``.filled(value)``; one with nothing masked is its data."""
+    volume = np.ma.masked_array(np.zeros((4, 5, 6), np.float32), mask=False)
+    volume.mask[0, 0, 0] = True
+    for call in (
+        lambda v: tmc.extract(v, 0.5),
+        lambda v: tmc.extract_labels(v.astype(np.uint8)),
+        lambda v: tmc.marching_cubes(v, 0.5),
+    ):
+        with pytest.raises(TypeError, match=r"masked array.*\.filled\(value\)"):
+            call(volume)
+    nothing_masked = np.ma.masked_array(GOOD, mask=False)
+    assert len(tmc.extract(nothing_masked, 0.5).triangles) == 0
+
+
+def test_leading_unit_axes_are_the_volume(tmp_path):
+    """(1, nz, ny, nx), as the .npy reader takes it, in C or Fortran order,
+    and a memmap of one: the mesh of (nz, ny, nx)."""
+    rng = np.random.default_rng(3)
+    volume = rng.random((5, 6, 7)).astype(np.float32)
+    want = tmc.extract(volume, 0.5)
+    path = tmp_path / "v.npy"
+    np.save(path, volume[None, None])
+    for four in (
+        volume[None],
+        volume[None, None],
+        np.asfortranarray(volume[None]),
+        np.load(path, mmap_mode="r"),
+    ):
+        got = tmc.extract(four, 0.5)
+        assert np.array_equal(got.vertices, want.vertices)
+        assert np.array_equal(got.triangles, want.triangles)
+    labels = (volume > 0.5).astype(np.uint8)
+    assert tmc.extract_labels(labels[None])[1].triangles.shape == (
+        tmc.extract_labels(labels)[1].triangles.shape
+    )

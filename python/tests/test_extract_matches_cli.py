@@ -212,3 +212,26 @@ def test_paths_may_be_bytes_as_open_takes_them(tmp_path):
     assert os.path.exists(raw + b"/l_1.ply")
     with pytest.raises(TypeError):
         tmc.extract_to(npy, 0.0, 3)
+
+
+def test_zero_pixdim_note_is_a_warning(tmp_path):
+    """The note the CLI prints on stderr for a NIfTI whose pixdim[1] is 0
+    (read as 1, as nibabel does) is a UserWarning in Python, for every
+    call that reads a path; the mesh is the one the CLI writes."""
+    from conftest import REPO
+
+    data = bytearray((REPO / "tests" / "data" / "nifti1_u8.nii").read_bytes())
+    data[252:256] = bytes(4)  # qform_code = sform_code = 0
+    data[80:84] = np.float32(0).tobytes()  # pixdim[1] = 0
+    path = tmp_path / "flat.nii"
+    path.write_bytes(bytes(data))
+    with pytest.warns(UserWarning, match=r"pixdim\[1\] = 0"):
+        mesh = tmc.extract(path, 128)
+    with pytest.warns(UserWarning, match=r"pixdim\[1\] = 0"):
+        tmc.extract_to(path, 128, tmp_path / "py.ply")
+    with pytest.warns(UserWarning, match=r"pixdim\[1\] = 0"):
+        tmc.extract_labels(path, [255])
+    out = run_cli("extract", str(path), "--iso", "128", "-o", str(tmp_path / "cli.ply"))
+    assert "pixdim[1] = 0" in out.stderr
+    vertices, _ = read_ply(tmp_path / "cli.ply")
+    assert np.allclose(mesh.vertices, vertices)

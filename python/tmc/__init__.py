@@ -175,7 +175,16 @@ def _as_samples(volume: Any) -> np.ndarray:
     """``volume`` as an array the library reads in place: the same array
     for the dtypes tmc reads (any order, any strides), a view for ``bool``,
     an exact copy for wider integers that fit 32 bits and for float16;
-    ``TypeError`` for anything else."""
+    ``TypeError`` for anything else, and for a masked array with a masked
+    sample (its mask would be ignored)."""
+    if isinstance(volume, np.ma.MaskedArray) and np.ma.getmaskarray(volume).any():
+        # np.asarray would drop the mask, and the masked samples' stored
+        # values would make the surface.
+        raise TypeError(
+            "a masked array: tmc extracts whole volumes and would ignore its mask; "
+            "pass volume.filled(value) with a value outside the object, or crop the "
+            "volume instead (volume[z0:z1, y0:y1, x0:x1] is a view, not a copy)"
+        )
     array = volume if isinstance(volume, np.ndarray) else np.asarray(volume)
     dtype = array.dtype
     if dtype.str[1:] in _READ_IN_PLACE:
@@ -206,15 +215,41 @@ def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[An
                 "pass them only with an array"
             )
         return os.fsdecode(volume), float(iso), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
-    array = _as_samples(volume)
+    array = _volume_3d(_as_samples(volume))
     spacing = _triple(spacing, "spacing", 1.0)
     origin = _triple(origin, "origin", 0.0)
     return array, float(iso), spacing, origin, _mapped_file(array)
 
 
+def _volume_3d(array: np.ndarray) -> np.ndarray:
+    """``array`` of shape ``(nz, ny, nx)``, or a view of its volume when
+    axes of size 1 come first (``(1, nz, ny, nx)`` from a batch or channel
+    axis, in any order: as the ``.npy`` reader takes such a file); other
+    shapes of more than 3 axes are a ``ValueError`` naming the axis (fewer
+    axes are refused by the library)."""
+    extra = array.shape[:-3] if array.ndim > 3 else ()
+    for axis, size in enumerate(extra):
+        if size != 1:
+            raise ValueError(
+                f"shape {tuple(array.shape)} is not one volume: axis {axis} has size "
+                f"{size}, not 1 (only axes of size 1 may come before (nz, ny, nx)); "
+                "pass one 3-D volume, e.g. volume[0]"
+            )
+    return array[(0,) * len(extra)] if extra else array
+
+
+def _flag(value: Any, name: str) -> bool:
+    """A boolean option: ``True``/``False`` or a numpy bool; anything
+    else (``"no"``, 1, None) is a ``TypeError`` naming ``name``, since a
+    truthy string or number would silently mean True."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise TypeError(f"{name} must be True or False, not {value!r}")
+
+
 def _options(method: str, inside: str, close: bool, threads: int) -> Tuple[Any, ...]:
     """The method, inside, close and threads arguments of the library's calls."""
-    return _method(method), inside, bool(close), _threads(threads)
+    return _method(method), inside, _flag(close, "close"), _threads(threads)
 
 
 def _triple(value: Any, name: str, default: float) -> Tuple[float, float, float]:
@@ -323,7 +358,7 @@ def extract(
     source = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
     vertices, triangles, vertex_normals, report, record = _tmc.extract(
-        *source, *options, bool(normals), *_select(series, segment)
+        *source, *options, _flag(normals, "normals"), *_select(series, segment)
     )
     mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
     mesh._record = record
@@ -361,7 +396,8 @@ def extract_to(
     array, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
     report = _tmc.extract_to(
-        array, os.fsdecode(output), *rest, *options, bool(normals), *_select(series, segment)
+        array, os.fsdecode(output), *rest, *options, _flag(normals, "normals"),
+        *_select(series, segment)
     )
     return json.loads(report)
 
@@ -410,8 +446,9 @@ def _label_args(
             if not fits32 and -(2**53) <= low and high <= 2**53:
                 volume = array.astype(np.float64)
     array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
-    rest = (chosen, operator.index(background), spacing3, origin3, mapped, bool(close),
-            _threads(threads), bool(normals), *_select(series, segment))
+    rest = (chosen, operator.index(background), spacing3, origin3, mapped,
+            _flag(close, "close"), _threads(threads), _flag(normals, "normals"),
+            *_select(series, segment))
     return array, rest
 
 
@@ -537,7 +574,7 @@ def extract_labels_to(
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment)
-    report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=bool(stats))
+    report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=_flag(stats, "stats"))
     return json.loads(report)
 
 
@@ -663,6 +700,7 @@ def marching_cubes(
         No surface at ``level`` (as scikit-image).
     """
     array = _as_samples(volume)
+    allow_degenerate = _flag(allow_degenerate, "allow_degenerate")
     if array.ndim != 3:
         raise ValueError(
             f"expected a 3-D array of shape (nz, ny, nx), found shape {list(array.shape)}"

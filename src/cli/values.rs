@@ -109,10 +109,20 @@ pub(crate) fn dtype(text: &str) -> Result<ScalarType, String> {
 /// `512M`, `4G`, `1T` (also `512MiB`, `4GB`: powers of 1024 either way).
 pub(crate) fn bytes(text: &str) -> Result<u64, String> {
     let t = text.trim();
-    let bad = || format!("'{text}' is not a byte count (e.g. 1048576, 512M, 4G)");
+    let bad = || {
+        format!(
+            "'{text}' is not a byte count (a whole number, optionally with K, M, G or T: e.g. 1048576, 512M, 4G)"
+        )
+    };
+    let too_large = || format!("'{text}' is too large");
     let digits = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
     let (number, suffix) = t.split_at(digits);
-    let number: u64 = number.parse().map_err(|_| bad())?;
+    let number: u64 = match number.parse() {
+        Ok(n) => n,
+        // All digits, but more than 64 bits hold.
+        Err(_) if digits > 0 => return Err(too_large()),
+        Err(_) => return Err(bad()),
+    };
     let shift = match suffix.trim().to_ascii_uppercase().as_str() {
         "" | "B" => 0,
         "K" | "KB" | "KIB" => 10,
@@ -121,9 +131,7 @@ pub(crate) fn bytes(text: &str) -> Result<u64, String> {
         "T" | "TB" | "TIB" => 40,
         _ => return Err(bad()),
     };
-    number
-        .checked_mul(1u64 << shift)
-        .ok_or_else(|| format!("'{text}' is too large"))
+    number.checked_mul(1u64 << shift).ok_or_else(too_large)
 }
 
 #[cfg(test)]
@@ -141,6 +149,14 @@ mod tests {
         assert!(bytes("M").is_err());
         assert!(bytes("1.5G").is_err());
         assert!(bytes("-1").is_err());
-        assert!(bytes("99999999999T").is_err());
+        assert_eq!(
+            bytes("99999999999T"),
+            Err("'99999999999T' is too large".into())
+        );
+        assert_eq!(
+            bytes("99999999999999999999"),
+            Err("'99999999999999999999' is too large".into())
+        );
+        assert!(bytes("1.5G").unwrap_err().contains("a whole number"));
     }
 }

@@ -5,10 +5,8 @@
 //! layer too (Ctrl-C must stop a run within half a second even when one
 //! layer of a dense volume with huge planes takes longer than that).
 
-use crate::volume::{Access, LentPlane, SampleSource, ScalarType, SharedPlane, SourceNotes};
-use crate::{Error, Grid, Result};
-use std::ops::Range;
-use std::path::Path;
+use crate::volume::{LentPlane, SampleSource, SharedPlane};
+use crate::{Error, Result};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Wraps a source: once `cancel` is set, [`SampleSource::read_plane`]
@@ -30,9 +28,15 @@ impl Cancellable<'_> {
 }
 
 impl SampleSource for Cancellable<'_> {
-    fn grid(&self) -> &Grid {
-        self.inner.grid()
-    }
+    crate::volume::forward_to_inner!(
+        grid,
+        advise,
+        check_unchanged,
+        data_files,
+        sample_bytes,
+        stored_type,
+        notes,
+    );
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
         if self.cancelled() {
@@ -55,31 +59,7 @@ impl SampleSource for Cancellable<'_> {
         self.inner.share_plane(z)
     }
 
-    fn advise(&self, planes: Range<usize>, access: Access) {
-        self.inner.advise(planes, access);
-    }
-
-    fn check_unchanged(&self) -> Result<()> {
-        self.inner.check_unchanged()
-    }
-
     fn interrupted(&self) -> bool {
         self.cancelled() || self.inner.interrupted()
-    }
-
-    fn data_files(&self) -> Vec<&Path> {
-        self.inner.data_files()
-    }
-
-    fn sample_bytes(&self) -> usize {
-        self.inner.sample_bytes()
-    }
-
-    fn stored_type(&self) -> Option<ScalarType> {
-        self.inner.stored_type()
-    }
-
-    fn notes(&self) -> SourceNotes {
-        self.inner.notes()
     }
 }

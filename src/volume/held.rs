@@ -9,10 +9,8 @@
 //! keeps alive the layers its slab's planes lie in, most of which the
 //! source's cache holds anyway.
 
-use super::{Access, Grid, LentPlane, SampleSource, ScalarType, SharedPlane, SourceNotes};
-use crate::Result;
+use super::{LentPlane, SampleSource, SharedPlane};
 use std::ops::Range;
-use std::path::Path;
 use std::sync::OnceLock;
 
 /// A source that lends planes `planes` of the wrapped source from the
@@ -39,13 +37,18 @@ impl<'a> HeldPlanes<'a> {
 }
 
 impl SampleSource for HeldPlanes<'_> {
-    fn grid(&self) -> &Grid {
-        self.inner.grid()
-    }
-
-    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
-        self.inner.read_plane(z, out)
-    }
+    super::forward_to_inner!(
+        grid,
+        read_plane,
+        share_plane,
+        advise,
+        check_unchanged,
+        interrupted,
+        data_files,
+        sample_bytes,
+        stored_type,
+        notes,
+    );
 
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
         if let Some(lent) = self.inner.lend_plane(z) {
@@ -57,37 +60,5 @@ impl SampleSource for HeldPlanes<'_> {
             let _ = slot.set(self.inner.share_plane(z)?);
         }
         slot.get()?.lent()
-    }
-
-    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
-        self.inner.share_plane(z)
-    }
-
-    fn advise(&self, planes: Range<usize>, access: Access) {
-        self.inner.advise(planes, access);
-    }
-
-    fn check_unchanged(&self) -> Result<()> {
-        self.inner.check_unchanged()
-    }
-
-    fn interrupted(&self) -> bool {
-        self.inner.interrupted()
-    }
-
-    fn data_files(&self) -> Vec<&Path> {
-        self.inner.data_files()
-    }
-
-    fn sample_bytes(&self) -> usize {
-        self.inner.sample_bytes()
-    }
-
-    fn stored_type(&self) -> Option<ScalarType> {
-        self.inner.stored_type()
-    }
-
-    fn notes(&self) -> SourceNotes {
-        self.inner.notes()
     }
 }

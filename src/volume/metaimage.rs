@@ -302,7 +302,7 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
                     };
                     samples(&slice_path, &file, slice_layout, header.ascii)
                 };
-                slices.push(slice().map_err(|e| from_header(path, &slice_path, e))?);
+                slices.push(slice().map_err(|e| e.in_data_file(path, &slice_path))?);
             }
             Data::Slices(slices)
         }
@@ -330,32 +330,11 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<MetaImageVol
                     samples(&data_path, &file, layout(offset), header.ascii)
                 }
             };
-            let volume = volume().map_err(|e| from_header(path, &data_path, e))?;
+            let volume = volume().map_err(|e| e.in_data_file(path, &data_path))?;
             Data::Volume(Box::new(volume))
         }
     };
     Ok(MetaImageVolume { grid, data })
-}
-
-/// `error`, met reading `data` (a data file that the header `header`
-/// names), as the user can follow it: naming the header they gave first,
-/// then the data file (`head.mhd: data file head.raw: ...`).
-fn from_header(header: &Path, data: &Path, error: Error) -> Error {
-    let prefix = format!("{}: data file {}", header.display(), data.display());
-    match error {
-        Error::Io { source, .. } => Error::Format(format!("{prefix}: {source}")),
-        Error::Format(what) => {
-            let own = format!("{}: ", data.display());
-            let what = what.strip_prefix(&own).unwrap_or(&what);
-            Error::Format(format!("{prefix}: {what}"))
-        }
-        Error::Invalid(what) => {
-            let own = format!("{}: ", data.display());
-            let what = what.strip_prefix(&own).unwrap_or(&what);
-            Error::Invalid(format!("{prefix}: {what}"))
-        }
-        other => other,
-    }
 }
 
 /// The samples of `layout` in `file` (opened from `path`): mapped, or

@@ -71,6 +71,7 @@ pub use regrid::{regrid, Regridded};
 pub use sample::{Sample, Threshold};
 pub use scalar::{decode_samples, decode_strided, encode_samples, Endian, ScalarType};
 pub use shared::SharedPlane;
+pub(crate) use source::forward_to_inner;
 pub use source::{Access, SampleSource};
 pub use strided::{StridedLayout, StridedVolume};
 pub use summary::{summarize, Suggestions, Summary, SummaryOptions};

@@ -9,7 +9,7 @@
 //! stride from the memory map. Supported dtypes: `u1 i1 u2 i2 u4 i4 f4 f8` in
 //! either byte order. The grid has unit spacing and zero origin.
 
-use super::raw::{Layout, Order, RawVolume};
+use super::raw::{compressed_error, compression_magic, Layout, Order, RawVolume};
 use super::{Grid, ScalarType};
 use crate::{Error, Result};
 use std::fs::File;
@@ -44,6 +44,9 @@ pub fn open(path: &Path) -> Result<RawVolume> {
         }
     })?;
     if &preamble[..6] != MAGIC {
+        if let Some(kind) = compression_magic(&preamble) {
+            return Err(compressed_error(path, kind, "a .npy file"));
+        }
         return Err(fail("not a .npy file (bad magic)".into()));
     }
     let (major, minor) = (preamble[6], preamble[7]);

@@ -1,9 +1,13 @@
 //! The NRRD reader: `.nrrd` (attached data) and `.nhdr` (detached data),
-//! dimension 3.
+//! dimension 3, or 4 with an axis of size 1.
 //!
 //! Understood fields: `type` (every NRRD name of 8-, 16- and 32-bit
 //! integers, `float`, `double`; 64-bit integers are refused, since samples
-//! become `f64`), `dimension` (must be 3), `sizes`, `endian`, `encoding`
+//! become `f64`), `dimension` (3, or 4 when an axis has size 1: that axis
+//! is left out, as the `.npy` and MetaImage readers leave out a unit
+//! axis; see `volume_axes`), `sizes`, `kinds` (an axis of size above 1
+//! whose kind is not spatial, `RGB-color`, `3-vector`, `list` ..., is
+//! refused: it would be read as x), `endian`, `encoding`
 //! (`raw`, memory-mapped; `gzip`/`gz` and `bzip2`/`bz2`, decompressed once
 //! into a mapped temporary file, see `spill`; `ascii`/`text`/`txt`, parsed
 //! into memory), `spacings` or `space directions`, `space
@@ -122,17 +126,8 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
     let scalar = header
         .scalar
         .ok_or_else(|| fail("missing 'type' field".into()))?;
-    match header.dimension {
-        Some(3) => {}
-        Some(d) => return Err(fail(format!("dimension {d} is not supported (need 3)"))),
-        None => return Err(fail("missing 'dimension' field".into())),
-    }
-    let directions = header.directions.clone().transpose().map_err(fail)?;
-    let dims = match header.sizes.as_deref() {
-        Some(&[x, y, z]) => [x, y, z],
-        Some(s) => return Err(fail(format!("'sizes' has {} values, need 3", s.len()))),
-        None => return Err(fail("missing 'sizes' field".into())),
-    };
+    let axes = volume_axes(&header).map_err(&fail)?;
+    let dims = axes.map(|a| header.sizes.as_deref().unwrap_or_default()[a]);
     let encoding = header
         .encoding
         .ok_or_else(|| fail("missing 'encoding' field".into()))?;
@@ -147,10 +142,23 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
         origin: header.origin.unwrap_or([0.0; 3]),
         direction: super::IDENTITY,
     };
-    if let Some(matrix) = directions {
+    if let Some(Ok(directions)) = &header.directions {
+        let mut matrix = [[0.0; 3]; 3];
+        for (j, &axis) in axes.iter().enumerate() {
+            let Some(v) = &directions[axis] else {
+                return Err(fail(format!(
+                    "'space directions' entry {} is 'none' (a non-spatial axis), which a 3-D volume cannot have",
+                    axis + 1
+                )));
+            };
+            for (i, row) in matrix.iter_mut().enumerate() {
+                row[j] = v[i];
+            }
+        }
         // The vectors' lengths are the spacing.
         set_direction(&mut grid, matrix).map_err(|e| fail(format!("'space directions': {e}")))?;
-    } else if let Some(spacings) = header.spacings {
+    } else if let Some(all) = &header.spacings {
+        let spacings = axes.map(|a| all[a]);
         if spacings.iter().all(|s| s.is_finite() && *s != 0.0) {
             // Axis j points along +e_j or, for a negative spacing, along
             // -e_j (a mirrored grid): the diagonal of the signed spacings.
@@ -177,7 +185,7 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
         line_skip: header.line_skip,
         byte_skip: header.byte_skip,
     };
-    let (files, start) = data_files(path, &header, consumed, dims[2])?;
+    let (files, start) = data_files(path, &header, consumed, dims[2], axes)?;
     let depth = dims[2] / files.len();
     let slab = Grid {
         dims: [dims[0], dims[1], depth],
@@ -185,7 +193,16 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
     };
     let slabs = files
         .iter()
-        .map(|file| open_data(path, file, start, slab, &format, cancel))
+        .map(|file| {
+            open_data(file, start, slab, &format, cancel).map_err(|e| {
+                // A detached data file: its errors name the header first.
+                if file == path {
+                    e
+                } else {
+                    e.in_data_file(path, file)
+                }
+            })
+        })
         .collect::<Result<Vec<_>>>()?;
     Ok(NrrdVolume {
         scalar,
@@ -243,12 +260,15 @@ fn read_header(path: &Path) -> Result<(Header, u64)> {
 
 /// The data files of `header` (read from `path`), each holding an equal
 /// slab of the `nz` z-planes, and the byte where the data starts in each
-/// (`consumed`, the end of the header, for attached data, else 0).
+/// (`consumed`, the end of the header, for attached data, else 0). `axes`
+/// are the header's axes that make the volume ([`volume_axes`]): a file's
+/// `subdim` counts the header's axes, the unit one left out included.
 fn data_files(
     path: &Path,
     header: &Header,
     consumed: u64,
     nz: usize,
+    axes: [usize; 3],
 ) -> Result<(Vec<PathBuf>, u64)> {
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     let dir = path.parent().unwrap_or(Path::new("."));
@@ -297,7 +317,15 @@ fn data_files(
     } else {
         "the 'data file' pattern"
     };
-    match subdim.unwrap_or(2) {
+    let n = header.dimension.unwrap_or(3);
+    let subdim = subdim.unwrap_or(n - 1);
+    // The volume's axes among the first `subdim` of the header's.
+    let volume_subdim = if subdim > n {
+        subdim
+    } else {
+        axes.iter().filter(|&&a| a < subdim).count()
+    };
+    match volume_subdim {
         2 if names.len() != nz => Err(fail(format!(
             "{what} names {} files, sizes need {nz} (one per z-slice)",
             names.len()
@@ -307,8 +335,108 @@ fn data_files(
             names.len()
         ))),
         2 | 3 => Ok((names, 0)),
-        s => Err(fail(format!(
-            "'data file' subdimension {s} is not supported (2: one slice per file, or 3)"
+        _ => Err(fail(format!(
+            "'data file' subdimension {subdim} is not supported (one slice per file, or a block of slices)"
         ))),
     }
+}
+
+/// The kinds of an axis that holds positions in space (`???` and `none`
+/// say nothing, and are taken as such too); every other NRRD kind
+/// (`RGB-color`, `3-vector`, `list`, `time`, ...) indexes components or
+/// samples of something else.
+fn spatial_kind(kind: &str) -> bool {
+    ["domain", "space", "???", "none"]
+        .iter()
+        .any(|k| kind.eq_ignore_ascii_case(k))
+}
+
+/// The three axes of the header's `sizes` that make the volume, in order
+/// (x, y, z): all three of a 3-D NRRD, or the axes of a 4-D NRRD but one of
+/// size 1 (as `.npy` and MetaImage read a unit 4th axis; a unit axis moves
+/// no sample). The axis left out is the unit axis marked non-spatial (a
+/// `kinds` entry that is not [`spatial_kind`], a `none` direction or a NaN
+/// spacing), else the last unit axis. Refused, naming the axis: an axis
+/// of size above 1 whose kind is not spatial (a colour, vector or list
+/// axis would be read as x), a 4-D NRRD with no unit axis, per-axis fields
+/// whose count is not `dimension`.
+fn volume_axes(header: &Header) -> std::result::Result<[usize; 3], String> {
+    let n = match header.dimension {
+        Some(n @ (3 | 4)) => n,
+        Some(d) => {
+            return Err(format!(
+                "dimension {d} is not supported (need 3, or 4 with an axis of size 1)"
+            ))
+        }
+        None => return Err("missing 'dimension' field".into()),
+    };
+    let count = |field: &str, len: Option<usize>, what: &str| match len {
+        Some(len) if len != n => Err(format!(
+            "'{field}' has {len} {what}, need {n} (one per axis)"
+        )),
+        _ => Ok(()),
+    };
+    count("spacings", header.spacings.as_ref().map(Vec::len), "values")?;
+    count("kinds", header.kinds.as_ref().map(Vec::len), "values")?;
+    match &header.directions {
+        Some(Ok(d)) => count("space directions", Some(d.len()), "vectors")?,
+        Some(Err(e)) => return Err(e.clone()),
+        None => {}
+    }
+    let sizes = match header.sizes.as_deref() {
+        Some(s) if s.len() == n => s,
+        Some(s) => return Err(format!("'sizes' has {} values, need {n}", s.len())),
+        None => return Err("missing 'sizes' field".into()),
+    };
+    let kind = |a: usize| header.kinds.as_ref().map(|k| k[a].as_str());
+    let non_spatial = |a: usize| {
+        kind(a).is_some_and(|k| !spatial_kind(k))
+            || matches!(&header.directions, Some(Ok(d)) if d[a].is_none())
+            || header.spacings.as_ref().is_some_and(|s| s[a].is_nan())
+    };
+    let sizes_text = || {
+        let v: Vec<String> = sizes.iter().map(usize::to_string).collect();
+        v.join(" ")
+    };
+    let mut axes: Vec<usize> = (0..n).collect();
+    if n == 4 {
+        let unit = |a: &usize| sizes[*a] == 1;
+        let dropped = axes
+            .iter()
+            .copied()
+            .filter(unit)
+            .find(|&a| non_spatial(a))
+            .or_else(|| axes.iter().copied().rfind(unit));
+        match dropped {
+            Some(a) => {
+                axes.remove(a);
+            }
+            None => {
+                let which = match (0..n).find(|&a| non_spatial(a)) {
+                    Some(a) => match kind(a) {
+                        Some(k) => format!("axis {} (kind '{k}') has size {}", a + 1, sizes[a]),
+                        None => format!("axis {} (non-spatial) has size {}", a + 1, sizes[a]),
+                    },
+                    None => "no axis has size 1".to_string(),
+                };
+                return Err(format!(
+                    "dimension 4 with sizes {} is not one volume: {which} (a 4-D NRRD is read when one axis has size 1); write one 3-D scalar volume (e.g. with teem's unu slice)",
+                    sizes_text()
+                ));
+            }
+        }
+    }
+    if let Some(&a) = axes
+        .iter()
+        .find(|&&a| sizes[a] > 1 && kind(a).is_some_and(|k| !spatial_kind(k)))
+    {
+        return Err(format!(
+            "axis {} has kind '{}' and size {} (sizes {}): a scalar volume is needed, with spatial ('domain' or 'space') axes; write one component (e.g. with teem's unu slice)",
+            a + 1,
+            kind(a).unwrap_or_default(),
+            sizes[a],
+            sizes_text()
+        ));
+    }
+    Ok([axes[0], axes[1], axes[2]])
 }

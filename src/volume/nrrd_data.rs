@@ -29,10 +29,9 @@ pub(crate) struct DataFormat {
 }
 
 /// Opens the samples of `grid` stored in `path` from byte `start` on (the
-/// end of the header for attached data, else 0). `header` is the NRRD
-/// header that names the file, for the error when it cannot be opened.
+/// end of the header for attached data, else 0). Errors name `path` only
+/// (the caller names the header first, see [`Error::in_data_file`]).
 pub(crate) fn open_data(
-    header: &Path,
     path: &Path,
     start: u64,
     grid: Grid,
@@ -42,17 +41,7 @@ pub(crate) fn open_data(
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     // A FIFO data file would block the open below.
     super::check_input_kind(path)?;
-    let file = File::open(path).map_err(|e| {
-        if path == header {
-            Error::io(path, e)
-        } else {
-            Error::Format(format!(
-                "{}: cannot open data file {}: {e}",
-                header.display(),
-                path.display()
-            ))
-        }
-    })?;
+    let file = File::open(path).map_err(|e| Error::io(path, e))?;
     let scalar = format.scalar;
     let data_len = data_bytes(grid.dims, scalar)
         .ok_or_else(|| fail(format!("sizes {} are too large", dims_text(grid.dims))))?;

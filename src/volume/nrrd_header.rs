@@ -87,15 +87,20 @@ pub(crate) struct Header {
     pub sizes: Option<Vec<usize>>,
     pub endian: Option<Endian>,
     pub encoding: Option<Encoding>,
-    /// From `spacings`, signed: a negative spacing makes positions
-    /// decrease along its axis, as teem (`nrrdSpacingCalculate` hands the
-    /// value on as it is) and ITK (index-to-physical with that spacing)
-    /// read it.
-    pub spacings: Option<[f64; 3]>,
-    /// From `space directions`: the vectors as the columns of a matrix, or
-    /// why they do not fit a 3-D grid (reported after a wrong `dimension`,
-    /// the likelier cause). Takes precedence over `spacings`.
-    pub directions: Option<Result<[[f64; 3]; 3], String>>,
+    /// From `spacings`, one per axis (NaN for a non-spatial one), signed:
+    /// a negative spacing makes positions decrease along its axis, as teem
+    /// (`nrrdSpacingCalculate` hands the value on as it is) and ITK
+    /// (index-to-physical with that spacing) read it. Their count is
+    /// checked against `dimension` once the header is read.
+    pub spacings: Option<Vec<f64>>,
+    /// From `space directions`: one entry per axis, a vector or `None` for
+    /// `none` (a non-spatial axis), or why the field cannot be parsed.
+    /// Checked against `dimension` and turned into a matrix once the
+    /// header is read. Takes precedence over `spacings`.
+    pub directions: Option<Result<Vec<Option<Vec<f64>>>, String>>,
+    /// From `kinds`: one NRRD kind per axis (`domain`, `space`,
+    /// `RGB-color`, `list`, ...), as written.
+    pub kinds: Option<Vec<String>>,
     pub origin: Option<[f64; 3]>,
     /// The `space` name (`left-posterior-superior`, ...), recorded only.
     pub space: Option<String>,
@@ -115,6 +120,7 @@ impl Default for Header {
             encoding: None,
             spacings: None,
             directions: None,
+            kinds: None,
             origin: None,
             space: None,
             line_skip: 0,
@@ -202,20 +208,23 @@ pub(crate) fn parse_line(line: &str, header: &mut Header) -> Result<(), String> 
             });
         }
         "spacings" => {
-            let values: Vec<&str> = value.split_whitespace().collect();
-            if values.len() != 3 {
-                return Err(format!("'spacings' has {} values, need 3", values.len()));
-            }
-            let mut spacing = [1.0; 3];
-            for (s, v) in spacing.iter_mut().zip(values) {
-                let x: f64 = v
-                    .parse()
-                    .map_err(|_| format!("bad 'spacings' value '{value}'"))?;
-                *s = x;
-            }
-            header.spacings = Some(spacing);
+            let spacings = value
+                .split_whitespace()
+                .map(|v| v.parse::<f64>())
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|_| format!("bad 'spacings' value '{value}'"))?;
+            header.spacings = Some(spacings);
         }
-        "space directions" => header.directions = Some(space_directions(value)),
+        "space directions" => {
+            header.directions = Some(
+                vectors(value)
+                    .filter(|v| v.iter().flatten().all(|v| v.len() == 3))
+                    .ok_or_else(|| {
+                        format!("bad 'space directions' '{value}' (need 3-vectors or 'none')")
+                    }),
+            )
+        }
+        "kinds" => header.kinds = Some(value.split_whitespace().map(String::from).collect()),
         "space origin" => {
             header.origin = Some(match vectors(value).as_deref() {
                 Some([Some(v)]) if v.len() == 3 => [v[0], v[1], v[2]],
@@ -270,34 +279,6 @@ fn scalar_type(name: &str) -> Result<ScalarType, String> {
         }
     };
     Ok(t)
-}
-
-/// Parses `space directions` into the matrix whose columns are the
-/// vectors (checked as a grid's directions by [`super::set_direction`]).
-fn space_directions(value: &str) -> Result<[[f64; 3]; 3], String> {
-    let vectors = vectors(value).ok_or_else(|| format!("bad 'space directions' '{value}'"))?;
-    if vectors.len() != 3 {
-        return Err(format!(
-            "'space directions' has {} vectors, need 3",
-            vectors.len()
-        ));
-    }
-    let mut matrix = [[0.0; 3]; 3];
-    for (j, v) in vectors.iter().enumerate() {
-        let Some(v) = v else {
-            return Err(format!(
-                "'space directions' entry {} is 'none' (a non-spatial axis), which a 3-D volume cannot have",
-                j + 1
-            ));
-        };
-        if v.len() != 3 {
-            return Err(format!("bad 'space directions' '{value}' (need 3-vectors)"));
-        }
-        for (i, row) in matrix.iter_mut().enumerate() {
-            row[j] = v[i];
-        }
-    }
-    Ok(matrix)
 }
 
 /// Parses a list of vectors `(a,b,c) (d,e,f) none ...`; `none` gives `None`.

@@ -176,7 +176,23 @@ pub fn open_selected(
             std::io::Error::new(std::io::ErrorKind::NotFound, "no such file or directory");
         return Err(crate::Error::io(path, missing));
     }
-    let format = Format::detect(path, false).ok_or_else(|| {
+    let format = Format::detect(path, false);
+    if format.is_none() && path.is_file() {
+        // `v.npy.gz`: a compressed file of a format read uncompressed. (A
+        // regular file only: opening a FIFO would block.)
+        let mut head = [0u8; 6];
+        let n = std::fs::File::open(path)
+            .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+            .unwrap_or(0);
+        if let Some(kind) = raw::compression_magic(&head[..n]) {
+            return Err(raw::compressed_error(
+                path,
+                kind,
+                "an uncompressed volume file",
+            ));
+        }
+    }
+    let format = format.ok_or_else(|| {
         crate::Error::Invalid(format!(
             "{}: unknown input format (expected .npy, .nrrd, .nhdr, .nii, .nii.gz, .hdr, .mhd, .mha, .vtk, .vti, .tif/.tiff, .dcm, .h5/.hdf5/.nxs, a Zarr store, a directory of TIFFs or DICOM files, or give --dims and --dtype for raw data)",
             path.display()

@@ -126,16 +126,7 @@ impl RawVolume {
         };
         let mut file = File::open(path).map_err(|e| Error::io(path, e))?;
         if let Some(kind) = compressed(path, &mut file) {
-            return Err(Error::Format(format!(
-                "{}: {kind}-compressed data, not raw samples: decompress it first (e.g. {})",
-                path.display(),
-                match kind {
-                    "gzip" => "gunzip -k",
-                    "bzip2" => "bunzip2 -k",
-                    "zstd" => "unzstd",
-                    _ => "unxz -k",
-                }
-            )));
+            return Err(compressed_error(path, kind, "raw samples"));
         }
         Ok(RawVolume::map_file(path, &file, layout)?.without_stated_grid())
     }
@@ -375,22 +366,58 @@ pub(crate) fn data_bytes(dims: [usize; 3], scalar: ScalarType) -> Option<u64> {
     })
 }
 
+/// The compressed formats tmc recognises by their first bytes, with the
+/// extension that names them.
+const COMPRESSED: [(&str, &str, &[u8]); 4] = [
+    ("gz", "gzip", b"\x1f\x8b"),
+    ("bz2", "bzip2", b"BZh"),
+    ("zst", "zstd", b"\x28\xb5\x2f\xfd"),
+    ("xz", "xz", b"\xfd7zXZ\x00"),
+];
+
+/// The compression whose magic starts `head` (`gzip`, `bzip2`, `zstd`,
+/// `xz`), if any.
+pub(crate) fn compression_magic(head: &[u8]) -> Option<&'static str> {
+    COMPRESSED
+        .iter()
+        .find(|(_, _, magic)| head.starts_with(magic))
+        .map(|(_, kind, _)| *kind)
+}
+
+/// The error for `path`, which holds `kind`-compressed data (see
+/// [`compression_magic`]) where `expected` was to be: what it is, and the
+/// command that decompresses it (keeping the file: `-k`, or `-c` into a
+/// new file when the name lacks the format's extension, which the tools
+/// would refuse).
+pub(crate) fn compressed_error(path: &Path, kind: &str, expected: &str) -> Error {
+    let (extension, tool) = match kind {
+        "gzip" => ("gz", "gunzip"),
+        "bzip2" => ("bz2", "bunzip2"),
+        "zstd" => ("zst", "unzstd"),
+        _ => ("xz", "unxz"),
+    };
+    let name = path.display();
+    let command = if crate::files::lowercase_extension(path) == extension {
+        format!("{tool} -k {name}")
+    } else {
+        format!("{tool} -c {name} > decompressed-file")
+    };
+    Error::Format(format!(
+        "{name}: {kind}-compressed data, not {expected}: decompress it first (e.g. {command})"
+    ))
+}
+
 /// The compression of `file` when its name's extension says it and its
 /// first bytes agree (`gzip`, `bzip2`, `zstd`, `xz`); `None` otherwise, the
 /// file read from its start again.
 fn compressed(path: &Path, file: &mut File) -> Option<&'static str> {
     use std::io::{Read, Seek};
-    let (kind, magic): (&str, &[u8]) = match crate::files::lowercase_extension(path).as_str() {
-        "gz" => ("gzip", b"\x1f\x8b"),
-        "bz2" => ("bzip2", b"BZh"),
-        "zst" => ("zstd", b"\x28\xb5\x2f\xfd"),
-        "xz" => ("xz", b"\xfd7zXZ\x00"),
-        _ => return None,
-    };
+    let extension = crate::files::lowercase_extension(path);
+    let (_, kind, _) = COMPRESSED.iter().find(|(e, _, _)| *e == extension)?;
     let mut head = [0u8; 6];
     let n = file.read(&mut head).ok()?;
     file.rewind().ok()?;
-    head[..n].starts_with(magic).then_some(kind)
+    (compression_magic(&head[..n]) == Some(*kind)).then_some(*kind)
 }
 
 /// `dims` as `XxYxZ`.

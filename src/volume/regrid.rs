@@ -8,11 +8,9 @@
 //! and the position of sample (0, 0, 0) change. The samples are untouched,
 //! so every other question is passed on to the source.
 
-use super::{Access, LentPlane, SampleSource, ScalarType, SharedPlane, SourceNotes, ValueFrom};
+use super::{SampleSource, SourceNotes, ValueFrom};
 use crate::grid::Grid;
 use crate::{Error, Result};
-use std::ops::Range;
-use std::path::Path;
 
 /// A source read on another grid (see the module documentation).
 pub struct Regridded {
@@ -74,44 +72,20 @@ fn join([x, y, z]: [f64; 3]) -> String {
 }
 
 impl SampleSource for Regridded {
+    super::forward_to_inner!(
+        read_plane,
+        lend_plane,
+        share_plane,
+        advise,
+        check_unchanged,
+        interrupted,
+        data_files,
+        sample_bytes,
+        stored_type,
+    );
+
     fn grid(&self) -> &Grid {
         &self.grid
-    }
-
-    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
-        self.inner.read_plane(z, out)
-    }
-
-    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
-        self.inner.lend_plane(z)
-    }
-
-    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
-        self.inner.share_plane(z)
-    }
-
-    fn advise(&self, planes: Range<usize>, access: Access) {
-        self.inner.advise(planes, access);
-    }
-
-    fn check_unchanged(&self) -> Result<()> {
-        self.inner.check_unchanged()
-    }
-
-    fn interrupted(&self) -> bool {
-        self.inner.interrupted()
-    }
-
-    fn data_files(&self) -> Vec<&Path> {
-        self.inner.data_files()
-    }
-
-    fn sample_bytes(&self) -> usize {
-        self.inner.sample_bytes()
-    }
-
-    fn stored_type(&self) -> Option<ScalarType> {
-        self.inner.stored_type()
     }
 
     fn notes(&self) -> SourceNotes {

@@ -104,3 +104,70 @@ pub enum Access {
     /// This slab has read them for the last time: release the pages.
     Done,
 }
+
+/// Implements the named [`SampleSource`] methods of a source that wraps
+/// another, in its field `inner`, by passing each call on unchanged: the
+/// wrappers (`HeldPlanes`, `Regridded`, `Cancellable`) list the methods
+/// they do not change instead of writing each forwarding body again, and
+/// write the others. Used inside the `impl SampleSource for ... { }` block.
+macro_rules! forward_to_inner {
+    ($($method:ident),+ $(,)?) => {
+        $($crate::volume::forward_to_inner!(@ $method);)+
+    };
+    (@ grid) => {
+        fn grid(&self) -> &$crate::Grid {
+            self.inner.grid()
+        }
+    };
+    (@ read_plane) => {
+        fn read_plane(&self, z: usize, out: &mut [f64]) -> $crate::Result<()> {
+            self.inner.read_plane(z, out)
+        }
+    };
+    (@ lend_plane) => {
+        fn lend_plane(&self, z: usize) -> Option<$crate::volume::LentPlane<'_>> {
+            self.inner.lend_plane(z)
+        }
+    };
+    (@ share_plane) => {
+        fn share_plane(&self, z: usize) -> Option<$crate::volume::SharedPlane> {
+            self.inner.share_plane(z)
+        }
+    };
+    (@ advise) => {
+        fn advise(&self, planes: ::std::ops::Range<usize>, access: $crate::volume::Access) {
+            self.inner.advise(planes, access);
+        }
+    };
+    (@ check_unchanged) => {
+        fn check_unchanged(&self) -> $crate::Result<()> {
+            self.inner.check_unchanged()
+        }
+    };
+    (@ interrupted) => {
+        fn interrupted(&self) -> bool {
+            self.inner.interrupted()
+        }
+    };
+    (@ data_files) => {
+        fn data_files(&self) -> Vec<&::std::path::Path> {
+            self.inner.data_files()
+        }
+    };
+    (@ sample_bytes) => {
+        fn sample_bytes(&self) -> usize {
+            self.inner.sample_bytes()
+        }
+    };
+    (@ stored_type) => {
+        fn stored_type(&self) -> Option<$crate::volume::ScalarType> {
+            self.inner.stored_type()
+        }
+    };
+    (@ notes) => {
+        fn notes(&self) -> $crate::volume::SourceNotes {
+            self.inner.notes()
+        }
+    };
+}
+pub(crate) use forward_to_inner;

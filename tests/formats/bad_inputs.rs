@@ -85,7 +85,29 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
                 gz.resize(2000, 0);
                 args(&file(d, "v.raw.gz", &gz), U16)
             },
-            "v.raw.gz: gzip-compressed data, not raw samples: decompress it first (e.g. gunzip -k)",
+            "v.raw.gz: gzip-compressed data, not raw samples: decompress it first (e.g. gunzip -k ",
+            1,
+        ),
+        (
+            // Said only "bad magic".
+            "gzip-compressed .npy named .npy",
+            |d| {
+                let mut gz = vec![0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3];
+                gz.resize(200, 0);
+                args(&file(d, "v.npy", &gz), &["--iso", "0"])
+            },
+            "v.npy: gzip-compressed data, not a .npy file: decompress it first (e.g. gunzip -c ",
+            1,
+        ),
+        (
+            // Said "unknown input format".
+            "gzip-compressed .npy named .npy.gz",
+            |d| {
+                let mut gz = vec![0x1f, 0x8b, 8, 0, 0, 0, 0, 0, 0, 3];
+                gz.resize(200, 0);
+                args(&file(d, "v.npy.gz", &gz), &["--iso", "0"])
+            },
+            "v.npy.gz: gzip-compressed data, not an uncompressed volume file: decompress it first (e.g. gunzip -k ",
             1,
         ),
         (

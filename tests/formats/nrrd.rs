@@ -229,14 +229,20 @@ fn bad_headers_and_data_give_one_line_errors() {
             "nrrd_detached_rot_f64.nhdr",
             "data file: nrrd_detached_rot_f64.raw",
             "data file: elsewhere.raw",
-            &["cannot open data file", "elsewhere.raw"],
+            &[
+                "nrrd_detached_rot_f64.nhdr: data file ",
+                "elsewhere.raw: No such file",
+            ],
         ),
         (
             "nrrd_list_i8",
             "nrrd_list_i8.nhdr",
             "nrrd_list_i8_3.raw",
             "nrrd_list_i8_missing.raw",
-            &["cannot open data file", "nrrd_list_i8_missing.raw"],
+            &[
+                "nrrd_list_i8.nhdr: data file ",
+                "nrrd_list_i8_missing.raw: No such file",
+            ],
         ),
         (
             "nrrd_list_i8",
@@ -310,8 +316,13 @@ fn bad_data_files_give_one_line_errors() {
     let gz = d.join("nrrd_detached_gz_u16.raw.gz");
     let bytes = fs::read(&gz).unwrap();
     fs::write(&gz, &bytes[..bytes.len() / 2]).unwrap();
-    let e = open_err(&d.join("nrrd_detached_gz_u16.nhdr"));
-    assert!(e.contains("nrrd_detached_gz_u16.raw.gz: "), "{e}");
+    let nhdr = d.join("nrrd_detached_gz_u16.nhdr");
+    let e = open_err(&nhdr);
+    // The header the user gave first, then the data file.
+    assert!(
+        e.starts_with(&format!("{}: data file {}: ", nhdr.display(), gz.display())),
+        "{e}"
+    );
     assert!(e.contains("gzip data"), "{e}");
 
     // A LIST slice file too short for its slice.
@@ -319,8 +330,16 @@ fn bad_data_files_give_one_line_errors() {
     let slice = d.join("nrrd_list_i8_2.raw");
     let bytes = fs::read(&slice).unwrap();
     fs::write(&slice, &bytes[..bytes.len() - 1]).unwrap();
-    let e = open_err(&d.join("nrrd_list_i8.nhdr"));
-    assert!(e.contains("nrrd_list_i8_2.raw: file has 83 bytes"), "{e}");
+    let nhdr = d.join("nrrd_list_i8.nhdr");
+    let e = open_err(&nhdr);
+    assert!(
+        e.starts_with(&format!(
+            "{}: data file {}: file has 83 bytes",
+            nhdr.display(),
+            slice.display()
+        )),
+        "{e}"
+    );
 
     // A pattern file with fewer samples than its skip-to-the-end needs.
     copy_set(d, "nrrd_pattern_f64");
@@ -436,4 +455,127 @@ fn ascii_values_must_fit_the_declared_type() {
         };
         assert_eq!(all_samples(vol.as_ref())[63], want, "{type_name}");
     }
+}
+
+/// A 4-D NRRD with an axis of size 1 (a channel or time axis left by a
+/// pipeline, first or last) is its 3-D volume: the same grid and samples
+/// as the 3-D file, whichever unit axis, attached or a `LIST` of slices
+/// (whose default subdimension, 3, counts the unit axis).
+#[test]
+fn four_d_with_a_unit_axis_is_the_volume() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let same = |original: &Path, edited: &Path| {
+        let (a, b) = (volume::open(original, None).unwrap(), {
+            volume::open(edited, None).unwrap_or_else(|e| panic!("{e}"))
+        });
+        assert_eq!(a.grid(), b.grid(), "{}", edited.display());
+        assert_eq!(all_samples(&*a), all_samples(&*b), "{}", edited.display());
+    };
+    for (sizes, spacings, kinds) in [
+        (
+            "1 9 7 6",
+            "nan 0.5 1 2",
+            "kinds: list domain domain domain\n",
+        ),
+        ("9 7 6 1", "0.5 1 2 nan", ""),
+        (
+            "9 7 6 1",
+            "0.5 1 2 1",
+            "kinds: domain domain domain domain\n",
+        ),
+        ("9 7 1 6", "0.5 1 nan 2", ""),
+    ] {
+        copy_set(d, "nrrd_raw_le_f32");
+        let path = d.join("nrrd_raw_le_f32.nrrd");
+        edit(&path, "dimension: 3", "dimension: 4");
+        edit(&path, "sizes: 9 7 6\n", &format!("sizes: {sizes}\n{kinds}"));
+        edit(&path, "spacings: 0.5 1 2", &format!("spacings: {spacings}"));
+        same(&data_dir().join("nrrd_raw_le_f32.nrrd"), &path);
+    }
+    for (sizes, directions) in [
+        ("1 9 7 6", "none (0.5,0,0) (0,1,0) (0,0,2)"),
+        ("9 7 6 1", "(0.5,0,0) (0,1,0) (0,0,2) none"),
+    ] {
+        copy_set(d, "nrrd_list_i8");
+        let path = d.join("nrrd_list_i8.nhdr");
+        edit(&path, "dimension: 3", "dimension: 4");
+        edit(&path, "sizes: 9 7 6", &format!("sizes: {sizes}"));
+        edit(&path, "(0.5,0,0) (0,1,0) (0,0,2)", directions);
+        same(&data_dir().join("nrrd_list_i8.nhdr"), &path);
+    }
+}
+
+/// Other 4-D shapes, and a 3-D NRRD with a colour, vector or list axis
+/// (which would be read as x), are refused in one line naming the axis.
+#[test]
+fn non_spatial_axes_are_refused_naming_them() {
+    let cases: &[(&str, &str, &[&str])] = &[
+        (
+            "3 9 7 6",
+            "kinds: RGB-color domain domain domain\n",
+            &[
+                "sizes 3 9 7 6 is not one volume",
+                "axis 1 (kind 'RGB-color') has size 3",
+            ],
+        ),
+        (
+            "9 7 6 2",
+            "",
+            &["sizes 9 7 6 2 is not one volume", "no axis has size 1"],
+        ),
+        (
+            "3 7 6",
+            "kinds: RGB-color domain domain\n",
+            &[
+                "axis 1 has kind 'RGB-color' and size 3",
+                "a scalar volume is needed",
+            ],
+        ),
+        (
+            "9 7 4",
+            "kinds: domain domain 3-vector\n",
+            &["axis 3 has kind '3-vector' and size 4"],
+        ),
+        (
+            "9 3 6",
+            "kinds: space list space\n",
+            &["axis 2 has kind 'list'"],
+        ),
+        (
+            "9 7 6",
+            "kinds: domain domain\n",
+            &["'kinds' has 2 values, need 3 (one per axis)"],
+        ),
+        (
+            "9 7 6 1",
+            "",
+            &["'spacings' has 3 values, need 4 (one per axis)"],
+        ),
+    ];
+    for (sizes, kinds, phrases) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        copy_set(dir.path(), "nrrd_raw_le_f32");
+        let path = dir.path().join("nrrd_raw_le_f32.nrrd");
+        let dimension = sizes.split(' ').count();
+        edit(&path, "dimension: 3", &format!("dimension: {dimension}"));
+        edit(&path, "sizes: 9 7 6\n", &format!("sizes: {sizes}\n{kinds}"));
+        if dimension == 4 && !phrases[0].starts_with("'spacings'") {
+            edit(&path, "spacings: 0.5 1 2", "spacings: 0.5 1 2 1");
+        }
+        let e = open_err(&path);
+        for phrase in *phrases {
+            assert!(e.contains(phrase), "{sizes} {kinds}: {e}");
+        }
+    }
+    // A non-spatial kind on an axis of size 1 moves no sample: read.
+    let dir = tempfile::tempdir().unwrap();
+    let path = ascii_nrrd(dir.path(), "uint8", "1");
+    edit(
+        &path,
+        "sizes: 4 4 4",
+        "sizes: 4 16 1\nkinds: domain domain RGB-color",
+    );
+    let vol = volume::open(&path, None).unwrap();
+    assert_eq!(vol.grid().dims, [4, 16, 1]);
 }

@@ -679,7 +679,7 @@ fn nrrd_bad_files_give_errors() {
         (
             "detached",
             with("endian", Some("endian: little\ndata file: v.raw")),
-            "cannot open data file",
+            "detached.nrrd: data file ",
         ),
         (
             "directions",

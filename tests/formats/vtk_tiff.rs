@@ -308,3 +308,62 @@ fn multi_page_files_in_a_stack_are_refused() {
         expect_err(&path, "a.tif: has more than one page");
     }
 }
+
+/// `CELL_DATA` and its arrays before the point scalars are skipped, as
+/// VTK's reader leaves them aside: binary arrays whose bytes hold line
+/// breaks and a `POINT_DATA` line, a `FIELD`, vectors, and in an ascii
+/// file scalars and colour scalars over several lines. The volume is the
+/// file's without them (same grid, same samples).
+#[test]
+fn legacy_vtk_cell_data_before_point_data_is_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    let cells = 8 * 6 * 5;
+    // Bytes that look like header lines, where a line reader would stop.
+    let noise = |n: usize| -> Vec<u8> {
+        b"\nPOINT_DATA 9\nSCALARS x float\n"
+            .iter()
+            .copied()
+            .cycle()
+            .take(n)
+            .collect()
+    };
+    let mut binary =
+        format!("CELL_DATA {cells}\nSCALARS c float 1\nLOOKUP_TABLE default\n").into_bytes();
+    binary.extend(noise(cells * 4));
+    binary.extend(b"\nVECTORS v double\n");
+    binary.extend(noise(cells * 3 * 8));
+    binary.extend(format!("\nFIELD f 2\na 2 {cells} int\n").as_bytes());
+    binary.extend(noise(cells * 2 * 4));
+    binary.extend(format!("\nb 1 {cells} unsigned_char\n").as_bytes());
+    binary.extend(noise(cells));
+    binary.push(b'\n');
+
+    let mut ascii = format!("CELL_DATA {cells}\nSCALARS c float\nLOOKUP_TABLE default\n");
+    for i in 0..cells {
+        ascii.push_str(&format!("{i}.5{}", if i % 9 == 8 { "\n" } else { " " }));
+    }
+    ascii.push_str("\nCOLOR_SCALARS rgb 3\n");
+    for _ in 0..cells {
+        ascii.push_str("0.25 0.5 1\n");
+    }
+
+    for (name, block) in [
+        ("vt_legacy_bin.vtk", binary),
+        ("vt_legacy_ascii.vtk", ascii.into_bytes()),
+    ] {
+        let original = std::fs::read(data(name)).unwrap();
+        let at = original
+            .windows(10)
+            .position(|w| w == b"POINT_DATA")
+            .unwrap();
+        let mut edited = original[..at].to_vec();
+        edited.extend(&block);
+        edited.extend(&original[at..]);
+        let path = dir.path().join(name);
+        std::fs::write(&path, edited).unwrap();
+        let want = volume::open(&data(name), None).unwrap();
+        let got = volume::open(&path, None).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(want.grid(), got.grid(), "{name}");
+        assert_eq!(planes(&*want), planes(&*got), "{name}");
+    }
+}

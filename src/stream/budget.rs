@@ -98,11 +98,30 @@ pub fn plan(
         }
     }
     let needed = estimate(plane_len, threads, MIN_DEPTH.min(depth), threads);
+    let workers = match threads {
+        1 => "1 worker".to_string(),
+        n => format!("{n} workers"),
+    };
+    let bytes = match max {
+        1 => "1 byte".to_string(),
+        n => format!("{n} bytes"),
+    };
     Err(Error::OutOfMemory(format!(
-        "--max-memory {max} bytes is too small: {threads} worker(s) on planes of {plane_len} samples need about {needed} bytes (one slab of {} layers each, plus {} MiB of buffers); allow more memory or use fewer --threads",
+        "--max-memory of {bytes} ({}) is too small: {workers} on planes of {plane_len} samples need about {} (one slab of {} layers each, plus {} MiB of buffers); allow at least that{}",
+        mebibytes(u128::from(max)),
+        mebibytes(needed),
         MIN_DEPTH.min(depth),
-        FIXED_BYTES >> 20
+        FIXED_BYTES >> 20,
+        match threads {
+            1 => "",
+            _ => ", or use fewer --threads",
+        }
     )))
+}
+
+/// `bytes` in MiB with one decimal, for messages.
+fn mebibytes(bytes: u128) -> String {
+    format!("{:.1} MiB", bytes as f64 / f64::from(1u32 << 20))
 }
 
 #[cfg(test)]

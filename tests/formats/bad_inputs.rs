@@ -340,7 +340,7 @@ fn cases() -> Vec<(&'static str, Setup, &'static str, i32)> {
                 let rest = ["--iso", "0", "--threads", "2", "--max-memory", "1M"];
                 args(&sphere_npy(d, "ball.npy", [8, 8, 8]), &rest)
             },
-            "--max-memory 1048576 bytes is too small",
+            "--max-memory of 1048576 bytes (1.0 MiB) is too small: 2 workers",
             1,
         ),
         (

@@ -19,12 +19,11 @@ use super::parts::layer_range;
 use super::schedule::Schedule;
 use super::seam::Seam;
 use super::threads::{default_depth, thread_pool, worker_threads};
-use crate::grid::Grid;
 use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink};
 use crate::normals::{has_pending, FillPending};
 use crate::params::{ExtractParams, PipelineOptions, Progress, VertexValues};
 use crate::slab::{chunk_bytes, process_slab, Spares};
-use crate::volume::{Access, HeldPlanes, LentPlane, Padded, SampleSource, ScalarType, SharedPlane};
+use crate::volume::{Access, HeldPlanes, Padded, SampleSource};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
 use std::sync::atomic::Ordering;
@@ -394,41 +393,20 @@ struct KeepResident<'a> {
 }
 
 impl SampleSource for KeepResident<'_> {
-    fn grid(&self) -> &Grid {
-        self.inner.grid()
-    }
-
-    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
-        self.inner.read_plane(z, out)
-    }
-
-    fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
-        self.inner.lend_plane(z)
-    }
-
-    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
-        self.inner.share_plane(z)
-    }
+    crate::volume::forward_to_inner!(
+        grid,
+        read_plane,
+        lend_plane,
+        share_plane,
+        check_unchanged,
+        interrupted,
+        sample_bytes,
+        stored_type,
+    );
 
     fn advise(&self, planes: Range<usize>, access: Access) {
         if access != Access::Done {
             self.inner.advise(planes, access);
         }
-    }
-
-    fn check_unchanged(&self) -> Result<()> {
-        self.inner.check_unchanged()
-    }
-
-    fn interrupted(&self) -> bool {
-        self.inner.interrupted()
-    }
-
-    fn sample_bytes(&self) -> usize {
-        self.inner.sample_bytes()
-    }
-
-    fn stored_type(&self) -> Option<ScalarType> {
-        self.inner.stored_type()
     }
 }

@@ -17,6 +17,7 @@ mod normals;
 mod oracle_selftest;
 mod real_data;
 mod shapes;
+mod soak;
 mod streaming;
 mod synth;
 mod ties;

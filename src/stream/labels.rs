@@ -167,7 +167,27 @@ impl Lookup {
 struct Scratch {
     codes: Vec<u16>,
     indicator: Vec<u8>,
+    /// The labels' runs in the slab's own planes, in the order coded.
+    runs: Vec<LabelRun>,
+    /// The same, ordered by label (stable: in coded order within one).
+    by_label: Vec<LabelRun>,
 }
+
+/// A run of one label's samples along x in one of a slab's own planes:
+/// label number `code`, plane `k` of the slab (from `layers.start`), row
+/// `y`, columns `x[0]..x[1]`.
+#[derive(Clone, Copy, Default)]
+struct LabelRun {
+    code: u16,
+    k: usize,
+    y: usize,
+    x: [usize; 2],
+}
+
+/// Samples of a slab's own planes per run kept (a run takes 32 bytes, so
+/// at most a byte a sample, and at least 1,024 runs): a slab with more
+/// runs, a map of short runs, builds its indicators from the codes.
+const RUNS_PER_SAMPLE: usize = 32;
 
 /// A label's rectangle in a slab's planes: inclusive x and y bounds.
 #[derive(Clone, Copy)]
@@ -219,6 +239,12 @@ fn label_slab(
     let codes = &mut scratch.codes[..planes * area];
     let mut rects: Vec<Option<Rect>> = vec![None; params.len()];
     let mut values = Vec::new();
+    // The runs, while there are few enough (see `RUNS_PER_SAMPLE`).
+    let slab_planes = layers.len() + 1;
+    let most_runs = (slab_planes * area / RUNS_PER_SAMPLE).max(1024);
+    let runs = &mut scratch.runs;
+    runs.clear();
+    let mut few_runs = true;
     for (k, z) in (codes_from..=codes_to).enumerate() {
         let plane = &mut codes[k * area..(k + 1) * area];
         // Only the slab's own planes bound a label's cells.
@@ -238,6 +264,16 @@ fn label_slab(
                     Some(rect) => rect.grow(run, y),
                     slot => *slot = Some(Rect { x: run, y: [y, y] }),
                 }
+                if few_runs {
+                    few_runs = runs.len() < most_runs;
+                    let k = z - layers.start;
+                    runs.push(LabelRun {
+                        code,
+                        k,
+                        y,
+                        x: [x, end],
+                    });
+                }
             }
             Ok(())
         })?;
@@ -252,8 +288,17 @@ fn label_slab(
     // The planes are coded: the source's pages may go (the slab above
     // releases the last plane, as in the slab loop).
     source.advise(layers.start..layers.end, Access::Done);
-    let slab_planes = layers.len() + 1;
     let skip = (layers.start - codes_from) * area;
+    // Each label's runs together, from `starts[code - 1]` on.
+    let starts = match few_runs {
+        true => Some(group_by_label(
+            &scratch.runs,
+            &mut scratch.by_label,
+            params.len(),
+        )),
+        false => None,
+    };
+    let by_label = &scratch.by_label;
     let codes = &*codes;
     let indicator = &mut scratch.indicator;
     // With normals, every label's indicator over the whole planes: ties
@@ -277,15 +322,6 @@ fn label_slab(
         let xs = rect.x[0].saturating_sub(1)..(rect.x[1] + 2).min(nx);
         let ys = rect.y[0].saturating_sub(1)..(rect.y[1] + 2).min(ny);
         let (wx, wy) = (xs.len(), ys.len());
-        indicator.clear();
-        make_room(indicator, slab_planes * wx * wy, "a label's indicator")?;
-        for k in 0..slab_planes {
-            for y in ys.clone() {
-                let row = &codes[skip + k * area + y * nx..][xs.clone()];
-                // Without a branch, so that it runs in vector registers.
-                indicator.extend(row.iter().map(|&c| indicator_of(c, code)));
-            }
-        }
         // Ties are the border's, where the window reaches it.
         let ties = close
             && (xs.start == 0
@@ -294,6 +330,27 @@ fn label_slab(
                 || ys.end == ny
                 || layers.start == 0
                 || layers.end == nz - 1);
+        indicator.clear();
+        make_room(indicator, slab_planes * wx * wy, "a label's indicator")?;
+        match &starts {
+            // Zeros, then the label's runs: the codes are not read again.
+            Some(starts) if !ties => {
+                indicator.resize(slab_planes * wx * wy, 0);
+                for run in &by_label[starts[i]..starts[i + 1]] {
+                    let row = (run.k * wy + run.y - ys.start) * wx;
+                    indicator[row + run.x[0] - xs.start..row + run.x[1] - xs.start].fill(1);
+                }
+            }
+            _ => {
+                for k in 0..slab_planes {
+                    for y in ys.clone() {
+                        let row = &codes[skip + k * area + y * nx..][xs.clone()];
+                        // Without a branch, so that it runs in vector registers.
+                        indicator.extend(row.iter().map(|&c| indicator_of(c, code)));
+                    }
+                }
+            }
+        }
         let window = Window {
             full: grid,
             offset: [xs.start, ys.start],
@@ -344,6 +401,28 @@ fn label_slab(
         results.push(result);
     }
     Ok(results)
+}
+
+/// Orders `runs` by label number into `out` (a counting sort, stable) and
+/// returns where each label's begin: label number `c`'s runs are
+/// `out[starts[c - 1]..starts[c]]`.
+fn group_by_label(runs: &[LabelRun], out: &mut Vec<LabelRun>, labels: usize) -> Vec<usize> {
+    let mut starts = vec![0; labels + 1];
+    for run in runs {
+        starts[usize::from(run.code)] += 1;
+    }
+    for c in 1..=labels {
+        starts[c] += starts[c - 1];
+    }
+    let mut next = starts.clone();
+    out.clear();
+    out.resize(runs.len(), LabelRun::default());
+    for &run in runs {
+        let at = &mut next[usize::from(run.code) - 1];
+        out[*at] = run;
+        *at += 1;
+    }
+    starts
 }
 
 /// A sample's byte in a label's indicator: 1 on label `code`, 2 on a tie

@@ -23,20 +23,19 @@
 //! and one label's indicator (1 byte per sample of its rectangle), whatever
 //! the number of labels; both are kept for the worker's next slab.
 
+use super::label_codes::{
+    code_planes, group_by_label, window_ties, LabelRun, Lookup, Rect, RUNS_PER_SAMPLE, TIE,
+};
 use super::pass::{run_pass, SlabWork};
 use crate::error::make_room;
 use crate::grid::Grid;
 use crate::mesh::{Chunk, MeshSink};
 use crate::params::{ExtractParams, Inside, PipelineOptions};
 use crate::slab::{process_window, PerVertex, Spares, Window};
-use crate::volume::{plane_runs, Access, LentPlane, SampleSource};
+use crate::volume::{Access, LentPlane, SampleSource};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
 use std::sync::{Mutex, PoisonError};
-
-/// The code of `--close`'s border of NaN samples (a tie: outside every
-/// label, as in each label's padded indicator).
-const TIE: u16 = u16::MAX;
 
 pub use crate::volume::MOST_LABELS;
 
@@ -99,7 +98,14 @@ pub fn extract_labels_to(
     let run = |source: &dyn SampleSource, layers: Range<usize>, spares: &Spares| {
         let take = || scratch.lock().unwrap_or_else(PoisonError::into_inner).pop();
         let mut buffers = take().unwrap_or_default();
-        let result = label_slab(source, &lookup, &all, layers, spares, &mut buffers);
+        let result = label_slab(
+            source,
+            &lookup,
+            &all,
+            layers,
+            (spares, RUNS_PER_SAMPLE),
+            &mut buffers,
+        );
         scratch
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
@@ -117,50 +123,6 @@ pub fn extract_labels_to(
     run_pass(source, &all, options, part, sinks, Some(work))
 }
 
-/// The wanted labels and their numbers (from 1): `(label, number)`
-/// sorted by label, and for labels from 0 to 65535 the number by value.
-struct Lookup {
-    sorted: Vec<(i64, u16)>,
-    /// `direct[l]`: the number of label `l`, 0 for none (up to the
-    /// largest wanted label below 65536).
-    direct: Vec<u16>,
-}
-
-impl Lookup {
-    fn new(sorted: Vec<(i64, u16)>) -> Self {
-        let small = |&&(l, _): &&(i64, u16)| (0..1 << 16).contains(&l);
-        let len = sorted
-            .iter()
-            .filter(small)
-            .map(|&(l, _)| l as usize + 1)
-            .max()
-            .unwrap_or(0);
-        let mut direct = vec![0; len];
-        for &(l, code) in sorted.iter().filter(small) {
-            direct[l as usize] = code;
-        }
-        Lookup { sorted, direct }
-    }
-
-    /// The code of value `v`: its label's number (from 1), 0 for any
-    /// other value (NaN too: no label).
-    fn code_of(&self, v: f64) -> u16 {
-        // Whole numbers in i64's range convert exactly; anything else is
-        // no label (`as` saturates, and the comparison catches it).
-        let l = v as i64;
-        if l as f64 != v {
-            return 0;
-        }
-        if let Some(&code) = usize::try_from(l).ok().and_then(|i| self.direct.get(i)) {
-            return code;
-        }
-        match self.sorted.binary_search_by_key(&l, |&(label, _)| label) {
-            Ok(k) => self.sorted[k].1,
-            Err(_) => 0,
-        }
-    }
-}
-
 /// A worker's buffers for a slab's codes and a label's indicator, kept
 /// from one slab to the next.
 #[derive(Default)]
@@ -173,44 +135,16 @@ struct Scratch {
     by_label: Vec<LabelRun>,
 }
 
-/// A run of one label's samples along x in one of a slab's own planes:
-/// label number `code`, plane `k` of the slab (from `layers.start`), row
-/// `y`, columns `x[0]..x[1]`.
-#[derive(Clone, Copy, Default)]
-struct LabelRun {
-    code: u16,
-    k: usize,
-    y: usize,
-    x: [usize; 2],
-}
-
-/// Samples of a slab's own planes per run kept (a run takes 32 bytes, so
-/// at most a byte a sample, and at least 1,024 runs): a slab with more
-/// runs, a map of short runs, builds its indicators from the codes.
-const RUNS_PER_SAMPLE: usize = 32;
-
-/// A label's rectangle in a slab's planes: inclusive x and y bounds.
-#[derive(Clone, Copy)]
-struct Rect {
-    x: [usize; 2],
-    y: [usize; 2],
-}
-
-impl Rect {
-    fn grow(&mut self, x: [usize; 2], y: usize) {
-        self.x = [self.x[0].min(x[0]), self.x[1].max(x[1])];
-        self.y = [self.y[0].min(y), self.y[1].max(y)];
-    }
-}
-
 /// The chunks and counts of every label for cell layers `layers` (see the
-/// module documentation).
+/// module documentation), the indicators written from the labels' runs
+/// where there is at most one per `run_samples` samples (0: never; the
+/// bytes are the same either way).
 fn label_slab(
     source: &dyn SampleSource,
     lookup: &Lookup,
     params: &[ExtractParams],
     layers: Range<usize>,
-    spares: &Spares,
+    (spares, run_samples): (&Spares, usize),
     scratch: &mut Scratch,
 ) -> Result<Vec<(Vec<Chunk>, Stats)>> {
     // The source is padded with NaN for `--close` (see `run_pass`).
@@ -230,67 +164,56 @@ fn label_slab(
         false => layers.end,
     };
     let planes = codes_to + 1 - codes_from;
-    // Every sample's code is written below (the runs cover each row).
-    if scratch.codes.len() < planes * area {
-        let missing = planes * area - scratch.codes.len();
-        make_room(&mut scratch.codes, missing, "the label codes of a slab")?;
-        scratch.codes.resize(planes * area, 0);
-    }
-    let codes = &mut scratch.codes[..planes * area];
-    let mut rects: Vec<Option<Rect>> = vec![None; params.len()];
-    let mut values = Vec::new();
-    // The runs, while there are few enough (see `RUNS_PER_SAMPLE`).
     let slab_planes = layers.len() + 1;
-    let most_runs = (slab_planes * area / RUNS_PER_SAMPLE).max(1024);
-    let runs = &mut scratch.runs;
-    runs.clear();
-    let mut few_runs = true;
-    for (k, z) in (codes_from..=codes_to).enumerate() {
-        let plane = &mut codes[k * area..(k + 1) * area];
-        // Only the slab's own planes bound a label's cells.
-        let own = layers.start <= z && z <= layers.end;
-        plane_runs(source, z, &mut values, |y, x, end, v| {
-            let code = lookup.code_of(v);
-            let run = &mut plane[y * nx + x..y * nx + end];
-            // Short runs (most of them) without a call to `memset`.
-            if run.len() < 32 {
-                run.iter_mut().for_each(|c| *c = code);
-            } else {
-                run.fill(code);
+    let most_runs = match run_samples {
+        0 => 0,
+        n => (slab_planes * area / n).max(1024),
+    };
+    let mut rects: Vec<Option<Rect>> = vec![None; params.len()];
+    scratch.runs.clear();
+    // The runs alone where they are few (and no normals need the codes).
+    let by_runs = !normals
+        && code_planes(
+            source,
+            lookup,
+            layers.start..=layers.end,
+            &layers,
+            close,
+            &mut rects,
+            (&mut scratch.runs, most_runs),
+            None,
+        )?;
+    let (codes, from_runs): (&[u16], bool) = match by_runs {
+        true => (&[], true),
+        false => {
+            rects.fill(None);
+            scratch.runs.clear();
+            // Every sample's code is written (the runs cover each row).
+            if scratch.codes.len() < planes * area {
+                let missing = planes * area - scratch.codes.len();
+                make_room(&mut scratch.codes, missing, "the label codes of a slab")?;
+                scratch.codes.resize(planes * area, 0);
             }
-            if code != 0 && own {
-                let run = [x, end - 1];
-                match &mut rects[usize::from(code) - 1] {
-                    Some(rect) => rect.grow(run, y),
-                    slot => *slot = Some(Rect { x: run, y: [y, y] }),
-                }
-                if few_runs {
-                    few_runs = runs.len() < most_runs;
-                    let k = z - layers.start;
-                    runs.push(LabelRun {
-                        code,
-                        k,
-                        y,
-                        x: [x, end],
-                    });
-                }
-            }
-            Ok(())
-        })?;
-        if close {
-            tie_border(plane, nx, z == 0 || z == nz - 1);
+            let codes = &mut scratch.codes[..planes * area];
+            let few = code_planes(
+                source,
+                lookup,
+                codes_from..=codes_to,
+                &layers,
+                close,
+                &mut rects,
+                (&mut scratch.runs, most_runs),
+                Some(codes),
+            )?;
+            (&scratch.codes[..planes * area], few)
         }
-        if source.interrupted() {
-            return Err(Error::Interrupted);
-        }
-    }
-    drop(values);
+    };
     // The planes are coded: the source's pages may go (the slab above
     // releases the last plane, as in the slab loop).
     source.advise(layers.start..layers.end, Access::Done);
     let skip = (layers.start - codes_from) * area;
     // Each label's runs together, from `starts[code - 1]` on.
-    let starts = match few_runs {
+    let starts = match from_runs {
         true => Some(group_by_label(
             &scratch.runs,
             &mut scratch.by_label,
@@ -299,7 +222,6 @@ fn label_slab(
         false => None,
     };
     let by_label = &scratch.by_label;
-    let codes = &*codes;
     let indicator = &mut scratch.indicator;
     // With normals, every label's indicator over the whole planes: ties
     // where the codes say so, each label's 1s written over its window and
@@ -333,9 +255,14 @@ fn label_slab(
         indicator.clear();
         make_room(indicator, slab_planes * wx * wy, "a label's indicator")?;
         match &starts {
-            // Zeros, then the label's runs: the codes are not read again.
-            Some(starts) if !ties => {
+            // Zeros, the ties, then the label's runs: the codes are not
+            // read (runs never cover a tie: the border is NaN, no label).
+            Some(starts) => {
                 indicator.resize(slab_planes * wx * wy, 0);
+                if ties {
+                    let caps = [layers.start == 0, layers.end == nz - 1];
+                    window_ties(indicator, [&xs, &ys], [nx, ny], caps);
+                }
                 for run in &by_label[starts[i]..starts[i + 1]] {
                     let row = (run.k * wy + run.y - ys.start) * wx;
                     indicator[row + run.x[0] - xs.start..row + run.x[1] - xs.start].fill(1);
@@ -403,48 +330,10 @@ fn label_slab(
     Ok(results)
 }
 
-/// Orders `runs` by label number into `out` (a counting sort, stable) and
-/// returns where each label's begin: label number `c`'s runs are
-/// `out[starts[c - 1]..starts[c]]`.
-fn group_by_label(runs: &[LabelRun], out: &mut Vec<LabelRun>, labels: usize) -> Vec<usize> {
-    let mut starts = vec![0; labels + 1];
-    for run in runs {
-        starts[usize::from(run.code)] += 1;
-    }
-    for c in 1..=labels {
-        starts[c] += starts[c - 1];
-    }
-    let mut next = starts.clone();
-    out.clear();
-    out.resize(runs.len(), LabelRun::default());
-    for &run in runs {
-        let at = &mut next[usize::from(run.code) - 1];
-        out[*at] = run;
-        *at += 1;
-    }
-    starts
-}
-
 /// A sample's byte in a label's indicator: 1 on label `code`, 2 on a tie
 /// ([`TIE`]), 0 elsewhere (`code` 0: only the ties).
 fn indicator_of(c: u16, code: u16) -> u8 {
     u8::from(c == code && code != 0) | (u8::from(c == TIE) << 1)
-}
-
-/// Codes `--close`'s border of NaN in `plane` (rows of `nx`): a tie for
-/// every label; the whole plane when it is the first or last.
-fn tie_border(plane: &mut [u16], nx: usize, cap: bool) {
-    if cap {
-        plane.fill(TIE);
-        return;
-    }
-    for row in plane.chunks_exact_mut(nx) {
-        row[0] = TIE;
-        row[nx - 1] = TIE;
-    }
-    plane[..nx].fill(TIE);
-    let area = plane.len();
-    plane[area - nx..].fill(TIE);
 }
 
 /// The chunks of cell layers `layers` of a grid of `nz` planes without a
@@ -536,5 +425,80 @@ fn read_indicator(bytes: &[u8], out: &mut [f64]) {
             1 => 1.0,
             _ => f64::NAN,
         };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::ArrayVolume;
+    use rand::{Rng, SeedableRng};
+    use rand_pcg::Pcg64;
+
+    /// A map of runs along x (labels 0 to 5), long or short.
+    fn map(dims: [usize; 3], run: usize, seed: u64) -> Vec<i16> {
+        let mut rng = Pcg64::seed_from_u64(seed);
+        let mut out = Vec::new();
+        while out.len() < dims.iter().product() {
+            let label = rng.gen_range(0..=5);
+            out.extend(std::iter::repeat_n(label, rng.gen_range(1..=run)));
+        }
+        out.truncate(dims.iter().product());
+        out
+    }
+
+    /// Every slab's chunks and counts: indicators from the runs alone,
+    /// from the codes, and from the runs beside the codes (normals) are
+    /// the same, with and without `--close` (the padded volume's NaN
+    /// border: ties, which the runs path writes itself).
+    #[test]
+    fn runs_and_codes_give_the_same_chunks() {
+        for (seed, run) in [(1, 1), (2, 4), (3, 40)] {
+            let dims = [19, 13, 9];
+            let volume = ArrayVolume::new(Grid::unit(dims), map(dims, run, seed)).unwrap();
+            let lookup = Lookup::new((1..=5).map(|l| (l, l as u16)).collect());
+            for close in [false, true] {
+                let padded;
+                let source: &dyn SampleSource = match close {
+                    true => {
+                        padded = crate::volume::Padded::new(&volume);
+                        &padded
+                    }
+                    false => &volume,
+                };
+                let nz = source.grid().dims[2];
+                let each = ExtractParams {
+                    iso: 0.5,
+                    close,
+                    threads: 1,
+                    ..Default::default()
+                };
+                let params = vec![each; 5];
+                let spares = Spares::new(2, 8);
+                let slab = |layers: Range<usize>, run_samples: usize| {
+                    let mut scratch = Scratch::default();
+                    label_slab(
+                        source,
+                        &lookup,
+                        &params,
+                        layers,
+                        (&spares, run_samples),
+                        &mut scratch,
+                    )
+                    .unwrap()
+                };
+                for layers in [0..nz - 1, 0..3, 3..4, 4..nz - 1] {
+                    let runs = slab(layers.clone(), 1);
+                    let codes = slab(layers.clone(), 0);
+                    assert!(runs
+                        .iter()
+                        .any(|(c, _)| c.iter().any(|c| !c.triangles.is_empty())));
+                    for (a, b) in runs.iter().zip(&codes) {
+                        assert!(a.0 == b.0, "seed {seed} close {close} layers {layers:?}");
+                        assert_eq!(a.1.triangles, b.1.triangles);
+                    }
+                }
+            }
+        }
     }
 }

@@ -31,6 +31,7 @@
 pub mod budget;
 pub mod cancellable;
 pub mod entry;
+mod label_codes;
 pub mod label_report;
 pub mod labels;
 pub mod parts;

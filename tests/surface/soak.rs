@@ -81,6 +81,23 @@ fn run<T: Sample>(
     extract(&vol, params).expect("extract").0
 }
 
+/// `params` with `threads`, and pipeline options with slab depth `depth`.
+fn how(
+    params: &ExtractParams,
+    threads: usize,
+    depth: usize,
+) -> (ExtractParams, PipelineOptions<'static>) {
+    let p = ExtractParams {
+        threads,
+        ..params.clone()
+    };
+    let options = PipelineOptions {
+        slab_depth: depth,
+        ..Default::default()
+    };
+    (p, options)
+}
+
 /// 2^k exactly, subnormal too (`powi` may round a large negative power
 /// to zero at run time).
 fn pow2(k: i32) -> f64 {
@@ -156,14 +173,7 @@ fn check_case(seed: u64) -> Result<(), String> {
         .expect("volume");
     for (threads, depth) in [(3, 1), (2, 2), (2, 5)] {
         let mut builder = MeshBuilder::default();
-        let p = ExtractParams {
-            threads,
-            ..params.clone()
-        };
-        let options = PipelineOptions {
-            slab_depth: depth,
-            ..Default::default()
-        };
+        let (p, options) = how(&params, threads, depth);
         extract_to(&vol as &dyn SampleSource, &p, &options, &mut builder).expect("extract");
         if !same(&builder.into_mesh(), &mesh) {
             return Err(fail(format!("threads {threads} slab depth {depth} differ")));
@@ -316,14 +326,7 @@ fn check_labels(seed: u64) -> Result<(), String> {
             .iter_mut()
             .map(|b| b as &mut dyn tmc::MeshSink)
             .collect();
-        let p = ExtractParams {
-            threads,
-            ..params.clone()
-        };
-        let options = PipelineOptions {
-            slab_depth: depth,
-            ..Default::default()
-        };
+        let (p, options) = how(&params, threads, depth);
         tmc::stream::extract_labels_to(&map, &labels, &p, &options, None, &mut sinks)
             .expect("labels");
         builders.into_iter().map(MeshBuilder::into_mesh).collect()

@@ -626,3 +626,38 @@ fn earlier_versions_read_to_the_meshes_they_hold() {
         }
     }
 }
+
+/// `tmc convert` of a PLY, OBJ, OFF or STL file says that it reads `.tmesh`
+/// files and what reads the others (it said "not a valid .tmesh file:
+/// wrong magic bytes"); one line, no output.
+#[test]
+fn convert_of_another_mesh_format_says_what_it_reads() {
+    use common::cli::{assert_one_line, s, tmc};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out.obj");
+    for (name, text) in [
+        (
+            "m.ply",
+            "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n",
+        ),
+        ("m.obj", "v 0 0 0\n"),
+        ("m.off", "OFF\n0 0 0\n"),
+        ("m.stl", "solid x\nendsolid x\n"),
+    ] {
+        let input = dir.path().join(name);
+        std::fs::write(&input, text).expect("write");
+        let line = assert_one_line(&tmc(&["convert", s(&input), "-o", s(&out)]), 1);
+        assert!(
+            line.contains(name) && line.contains("tmc convert reads the .tmesh files"),
+            "{line}"
+        );
+        assert!(!out.exists());
+    }
+    // A .tmesh file named .ply is converted all the same.
+    let tmesh = dir.path().join("m.tmesh");
+    write(&tmesh, 1, 0);
+    let named = dir.path().join("really_tmesh.ply");
+    std::fs::copy(&tmesh, &named).expect("copy");
+    let done = tmc(&["convert", s(&named), "-o", s(&out)]);
+    assert!(done.status.success(), "{done:?}");
+}

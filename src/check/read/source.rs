@@ -71,7 +71,7 @@ impl Source<'_> {
         let text = String::from_utf8_lossy(head);
         let first = text
             .lines()
-            .map(str::trim)
+            .map(|l| l.trim_start_matches('\u{feff}').trim())
             .find(|l| !l.is_empty() && !l.starts_with('#'))
             .unwrap_or("");
         let word = first.split_ascii_whitespace().next().unwrap_or("");

@@ -651,47 +651,30 @@ fn tmc_preview_draws_stl_files_as_the_mesh_they_were_written_from() {
 
     let input = synth(d, "torus", "30,30,20", "f32", "torus.npy");
     for ext in ["ply", "stl"] {
-        let out = tmc(&[
-            "extract",
-            s(&input),
-            "--iso",
+        let mesh = d.join(format!("torus.{ext}"));
+        extract(
+            &input,
             "0",
-            "--close",
-            "-o",
-            s(&d.join(format!("torus.{ext}"))),
-            "-q",
-        ]);
-        assert!(out.status.success(), "{out:?}");
+            &mesh,
+            &d.join(format!("{ext}.png")),
+            &["--close"],
+        );
     }
     assert_eq!(
         draw("torus.stl", "torus_stl.png"),
         draw("torus.ply", "torus_ply.png")
     );
-    // A .stl that is neither kind, and the checker's refusal, are one line.
+    // A .stl that is neither kind, a cut one, and the checker's refusal are
+    // one line each, and leave no picture.
     fs::write(d.join("bad.stl"), b"nothing like an STL").unwrap();
-    let line = assert_one_line(
-        &tmc(&[
-            "preview",
-            s(&d.join("bad.stl")),
-            "-o",
-            s(&d.join("bad.png")),
-        ]),
-        1,
-    );
-    assert!(line.contains("not an STL file"), "{line}");
-    assert!(!d.join("bad.png").exists());
+    fs::write(d.join("cut.stl"), &tetra_ascii_stl()[..120]).unwrap();
+    for (mesh, needle) in [("bad.stl", "not an STL file"), ("cut.stl", "cut.stl")] {
+        let picture = d.join("refused.png");
+        let out = tmc(&["preview", s(&d.join(mesh)), "-o", s(&picture)]);
+        let line = assert_one_line(&out, 1);
+        assert!(line.contains(needle), "{line}");
+        assert!(!picture.exists());
+    }
     let line = assert_one_line(&tmc(&["check", s(&d.join("b.stl"))]), 1);
     assert!(line.contains("STL does not share vertices"), "{line}");
-    fs::write(d.join("cut.stl"), &tetra_ascii_stl()[..120]).unwrap();
-    let line = assert_one_line(
-        &tmc(&[
-            "preview",
-            s(&d.join("cut.stl")),
-            "-o",
-            s(&d.join("cut.png")),
-        ]),
-        1,
-    );
-    assert!(line.contains("cut.stl"), "{line}");
-    assert!(!d.join("cut.png").exists());
 }

@@ -76,6 +76,15 @@ def _read_at(f, offset, size, what):
     return data
 
 
+def _number(v):
+    """A float as tmc's messages print it (NaN, inf, 1, 0.5)."""
+    if math.isnan(v):
+        return "NaN"
+    if math.isinf(v):
+        return "inf" if v > 0 else "-inf"
+    return str(int(v)) if v == int(v) and abs(v) < 1e16 else repr(v)
+
+
 def _header(h):
     """Decodes the 128-byte file header into the info dict."""
     if h[0:8] != MAGIC:
@@ -86,13 +95,27 @@ def _header(h):
             f".tmesh version {version} is not supported "
             f"(this reads {VERSION} to {VERSION_PACKED})"
         )
-    if size != HEADER_BYTES or struct.unpack_from("<I", h, 124)[0] != _crc(h[:124]):
+    if struct.unpack_from("<I", h, 124)[0] != _crc(h[:124]):
         raise TmeshError("header checksum mismatch")
+    if size != HEADER_BYTES:
+        raise TmeshError(f"not a valid .tmesh file: header size {size} is not {HEADER_BYTES}")
     # Fields no checksum vouches for (a writer could get them wrong), as
     # decode_header in src/meshfile/mod.rs refuses them.
     dims = list(struct.unpack_from("<3Q", h, 16))
     if 0 in dims:
         raise TmeshError("not a valid .tmesh file: a grid dimension is 0")
+    spacing = list(struct.unpack_from("<3d", h, 40))
+    if not all(math.isfinite(v) and v > 0 for v in spacing):
+        raise TmeshError(
+            "not a valid .tmesh file: the spacing {} {} {} is not finite and positive".format(
+                *map(_number, spacing)
+            )
+        )
+    origin = list(struct.unpack_from("<3d", h, 64))
+    if not all(math.isfinite(v) for v in origin):
+        raise TmeshError(
+            "not a valid .tmesh file: the origin {} {} {} is not finite".format(*map(_number, origin))
+        )
     iso = struct.unpack_from("<d", h, 88)[0]
     if not math.isfinite(iso):
         raise TmeshError(f"not a valid .tmesh file: the isovalue {iso} is not a finite number")
@@ -108,8 +131,8 @@ def _header(h):
         raise TmeshError("not a valid .tmesh file: reserved header bytes 100..124 are not zero")
     return {
         "dims": dims,
-        "spacing": list(struct.unpack_from("<3d", h, 40)),
-        "origin": list(struct.unpack_from("<3d", h, 64)),
+        "spacing": spacing,
+        "origin": origin,
         "iso": iso,
         "method": "mc" if h[96] == 1 else "tmc",
         "inside": "low" if h[97] == 1 else "high",

@@ -75,7 +75,7 @@ mod union_find;
 pub use checker::check_mesh;
 pub use geometry::check_geometry;
 pub use measure::{measure_reports, Measured, Measurement};
-pub use read::{is_tmesh, read_mesh};
+pub use read::{is_tmesh, read_mesh, read_mesh_to_draw};
 pub use report::{ComponentReport, Geometry, MeshReport};
 pub use stream::{Scratch, StreamCheck, Verdict};
 pub use stream_file::check_tmesh;

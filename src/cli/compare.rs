@@ -106,7 +106,8 @@ pub(crate) struct CompareArgs {
     #[arg(long, value_name = "FILE.png")]
     pub preview: Option<PathBuf>,
 
-    /// Print nothing on stderr but errors (no line per run).
+    /// Print nothing on stderr but errors (no line per run, no note that
+    /// neither method found a surface).
     #[arg(short, long)]
     pub quiet: bool,
 
@@ -243,6 +244,17 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
         (tmc_stats, mc_stats) = (t.1, m.1);
     }
     let ratio = ratio_interval(&tmc_seconds, &mc_seconds);
+    if tmc_stats.triangles == 0 && mc_stats.triangles == 0 && !args.quiet {
+        // As 'tmc extract' says it: the table's zeros and times are of
+        // extractions that found nothing, most likely an isovalue outside
+        // the data range.
+        say!(
+            "tmc: note: no surface at isovalue {}: every sample of {} is on the same side of it \
+             (the isovalue is outside the data range); the times are of extractions that found none",
+            args.iso,
+            args.input.display()
+        );
+    }
 
     // 2. The cells that differ (the survey reads two planes per thread).
     let mark = |p: [f64; 3]| {

@@ -36,6 +36,7 @@ pub(crate) struct ConvertArgs {
 /// the next chunk with [`tmc::Error::Interrupted`], leaving no output.
 pub(crate) fn run(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()> {
     tmc::files::check_distinct(&args.input, &args.output)?;
+    refuse_other_mesh(&args.input)?;
     tmc::part::PartRecord::refuse_part(&args.input)?;
     let mut reader = TmeshReader::open(&args.input)?;
     tmc::export::check_output_path(&args.output)?;
@@ -43,4 +44,34 @@ pub(crate) fn run(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let never = AtomicBool::new(false);
     tmc::export::replay_cancellable(&mut reader, sink.as_mut(), cancel.unwrap_or(&never))?;
     Ok(())
+}
+
+/// Refuses, saying what convert reads, an input that is another mesh
+/// format by its extension and not a `.tmesh` by its first bytes (the
+/// reader's 'wrong magic bytes' did not say that a PLY is not read).
+fn refuse_other_mesh(input: &std::path::Path) -> Result<()> {
+    let ext = tmc::files::lowercase_extension(input);
+    if !matches!(ext.as_str(), "ply" | "obj" | "off" | "stl") {
+        return Ok(());
+    }
+    let mut head = Vec::with_capacity(8);
+    let read = std::fs::File::open(input).and_then(|f| {
+        use std::io::Read;
+        f.take(8).read_to_end(&mut head)
+    });
+    let readers = if ext == "stl" {
+        "tmc preview reads .stl"
+    } else {
+        "tmc check and tmc preview read it"
+    };
+    match read {
+        Ok(8) if head == tmc::meshfile::MAGIC => Ok(()),
+        Ok(_) => Err(tmc::Error::Format(format!(
+            "{}: a .{ext} file: tmc convert reads the .tmesh files that \
+             'tmc extract -o MESH.tmesh' writes ({readers})",
+            input.display()
+        ))),
+        // The reader names the I/O error.
+        Err(_) => Ok(()),
+    }
 }

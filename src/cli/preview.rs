@@ -17,11 +17,14 @@ use tmc::{MeshInfo, MeshSink, Result, Totals};
 /// input's name). A .tmesh keeps no direction cosines: a mesh extracted on
 /// a rotated or mirrored grid that leaves the recorded box is read a
 /// second time and framed by its vertices' box (with a note on stderr).
-/// PLY, OBJ and OFF files are read whole and framed by their vertices'
-/// box.
+/// PLY, OBJ, OFF and STL files are read whole and framed by their
+/// vertices' box (an STL's facet corners at the same position are joined
+/// into one vertex, so the caption counts its boundary edges and
+/// components as for the mesh it was written from).
 #[derive(Debug, Args)]
 pub(crate) struct PreviewArgs {
-    /// The mesh: .tmesh (streamed), .ply, .obj or .off (read whole).
+    /// The mesh: .tmesh (streamed), .ply, .obj, .off or .stl, binary or
+    /// ASCII (read whole).
     #[arg(value_name = "MESH")]
     pub input: PathBuf,
 
@@ -77,7 +80,7 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
         }
         return Ok(());
     }
-    let mesh = tmc::check::read_mesh(&args.input)?;
+    let mesh = tmc::check::read_mesh_to_draw(&args.input)?;
     // The readers refuse coordinates that are not finite, so there is no
     // box only when there are no vertices: an empty mesh (what `tmc
     // extract` writes for an isovalue that meets nothing), drawn in any

@@ -58,7 +58,9 @@
 //!  24   8  "TMESHEND"
 //! ```
 //!
-//! A reader refuses zero dimensions, a non-finite isovalue, option bytes
+//! A reader refuses a header size other than 128, zero dimensions, a
+//! spacing that is not finite and positive, an origin that is not finite,
+//! a non-finite isovalue, option bytes
 //! other than 0 and 1, nonzero reserved bytes, chunks not in increasing
 //! plane order or with a plane beyond the grid (`dims[2] + 2` planes with
 //! close), chunks claiming more vertices or triangles than one plane of the
@@ -188,6 +190,10 @@ fn decode_header(h: &[u8]) -> Result<(MeshInfo, bool)> {
     if le_u32(&h[124..]) != crc32fast::hash(&h[..124]) {
         return Err(bad("header checksum mismatch"));
     }
+    let size = le_u32(&h[12..]);
+    if size != HEADER_BYTES as u32 {
+        return Err(bad(&format!("header size {size} is not {HEADER_BYTES}")));
+    }
     let dim = |i: usize| usize::try_from(le_u64(&h[16 + 8 * i..])).unwrap_or(usize::MAX);
     if (0..3).any(|i| dim(i) == 0) {
         return Err(bad("a grid dimension is 0"));
@@ -210,11 +216,26 @@ fn decode_header(h: &[u8]) -> Result<(MeshInfo, bool)> {
     if h[100..124].iter().any(|&b| b != 0) {
         return Err(bad("reserved header bytes 100..124 are not zero"));
     }
+    // Every volume reader refuses a spacing that is not finite and
+    // positive and an origin that is not finite, so no writer makes one;
+    // a reader that took them would frame, scale and merge by NaN.
+    let spacing = [0, 1, 2].map(|i| le_f64(&h[40 + 8 * i..]));
+    if !spacing.iter().all(|s| s.is_finite() && *s > 0.0) {
+        let [x, y, z] = spacing;
+        return Err(bad(&format!(
+            "the spacing {x} {y} {z} is not finite and positive"
+        )));
+    }
+    let origin = [0, 1, 2].map(|i| le_f64(&h[64 + 8 * i..]));
+    if !origin.iter().all(|o| o.is_finite()) {
+        let [x, y, z] = origin;
+        return Err(bad(&format!("the origin {x} {y} {z} is not finite")));
+    }
     let info = MeshInfo {
         grid: Grid {
             dims: [dim(0), dim(1), dim(2)],
-            spacing: [0, 1, 2].map(|i| le_f64(&h[40 + 8 * i..])),
-            origin: [0, 1, 2].map(|i| le_f64(&h[64 + 8 * i..])),
+            spacing,
+            origin,
             direction: crate::grid::IDENTITY,
         },
         iso,

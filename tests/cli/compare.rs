@@ -380,3 +380,27 @@ fn bad_input_is_one_line() {
         2,
     );
 }
+
+/// An isovalue that meets nothing (outside the data range) gives the
+/// table of zeros with the note 'tmc extract' gives, not silently (the
+/// note was missing); -q leaves it out.
+#[test]
+fn an_isovalue_outside_the_data_range_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = synth(dir.path(), "sphere", "8,8,8", "u8", "s.npy");
+    let out = tmc(&["compare", s(&input), "--iso", "1000", "--runs", "1"]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("tmc: note: no surface at isovalue 1000: every sample of"),
+        "{stderr}"
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("triangles"), "{table}");
+    let quiet = tmc(&["compare", s(&input), "--iso", "1000", "--runs", "1", "-q"]);
+    assert_eq!(quiet.status.code(), Some(0), "{quiet:?}");
+    assert!(quiet.stderr.is_empty(), "{quiet:?}");
+    // A surface: no note.
+    let out = tmc(&["compare", s(&input), "--iso", "100", "--runs", "1"]);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("no surface"));
+}

@@ -255,8 +255,9 @@ fn a_chunk_size_past_its_room_is_a_clean_error() {
 /// Fields that checksums do not vouch for (or that a writer could get
 /// wrong) are refused with one line by the reader, `tmc check` and `tmc
 /// convert`, and by `scripts/read_tmesh.py` (when python3 has numpy and
-/// zstandard) with the same words: a zero dimension, a NaN or infinite
-/// isovalue, unknown method, inside and close bytes, nonzero reserved
+/// zstandard) with the same words: a header size other than 128, a zero
+/// dimension, a spacing that is not finite and positive, an origin that is
+/// not finite, a NaN or infinite isovalue, unknown method, inside and close bytes, nonzero reserved
 /// header and chunk header bytes, a repeated plane, a plane far beyond the
 /// grid, and non-finite vertex coordinates.
 #[test]
@@ -335,20 +336,46 @@ fn unchecked_fields_are_refused() {
             }),
             "reserved header bytes 100..124",
         ),
+        (
+            header(&|b| b[12..16].copy_from_slice(&129u32.to_le_bytes())),
+            "header size 129 is not 128",
+        ),
+        (
+            header(&|b| b[40..48].copy_from_slice(&f64::NAN.to_le_bytes())),
+            "the spacing NaN 1 1 is not finite and positive",
+        ),
+        (
+            header(&|b| b[48..56].copy_from_slice(&0f64.to_le_bytes())),
+            "the spacing 1 0 1 is not finite and positive",
+        ),
+        (
+            header(&|b| b[56..64].copy_from_slice(&(-2f64).to_le_bytes())),
+            "the spacing 1 1 -2 is not finite and positive",
+        ),
+        (
+            header(&|b| b[40..48].copy_from_slice(&f64::INFINITY.to_le_bytes())),
+            "the spacing inf 1 1 is not finite and positive",
+        ),
+        (
+            header(&|b| b[72..80].copy_from_slice(&f64::NEG_INFINITY.to_le_bytes())),
+            "the origin 0 -inf 0 is not finite",
+        ),
         (plane(4, entries[3].plane), "not after the previous"),
         (plane(entries.len() - 1, 1 << 63), "beyond the grid"),
         (reserved, "bytes 44..48 are not zero"),
     ];
     let ply = dir.path().join("m.ply");
+    let png = dir.path().join("m.png");
     for (bytes, needle) in &cases {
         std::fs::write(&path, bytes).expect("write");
         for args in [
             vec!["check", s(&path)],
             vec!["convert", s(&path), "-o", s(&ply)],
+            vec!["preview", s(&path), "-o", s(&png)],
         ] {
             let line = assert_one_line(&tmc(&args), 1);
             assert!(line.contains(needle), "{args:?}: {line:?} lacks {needle:?}");
-            assert!(!ply.exists());
+            assert!(!ply.exists() && !png.exists());
         }
         if python {
             let line = read_tmesh_py_error(&path);
@@ -598,4 +625,39 @@ fn earlier_versions_read_to_the_meshes_they_hold() {
             );
         }
     }
+}
+
+/// `tmc convert` of a PLY, OBJ, OFF or STL file says that it reads `.tmesh`
+/// files and what reads the others (it said "not a valid .tmesh file:
+/// wrong magic bytes"); one line, no output.
+#[test]
+fn convert_of_another_mesh_format_says_what_it_reads() {
+    use common::cli::{assert_one_line, s, tmc};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("out.obj");
+    for (name, text) in [
+        (
+            "m.ply",
+            "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n",
+        ),
+        ("m.obj", "v 0 0 0\n"),
+        ("m.off", "OFF\n0 0 0\n"),
+        ("m.stl", "solid x\nendsolid x\n"),
+    ] {
+        let input = dir.path().join(name);
+        std::fs::write(&input, text).expect("write");
+        let line = assert_one_line(&tmc(&["convert", s(&input), "-o", s(&out)]), 1);
+        assert!(
+            line.contains(name) && line.contains("tmc convert reads the .tmesh files"),
+            "{line}"
+        );
+        assert!(!out.exists());
+    }
+    // A .tmesh file named .ply is converted all the same.
+    let tmesh = dir.path().join("m.tmesh");
+    write(&tmesh, 1, 0);
+    let named = dir.path().join("really_tmesh.ply");
+    std::fs::copy(&tmesh, &named).expect("copy");
+    let done = tmc(&["convert", s(&named), "-o", s(&out)]);
+    assert!(done.status.success(), "{done:?}");
 }

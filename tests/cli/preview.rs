@@ -564,3 +564,117 @@ fn check_with_pillow_size(path: &Path, width: u32, height: u32) {
         assert_eq!(text.trim(), format!("PNG RGB {width} {height}"));
     }
 }
+
+/// The four corners of a tetrahedron and its faces, counter-clockwise
+/// seen from outside.
+const TETRA: ([[f32; 3]; 4], [[usize; 3]; 4]) = (
+    [
+        [0.0, 0.0, 0.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 3.0, 0.0],
+        [0.0, 0.0, 1.5],
+    ],
+    [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+);
+
+/// A binary STL of the tetrahedron whose 80-byte header starts with
+/// "solid", as some exporters write it (binary by its length all the same).
+fn tetra_binary_stl() -> Vec<u8> {
+    let (v, f) = TETRA;
+    let mut bytes = b"solid but binary".to_vec();
+    bytes.resize(80, b' ');
+    bytes.extend_from_slice(&(f.len() as u32).to_le_bytes());
+    for face in f {
+        bytes.extend_from_slice(&[0u8; 12]);
+        for i in face {
+            for c in v[i] {
+                bytes.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        bytes.extend_from_slice(&[0u8; 2]);
+    }
+    bytes
+}
+
+/// An ASCII STL of the tetrahedron (CRLF line ends, indented, as numpy-stl
+/// and others write it).
+fn tetra_ascii_stl() -> String {
+    let (v, f) = TETRA;
+    let mut text = String::from("solid tetra\r\n");
+    for face in f {
+        text += "  facet normal 0 0 0\r\n    outer loop\r\n";
+        for i in face {
+            let [x, y, z] = v[i];
+            text += &format!("      vertex {x:e} {y:e} {z:e}\r\n");
+        }
+        text += "    endloop\r\n  endfacet\r\n";
+    }
+    text + "endsolid tetra\r\n"
+}
+
+/// `tmc preview` draws STL files, binary (also with a header starting
+/// "solid") and ASCII: the facets' shared corners joined, the picture is
+/// the one of the same mesh as OFF, and of the STL and the PLY that `tmc
+/// extract` writes of one surface (the same caption: closed, genus 1).
+/// It said "STL does not share vertices ... topology cannot be checked".
+#[test]
+fn tmc_preview_draws_stl_files_as_the_mesh_they_were_written_from() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (v, f) = TETRA;
+    let mut off = format!("OFF\n{} {} 0\n", v.len(), f.len());
+    for [x, y, z] in v {
+        off += &format!("{x} {y} {z}\n");
+    }
+    for [a, b, c] in f {
+        off += &format!("3 {a} {b} {c}\n");
+    }
+    fs::write(d.join("t.off"), off).unwrap();
+    fs::write(d.join("b.stl"), tetra_binary_stl()).unwrap();
+    fs::write(d.join("a.stl"), tetra_ascii_stl()).unwrap();
+    let draw = |mesh: &str, picture: &str| {
+        let out = tmc(&[
+            "preview",
+            s(&d.join(mesh)),
+            "-o",
+            s(&d.join(picture)),
+            "--title",
+            "same",
+        ]);
+        assert!(out.status.success(), "{mesh}: {out:?}");
+        fs::read(d.join(picture)).unwrap()
+    };
+    let expected = draw("t.off", "t.png");
+    assert_eq!(draw("b.stl", "b.png"), expected, "binary STL");
+    assert_eq!(draw("a.stl", "a.png"), expected, "ASCII STL");
+    assert!(shown(&d.join("a.png")) > 10_000);
+
+    let input = synth(d, "torus", "30,30,20", "f32", "torus.npy");
+    for ext in ["ply", "stl"] {
+        let mesh = d.join(format!("torus.{ext}"));
+        extract(
+            &input,
+            "0",
+            &mesh,
+            &d.join(format!("{ext}.png")),
+            &["--close"],
+        );
+    }
+    assert_eq!(
+        draw("torus.stl", "torus_stl.png"),
+        draw("torus.ply", "torus_ply.png")
+    );
+    // A .stl that is neither kind, a cut one, and the checker's refusal are
+    // one line each, and leave no picture.
+    fs::write(d.join("bad.stl"), b"nothing like an STL").unwrap();
+    fs::write(d.join("cut.stl"), &tetra_ascii_stl()[..120]).unwrap();
+    for (mesh, needle) in [("bad.stl", "not an STL file"), ("cut.stl", "cut.stl")] {
+        let picture = d.join("refused.png");
+        let out = tmc(&["preview", s(&d.join(mesh)), "-o", s(&picture)]);
+        let line = assert_one_line(&out, 1);
+        assert!(line.contains(needle), "{line}");
+        assert!(!picture.exists());
+    }
+    let line = assert_one_line(&tmc(&["check", s(&d.join("b.stl"))]), 1);
+    assert!(line.contains("STL does not share vertices"), "{line}");
+}

@@ -366,6 +366,31 @@ fn obj_files_with_other_statements_are_still_read() {
     assert_sphere(&report);
 }
 
+/// A face or vertex continued on the next line by a backslash is read
+/// whole (its continuation was dropped, and `f 1 3 \\` was refused as
+/// "invalid face vertex '\\'"), and a UTF-8 byte order mark before the
+/// first statement is no part of it (it was "'\u{feff}v' is not an OBJ
+/// statement"); a backslash in a comment continues nothing.
+#[test]
+fn obj_line_continuations_and_a_byte_order_mark_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "v 0 0 0\r\nv 1 \\\r\n  0 0\nv 0 1 0\nv 0 0 1\n\
+                f 1 3 \\\n 2\nf 1 2 \\\n\\\n4\n# not continued \\\nf 2 3 4\nf 1 4 3\n";
+    let (mesh, report) = read_ok(&write(dir.path(), "cont.obj", text.as_bytes()));
+    assert_eq!((mesh.vertices.len(), mesh.triangles.len()), (4, 4));
+    assert_eq!(mesh.vertices[1], [1.0, 0.0, 0.0]);
+    assert_eq!(mesh.triangles[0], [0, 2, 1]);
+    assert_eq!(mesh.triangles[1], [0, 1, 3]);
+    assert_sphere(&report);
+    let bom = format!("\u{feff}{OBJ_TET}");
+    let (mesh, report) = read_ok(&write(dir.path(), "bom.obj", bom.as_bytes()));
+    assert_eq!((mesh.vertices.len(), mesh.triangles.len()), (4, 4));
+    assert_sphere(&report);
+    // Found by its first bytes too.
+    let (mesh, _) = read_ok(&write(dir.path(), "bom.mesh", bom.as_bytes()));
+    assert_eq!(mesh.triangles.len(), 4);
+}
+
 #[test]
 fn content_that_is_not_obj_is_refused() {
     let dir = tempfile::tempdir().unwrap();

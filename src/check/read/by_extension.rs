@@ -3,7 +3,8 @@
 use super::obj::read_obj;
 use super::off::read_off;
 use super::ply::read_ply;
-use super::source::{stl_error, Format, Source, MAX_TRIANGLES};
+use super::source::{binary_stl, not_stl, stl_error, Format, Source, MAX_TRIANGLES};
+use super::stl::read_stl;
 use crate::export::replay;
 use crate::files::lowercase_extension;
 use crate::mesh::{Mesh, MeshBuilder};
@@ -24,9 +25,26 @@ use std::path::Path;
 /// [`Mesh`] (at most `u32::MAX` vertices).
 pub fn read_mesh(path: &Path) -> Result<Mesh> {
     match open(path)? {
+        (Format::Stl(_), _) => Err(stl_error(path)),
+        (format, src) => read_format(path, format, src),
+    }
+}
+
+/// Reads a mesh as [`read_mesh`] does, and also STL files (binary or
+/// ASCII), whose facets' corners at the same position become one vertex:
+/// for what needs the triangles and not a proof of their connectivity
+/// (`tmc preview`).
+pub fn read_mesh_to_draw(path: &Path) -> Result<Mesh> {
+    let (format, src) = open(path)?;
+    read_format(path, format, src)
+}
+
+fn read_format(path: &Path, format: Format, src: Option<Source<'_>>) -> Result<Mesh> {
+    match (format, src) {
         (Format::Ply, Some(mut src)) => read_ply(&mut src),
         (Format::Obj, Some(mut src)) => read_obj(&mut src),
         (Format::Off, Some(mut src)) => read_off(&mut src),
+        (Format::Stl(binary), Some(mut src)) => read_stl(&mut src, binary),
         _ => read_tmesh(path),
     }
 }
@@ -43,10 +61,8 @@ pub fn is_tmesh(path: &Path) -> Result<bool> {
 /// named `.tmesh`, which its own reader opens).
 fn open(path: &Path) -> Result<(Format, Option<Source<'_>>)> {
     let ext = lowercase_extension(path);
-    match ext.as_str() {
-        "stl" => return Err(stl_error(path)),
-        "tmesh" => return Ok((Format::Tmesh, None)),
-        _ => {}
+    if ext == "tmesh" {
+        return Ok((Format::Tmesh, None));
     }
     let file = File::open(path).map_err(|e| Error::io(path, e))?;
     let mut src = Source {
@@ -61,9 +77,24 @@ fn open(path: &Path) -> Result<(Format, Option<Source<'_>>)> {
         "ply" => Format::Ply,
         "obj" => Format::Obj,
         "off" => Format::Off,
+        "stl" => stl_kind(&mut src)?,
         _ => src.sniff()?,
     };
     Ok((format, Some(src)))
+}
+
+/// Whether the `.stl` file of `src` is binary or ASCII STL; an error when
+/// it is neither.
+fn stl_kind(src: &mut Source) -> Result<Format> {
+    use std::io::BufRead;
+    let head = src.reader.fill_buf().map_err(|e| Error::io(src.path, e))?;
+    if binary_stl(src.path, head) {
+        Ok(Format::Stl(true))
+    } else if head.trim_ascii_start().starts_with(b"solid") {
+        Ok(Format::Stl(false))
+    } else {
+        Err(not_stl(src.path))
+    }
 }
 
 /// Reads a whole `.tmesh` file, chunk by chunk, into a [`Mesh`].

@@ -1,4 +1,6 @@
-//! Reading triangle meshes (PLY, OBJ, OFF, `.tmesh`) for the checker.
+//! Reading triangle meshes (PLY, OBJ, OFF, `.tmesh`) for the checker, and
+//! STL for drawing ([`read_mesh_to_draw`]: the checker refuses STL, which
+//! shares no vertices).
 //!
 //! The readers keep exactly the connectivity that the file states: vertices
 //! are never welded, polygons are fan-triangulated (`v0 vi vi+1`). Every
@@ -19,5 +21,6 @@ mod obj;
 mod off;
 mod ply;
 mod source;
+mod stl;
 
-pub use by_extension::{is_tmesh, read_mesh};
+pub use by_extension::{is_tmesh, read_mesh, read_mesh_to_draw};

@@ -12,22 +12,54 @@ const OBJ_KEYWORDS: &str = "v vt vn vp f l p g o s mg mtllib usemtl maplib usema
     cstype deg bmat step curv curv2 surf parm trim hole scrv sp end con bevel c_interp d_interp \
     lod shadow_obj trace_obj ctech stech call csh";
 
+/// Joins into the current line the lines that a backslash at the end of
+/// the line before continues (OBJ's line continuation: `f 1 2 \` then
+/// `3`), each backslash replaced by a space; errors then name the last of
+/// the joined lines. A backslash on the last line of the file continues
+/// nothing; nor does one in a `#` comment.
+fn join_continued(src: &mut Source) -> Result<()> {
+    if src.buf.contains(&b'#') || !src.buf.trim_ascii_end().ends_with(b"\\") {
+        return Ok(());
+    }
+    let mut joined = Vec::new();
+    loop {
+        match src.buf.trim_ascii_end().strip_suffix(b"\\") {
+            Some(head) => {
+                joined.extend_from_slice(head);
+                joined.push(b' ');
+                if !src.next_line()? {
+                    break;
+                }
+            }
+            None => {
+                joined.extend_from_slice(&src.buf);
+                break;
+            }
+        }
+    }
+    src.buf = joined;
+    src.pos = 0;
+    Ok(())
+}
+
 pub(super) fn read_obj(src: &mut Source) -> Result<Mesh> {
     let mut mesh = Mesh::default();
     let mut polygon: Vec<u32> = Vec::new();
     // The largest positive index seen and its line, checked at the end
     // (positive indices may refer to vertices defined later).
     let mut max_index: Option<(u32, usize)> = None;
-    // Whether the previous line ended with a backslash: this one continues it.
-    let mut continued = false;
     while src.next_line()? {
+        join_continued(src)?;
+        if src.line == 1 {
+            // A UTF-8 byte order mark, as some Windows tools write.
+            if let Some(rest) = src.buf.strip_prefix(b"\xEF\xBB\xBF") {
+                src.buf = rest.to_vec();
+            }
+        }
         if src.buf.contains(&0) || std::str::from_utf8(&src.buf).is_err() {
             return Err(src.err_line("not an OBJ file: NUL or non-UTF-8 bytes"));
         }
-        let has_content = src.strip_comment();
-        let continuation = continued;
-        continued = src.buf.trim_ascii_end().ends_with(b"\\");
-        if continuation || !has_content {
+        if !src.strip_comment() {
             continue;
         }
         let mut words = src.words();

@@ -20,6 +20,9 @@ pub(super) enum Format {
     Obj,
     Off,
     Tmesh,
+    /// STL, binary (`true`: the file's length is that of the facet count
+    /// at bytes 80..84) or ASCII.
+    Stl(bool),
 }
 
 /// A buffered file with a current line and a token cursor in it.
@@ -68,7 +71,7 @@ impl Source<'_> {
         let text = String::from_utf8_lossy(head);
         let first = text
             .lines()
-            .map(str::trim)
+            .map(|l| l.trim_start_matches('\u{feff}').trim())
             .find(|l| !l.is_empty() && !l.starts_with('#'))
             .unwrap_or("");
         let word = first.split_ascii_whitespace().next().unwrap_or("");
@@ -76,8 +79,10 @@ impl Source<'_> {
             Ok(Format::Ply)
         } else if word.ends_with("OFF") {
             Ok(Format::Off)
-        } else if word == "solid" || binary_stl(self.path, head) {
-            Err(stl_error(self.path))
+        } else if binary_stl(self.path, head) {
+            Ok(Format::Stl(true))
+        } else if word == "solid" {
+            Ok(Format::Stl(false))
         } else if ["v", "vn", "vt", "f", "o", "g", "s", "mtllib", "usemtl"].contains(&word) {
             Ok(Format::Obj)
         } else {
@@ -194,12 +199,22 @@ pub(super) fn push_fan(triangles: &mut Vec<[u32; 3]>, polygon: &[u32]) {
 /// STL: an 80-byte header, a triangle count `n` and `n` records of 50
 /// bytes, so the file is exactly `84 + 50 n` bytes long. Any other binary
 /// file (a volume given by mistake, say) is an unknown format, not STL.
-fn binary_stl(path: &Path, head: &[u8]) -> bool {
+pub(super) fn binary_stl(path: &Path, head: &[u8]) -> bool {
     let Some(count) = head.get(80..84) else {
         return false;
     };
     let count = u32::from_le_bytes(count.try_into().expect("four bytes"));
     std::fs::metadata(path).is_ok_and(|m| m.len() == 84 + 50 * u64::from(count))
+}
+
+/// The error for an STL file given to an extension's reader of `.stl`
+/// that is neither binary nor ASCII STL.
+pub(super) fn not_stl(path: &Path) -> Error {
+    Error::Format(format!(
+        "{}: not an STL file: neither a binary STL (84 bytes and 50 a facet) nor ASCII \
+         (starting with 'solid')",
+        path.display()
+    ))
 }
 
 /// The error for an STL file, which the checker does not read.

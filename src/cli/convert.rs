@@ -26,8 +26,8 @@ pub(crate) struct ConvertArgs {
     #[arg(short, long, value_name = "OUTPUT")]
     pub output: PathBuf,
 
-    /// Print nothing on stderr but errors (it prints nothing else today;
-    /// accepted so that scripts can pass -q to every subcommand).
+    /// Print nothing on stderr but errors (the only other line is a note
+    /// that the output format leaves out the input's labels or normals).
     #[arg(short, long)]
     pub quiet: bool,
 }
@@ -40,10 +40,33 @@ pub(crate) fn run(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()>
     tmc::part::PartRecord::refuse_part(&args.input)?;
     let mut reader = TmeshReader::open(&args.input)?;
     tmc::export::check_output_path(&args.output)?;
+    if !args.quiet {
+        if let Some(lost) = left_out(reader.info(), &args.output) {
+            say!("tmc: note: {}: {lost}", args.output.display());
+        }
+    }
     let mut sink = tmc::export::create_sink(&args.output)?;
     let never = AtomicBool::new(false);
     tmc::export::replay_cancellable(&mut reader, sink.as_mut(), cancel.unwrap_or(&never))?;
     Ok(())
+}
+
+/// What an output format cannot hold of a mesh with `info`'s attributes:
+/// per-face labels live only in PLY and `.tmesh`, vertex normals in PLY,
+/// OBJ and `.tmesh`.
+fn left_out(info: &tmc::MeshInfo, output: &std::path::Path) -> Option<String> {
+    let ext = tmc::files::lowercase_extension(output);
+    let labels = info.labels && !matches!(ext.as_str(), "ply" | "tmesh");
+    let normals = info.normals && !matches!(ext.as_str(), "ply" | "obj" | "tmesh");
+    let (what, keep) = match (labels, normals) {
+        (true, true) => ("per-face labels and vertex normals", ".ply and .tmesh keep them"),
+        (true, false) => ("per-face labels", ".ply and .tmesh keep them"),
+        (false, true) => ("vertex normals", ".ply, .obj and .tmesh keep them"),
+        (false, false) => return None,
+    };
+    Some(format!(
+        "a .{ext} file has no place for the input's {what}: left out ({keep})"
+    ))
 }
 
 /// Refuses, saying what convert reads, an input that is another mesh

@@ -661,3 +661,40 @@ fn convert_of_another_mesh_format_says_what_it_reads() {
     let done = tmc(&["convert", s(&named), "-o", s(&out)]);
     assert!(done.status.success(), "{done:?}");
 }
+
+/// `tmc convert` says in one note what the output format leaves out of
+/// the input: the labels of a labelled mesh with normals in `.obj` (which
+/// keeps the normals), both in `.off` and `.stl`; nothing for `.ply` and
+/// `.tmesh`, for a mesh without them, or with `-q`.
+#[test]
+fn convert_says_what_the_output_format_leaves_out() {
+    use common::cli::{s, tmc};
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (labelled, plain) = (data.join("tmesh_v2.tmesh"), data.join("tmesh_v1.tmesh"));
+    let both = "no place for the input's per-face labels and vertex normals";
+    let cases = [
+        (&labelled, "obj", &[][..], Some("no place for the input's per-face labels:")),
+        (&labelled, "off", &[][..], Some(both)),
+        (&labelled, "stl", &[][..], Some(both)),
+        (&labelled, "ply", &[][..], None),
+        (&labelled, "tmesh", &[][..], None),
+        (&plain, "off", &[][..], None),
+        (&labelled, "obj", &["-q"][..], None),
+    ];
+    for (input, ext, extra, note) in cases {
+        let out = dir.path().join(format!("x.{ext}"));
+        let mut args = vec!["convert", s(input), "-o", s(&out)];
+        args.extend_from_slice(extra);
+        let run = tmc(&args);
+        assert!(run.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&run.stderr);
+        match note {
+            Some(words) => assert!(
+                err.lines().count() == 1 && err.starts_with("tmc: note: ") && err.contains(words),
+                "{args:?}: {err}"
+            ),
+            None => assert!(err.is_empty(), "{args:?}: {err}"),
+        }
+    }
+}

@@ -205,3 +205,48 @@ def test_leading_unit_axes_are_the_volume(tmp_path):
     assert tmc.extract_labels(labels[None])[1].triangles.shape == (
         tmc.extract_labels(labels)[1].triangles.shape
     )
+
+
+def test_numbers_and_counts_are_not_converted_from_other_types(tmp_path):
+    """A string is not an isovalue ("1" was taken as 1.0), 1.5 not a
+    segment (was segment 1) nor a step (was step 1), True not a series
+    (was the series "True"): TypeError naming the argument, nothing
+    written."""
+    for bad in ("1", b"1", True, None, [1]):
+        with pytest.raises(TypeError, match="iso must be a number"):
+            tmc.extract(GOOD, bad)
+        with pytest.raises(TypeError, match="iso must be a number"):
+            tmc.extract_to(GOOD, bad, tmp_path / "out.ply")
+    with pytest.raises(TypeError, match="level must be a number"):
+        tmc.marching_cubes(GOOD, "0.5")
+    path = tmp_path / "v.npy"
+    np.save(path, GOOD)
+    for bad in (1.5, "a", True):
+        with pytest.raises(TypeError, match="segment must be a segment number"):
+            tmc.extract(path, 0.5, segment=bad)
+        with pytest.raises(TypeError, match="segment must be a segment number"):
+            tmc.info(path, segment=bad)
+    for bad in (True, 1.5, b"1"):
+        with pytest.raises(TypeError, match="series must be a number or a UID"):
+            tmc.info(path, series=bad)
+    for bad in (1.5, "2", True):
+        with pytest.raises(TypeError, match="step_size must be an integer"):
+            tmc.marching_cubes(GOOD, 0.5, step_size=bad)
+    assert list(tmp_path.iterdir()) == [path]
+    # numpy scalars are numbers.
+    assert tmc.extract(GOOD, np.float32(0.5)).stats["iso"] == 0.5
+
+
+@pytest.mark.parametrize("shape", [(0, 5, 6), (4, 0, 6), (4, 5, 1)])
+def test_marching_cubes_names_a_too_small_shape(shape):
+    """An axis of 0 samples gave numpy's "zero-size array to reduction
+    operation fmin which has no identity"; now the shape and the rule."""
+    with pytest.raises(ValueError, match=r"needs at least 2 samples along every axis"):
+        tmc.marching_cubes(np.zeros(shape, np.float32), 0.5)
+
+
+def test_marching_cubes_spacing_error_in_the_callers_order():
+    """The message lists the spacing as given (array axis order), not
+    reversed into tmc's x, y, z."""
+    with pytest.raises(ValueError, match=r"spacing \[0\.0, 1\.0, 2\.0\] must be finite and positive"):
+        tmc.marching_cubes(GOOD, 0.5, spacing=(0, 1, 2))

@@ -205,6 +205,19 @@ def _as_samples(volume: Any) -> np.ndarray:
     )
 
 
+def _number(value: Any, name: str) -> float:
+    """A real number (``iso``, ``level``) as a float: ``TypeError`` naming
+    ``name`` for text, bytes or a bool (``float("1")`` would take the
+    string ``"1"`` as the number 1, and ``True`` would be 1.0), as for any
+    other object that is not a real number."""
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        raise TypeError(f"{name} must be a number, not {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a number, not {value!r}") from None
+
+
 def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[Any, ...]:
     """The input, isovalue, spacing, origin and mapped-file arguments of
     the library's calls, for an array or a path."""
@@ -214,11 +227,11 @@ def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[An
                 "spacing and origin of a volume file come from its header; "
                 "pass them only with an array"
             )
-        return os.fsdecode(volume), float(iso), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
+        return os.fsdecode(volume), _number(iso, "iso"), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
     array = _volume_3d(_as_samples(volume))
     spacing = _triple(spacing, "spacing", 1.0)
     origin = _triple(origin, "origin", 0.0)
-    return array, float(iso), spacing, origin, _mapped_file(array)
+    return array, _number(iso, "iso"), spacing, origin, _mapped_file(array)
 
 
 def _volume_3d(array: np.ndarray) -> np.ndarray:
@@ -617,11 +630,23 @@ def _count(value: Any, name: str) -> int:
 
 
 def _select(series: Any, segment: Any) -> Tuple[Optional[str], Optional[int]]:
-    """The series (as text: a number or a UID) and segment arguments."""
-    if series is not None and not isinstance(series, (int, str)):
+    """The series (as text: a number or a UID) and segment arguments:
+    ``TypeError`` for a series that is neither (a bool was the series
+    "True") and for a segment that is no whole number (1.5 was segment 1,
+    "a" a ``ValueError`` of ``int``)."""
+    if series is not None and (
+        isinstance(series, (bool, np.bool_)) or not isinstance(series, (int, np.integer, str))
+    ):
         raise TypeError(f"series must be a number or a UID string, not {series!r}")
+    if series is not None and not isinstance(series, str):
+        series = operator.index(series)
     if segment is not None:
-        segment = int(segment)
+        if isinstance(segment, (bool, np.bool_)):
+            raise TypeError(f"segment must be a segment number, not {segment!r}")
+        try:
+            segment = operator.index(segment)
+        except TypeError:
+            raise TypeError(f"segment must be a segment number, not {segment!r}") from None
         if segment < 1:
             raise ValueError(f"segment must be a segment number (1 or more), not {segment}")
     return (None if series is None else str(series)), segment
@@ -705,9 +730,27 @@ def marching_cubes(
         raise ValueError(
             f"expected a 3-D array of shape (nz, ny, nx), found shape {list(array.shape)}"
         )
-    if len(spacing) != 3:
+    if min(array.shape) < 2:
+        # Before the range below, whose numpy error ("zero-size array to
+        # reduction operation") would not say what is wrong.
+        raise ValueError(
+            f"shape {tuple(array.shape)}: marching_cubes needs at least 2 samples "
+            "along every axis"
+        )
+    if isinstance(spacing, (str, bytes)) or len(spacing) != 3:
         raise ValueError("`spacing` must consist of three floats.")
-    step = int(step_size)
+    spacing = tuple(_number(s, "spacing") for s in spacing)
+    if not all(np.isfinite(s) and s > 0 for s in spacing):
+        # Checked here, in the caller's axis order (the library's message
+        # would list them x first).
+        raise ValueError(f"spacing {list(spacing)} must be finite and positive")
+    if isinstance(step_size, (bool, np.bool_)):
+        raise TypeError(f"step_size must be an integer, not {step_size!r}")
+    try:
+        step = operator.index(step_size)
+    except TypeError:
+        # As scikit-image's volume[::1.5] would: no rounding.
+        raise TypeError(f"step_size must be an integer, not {step_size!r}") from None
     if step < 1:
         raise ValueError("step_size must be at least one.")
     if gradient_direction == "descent":
@@ -736,6 +779,7 @@ def marching_cubes(
                 "to take the middle of; give level"
             )
         level = 0.5 * (low + high)
+    level = _number(level, "level")
     spacing_ijk = tuple(float(s) * step for s in spacing)
     if step > 1:
         array = array[::step, ::step, ::step]

@@ -250,3 +250,38 @@ def test_marching_cubes_spacing_error_in_the_callers_order():
     reversed into tmc's x, y, z."""
     with pytest.raises(ValueError, match=r"spacing \[0\.0, 1\.0, 2\.0\] must be finite and positive"):
         tmc.marching_cubes(GOOD, 0.5, spacing=(0, 1, 2))
+
+
+def test_indices_of_2_to_the_32_are_refused_not_wrapped(tmp_path):
+    """uint64/int64 triangles past 2**32 were cast to uint32, wrapping
+    2**33 + k to k: a file of valid indices of the wrong vertices was
+    written. Now a ValueError naming the triangle, nothing written."""
+    mesh = tmc.extract(np.pad(np.ones((3, 3, 3), np.float32), 1), 0.5)
+    for dtype in (np.uint64, np.int64):
+        wrapped = mesh.triangles.astype(dtype)
+        wrapped[2, 0] += 2**33
+        with pytest.raises(ValueError, match=r"triangle 2 .* index of 2\*\*32 or more"):
+            tmc.Mesh(mesh.vertices, wrapped).write(tmp_path / "m.ply")
+        with pytest.raises(ValueError, match=r"triangle 2 .* index of 2\*\*32 or more"):
+            tmc.Mesh(mesh.vertices, wrapped).check()
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_counts_name_themselves(tmp_path):
+    """bins, plane_step and background of another type, or too large for
+    the binding, are TypeError / ValueError naming the argument (were
+    "'float' object cannot be interpreted as an integer" and OverflowError
+    "int too big to convert")."""
+    path = tmp_path / "v.npy"
+    np.save(path, GOOD)
+    for name in ("bins", "plane_step"):
+        for bad in (1.5, True, "8"):
+            with pytest.raises(TypeError, match=f"{name} must be an integer"):
+                tmc.info(path, **{name: bad})
+        with pytest.raises(ValueError, match=f"{name} must be less than 2\\*\\*63"):
+            tmc.info(path, **{name: 10**20})
+    labels = np.zeros((4, 5, 6), np.uint8)
+    labels[1:3, 1:3, 1:3] = 1
+    for bad in (1.5, True, "0"):
+        with pytest.raises(TypeError, match="background must be an integer"):
+            tmc.extract_labels(labels, background=bad)

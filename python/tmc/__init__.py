@@ -144,13 +144,21 @@ class Mesh:
 def _indices(triangles: Any) -> np.ndarray:
     """``triangles`` as uint32 vertex indices: ``TypeError`` for other than
     integers (a cast would truncate 1.5 to 1), ``ValueError`` for a negative
-    index (a cast would wrap -1 to 4294967295)."""
+    index (a cast would wrap -1 to 4294967295) or one of 2**32 or more (a
+    cast would wrap 2**32 + 5 to vertex 5, a valid index of another
+    vertex)."""
     array = np.asarray(triangles)
     if array.size and array.dtype.kind not in "iu":
         raise TypeError(f"triangles must be integer vertex indices, not {array.dtype}")
     if array.size and array.dtype.kind == "i" and array.min() < 0:
         row = int(np.argwhere(array < 0)[0][0])
         raise ValueError(f"triangle {row} {array[row].tolist()} has a negative vertex index")
+    if array.size and array.dtype.itemsize > 4 and array.max() > np.iinfo(np.uint32).max:
+        row = int(np.argwhere(array > np.iinfo(np.uint32).max)[0][0])
+        raise ValueError(
+            f"triangle {row} {array[row].tolist()} has a vertex index of 2**32 or more "
+            "(mesh files hold 32-bit indices)"
+        )
     return np.ascontiguousarray(array, dtype=np.uint32)
 
 
@@ -459,7 +467,13 @@ def _label_args(
             if not fits32 and -(2**53) <= low and high <= 2**53:
                 volume = array.astype(np.float64)
     array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
-    rest = (chosen, operator.index(background), spacing3, origin3, mapped,
+    if isinstance(background, (bool, np.bool_)):
+        raise TypeError(f"background must be an integer, not {background!r}")
+    try:
+        background = operator.index(background)
+    except TypeError:
+        raise TypeError(f"background must be an integer, not {background!r}") from None
+    rest = (chosen, background, spacing3, origin3, mapped,
             _flag(close, "close"), _threads(threads), _flag(normals, "normals"),
             *_select(series, segment))
     return array, rest
@@ -622,10 +636,19 @@ def info(
 
 def _count(value: Any, name: str) -> int:
     """A whole number of 0 or more, or ``ValueError`` naming ``name`` (the
-    binding's OverflowError said only "can't convert negative int")."""
-    value = operator.index(value)
+    binding's OverflowError said only "can't convert negative int", or "int
+    too big to convert" past 2**64); ``TypeError`` naming it for other than
+    an integer (1.5, a bool)."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be an integer, not {value!r}")
+    try:
+        value = operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be an integer, not {value!r}") from None
     if value < 0:
         raise ValueError(f"{name} must be 0 or more, not {value}")
+    if value > np.iinfo(np.int64).max:
+        raise ValueError(f"{name} must be less than 2**63, not {value}")
     return value
 
 

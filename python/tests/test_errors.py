@@ -232,6 +232,11 @@ def test_numbers_and_counts_are_not_converted_from_other_types(tmp_path):
     for bad in (1.5, "2", True):
         with pytest.raises(TypeError, match="step_size must be an integer"):
             tmc.marching_cubes(GOOD, 0.5, step_size=bad)
+    for name, bad in (("method", 1), ("method", None), ("inside", None), ("inside", 1)):
+        with pytest.raises(TypeError, match=f"{name} must be"):
+            tmc.extract(GOOD, 0.5, **{name: bad})
+    with pytest.raises(TypeError, match="method must be"):
+        tmc.marching_cubes(GOOD, 0.5, method=["tmc"])
     assert list(tmp_path.iterdir()) == [path]
     # numpy scalars are numbers.
     assert tmc.extract(GOOD, np.float32(0.5)).stats["iso"] == 0.5

@@ -270,6 +270,8 @@ def _flag(value: Any, name: str) -> bool:
 
 def _options(method: str, inside: str, close: bool, threads: int) -> Tuple[Any, ...]:
     """The method, inside, close and threads arguments of the library's calls."""
+    if not isinstance(inside, str):
+        raise TypeError(f"inside must be 'high' or 'low', not {inside!r}")
     return _method(method), inside, _flag(close, "close"), _threads(threads)
 
 
@@ -292,6 +294,8 @@ def _triple(value: Any, name: str, default: float) -> Tuple[float, float, float]
 def _method(method: str) -> str:
     """The library's method name for tmc's or scikit-image's."""
     names = {"tmc": "tmc", "lewiner": "tmc", "mc": "mc", "lorensen": "mc"}
+    if not isinstance(method, str):
+        raise TypeError(f"method must be 'tmc' or 'mc', not {method!r}")
     if method not in names:
         raise ValueError(
             f"unknown method {method!r} (expected 'tmc' or 'mc'; "

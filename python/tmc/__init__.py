@@ -304,15 +304,22 @@ def _method(method: str) -> str:
     return names[method]
 
 
+def _integer(value: Any, name: str, what: str = "an integer") -> int:
+    """``value`` as a Python int when it is an integer (numpy's included),
+    else ``TypeError`` naming ``name``: 1.5 or "2" are refused, not
+    rounded or parsed, and a bool is no number here."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be {what}, not {value!r}")
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be {what}, not {value!r}") from None
+
+
 def _threads(threads: int) -> int:
     """``threads`` as the CLI's ``--threads`` takes it: a whole number, 0
     (all cores) to 1024; 1.5 or "2" are refused (TypeError), not rounded."""
-    if isinstance(threads, bool):
-        raise TypeError(f"threads must be an integer, not {threads!r}")
-    try:
-        threads = operator.index(threads)
-    except TypeError:
-        raise TypeError(f"threads must be an integer, not {threads!r}") from None
+    threads = _integer(threads, "threads")
     if threads < 0:
         raise ValueError(f"threads must be 0 (all cores) or more, not {threads}")
     if threads > 1024:
@@ -471,13 +478,7 @@ def _label_args(
             if not fits32 and -(2**53) <= low and high <= 2**53:
                 volume = array.astype(np.float64)
     array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
-    if isinstance(background, (bool, np.bool_)):
-        raise TypeError(f"background must be an integer, not {background!r}")
-    try:
-        background = operator.index(background)
-    except TypeError:
-        raise TypeError(f"background must be an integer, not {background!r}") from None
-    rest = (chosen, background, spacing3, origin3, mapped,
+    rest = (chosen, _integer(background, "background"), spacing3, origin3, mapped,
             _flag(close, "close"), _threads(threads), _flag(normals, "normals"),
             *_select(series, segment))
     return array, rest
@@ -643,12 +644,7 @@ def _count(value: Any, name: str) -> int:
     binding's OverflowError said only "can't convert negative int", or "int
     too big to convert" past 2**64); ``TypeError`` naming it for other than
     an integer (1.5, a bool)."""
-    if isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be an integer, not {value!r}")
-    try:
-        value = operator.index(value)
-    except TypeError:
-        raise TypeError(f"{name} must be an integer, not {value!r}") from None
+    value = _integer(value, name)
     if value < 0:
         raise ValueError(f"{name} must be 0 or more, not {value}")
     if value > np.iinfo(np.int64).max:
@@ -668,12 +664,7 @@ def _select(series: Any, segment: Any) -> Tuple[Optional[str], Optional[int]]:
     if series is not None and not isinstance(series, str):
         series = operator.index(series)
     if segment is not None:
-        if isinstance(segment, (bool, np.bool_)):
-            raise TypeError(f"segment must be a segment number, not {segment!r}")
-        try:
-            segment = operator.index(segment)
-        except TypeError:
-            raise TypeError(f"segment must be a segment number, not {segment!r}") from None
+        segment = _integer(segment, "segment", "a segment number")
         if segment < 1:
             raise ValueError(f"segment must be a segment number (1 or more), not {segment}")
     return (None if series is None else str(series)), segment
@@ -771,13 +762,8 @@ def marching_cubes(
         # Checked here, in the caller's axis order (the library's message
         # would list them x first).
         raise ValueError(f"spacing {list(spacing)} must be finite and positive")
-    if isinstance(step_size, (bool, np.bool_)):
-        raise TypeError(f"step_size must be an integer, not {step_size!r}")
-    try:
-        step = operator.index(step_size)
-    except TypeError:
-        # As scikit-image's volume[::1.5] would: no rounding.
-        raise TypeError(f"step_size must be an integer, not {step_size!r}") from None
+    # As scikit-image's volume[::1.5] would: no rounding.
+    step = _integer(step_size, "step_size")
     if step < 1:
         raise ValueError("step_size must be at least one.")
     if gradient_direction == "descent":

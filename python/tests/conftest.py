@@ -138,8 +138,9 @@ def sigint_latency(setup: str, call: str, wait: float, within: float = 0.5) -> f
     return best
 
 
-def _one_sigint_latency(setup: str, call: str, wait: float) -> float:
-    """One run of [`sigint_latency`]."""
+def _one_sigint_latency(setup: str, call: str, wait: float, timeout: float = 120) -> float:
+    """One run of [`sigint_latency`]; infinity when the child is still
+    running `timeout` seconds after the signal (it is killed then)."""
     code = textwrap.dedent(setup) + textwrap.dedent(
         f"""
         import time
@@ -165,7 +166,12 @@ def _one_sigint_latency(setup: str, call: str, wait: float) -> float:
     time.sleep(wait)
     sent = time.time()
     child.send_signal(signal.SIGINT)
-    out_text, err = child.communicate(timeout=120)
+    try:
+        out_text, err = child.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        child.kill()
+        child.communicate()
+        return float("inf")
     words = out_text.split()
     assert words and words[0] == "interrupted", (out_text, err)
     return float(words[1]) - sent

@@ -205,3 +205,88 @@ def test_leading_unit_axes_are_the_volume(tmp_path):
     assert tmc.extract_labels(labels[None])[1].triangles.shape == (
         tmc.extract_labels(labels)[1].triangles.shape
     )
+
+
+def test_numbers_and_counts_are_not_converted_from_other_types(tmp_path):
+    """A string is not an isovalue ("1" was taken as 1.0), 1.5 not a
+    segment (was segment 1) nor a step (was step 1), True not a series
+    (was the series "True"): TypeError naming the argument, nothing
+    written."""
+    for bad in ("1", b"1", True, None, [1]):
+        with pytest.raises(TypeError, match="iso must be a number"):
+            tmc.extract(GOOD, bad)
+        with pytest.raises(TypeError, match="iso must be a number"):
+            tmc.extract_to(GOOD, bad, tmp_path / "out.ply")
+    with pytest.raises(TypeError, match="level must be a number"):
+        tmc.marching_cubes(GOOD, "0.5")
+    path = tmp_path / "v.npy"
+    np.save(path, GOOD)
+    for bad in (1.5, "a", True):
+        with pytest.raises(TypeError, match="segment must be a segment number"):
+            tmc.extract(path, 0.5, segment=bad)
+        with pytest.raises(TypeError, match="segment must be a segment number"):
+            tmc.info(path, segment=bad)
+    for bad in (True, 1.5, b"1"):
+        with pytest.raises(TypeError, match="series must be a number or a UID"):
+            tmc.info(path, series=bad)
+    for bad in (1.5, "2", True):
+        with pytest.raises(TypeError, match="step_size must be an integer"):
+            tmc.marching_cubes(GOOD, 0.5, step_size=bad)
+    for name, bad in (("method", 1), ("method", None), ("inside", None), ("inside", 1)):
+        with pytest.raises(TypeError, match=f"{name} must be"):
+            tmc.extract(GOOD, 0.5, **{name: bad})
+    with pytest.raises(TypeError, match="method must be"):
+        tmc.marching_cubes(GOOD, 0.5, method=["tmc"])
+    assert list(tmp_path.iterdir()) == [path]
+    # numpy scalars are numbers.
+    assert tmc.extract(GOOD, np.float32(0.5)).stats["iso"] == 0.5
+
+
+@pytest.mark.parametrize("shape", [(0, 5, 6), (4, 0, 6), (4, 5, 1)])
+def test_marching_cubes_names_a_too_small_shape(shape):
+    """An axis of 0 samples gave numpy's "zero-size array to reduction
+    operation fmin which has no identity"; now the shape and the rule."""
+    with pytest.raises(ValueError, match=r"needs at least 2 samples along every axis"):
+        tmc.marching_cubes(np.zeros(shape, np.float32), 0.5)
+
+
+def test_marching_cubes_spacing_error_in_the_callers_order():
+    """The message lists the spacing as given (array axis order), not
+    reversed into tmc's x, y, z."""
+    with pytest.raises(ValueError, match=r"spacing \[0\.0, 1\.0, 2\.0\] must be finite and positive"):
+        tmc.marching_cubes(GOOD, 0.5, spacing=(0, 1, 2))
+
+
+def test_indices_of_2_to_the_32_are_refused_not_wrapped(tmp_path):
+    """uint64/int64 triangles past 2**32 were cast to uint32, wrapping
+    2**33 + k to k: a file of valid indices of the wrong vertices was
+    written. Now a ValueError naming the triangle, nothing written."""
+    mesh = tmc.extract(np.pad(np.ones((3, 3, 3), np.float32), 1), 0.5)
+    for dtype in (np.uint64, np.int64):
+        wrapped = mesh.triangles.astype(dtype)
+        wrapped[2, 0] += 2**33
+        with pytest.raises(ValueError, match=r"triangle 2 .* index of 2\*\*32 or more"):
+            tmc.Mesh(mesh.vertices, wrapped).write(tmp_path / "m.ply")
+        with pytest.raises(ValueError, match=r"triangle 2 .* index of 2\*\*32 or more"):
+            tmc.Mesh(mesh.vertices, wrapped).check()
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_counts_name_themselves(tmp_path):
+    """bins, plane_step and background of another type, or too large for
+    the binding, are TypeError / ValueError naming the argument (were
+    "'float' object cannot be interpreted as an integer" and OverflowError
+    "int too big to convert")."""
+    path = tmp_path / "v.npy"
+    np.save(path, GOOD)
+    for name in ("bins", "plane_step"):
+        for bad in (1.5, True, "8"):
+            with pytest.raises(TypeError, match=f"{name} must be an integer"):
+                tmc.info(path, **{name: bad})
+        with pytest.raises(ValueError, match=f"{name} must be less than 2\\*\\*63"):
+            tmc.info(path, **{name: 10**20})
+    labels = np.zeros((4, 5, 6), np.uint8)
+    labels[1:3, 1:3, 1:3] = 1
+    for bad in (1.5, True, "0"):
+        with pytest.raises(TypeError, match="background must be an integer"):
+            tmc.extract_labels(labels, background=bad)

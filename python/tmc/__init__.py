@@ -144,13 +144,21 @@ class Mesh:
 def _indices(triangles: Any) -> np.ndarray:
     """``triangles`` as uint32 vertex indices: ``TypeError`` for other than
     integers (a cast would truncate 1.5 to 1), ``ValueError`` for a negative
-    index (a cast would wrap -1 to 4294967295)."""
+    index (a cast would wrap -1 to 4294967295) or one of 2**32 or more (a
+    cast would wrap 2**32 + 5 to vertex 5, a valid index of another
+    vertex)."""
     array = np.asarray(triangles)
     if array.size and array.dtype.kind not in "iu":
         raise TypeError(f"triangles must be integer vertex indices, not {array.dtype}")
     if array.size and array.dtype.kind == "i" and array.min() < 0:
         row = int(np.argwhere(array < 0)[0][0])
         raise ValueError(f"triangle {row} {array[row].tolist()} has a negative vertex index")
+    if array.size and array.dtype.itemsize > 4 and array.max() > np.iinfo(np.uint32).max:
+        row = int(np.argwhere(array > np.iinfo(np.uint32).max)[0][0])
+        raise ValueError(
+            f"triangle {row} {array[row].tolist()} has a vertex index of 2**32 or more "
+            "(mesh files hold 32-bit indices)"
+        )
     return np.ascontiguousarray(array, dtype=np.uint32)
 
 
@@ -205,6 +213,19 @@ def _as_samples(volume: Any) -> np.ndarray:
     )
 
 
+def _number(value: Any, name: str) -> float:
+    """A real number (``iso``, ``level``) as a float: ``TypeError`` naming
+    ``name`` for text, bytes or a bool (``float("1")`` would take the
+    string ``"1"`` as the number 1, and ``True`` would be 1.0), as for any
+    other object that is not a real number."""
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        raise TypeError(f"{name} must be a number, not {value!r}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a number, not {value!r}") from None
+
+
 def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[Any, ...]:
     """The input, isovalue, spacing, origin and mapped-file arguments of
     the library's calls, for an array or a path."""
@@ -214,11 +235,11 @@ def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[An
                 "spacing and origin of a volume file come from its header; "
                 "pass them only with an array"
             )
-        return os.fsdecode(volume), float(iso), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
+        return os.fsdecode(volume), _number(iso, "iso"), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
     array = _volume_3d(_as_samples(volume))
     spacing = _triple(spacing, "spacing", 1.0)
     origin = _triple(origin, "origin", 0.0)
-    return array, float(iso), spacing, origin, _mapped_file(array)
+    return array, _number(iso, "iso"), spacing, origin, _mapped_file(array)
 
 
 def _volume_3d(array: np.ndarray) -> np.ndarray:
@@ -249,6 +270,8 @@ def _flag(value: Any, name: str) -> bool:
 
 def _options(method: str, inside: str, close: bool, threads: int) -> Tuple[Any, ...]:
     """The method, inside, close and threads arguments of the library's calls."""
+    if not isinstance(inside, str):
+        raise TypeError(f"inside must be 'high' or 'low', not {inside!r}")
     return _method(method), inside, _flag(close, "close"), _threads(threads)
 
 
@@ -271,6 +294,8 @@ def _triple(value: Any, name: str, default: float) -> Tuple[float, float, float]
 def _method(method: str) -> str:
     """The library's method name for tmc's or scikit-image's."""
     names = {"tmc": "tmc", "lewiner": "tmc", "mc": "mc", "lorensen": "mc"}
+    if not isinstance(method, str):
+        raise TypeError(f"method must be 'tmc' or 'mc', not {method!r}")
     if method not in names:
         raise ValueError(
             f"unknown method {method!r} (expected 'tmc' or 'mc'; "
@@ -279,15 +304,22 @@ def _method(method: str) -> str:
     return names[method]
 
 
+def _integer(value: Any, name: str, what: str = "an integer") -> int:
+    """``value`` as a Python int when it is an integer (numpy's included),
+    else ``TypeError`` naming ``name``: 1.5 or "2" are refused, not
+    rounded or parsed, and a bool is no number here."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name} must be {what}, not {value!r}")
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be {what}, not {value!r}") from None
+
+
 def _threads(threads: int) -> int:
     """``threads`` as the CLI's ``--threads`` takes it: a whole number, 0
     (all cores) to 1024; 1.5 or "2" are refused (TypeError), not rounded."""
-    if isinstance(threads, bool):
-        raise TypeError(f"threads must be an integer, not {threads!r}")
-    try:
-        threads = operator.index(threads)
-    except TypeError:
-        raise TypeError(f"threads must be an integer, not {threads!r}") from None
+    threads = _integer(threads, "threads")
     if threads < 0:
         raise ValueError(f"threads must be 0 (all cores) or more, not {threads}")
     if threads > 1024:
@@ -446,7 +478,7 @@ def _label_args(
             if not fits32 and -(2**53) <= low and high <= 2**53:
                 volume = array.astype(np.float64)
     array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
-    rest = (chosen, operator.index(background), spacing3, origin3, mapped,
+    rest = (chosen, _integer(background, "background"), spacing3, origin3, mapped,
             _flag(close, "close"), _threads(threads), _flag(normals, "normals"),
             *_select(series, segment))
     return array, rest
@@ -609,19 +641,30 @@ def info(
 
 def _count(value: Any, name: str) -> int:
     """A whole number of 0 or more, or ``ValueError`` naming ``name`` (the
-    binding's OverflowError said only "can't convert negative int")."""
-    value = operator.index(value)
+    binding's OverflowError said only "can't convert negative int", or "int
+    too big to convert" past 2**64); ``TypeError`` naming it for other than
+    an integer (1.5, a bool)."""
+    value = _integer(value, name)
     if value < 0:
         raise ValueError(f"{name} must be 0 or more, not {value}")
+    if value > np.iinfo(np.int64).max:
+        raise ValueError(f"{name} must be less than 2**63, not {value}")
     return value
 
 
 def _select(series: Any, segment: Any) -> Tuple[Optional[str], Optional[int]]:
-    """The series (as text: a number or a UID) and segment arguments."""
-    if series is not None and not isinstance(series, (int, str)):
+    """The series (as text: a number or a UID) and segment arguments:
+    ``TypeError`` for a series that is neither (a bool was the series
+    "True") and for a segment that is no whole number (1.5 was segment 1,
+    "a" a ``ValueError`` of ``int``)."""
+    if series is not None and (
+        isinstance(series, (bool, np.bool_)) or not isinstance(series, (int, np.integer, str))
+    ):
         raise TypeError(f"series must be a number or a UID string, not {series!r}")
+    if series is not None and not isinstance(series, str):
+        series = operator.index(series)
     if segment is not None:
-        segment = int(segment)
+        segment = _integer(segment, "segment", "a segment number")
         if segment < 1:
             raise ValueError(f"segment must be a segment number (1 or more), not {segment}")
     return (None if series is None else str(series)), segment
@@ -705,9 +748,22 @@ def marching_cubes(
         raise ValueError(
             f"expected a 3-D array of shape (nz, ny, nx), found shape {list(array.shape)}"
         )
-    if len(spacing) != 3:
+    if min(array.shape) < 2:
+        # Before the range below, whose numpy error ("zero-size array to
+        # reduction operation") would not say what is wrong.
+        raise ValueError(
+            f"shape {tuple(array.shape)}: marching_cubes needs at least 2 samples "
+            "along every axis"
+        )
+    if isinstance(spacing, (str, bytes)) or len(spacing) != 3:
         raise ValueError("`spacing` must consist of three floats.")
-    step = int(step_size)
+    spacing = tuple(_number(s, "spacing") for s in spacing)
+    if not all(np.isfinite(s) and s > 0 for s in spacing):
+        # Checked here, in the caller's axis order (the library's message
+        # would list them x first).
+        raise ValueError(f"spacing {list(spacing)} must be finite and positive")
+    # As scikit-image's volume[::1.5] would: no rounding.
+    step = _integer(step_size, "step_size")
     if step < 1:
         raise ValueError("step_size must be at least one.")
     if gradient_direction == "descent":
@@ -736,6 +792,7 @@ def marching_cubes(
                 "to take the middle of; give level"
             )
         level = 0.5 * (low + high)
+    level = _number(level, "level")
     spacing_ijk = tuple(float(s) * step for s in spacing)
     if step > 1:
         array = array[::step, ::step, ::step]

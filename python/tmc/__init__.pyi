@@ -7,9 +7,20 @@ import numpy as np
 import numpy.typing as npt
 
 PathLike = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
-ArrayOrPath = Union[npt.ArrayLike, PathLike]
+_ArrayOrPath = Union[npt.ArrayLike, PathLike]
 
 __version__: str
+__all__ = [
+    "Mesh",
+    "marching_cubes",
+    "extract",
+    "extract_to",
+    "extract_labels",
+    "extract_labels_to",
+    "read_mesh",
+    "info",
+    "__version__",
+]
 
 class Mesh:
     """A triangle mesh made or read by tmc."""
@@ -32,7 +43,7 @@ class Mesh:
         """The report of ``tmc check --json``."""
 
 def extract(
-    volume: ArrayOrPath,
+    volume: _ArrayOrPath,
     iso: float,
     *,
     spacing: Optional[Sequence[float]] = ...,
@@ -48,7 +59,7 @@ def extract(
     """Extracts the isosurface at ``iso`` into a Mesh (tmc's conventions)."""
 
 def extract_to(
-    volume: ArrayOrPath,
+    volume: _ArrayOrPath,
     iso: float,
     output: PathLike,
     *,
@@ -66,7 +77,7 @@ def extract_to(
     (with ``normals``, the vertex normals too, as ``tmc extract --normals``)."""
 
 def extract_labels(
-    volume: ArrayOrPath,
+    volume: _ArrayOrPath,
     labels: Union[str, Sequence[int]] = ...,
     *,
     background: int = ...,
@@ -82,7 +93,7 @@ def extract_labels(
     each the extraction of the label's 0/1 indicator at 0.5."""
 
 def extract_labels_to(
-    volume: ArrayOrPath,
+    volume: _ArrayOrPath,
     output: PathLike,
     labels: Union[str, Sequence[int]] = ...,
     *,

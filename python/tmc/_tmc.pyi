@@ -6,6 +6,19 @@ from typing import Any, List, Optional, Tuple
 import numpy as np
 
 __version__: str
+__all__ = [
+    "__version__",
+    "check_mesh",
+    "extract",
+    "extract_labels",
+    "extract_labels_to",
+    "extract_to",
+    "info",
+    "marching_cubes",
+    "read_mesh",
+    "worker_threads",
+    "write_mesh",
+]
 
 def extract(
     input: Any,
@@ -18,6 +31,8 @@ def extract(
     close: bool,
     threads: int,
     normals: bool,
+    series: Optional[str] = ...,
+    segment: Optional[int] = ...,
 ) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]:
     """Extracts into arrays in tmc's layout: (vertices float64, triangles
     uint32, normals float32 or None, report JSON, record)."""
@@ -46,6 +61,8 @@ def extract_to(
     close: bool,
     threads: int,
     normals: bool,
+    series: Optional[str] = ...,
+    segment: Optional[int] = ...,
 ) -> str:
     """Streams into a file (with vertex normals if ``normals``); returns the report JSON."""
 
@@ -100,7 +117,13 @@ def write_mesh(
 def check_mesh(vertices: np.ndarray, triangles: np.ndarray) -> str:
     """The report of tmc check as JSON text."""
 
-def info(path: str, bins: int = ..., plane_step: int = ...) -> str:
+def info(
+    path: str,
+    bins: int = ...,
+    plane_step: int = ...,
+    series: Optional[str] = ...,
+    segment: Optional[int] = ...,
+) -> str:
     """What tmc info --json prints, as JSON text."""
 
 def worker_threads(threads: int) -> int:

@@ -74,7 +74,8 @@ pub(crate) struct ExtractArgs {
     /// .stl or .tmesh (chunked and compressed, any size; see 'tmc convert').
     /// Streamed as it is extracted; written atomically: nothing is left there
     /// if the run fails. {stem} is replaced by the input's name without its
-    /// extension(s), {iso} by the isovalue.
+    /// extension(s) (an HDF5 file's, also for FILE.h5:/dataset; a Zarr
+    /// store's, also for STORE.zarr/array), {iso} by the isovalue.
     #[arg(
         short,
         long,

@@ -172,8 +172,30 @@ fn iso_text(iso: f64) -> String {
 /// extension before it (`head.nii.gz` -> `head`). For a glob pattern of
 /// TIFF pages, the pattern's name without its wildcards
 /// (`scan/slice_*.tif` -> `slice`), or the folder's name if nothing is
-/// left (`scan/*.tif` -> `scan`).
+/// left (`scan/*.tif` -> `scan`). For an HDF5 dataset given as
+/// `FILE.h5:/path/to/data`, the file's (`FILE`), as with `FILE.h5
+/// --dataset /path/to/data`: one input, one name, however the dataset is
+/// chosen (the path's last component, `data`, is often the same in every
+/// file of a batch). Likewise a node of a Zarr store given as
+/// `STORE.zarr/scans/ct` is named by the store (`STORE`), as with
+/// `STORE.zarr --array scans/ct`. For a path without a last name (`.`, `./`, `..`,
+/// `dir/..`: a DICOM or TIFF directory one is in), the name of the
+/// directory it is, so that `{stem}.ply` is never the hidden `.ply` (whose
+/// format was then unknown) or `{stem}_x.ply` the nameless `_x.ply`;
+/// `volume` for the root.
 pub(crate) fn stem(input: &Path) -> String {
+    if let Some((file, _)) = tmc::volume::hdf5::split_path(input) {
+        return stem(&file);
+    }
+    if let Some(store) = zarr_store(input) {
+        return stem(store);
+    }
+    if input.file_name().is_none() {
+        return std::fs::canonicalize(input)
+            .ok()
+            .filter(|dir| dir.file_name().is_some())
+            .map_or_else(|| "volume".into(), |dir| stem(&dir));
+    }
     let name = input
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -196,6 +218,26 @@ pub(crate) fn stem(input: &Path) -> String {
     } else {
         once
     }
+}
+
+/// The store that `input` is a node inside of (an array or group below a
+/// Zarr store's root: the outermost directory up from it that holds Zarr
+/// metadata), or `None` when `input` is no node or is the root itself.
+fn zarr_store(input: &Path) -> Option<&Path> {
+    let is_node = |dir: &Path| {
+        dir.is_dir()
+            && [".zarray", ".zgroup", ".zattrs", "zarr.json"]
+                .iter()
+                .any(|m| dir.join(m).is_file())
+    };
+    if !is_node(input) {
+        return None;
+    }
+    let root = input
+        .ancestors()
+        .take_while(|dir| !dir.as_os_str().is_empty() && is_node(dir))
+        .last()?;
+    (root != input).then_some(root)
 }
 
 #[cfg(test)]
@@ -225,6 +267,24 @@ mod tests {
                 "out/1000.ply"
             ]
         );
+    }
+
+    /// A directory given as `.`, `./`, `..` or `sub/..` is named by
+    /// itself (its stem was empty: `-o '{stem}.ply'` wrote to `.ply`).
+    #[test]
+    fn a_directory_without_a_last_name_is_named_by_itself() {
+        let dir = tempfile::tempdir().unwrap();
+        let scan = dir.path().join("scan_07");
+        std::fs::create_dir_all(scan.join("sub")).unwrap();
+        for path in [scan.join("."), scan.join("sub/.."), scan.join("sub/../")] {
+            assert_eq!(stem(&path), "scan_07", "{}", path.display());
+        }
+        let here = std::env::current_dir().unwrap();
+        let name = here.file_name().unwrap().to_string_lossy().into_owned();
+        assert_eq!(stem(Path::new(".")), stem(Path::new(&name)));
+        assert_eq!(stem(Path::new("./")), stem(Path::new(&name)));
+        assert_eq!(stem(Path::new("/")), "volume");
+        assert_eq!(stem(Path::new("scan/slice_*.tif")), "slice");
     }
 
     #[test]

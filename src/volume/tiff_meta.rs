@@ -41,6 +41,74 @@ pub(crate) fn voxel_size(
     None
 }
 
+/// What makes a multi-page TIFF more than one 3-D volume, by its first
+/// page's metadata, in words for an error: an ImageJ hyperstack whose
+/// pages run over two or more of channels, z slices and time points
+/// (`channels=`, `slices=`, `frames=`: the pages interleave them, channel
+/// fastest, so stacking every page as a z plane would mix them), or
+/// OME-XML whose first image has two or more of `SizeC`, `SizeZ`, `SizeT`
+/// above 1, or more than one image. Pages along one of them only (ImageJ
+/// writes a z stack as `slices=`, tifffile's `imwrite(..., imagej=True)` of
+/// a 3-D array as `channels=`) are one volume, a page per z. `None` for
+/// one volume, or when nothing says otherwise.
+pub(crate) fn several_volumes(description: Option<&str>) -> Option<String> {
+    let text = description?;
+    // The axes with more than one entry, named, when two or more are.
+    let interleaved = |pairs: [(&str, usize); 3]| {
+        let many: Vec<String> = pairs
+            .iter()
+            .filter(|(_, n)| *n > 1)
+            .map(|(what, n)| format!("{n} {what}"))
+            .collect();
+        (many.len() > 1).then(|| many.join(", "))
+    };
+    let found = if text.starts_with("ImageJ=") {
+        let count = |key: &str| {
+            text.lines()
+                .filter_map(|l| l.split_once('='))
+                .find(|(k, _)| k.trim() == key)
+                .and_then(|(_, v)| v.trim().parse::<usize>().ok())
+                .unwrap_or(1)
+        };
+        let axes = [
+            ("channels", count("channels")),
+            ("z slices", count("slices")),
+            ("time points", count("frames")),
+        ];
+        format!("an ImageJ hyperstack of {}", interleaved(axes)?)
+    } else if text.contains("<OME") {
+        let pixels: Vec<&str> = text
+            .match_indices("<Pixels ")
+            .chain(text.match_indices(":Pixels "))
+            .filter_map(|(i, _)| text[i..].find('>').map(|end| &text[i..i + end]))
+            .collect();
+        if pixels.len() > 1 {
+            format!("an OME-TIFF of {} images", pixels.len())
+        } else {
+            let size = |name: &str| {
+                let key = format!(" {name}=\"");
+                let element = pixels.first()?;
+                let at = element.find(&key)? + key.len();
+                let rest = &element[at..];
+                rest[..rest.find('"')?].parse::<usize>().ok()
+            };
+            let axes = [
+                ("channels", size("SizeC").unwrap_or(1)),
+                ("z slices", size("SizeZ").unwrap_or(1)),
+                ("time points", size("SizeT").unwrap_or(1)),
+            ];
+            format!("an OME-TIFF of {}", interleaved(axes)?)
+        }
+    } else {
+        return None;
+    };
+    Some(format!(
+        "{found} in its pages; tmc reads one 3-D volume (a page per z): save one \
+         channel and time point as its own TIFF (e.g. tifffile.imwrite(path, \
+         data[t, :, c]) for ImageJ's TZCYX order)"
+    ))
+}
+
 /// From ImageJ's description: `unit=`, `spacing=` and the resolution tags.
 fn imagej(text: &str, resolution: Option<(f64, f64)>) -> Option<VoxelSize> {
     let value = |key: &str| {
@@ -143,6 +211,48 @@ mod tests {
             assert!((a - b).abs() < 1e-15, "{:?}", v.spacing);
         }
         assert!(v.what.contains("micron in mm"), "{}", v.what);
+    }
+
+    /// Pages of several channels or time points beside z slices are
+    /// refused, not stacked as z planes (tifffile's ImageJ and OME
+    /// descriptions); pages along one axis are a volume, whichever.
+    #[test]
+    fn hyperstacks_of_several_channels_or_times_are_several_volumes() {
+        let channels =
+            "ImageJ=1.11a\nimages=12\nchannels=2\nslices=6\nhyperstack=true\nmode=grayscale";
+        let frames = "ImageJ=1.11a\nimages=12\nslices=6\nframes=2\nhyperstack=true\nloop=false";
+        let why = several_volumes(Some(channels)).unwrap();
+        assert!(
+            why.starts_with("an ImageJ hyperstack of 2 channels, 6 z slices in"),
+            "{why}"
+        );
+        let why = several_volumes(Some(frames)).unwrap();
+        assert!(
+            why.starts_with("an ImageJ hyperstack of 6 z slices, 2 time points in"),
+            "{why}"
+        );
+        // One axis: a z stack (ImageJ), or tifffile's default for a 3-D array.
+        for one in [
+            "ImageJ=1.11a\nimages=6\nchannels=1\nslices=6\nhyperstack=true\nspacing=3.0",
+            "ImageJ=1.11a\nimages=6\nchannels=6\nhyperstack=true\nmode=grayscale",
+            "ImageJ=1.11a\nimages=6\nframes=6\n",
+        ] {
+            assert_eq!(several_volumes(Some(one)), None, "{one}");
+        }
+        let ome = r#"<OME><Image ID="Image:0"><Pixels ID="Pixels:0" DimensionOrder="XYZCT" Type="uint16" SizeX="9" SizeY="7" SizeZ="6" SizeC="2" SizeT="1"></Pixels></Image></OME>"#;
+        let why = several_volumes(Some(ome)).unwrap();
+        assert!(
+            why.starts_with("an OME-TIFF of 2 channels, 6 z slices in"),
+            "{why}"
+        );
+        let plain = ome.replace("SizeC=\"2\"", "SizeC=\"1\"");
+        assert_eq!(several_volumes(Some(&plain)), None);
+        let two = format!("{}{}", &plain[..plain.len() - 6], &plain[5..]);
+        assert!(several_volumes(Some(&two))
+            .unwrap()
+            .starts_with("an OME-TIFF of 2 images"));
+        assert_eq!(several_volumes(Some("a scanner")), None);
+        assert_eq!(several_volumes(None), None);
     }
 
     #[test]

@@ -3,7 +3,10 @@
 //! single-page TIFFs. Files are sorted by name in natural order (`slice_2`
 //! before `slice_10`). A directory or glob that finds one file reads all
 //! its pages; one that finds several refuses a multi-page file among them
-//! rather than read only its first page.
+//! rather than read only its first page. A multi-page file whose ImageJ
+//! or OME metadata says its pages run over channels or time points as
+//! well as z slices (a hyperstack) is refused: stacked as z planes they
+//! would interleave.
 //!
 //! Greyscale pages of 8-, 16- or 32-bit unsigned or signed integers or 32-
 //! or 64-bit floats are read, classic TIFF or BigTIFF; every page must have
@@ -25,7 +28,7 @@
 //! workers runs side by side (the decoder is taken out of the cache while
 //! it decodes).
 
-use super::tiff_meta::voxel_size;
+use super::tiff_meta::{several_volumes, voxel_size};
 use super::tiff_pages::{plain_bytes, MappedPages};
 use super::{
     Access, Grid, LentPlane, SampleSource, ScalarType, SharedPlane, SourceNotes, ValueFrom,
@@ -241,6 +244,11 @@ pub fn open(path: &Path) -> Result<TiffStack> {
             _ => None,
         };
         let xy = resolution(Tag::XResolution).zip(resolution(Tag::YResolution));
+        if all_pages {
+            if let Some(why) = several_volumes(description.as_deref()) {
+                return Err(fail(why));
+            }
+        }
         voxel_size(description.as_deref(), xy)
     };
     let mut pages = Vec::new();

@@ -161,3 +161,44 @@ fn cli_extracts_a_dataset_like_the_npy_and_info_tells_the_chunks() {
     assert_eq!(j["chunks"]["chunk_shape"], serde_json::json!([4, 3, 2]));
     assert_eq!(j["sample_type"], "i16");
 }
+
+/// `{stem}` is the name of the HDF5 file whichever way the dataset is
+/// chosen: `FILE.h5:/exchange/gz` and `FILE.h5 --dataset /exchange/gz`
+/// both name `FILE.ply` (the dataset's last name, `gz`, once named the
+/// first), and a batch of two files' datasets of one name writes two
+/// outputs, not one name twice.
+#[test]
+fn stem_is_the_files_name_with_or_without_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let template = dir.path().join("{stem}.ply");
+    let run = |args: &[&str]| {
+        let mut all = vec!["extract"];
+        all.extend_from_slice(args);
+        all.extend(["--iso", "41", "-q", "-o", s(&template)]);
+        let r = tmc(&all);
+        assert!(r.status.success(), "{r:?}");
+        let mut names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        for name in &names {
+            std::fs::remove_file(dir.path().join(name)).unwrap();
+        }
+        names
+    };
+    let suffix = at("h5_twin.h5", "/exchange/gz");
+    assert_eq!(run(&[s(&suffix)]), ["h5_twin.ply"]);
+    let file = data("h5_twin.h5");
+    assert_eq!(
+        run(&[s(&file), "--dataset", "/exchange/gz"]),
+        ["h5_twin.ply"]
+    );
+    // Two files, one dataset name: two names.
+    let copies = tempfile::tempdir().unwrap();
+    let other = copies.path().join("other.h5");
+    std::fs::copy(&file, &other).unwrap();
+    let other = PathBuf::from(format!("{}:/exchange/gz", other.display()));
+    let names = run(&[s(&suffix), s(&other)]);
+    assert_eq!(names, ["h5_twin.ply", "other.ply"]);
+}

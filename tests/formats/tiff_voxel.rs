@@ -162,3 +162,42 @@ fn spacing_must_be_positive_for_every_input() {
     let out = tmc(&["info", s(&data("vt_twin.npy")), "--spacing", "1,0,1"]);
     assert_eq!(out.status.code(), Some(2), "{out:?}");
 }
+
+/// A hyperstack of several channels or time points beside its z slices
+/// (ImageJ's `channels=` / `frames=` with `slices=`, OME's `SizeC` /
+/// `SizeT` with `SizeZ`) is refused with one line: its pages interleave
+/// the volumes, and were stacked as 4 z planes of two volumes mixed
+/// (channel 0 of z 0, channel 1 of z 0, ...). Pages along one axis only
+/// (`tv_imagej_plain.tif`, `channels=6`) stay a z stack (the test above).
+/// Fixtures written by tifffile (`scripts/fixtures/make_tiff_voxel.py`).
+#[test]
+fn hyperstacks_of_several_channels_or_time_points_are_refused() {
+    for (name, what) in [
+        (
+            "tv_imagej_channels.tif",
+            "an ImageJ hyperstack of 2 channels, 2 z slices",
+        ),
+        (
+            "tv_imagej_frames.tif",
+            "an ImageJ hyperstack of 2 z slices, 2 time points",
+        ),
+        (
+            "tv_ome_channels.ome.tif",
+            "an OME-TIFF of 2 channels, 2 z slices",
+        ),
+    ] {
+        let err = volume::open(&data(name), None)
+            .err()
+            .expect(name)
+            .to_string();
+        assert!(err.contains(what), "{name}: {err}");
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("m.ply");
+        let r = tmc(&["extract", s(&data(name)), "--iso", "50", "-o", s(&out)]);
+        assert!(!r.status.success(), "{name}");
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(stderr.lines().count(), 1, "{name}: {stderr}");
+        assert!(stderr.contains(what), "{name}: {stderr}");
+        assert!(!out.exists(), "{name}");
+    }
+}

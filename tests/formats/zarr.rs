@@ -248,3 +248,29 @@ fn cli_extracts_a_zarr_like_the_npy_and_info_tells_the_chunks() {
     assert!(j["chunks"]["codec"].as_str().unwrap().contains("sharding"));
     assert_eq!(j["chunks"]["chunks"], 8);
 }
+
+/// `{stem}` of an array inside a store is the store's name, whether the
+/// array is given as `STORE.zarr/scans/ct` (its last name, `ct`, once
+/// named the output) or with `--array scans/ct`, as for HDF5 datasets.
+#[test]
+fn stem_is_the_stores_name_with_or_without_array() {
+    let dir = tempfile::tempdir().unwrap();
+    let template = dir.path().join("{stem}.ply");
+    let store = data("zr_group.zarr");
+    for args in [
+        vec![s(&store), "--array", "scans/ct"],
+        vec![s(&store.join("scans/ct"))],
+    ] {
+        let mut all = vec!["extract"];
+        all.extend(args);
+        all.extend(["--iso", "41", "-q", "-o", s(&template)]);
+        let r = tmc(&all);
+        assert!(r.status.success(), "{r:?}");
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["zr_group.ply"], "{all:?}");
+        std::fs::remove_file(dir.path().join("zr_group.ply")).unwrap();
+    }
+}

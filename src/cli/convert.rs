@@ -59,7 +59,10 @@ fn left_out(info: &tmc::MeshInfo, output: &std::path::Path) -> Option<String> {
     let labels = info.labels && !matches!(ext.as_str(), "ply" | "tmesh");
     let normals = info.normals && !matches!(ext.as_str(), "ply" | "obj" | "tmesh");
     let (what, keep) = match (labels, normals) {
-        (true, true) => ("per-face labels and vertex normals", ".ply and .tmesh keep them"),
+        (true, true) => (
+            "per-face labels and vertex normals",
+            ".ply and .tmesh keep them",
+        ),
         (true, false) => ("per-face labels", ".ply and .tmesh keep them"),
         (false, true) => ("vertex normals", ".ply, .obj and .tmesh keep them"),
         (false, false) => return None,

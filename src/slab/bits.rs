@@ -67,18 +67,19 @@ impl SignBits {
         &mut self.bits[y * self.words..(y + 1) * self.words]
     }
 
-    /// Sets the bits of a plane of `samples`, rows of `nx`: inside means
-    /// `v > iso` (`above`) or `v < iso`, NaN and ties outside.
-    ///
-    /// The comparison is made in the samples' own type where that is exact
-    /// (see [`Sample::threshold`]), else in `f64`, which is exact for every
-    /// type; either way the packing loop vectorises.
+    /// [`classify_from`](Self::classify_from) of a whole plane (tests).
+    #[cfg(test)]
     pub(super) fn classify<T: Sample>(&mut self, samples: &[T], nx: usize, iso: f64, above: bool) {
         self.classify_from(0, samples, nx, iso, above);
     }
 
-    /// [`classify`](Self::classify) for the rows from `first` on: `samples`
-    /// holds whole rows, row `first` first.
+    /// Sets the bits of the rows from `first` on (`samples` holds whole
+    /// rows of `nx`, row `first` first): inside means `v > iso` (`above`)
+    /// or `v < iso`, NaN and ties outside.
+    ///
+    /// The comparison is made in the samples' own type where that is exact
+    /// (see [`Sample::threshold`]), else in `f64`, which is exact for every
+    /// type; either way the packing loop vectorises.
     pub(super) fn classify_from<T: Sample>(
         &mut self,
         first: usize,

@@ -150,54 +150,52 @@ impl<'s> Plane<'s> {
         };
         self.plain = self.exact && self.lent.is_some_and(|s| s.is_integer());
         match self.lent {
-            None => self
-                .inside
-                .classify(&self.read, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::U8(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::I8(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::U16(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::I16(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::U32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::I32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::F32(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
-            Some(LentPlane::F64(s)) => self.inside.classify(s, nx, level.iso, level.sign > 0.0),
+            None => classify_checked(&mut self.inside, &self.read, nx, level, source)?,
+            Some(LentPlane::U8(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,
+            Some(LentPlane::I8(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,
+            Some(LentPlane::U16(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,
+            Some(LentPlane::I16(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,
+            Some(LentPlane::U32(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,
+            Some(LentPlane::I32(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,
+            Some(LentPlane::F32(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,
+            Some(LentPlane::F64(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,
             Some(LentPlane::U16Bytes(s)) => {
-                by_bands::<u16, 2, false>(&mut self.inside, s, nx, level)
+                by_bands::<u16, 2, false>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::I16Bytes(s)) => {
-                by_bands::<i16, 2, false>(&mut self.inside, s, nx, level)
+                by_bands::<i16, 2, false>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::U32Bytes(s)) => {
-                by_bands::<u32, 4, false>(&mut self.inside, s, nx, level)
+                by_bands::<u32, 4, false>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::I32Bytes(s)) => {
-                by_bands::<i32, 4, false>(&mut self.inside, s, nx, level)
+                by_bands::<i32, 4, false>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::F32Bytes(s)) => {
-                by_bands::<f32, 4, false>(&mut self.inside, s, nx, level)
+                by_bands::<f32, 4, false>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::F64Bytes(s)) => {
-                by_bands::<f64, 8, false>(&mut self.inside, s, nx, level)
+                by_bands::<f64, 8, false>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::U16Swapped(s)) => {
-                by_bands::<u16, 2, true>(&mut self.inside, s, nx, level)
+                by_bands::<u16, 2, true>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::I16Swapped(s)) => {
-                by_bands::<i16, 2, true>(&mut self.inside, s, nx, level)
+                by_bands::<i16, 2, true>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::U32Swapped(s)) => {
-                by_bands::<u32, 4, true>(&mut self.inside, s, nx, level)
+                by_bands::<u32, 4, true>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::I32Swapped(s)) => {
-                by_bands::<i32, 4, true>(&mut self.inside, s, nx, level)
+                by_bands::<i32, 4, true>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::F32Swapped(s)) => {
-                by_bands::<f32, 4, true>(&mut self.inside, s, nx, level)
+                by_bands::<f32, 4, true>(&mut self.inside, s, nx, level, source)?
             }
             Some(LentPlane::F64Swapped(s)) => {
-                by_bands::<f64, 8, true>(&mut self.inside, s, nx, level)
+                by_bands::<f64, 8, true>(&mut self.inside, s, nx, level, source)?
             }
-            Some(LentPlane::View(v)) => by_view(&mut self.inside, v, nx, level),
+            Some(LentPlane::View(v)) => by_view(&mut self.inside, v, nx, level, source)?,
         }
         if place.axis_aligned {
             self.edge_vertices::<true>(place, owned)?;
@@ -280,11 +278,13 @@ fn by_bands<T: Sample + bytemuck::Pod, const N: usize, const SWAP: bool>(
     plane: &[[u8; N]],
     nx: usize,
     level: Level,
-) {
+    source: &dyn SampleSource,
+) -> Result<()> {
     let ny = plane.len() / nx;
     let rows = (BAND_BYTES / (nx * N)).clamp(1, ny.max(1));
     let mut band = vec![T::zeroed(); rows * nx];
     for first in (0..ny).step_by(rows) {
+        interrupted(first, source)?;
         let n = rows.min(ny - first);
         let band = &mut band[..n * nx];
         let bytes = &plane[first * nx..(first + n) * nx];
@@ -295,18 +295,61 @@ fn by_bands<T: Sample + bytemuck::Pod, const N: usize, const SWAP: bool>(
         }
         inside.classify_from(first, band, nx, level.iso, level.sign > 0.0);
     }
+    Ok(())
 }
 
 /// Classifies a plane lent as a [`PlaneView`]: a band of rows at a time is
 /// computed into `f64`s and classified as a plane read into `f64`s is (so
 /// the bits are the same), the band taking a few pages, not a plane.
-fn by_view(inside: &mut SignBits, view: &dyn PlaneView, nx: usize, level: Level) {
+fn by_view(
+    inside: &mut SignBits,
+    view: &dyn PlaneView,
+    nx: usize,
+    level: Level,
+    source: &dyn SampleSource,
+) -> Result<()> {
     let ny = view.len() / nx;
     let rows = (BAND_BYTES / (nx * 8)).clamp(1, ny.max(1));
     let mut band = vec![0.0; rows * nx];
     for first in (0..ny).step_by(rows) {
+        interrupted(first, source)?;
         let band = &mut band[..rows.min(ny - first) * nx];
         view.rows(first, nx, band);
         inside.classify_from(first, band, nx, level.iso, level.sign > 0.0);
+    }
+    Ok(())
+}
+
+/// Samples of a plane classified between two looks at whether the run
+/// was interrupted: a plane of 10^10 samples (a broadcast array, a huge
+/// raw file) takes minutes, and Ctrl-C must not wait for it. A plane of
+/// a CT (512^2) is one band, classified as before.
+const CHECK_SAMPLES: usize = 1 << 22;
+
+/// [`SignBits::classify_from`] of a whole lent or read plane, in bands of about
+/// [`CHECK_SAMPLES`] samples (the same bits), asking `source` whether the
+/// run was interrupted before each band but the first.
+fn classify_checked<T: Sample>(
+    inside: &mut SignBits,
+    samples: &[T],
+    nx: usize,
+    level: Level,
+    source: &dyn SampleSource,
+) -> Result<()> {
+    let rows = (CHECK_SAMPLES / nx).max(1);
+    for (k, band) in samples.chunks(rows * nx).enumerate() {
+        interrupted(k * rows, source)?;
+        inside.classify_from(k * rows, band, nx, level.iso, level.sign > 0.0);
+    }
+    Ok(())
+}
+
+/// [`Error::Interrupted`] when the run was interrupted, asked before the
+/// bands of a plane after the first (row `first` > 0).
+#[inline]
+fn interrupted(first: usize, source: &dyn SampleSource) -> Result<()> {
+    match first > 0 && source.interrupted() {
+        true => Err(Error::Interrupted),
+        false => Ok(()),
     }
 }

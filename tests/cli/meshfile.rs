@@ -674,7 +674,12 @@ fn convert_says_what_the_output_format_leaves_out() {
     let (labelled, plain) = (data.join("tmesh_v2.tmesh"), data.join("tmesh_v1.tmesh"));
     let both = "no place for the input's per-face labels and vertex normals";
     let cases = [
-        (&labelled, "obj", &[][..], Some("no place for the input's per-face labels:")),
+        (
+            &labelled,
+            "obj",
+            &[][..],
+            Some("no place for the input's per-face labels:"),
+        ),
         (&labelled, "off", &[][..], Some(both)),
         (&labelled, "stl", &[][..], Some(both)),
         (&labelled, "ply", &[][..], None),

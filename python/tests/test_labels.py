@@ -217,6 +217,10 @@ def test_bad_arguments_are_python_errors(tmp_path):
         tmc.extract_labels(seg, labels="some")
     with pytest.raises(TypeError, match="'all' or a sequence"):
         tmc.extract_labels(seg, labels=[1.5])
+    # A bool is no label (True was taken as label 1).
+    for flag in (True, [True], [2, np.True_], np.False_):
+        with pytest.raises(TypeError, match="'all' or a sequence"):
+            tmc.extract_labels(seg, labels=flag)
     with pytest.raises(ValueError, match="empty"):
         tmc.extract_labels(seg, labels=[])
     with pytest.raises(ValueError, match="label 3 is asked for twice"):

@@ -443,6 +443,9 @@ def _label_list(labels: Any) -> Optional[List[int]]:
     if isinstance(labels, (int, np.integer)):
         labels = [labels]
     try:
+        # A bool is an int to operator.index: True would be label 1.
+        if any(isinstance(label, (bool, np.bool_)) for label in labels):
+            raise TypeError
         chosen = [operator.index(label) for label in labels]
     except TypeError:
         raise TypeError(

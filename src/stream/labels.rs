@@ -5,11 +5,13 @@
 //! The pass is the ordinary one ([`super::pass`]): one seam and one sink per
 //! label, slabs scheduled, triangulated and stitched as for isovalues. Only
 //! what a worker does with a slab differs (`label_slab`):
-//! 1. **code** the slab's planes once: each sample becomes the number of
-//!    its label (0 for a value that is not a wanted label), and each label
-//!    gets the bounding rectangle of its samples in these planes;
+//! 1. **code** the slab's planes once (`label_codes.rs`): each label
+//!    gets the bounding rectangle of its samples in these planes and its
+//!    runs along x; only where runs are many, or normals need the whole
+//!    planes, each sample's label number (its code) is kept as well;
 //! 2. for each label present, write its indicator (1 on the label, else 0;
-//!    `--close`'s NaN border stays a tie) over that rectangle grown by one
+//!    `--close`'s NaN border a tie; from its runs, or from the codes)
+//!    over that rectangle grown by one
 //!    sample on each side, and triangulate it with the ordinary slab loop
 //!    as a [`Window`] of the grid: every crossed edge and every cell with a
 //!    label corner lies in it, so the chunks are those of the whole
@@ -19,9 +21,10 @@
 //! The work per slab is one reading of its planes plus, per label present,
 //! the slab loop over that label's rectangle: labels that keep to their
 //! own region of the volume cost about their region, not the volume.
-//! Memory per worker: the codes (2 bytes per sample of the slab's planes)
-//! and one label's indicator (1 byte per sample of its rectangle), whatever
-//! the number of labels; both are kept for the worker's next slab.
+//! Memory per worker: the runs (at most a byte per sample of the slab's
+//! planes) or the codes (2 bytes a sample) and one label's indicator (1
+//! byte per sample of its rectangle), whatever the number of labels; all
+//! are kept for the worker's next slab.
 
 use super::label_codes::{
     code_planes, group_by_label, window_ties, LabelRun, Lookup, Rect, RUNS_PER_SAMPLE, TIE,

@@ -150,6 +150,11 @@ pub(crate) fn extract_labels_to(
         let mut files = LabelFiles::create(&output, &labels, &outputs, |target, _| {
             LabelSink::create(target, labels.len())
         })?;
+        files.finish_early(&tmc::stream::last_label_chunks(
+            &counts,
+            &labels,
+            params.close,
+        ));
         let mut measured = Measured::all(
             files.sinks().iter_mut().map(|f| f as &mut dyn MeshSink),
             stats,

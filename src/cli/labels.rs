@@ -123,6 +123,13 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             }
             None => LabelSink::create(target, labels.len()),
         })?;
+    // Each label's file finished as soon as the pass is past the label
+    // (not part files: 'tmc merge' finishes those).
+    if record.is_none() {
+        files.finish_early(&tmc::stream::last_label_chunks(
+            &counts, &labels, args.close,
+        ));
+    }
     let mut sinks = Measured::all(
         files.sinks().iter_mut().map(|f| f as &mut dyn MeshSink),
         measure,

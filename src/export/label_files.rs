@@ -5,9 +5,12 @@
 //! label in a temporary directory beside it.
 //!
 //! The pass only notes each label's totals; the files are finished after
-//! it, several at once ([`LabelFiles::finish`]), and all of them are put in
-//! place or none.
+//! it, several at once ([`LabelFiles::finish`]), or, once told where each
+//! label's mesh ends ([`LabelFiles::finish_early`]), each `.tmesh` as soon
+//! as the pass is past its label (`early_finish.rs`); all of them are kept
+//! or none.
 
+use super::early_finish::{Finisher, Job};
 use super::{create_sink, write_labelled};
 use crate::fan_out::fan_out;
 use crate::files::{fill_placeholder, has_placeholder, withdraw};
@@ -114,35 +117,111 @@ fn label_buffer(labels: usize) -> usize {
 }
 
 /// A label's sink in the pass: its file's, whose `finish` only notes the
-/// totals ([`LabelFiles::finish`] finishes the file).
+/// totals ([`LabelFiles::finish`] finishes the file), unless the file was
+/// handed to the finishing threads when the pass was past its label.
 pub struct LabelFile {
-    inner: LabelSink,
+    /// `None` once handed to the finishing threads.
+    inner: Option<LabelSink>,
     /// What the pass's `finish` was given.
     totals: Option<Totals>,
+    /// Where the label's mesh ends, and where to hand the file then.
+    early: Option<Early>,
+}
+
+/// A label file that is finished as soon as its last chunk is in.
+struct Early {
+    /// The label's index, which the finishing threads report.
+    index: usize,
+    /// The last plane whose chunk may hold part of the mesh.
+    last_plane: u64,
+    /// The totals of the chunks given so far.
+    seen: Totals,
+    to: crossbeam::channel::Sender<Job>,
+}
+
+impl LabelFile {
+    /// The sink still here, or, once the file was handed over, nothing,
+    /// where `chunk` must then be empty.
+    fn take_chunk(&mut self, chunk: &Chunk) -> Result<Option<&mut dyn MeshSink>> {
+        if self.inner.is_none() && !(chunk.vertices.is_empty() && chunk.triangles.is_empty()) {
+            return Err(past_the_end());
+        }
+        if let Some(early) = &mut self.early {
+            early.seen.vertices += chunk.vertices.len() as u64;
+            early.seen.triangles += chunk.triangles.len() as u64;
+            early.seen.chunks += 1;
+        }
+        Ok(self.inner.as_mut().map(LabelSink::sink))
+    }
+
+    /// Hands the file over once `chunk` was its label's last.
+    fn after_chunk(&mut self, chunk: &Chunk) -> Result<()> {
+        let Some(early) = &self.early else {
+            return Ok(());
+        };
+        if chunk.plane < early.last_plane || self.inner.is_none() {
+            return Ok(());
+        }
+        if let Some(LabelSink::Send(sink)) = self.inner.take() {
+            let job = Job {
+                index: early.index,
+                sink,
+                totals: early.seen,
+            };
+            early
+                .to
+                .send(job)
+                .map_err(|_| Error::Invalid("the label files' finishing threads stopped".into()))?;
+        }
+        Ok(())
+    }
+}
+
+/// A label's mesh went on past the plane where its samples end: the pass
+/// and [`crate::stream::last_label_chunks`] disagree.
+fn past_the_end() -> Error {
+    Error::Invalid("a label's mesh went on past its last plane (a bug: please report it)".into())
 }
 
 impl MeshSink for LabelFile {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
-        self.inner.sink().begin(info)
+        match &mut self.inner {
+            Some(sink) => sink.sink().begin(info),
+            None => Err(crate::mesh::used_after_finish()),
+        }
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
-        self.inner.sink().chunk(base, chunk)
+        if let Some(sink) = self.take_chunk(chunk)? {
+            sink.chunk(base, chunk)?;
+        }
+        self.after_chunk(chunk)
     }
 
     fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
-        self.inner.sink().chunk_cancellable(base, chunk, cancel)
+        if let Some(sink) = self.take_chunk(chunk)? {
+            sink.chunk_cancellable(base, chunk, cancel)?;
+        }
+        self.after_chunk(chunk)
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
+        // A file handed over was finished with the totals of its chunks:
+        // the pass must count the same mesh.
+        if let (None, Some(early)) = (&self.inner, &self.early) {
+            if (early.seen.vertices, early.seen.triangles) != (totals.vertices, totals.triangles) {
+                return Err(past_the_end());
+            }
+        }
         self.totals = Some(*totals);
         Ok(())
     }
 
     fn encoder(&self) -> Option<ChunkEncoder> {
         match &self.inner {
-            LabelSink::Send(sink) => sink.encoder(),
-            LabelSink::Local(sink) => sink.encoder(),
+            Some(LabelSink::Send(sink)) => sink.encoder(),
+            Some(LabelSink::Local(sink)) => sink.encoder(),
+            None => None,
         }
     }
 }
@@ -157,6 +236,9 @@ pub struct LabelFiles {
     /// temporary directory.
     targets: Vec<PathBuf>,
     files: Vec<LabelFile>,
+    /// The threads finishing files during the pass
+    /// ([`LabelFiles::finish_early`]).
+    finisher: Option<Finisher>,
 }
 
 impl LabelFiles {
@@ -212,8 +294,9 @@ impl LabelFiles {
                 None => open(target, label)?,
             };
             files.push(LabelFile {
-                inner,
+                inner: Some(inner),
                 totals: None,
+                early: None,
             });
         }
         Ok(LabelFiles {
@@ -221,7 +304,50 @@ impl LabelFiles {
             labels: labels.to_vec(),
             targets,
             files,
+            finisher: None,
         })
+    }
+
+    /// Finishes each label's `.tmesh` file (those of [`LabelSink::create`],
+    /// not part files, nor the one file of every label) on threads of its
+    /// own as soon as the pass has handed it the chunk of the plane
+    /// `last_planes[i]` gives for it (from
+    /// [`crate::stream::last_label_chunks`]; `None`: at the end), while the
+    /// pass goes on. A chunk with a triangle or vertex after that plane is
+    /// an error, and so is a pass whose totals are not those of the chunks
+    /// the file was finished with. The files are settled as before: all
+    /// kept by [`LabelFiles::finish`], or none.
+    pub fn finish_early(&mut self, last_planes: &[Option<u64>]) {
+        if self.one.is_some() || self.finisher.is_some() {
+            return;
+        }
+        let early: Vec<usize> = (0..self.files.len())
+            .filter(|&i| last_planes.get(i).copied().flatten().is_some())
+            .filter(|&i| matches!(self.files[i].inner, Some(LabelSink::Send(_))))
+            .collect();
+        if early.is_empty() {
+            return;
+        }
+        let finisher = Finisher::start(early.len().min(EARLY_FINISHING_THREADS));
+        for i in early {
+            self.files[i].early = Some(Early {
+                index: i,
+                last_plane: last_planes[i].expect("filtered"),
+                seen: Totals::default(),
+                to: finisher.sender(),
+            });
+        }
+        self.finisher = Some(finisher);
+    }
+
+    /// The results of the files finished during the pass, by label index,
+    /// once the finishing threads are done.
+    fn finished_early(&mut self) -> Vec<(usize, Result<()>)> {
+        // The threads end once every file's sender is gone.
+        for file in &mut self.files {
+            file.early = None;
+        }
+        self.finisher.take().map(Finisher::join).unwrap_or_default()
     }
 
     /// Each label's sink, in the order of the labels.
@@ -235,9 +361,13 @@ impl LabelFiles {
     /// so that none is left behind; the error is the first label's in
     /// order, an interruption stays [`Error::Interrupted`].
     pub fn finish(mut self, cancel: Option<&AtomicBool>) -> Result<()> {
-        let results = finish_all(&mut self.files, cancel)?;
+        let early = self.finished_early();
+        let mut results = finish_all(&mut self.files, cancel)?;
+        for (i, result) in early {
+            results[i] = result;
+        }
         all_or_none(&self.targets, results)?;
-        if let Some((path, dir)) = self.one {
+        if let Some((path, dir)) = self.one.take() {
             let parts: Vec<(u32, &Path)> = self
                 .labels
                 .iter()
@@ -255,6 +385,23 @@ impl LabelFiles {
 /// The most threads that finish label files at once.
 pub const FINISHING_THREADS: usize = 16;
 
+/// The most threads that finish label files during the pass
+/// ([`LabelFiles::finish_early`]): the labels end one after another, so
+/// fewer are waiting at a time than at the end.
+const EARLY_FINISHING_THREADS: usize = 8;
+
+impl Drop for LabelFiles {
+    /// A pass that failed, or whose files were never finished, leaves none
+    /// of the files finished during it behind.
+    fn drop(&mut self) {
+        for (i, result) in self.finished_early() {
+            if result.is_ok() {
+                let _ = std::fs::remove_file(&self.targets[i]);
+            }
+        }
+    }
+}
+
 /// Finishes the file of every label (the pass has given each its totals):
 /// those that may go to another thread on up to [`FINISHING_THREADS`]
 /// threads, the others in turn. Finishing a file is mostly waiting for the
@@ -271,10 +418,14 @@ fn finish_all(files: &mut [LabelFile], cancel: Option<&AtomicBool>) -> Result<Ve
         let totals = file
             .totals
             .ok_or_else(|| Error::Invalid("a label's mesh was not finished".into()))?;
-        results.push(Ok(()));
+        // A file finished during the pass: its result comes from there.
+        results.push(Err(Error::Invalid(
+            "a label's file was not finished".into(),
+        )));
         match &mut file.inner {
-            LabelSink::Send(sink) => moving.push((i, sink, totals)),
-            LabelSink::Local(sink) => results[i] = sink.finish_cancellable(&totals, cancel),
+            Some(LabelSink::Send(sink)) => moving.push((i, sink, totals)),
+            Some(LabelSink::Local(sink)) => results[i] = sink.finish_cancellable(&totals, cancel),
+            None => {}
         }
     }
     let threads = moving.len().min(FINISHING_THREADS);
@@ -318,9 +469,126 @@ fn all_or_none(targets: &[PathBuf], results: Vec<Result<()>>) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::all_or_none;
-    use crate::Error;
-    use std::path::PathBuf;
+    use super::{all_or_none, LabelFiles, LabelSink};
+    use crate::mesh::{Chunk, MeshInfo, MeshSink, Totals};
+    use crate::params::{Inside, Method};
+    use crate::{Error, Grid};
+    use std::path::{Path, PathBuf};
+
+    /// Two labels' `.tmesh` files in `dir`, the first finished once the
+    /// pass has given it plane 1's chunk, the second at the end.
+    fn two_files(dir: &Path) -> (LabelFiles, Vec<PathBuf>) {
+        let template = dir.join("{label}.tmesh");
+        let outputs: Vec<PathBuf> = [1, 2]
+            .iter()
+            .map(|l| dir.join(format!("{l}.tmesh")))
+            .collect();
+        let mut files = LabelFiles::create(&template, &[1, 2], &outputs, |target, _| {
+            LabelSink::create(target, 2)
+        })
+        .unwrap();
+        files.finish_early(&[Some(1), None]);
+        let info = MeshInfo {
+            grid: Grid::unit([4, 4, 4]),
+            iso: 0.5,
+            method: Method::Tmc,
+            inside: Inside::High,
+            close: false,
+            normals: false,
+            labels: false,
+        };
+        for file in files.sinks() {
+            file.begin(&info).unwrap();
+        }
+        (files, outputs)
+    }
+
+    /// The chunk of `plane`, with one triangle or none.
+    fn chunk(plane: u64, full: bool) -> Chunk {
+        let mut chunk = Chunk {
+            plane,
+            ..Chunk::default()
+        };
+        if full {
+            chunk.vertices = vec![[0.0, 0.0, plane as f32], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+            chunk.triangles = vec![[0, 1, 2]];
+        }
+        chunk
+    }
+
+    /// Waits (up to 10 s) for `path` to appear.
+    fn appears(path: &Path) -> bool {
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
+        while std::time::Instant::now() < deadline {
+            if path.exists() {
+                return true;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        false
+    }
+
+    #[test]
+    fn a_label_past_its_last_plane_is_finished_during_the_pass() {
+        let dir = tempfile::tempdir().unwrap();
+        let (mut files, outputs) = two_files(dir.path());
+        let sinks = files.sinks();
+        sinks[0].chunk(0, &chunk(0, true)).unwrap();
+        sinks[1].chunk(0, &chunk(0, true)).unwrap();
+        assert!(!outputs[0].exists(), "not before its last plane");
+        sinks[0].chunk(3, &chunk(1, true)).unwrap();
+        assert!(appears(&outputs[0]), "finished once its last plane is in");
+        for plane in 2..4 {
+            sinks[0].chunk(6, &chunk(plane, false)).unwrap();
+            sinks[1].chunk(3, &chunk(plane, false)).unwrap();
+        }
+        let totals = |v, t| Totals {
+            vertices: v,
+            triangles: t,
+            chunks: 4,
+        };
+        sinks[0].finish(&totals(6, 2)).unwrap();
+        sinks[1].finish(&totals(3, 1)).unwrap();
+        assert!(!outputs[1].exists());
+        files.finish(None).unwrap();
+        let read = |p: &Path| {
+            let r = crate::meshfile::TmeshReader::open(p).unwrap();
+            (r.vertices(), r.triangles())
+        };
+        assert_eq!(read(&outputs[0]), (6, 2));
+        assert_eq!(read(&outputs[1]), (3, 1));
+    }
+
+    #[test]
+    fn a_pass_that_fails_after_takes_the_early_file_with_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let (mut files, outputs) = two_files(dir.path());
+        files.sinks()[0].chunk(0, &chunk(1, true)).unwrap();
+        assert!(appears(&outputs[0]));
+        // The pass fails: the files are dropped unfinished.
+        drop(files);
+        assert!(!outputs[0].exists() && !outputs[1].exists());
+    }
+
+    #[test]
+    fn a_mesh_going_on_past_its_last_plane_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let (mut files, outputs) = two_files(dir.path());
+        let sinks = files.sinks();
+        sinks[0].chunk(0, &chunk(1, true)).unwrap();
+        let err = sinks[0].chunk(3, &chunk(2, true)).unwrap_err();
+        assert!(err.to_string().contains("past its last plane"), "{err}");
+        // Totals other than those the file was finished with, likewise.
+        let totals = Totals {
+            vertices: 6,
+            triangles: 2,
+            chunks: 2,
+        };
+        let err = sinks[0].finish(&totals).unwrap_err();
+        assert!(err.to_string().contains("past its last plane"), "{err}");
+        drop(files);
+        assert!(!outputs[0].exists());
+    }
 
     /// Three label files: the first and last put in place, the middle one
     /// failed, with an older file at its path.

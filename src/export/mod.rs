@@ -17,6 +17,7 @@
 //! file. STL cannot share vertices: every facet stores its own three corners.
 
 mod by_extension;
+mod early_finish;
 mod label_files;
 mod labelled;
 mod numbering;

@@ -126,6 +126,30 @@ pub fn extract_labels_to(
     run_pass(source, &all, options, part, sinks, Some(work))
 }
 
+/// The last plane whose chunk may hold part of each of `labels`' meshes,
+/// from the last plane holding each label (`counts`, the scan's); `None`
+/// for a label the map does not hold. A chunk of plane `z` holds the
+/// vertices on the edges of plane `z` and on the edges from `z` to `z + 1`,
+/// and the triangles of the cells between the two planes: past the label's
+/// last plane its indicator is 0 on both, so those chunks are empty. With
+/// `close` the pass's grid has one plane more below the volume, so the
+/// chunks' planes are one more. A label's file may therefore be finished
+/// once the pass has handed it that plane's chunk
+/// ([`crate::export::LabelFiles::finish_early`]).
+pub fn last_label_chunks(
+    counts: &crate::volume::LabelCounts,
+    labels: &[i64],
+    close: bool,
+) -> Vec<Option<u64>> {
+    labels
+        .iter()
+        .map(|&l| {
+            let last = counts.last_plane(l)?;
+            Some((last + usize::from(close)) as u64)
+        })
+        .collect()
+}
+
 /// A worker's buffers for a slab's codes and a label's indicator, kept
 /// from one slab to the next.
 #[derive(Default)]

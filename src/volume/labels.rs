@@ -15,14 +15,28 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// for no label and one for `--close`'s border).
 pub const MOST_LABELS: usize = u16::MAX as usize - 1;
 
-/// The values of a label map, ascending, each with its number of samples.
+/// The values of a label map, ascending, each with its number of samples
+/// and the last plane that holds it.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct LabelCounts {
     /// `(value, samples)` for every value present, ascending.
     pub counts: Vec<(i64, u64)>,
+    /// The last plane (largest z) holding each value of `counts`, in the
+    /// same order: past it the value's indicator is 0, so its mesh is
+    /// complete once the pass is there (see
+    /// [`crate::stream::last_label_chunks`]).
+    pub last_planes: Vec<usize>,
 }
 
 impl LabelCounts {
+    /// The last plane holding `label` (`None` when absent).
+    pub fn last_plane(&self, label: i64) -> Option<usize> {
+        self.counts
+            .binary_search_by_key(&label, |&(l, _)| l)
+            .ok()
+            .map(|k| self.last_planes[k])
+    }
+
     /// The samples of `label` (0 when absent).
     pub fn samples(&self, label: i64) -> u64 {
         self.counts
@@ -146,18 +160,22 @@ pub fn scan_labels_on(
         result
     };
     let results = fan_out(ranges, threads, scan);
-    let mut counts: BTreeMap<i64, u64> = BTreeMap::new();
+    // Ranges in z order: a later range's last plane of a value is later.
+    let mut counts: BTreeMap<i64, (u64, usize)> = BTreeMap::new();
     for result in results {
-        for (value, n) in result? {
-            *counts.entry(value).or_default() += n;
+        for (value, (n, last)) in result? {
+            let entry = counts.entry(value).or_default();
+            *entry = (entry.0 + n, entry.1.max(last));
         }
     }
     Ok(LabelCounts {
-        counts: counts.into_iter().collect(),
+        counts: counts.iter().map(|(&v, &(n, _))| (v, n)).collect(),
+        last_planes: counts.values().map(|&(_, last)| last).collect(),
     })
 }
 
-/// The counts of planes `planes` (see [`scan_labels`]); gives up, with
+/// The counts of planes `planes` (see [`scan_labels`]), each value's with
+/// the last of these planes holding it; gives up, with
 /// [`Error::Interrupted`], once `cancel` is set or `give_up` says so
 /// (looked at every plane).
 fn count_planes(
@@ -165,7 +183,7 @@ fn count_planes(
     cancel: Option<&AtomicBool>,
     planes: std::ops::Range<usize>,
     give_up: impl Fn() -> bool,
-) -> Result<BTreeMap<i64, u64>> {
+) -> Result<BTreeMap<i64, (u64, usize)>> {
     const LIMIT: f64 = (1u64 << 53) as f64;
     let mut plane = Vec::new();
     let mut counts = Tally::default();
@@ -184,39 +202,42 @@ fn count_planes(
                     "sample (x {x}, y {y}, z {z}) is {v}, {why}: a label map holds integer labels (whole numbers within ±2^53)"
                 )));
             }
-            counts.add(v as i64, (end - x) as u64);
+            counts.add(v as i64, (end - x) as u64, z);
             Ok(())
         })?;
     }
     Ok(counts.into_map())
 }
 
-/// Samples counted per value: values from 0 to 65535 (most label maps'
+/// Samples counted per value, with the last plane holding each (planes
+/// are counted in z order): values from 0 to 65535 (most label maps'
 /// labels) in an array, a run's count one addition; others in a map.
 #[derive(Default)]
 struct Tally {
-    /// `small[v]`: the samples of value `v` (empty until the first).
-    small: Vec<u64>,
-    other: BTreeMap<i64, u64>,
+    /// `small[v]`: the samples of value `v` and its last plane (empty
+    /// until the first).
+    small: Vec<(u64, usize)>,
+    other: BTreeMap<i64, (u64, usize)>,
 }
 
 impl Tally {
-    fn add(&mut self, value: i64, samples: u64) {
-        match usize::try_from(value) {
+    fn add(&mut self, value: i64, samples: u64, z: usize) {
+        let entry = match usize::try_from(value) {
             Ok(v) if v < 1 << 16 => {
                 if self.small.is_empty() {
-                    self.small = vec![0; 1 << 16];
+                    self.small = vec![(0, 0); 1 << 16];
                 }
-                self.small[v] += samples;
+                &mut self.small[v]
             }
-            _ => *self.other.entry(value).or_default() += samples,
-        }
+            _ => self.other.entry(value).or_default(),
+        };
+        *entry = (entry.0 + samples, z);
     }
 
-    fn into_map(self) -> BTreeMap<i64, u64> {
+    fn into_map(self) -> BTreeMap<i64, (u64, usize)> {
         let mut map = self.other;
-        let present = self.small.iter().enumerate().filter(|&(_, &n)| n > 0);
-        map.extend(present.map(|(v, &n)| (v as i64, n)));
+        let present = self.small.iter().enumerate().filter(|&(_, &(n, _))| n > 0);
+        map.extend(present.map(|(v, &entry)| (v as i64, entry)));
         map
     }
 }

@@ -109,23 +109,27 @@ pub fn out_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
 /// and is in the phase the caller wants to interrupt. Fails if the run
 /// ends first.
 pub fn wait_for_temp(child: &mut Child, dir: &Path, min_bytes: u64) {
-    let start = Instant::now();
-    loop {
-        let started = temp_files(dir)
+    wait_until(child, "its temporary output", || {
+        temp_files(dir)
             .iter()
-            .any(|name| fs::metadata(dir.join(name)).is_ok_and(|m| m.len() >= min_bytes));
-        if started {
-            return;
-        }
+            .any(|name| fs::metadata(dir.join(name)).is_ok_and(|m| m.len() >= min_bytes))
+    });
+}
+
+/// Waits until `ready` says so while the run `child` goes on; fails if the
+/// run ends first (without `what`) or after 120 s.
+pub fn wait_until(child: &mut Child, what: &str, ready: impl Fn() -> bool) {
+    let start = Instant::now();
+    while !ready() {
         assert!(
             child.try_wait().unwrap().is_none(),
-            "the run ended before it wrote its temporary output"
+            "the run ended before it wrote {what}"
         );
         assert!(
             start.elapsed() < Duration::from_secs(120),
-            "no temporary output after 120 s"
+            "no {what} after 120 s"
         );
-        sleep(Duration::from_millis(5));
+        sleep(Duration::from_millis(2));
     }
 }
 

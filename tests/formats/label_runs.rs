@@ -78,18 +78,26 @@ fn scan_on_threads_counts_and_names_the_first_fraction() {
     let xyz = |i: usize| [i % dims[0], i / dims[0] % dims[1], i / (dims[0] * dims[1])];
     // Beside the small labels, values the scan keeps apart from its
     // array of 0 to 65535: negative ones and ones from 65536 up.
-    let whole = |i: usize| match i % 13 {
-        0 => -3.0,
-        5 => 65536.0,
-        7 => 70001.0,
-        9 => 65535.0,
+    // And two values that end early (one in the array, one not), so that
+    // their last planes are in the first threads' planes.
+    let whole = |i: usize| match (i % 13, xyz(i)) {
+        (_, [0, 0, z]) if z <= 3 => 500.0,
+        (_, [6, 4, z]) if z <= 6 => 80000.0,
+        (0, _) => -3.0,
+        (5, _) => 65536.0,
+        (7, _) => 70001.0,
+        (9, _) => 65535.0,
         _ => label(xyz(i)),
     };
-    let mut want: BTreeMap<i64, u64> = BTreeMap::new();
+    let mut want: BTreeMap<i64, (u64, usize)> = BTreeMap::new();
     for i in 0..dims.iter().product::<usize>() {
-        *want.entry(whole(i) as i64).or_default() += 1;
+        let entry = want.entry(whole(i) as i64).or_default();
+        *entry = (entry.0 + 1, xyz(i)[2]);
     }
-    let want: Vec<(i64, u64)> = want.into_iter().collect();
+    let want_last: Vec<usize> = want.values().map(|&(_, z)| z).collect();
+    assert_eq!(want[&500].1, 3);
+    assert_eq!(want[&80000].1, 6);
+    let want: Vec<(i64, u64)> = want.iter().map(|(&v, &(n, _))| (v, n)).collect();
     let raw = raw_volume(
         dir.path(),
         "whole.raw",
@@ -113,6 +121,12 @@ fn scan_on_threads_counts_and_names_the_first_fraction() {
     for threads in [0, 1, 2, 3, 5, 12, 40] {
         let counts = scan_labels_on(&raw, None, threads).unwrap();
         assert_eq!(counts.counts, want, "{threads} threads: counts");
+        assert_eq!(
+            counts.last_planes, want_last,
+            "{threads} threads: last planes"
+        );
+        assert_eq!(counts.last_plane(80000), Some(6));
+        assert_eq!(counts.last_plane(4), None);
         let err = scan_labels_on(&bad, None, threads).unwrap_err().to_string();
         assert!(
             err.contains("sample (x 1, y 1, z 4) is 0.25"),

@@ -8,7 +8,7 @@ use crate::common;
 
 use common::cli::{names, s, temp_files, tmc, tmc_path};
 use common::signals::{
-    interrupt_and_check, out_dir, signal, spawn, still_running_after, wait_for_temp,
+    interrupt_and_check, out_dir, signal, spawn, still_running_after, wait_for_temp, wait_until,
 };
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -517,4 +517,55 @@ fn a_batch_interrupted_after_an_input_keeps_that_output_and_says_so() {
         "tmc: error: interrupted by SIGTERM; the outputs of the 1 input(s) that finished before it are kept, nothing else was written"
     );
     assert_eq!(names(d), ["again.raw", "noise.tmesh"]);
+}
+
+/// A label pass finishes each label's file as soon as the pass is past the
+/// label's last plane (`LabelFiles::finish_early`): interrupted after such
+/// a file is in place, it removes it again, and leaves nothing.
+#[test]
+fn sigint_stops_a_label_pass_and_takes_back_the_files_finished_during_it() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let data = tempfile::tempdir().unwrap();
+    let map = data.path().join("map.raw");
+    // Label 1: a block in planes 2 to 5, finished early. Label 2: noise (a
+    // sample in two) in every plane from 8 on, whose surface takes the
+    // pass seconds on one thread.
+    let [nx, ny, nz] = [256usize, 256, 400];
+    let mut bytes = vec![0u8; nx * ny * nz];
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    for (i, b) in bytes.iter_mut().enumerate() {
+        let [x, y, z] = [i % nx, i / nx % ny, i / (nx * ny)];
+        if (2..6).contains(&z) && (10..30).contains(&x) && (10..30).contains(&y) {
+            *b = 1;
+        } else if z >= 8 {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            *b = if state >> 63 == 1 { 2 } else { 0 };
+        }
+    }
+    fs::write(&map, &bytes).unwrap();
+    let (dir, output) = out_dir("{label}.tmesh");
+    let dims = format!("{nx},{ny},{nz}");
+    let mut child = spawn(&[
+        "extract",
+        s(&map),
+        "--dims",
+        &dims,
+        "--dtype",
+        "u8",
+        "--labels",
+        "all",
+        "-o",
+        s(&output),
+        "--threads",
+        "1",
+    ]);
+    let early = dir.path().join("1.tmesh");
+    wait_until(&mut child, "label 1's file", || early.exists());
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "the run finished before the test could interrupt it; use a larger input"
+    );
+    interrupt_and_check(child, ("INT", 130), None, 2.0, (dir.path(), &[]));
 }

@@ -67,6 +67,7 @@ mod read;
 mod report;
 mod stream;
 mod stream_components;
+mod stream_edges;
 mod stream_file;
 mod stream_geometry;
 mod stream_links;

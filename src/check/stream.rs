@@ -5,19 +5,25 @@
 //!
 //! A chunk's triangles use its own vertices and a prefix of the next
 //! chunk's ([`crate::Chunk`]), so the count needs a window of two chunks:
-//! * **components**: a union-find over the classes the current chunk's
-//!   vertices belong to (carried from the chunks before) and the next
-//!   chunk's prefix; a class none of whose members reaches the next chunk
-//!   is a finished component;
-//! * **edges**: a chunk's edges kept at their smaller end and counted; an edge with both ends
-//!   in the next chunk may also be used by that chunk's triangles and is
-//!   carried to it, one with both ends in the chunk's own vertices may have
-//!   been carried from the chunk before and is matched against that list;
+//! * **components**: a union-find over the window's vertices, those of the
+//!   chunk's first ones that share a class carried from the chunks before
+//!   joined at the first of them; a set (whose root is its smallest
+//!   vertex) none of whose members is in the next chunk is a finished
+//!   component, found as a root among the chunk's own vertices;
+//! * **edges**, in the default (the preview's) count: a chunk's edges kept
+//!   at their smaller end and counted ([`EdgeTable`]); an edge with both
+//!   ends in the next chunk may also be used by that chunk's triangles and
+//!   is carried to it, with its count. A triangle's corners are taken in
+//!   increasing order, so that its first corner is the smaller end of two
+//!   of its edges: the union-find joins those two edges' ends when they
+//!   are new (an edge met before had its ends joined then, and the third
+//!   edge's ends are joined through the first corner);
 //! * with [`StreamCheck::full`], **each vertex** once all its triangles
 //!   are known (those of its own chunk and of the chunk before): its link,
-//!   the orientation of its edges and the boundary loops through it
-//!   ([`super::stream_links`]), so that the figures are those of
-//!   [`check_mesh`](super::check_mesh) ([`Verdict::checked`]).
+//!   the orientation of its edges, the boundary loops through it and the
+//!   edges it is the smaller end of ([`super::stream_links`]), so that the
+//!   figures are those of [`check_mesh`](super::check_mesh)
+//!   ([`Verdict::checked`]).
 //!
 //! The mesh is **closed** when every edge has two triangles; its genus is
 //! then `C - χ/2` summed over its `C` components (`χ = V - E + F`), as
@@ -27,12 +33,9 @@
 //! working space of a chunk is a [`Scratch`] that several checks may share.
 
 use super::stream_components::{ComponentScratch, ComponentState, Tally};
+use super::stream_edges::EdgeTable;
 use super::stream_links::{Checked, LinkState, Links, SweepScratch};
-use super::union_find::find;
-
-/// Places per vertex for the edges it is the smaller end of
-/// ([`StreamCheck::edges`]).
-const SLOTS: usize = 6;
+use super::union_find::{find, NONE};
 
 /// What a [`StreamCheck`] found: what the preview says about the topology
 /// of the mesh and, from [`StreamCheck::full`], the figures of
@@ -76,7 +79,7 @@ impl Verdict {
     }
 
     /// One more distinct edge, used by `count` triangles.
-    fn tally(&mut self, count: u32) {
+    pub(super) fn tally(&mut self, count: u32) {
         self.edges += 1;
         match count {
             1 => self.boundary_edges += 1,
@@ -138,12 +141,14 @@ impl Verdict {
 pub struct StreamCheck {
     verdict: Verdict,
     /// Class of each vertex of the chunk being counted (a prefix; vertices
-    /// past it have classes of their own).
+    /// past it have classes of their own), numbered from 0 by first use.
     carry: Vec<u32>,
     /// Classes in use by `carry`.
     classes: u32,
     /// Edges with both ends in the next chunk's vertices: smaller and
-    /// larger end relative to that chunk, and the triangles seen so far.
+    /// larger end relative to that chunk, and the triangles seen so far
+    /// (the default count only: a full one counts every edge at its
+    /// smaller end once all its triangles are known).
     carried_edges: Vec<[u32; 3]>,
     /// The vertex sweep of [`StreamCheck::full`].
     links: Option<LinkState>,
@@ -156,17 +161,16 @@ pub struct StreamCheck {
 /// checks that count one chunk at a time (one per label of a label map).
 #[derive(Debug, Default)]
 pub struct Scratch {
-    /// The union-find parents and the roots reaching the next chunk; per
-    /// root, a mark (reaching, finished) and its new class.
+    /// The union-find parents over the window's vertices.
     parent: Vec<u32>,
-    roots: Vec<u32>,
-    mark: Vec<u32>,
-    /// The edges by smaller end, [`SLOTS`] places each: how many are in
-    /// use, the larger ends and their triangles; edges past a full
-    /// vertex's places go to `spill`, once per triangle.
-    used: Vec<u8>,
-    places: Vec<Places>,
-    spill: Vec<[u32; 2]>,
+    /// Per carried class, the first of the chunk's vertices in it (`NONE`
+    /// when the class has none: it is finished).
+    first: Vec<u32>,
+    /// Per window vertex that is the root of a set reaching the next
+    /// chunk, its class there plus one; 0 for the others.
+    reach: Vec<u32>,
+    /// The edges of the default count.
+    edges: EdgeTable,
     /// The triangles kept when some are left out.
     valid: Vec<[u32; 3]>,
     /// The vertex sweep's.
@@ -205,16 +209,33 @@ impl StreamCheck {
     /// is left out, and, in a [`StreamCheck::full`], one that repeats an
     /// index.
     pub fn chunk(&mut self, scratch: &mut Scratch, own: u32, next: u32, triangles: &[[u32; 3]]) {
-        let n = own.saturating_add(next);
         let base = self.verdict.vertices;
         self.verdict.vertices += u64::from(own);
+        if self.links.is_none() {
+            self.start_classes(scratch, own, next);
+            self.edges_and_unite(scratch, own, next, triangles);
+            self.close(scratch, own, next);
+        } else {
+            self.check_chunk(scratch, base, own, next, triangles);
+        }
+        trim(&mut self.carry);
+        trim(&mut self.carried_edges);
+    }
+
+    /// [`StreamCheck::chunk`] in a full check: the triangles that repeat
+    /// an index or reach past the window left out.
+    fn check_chunk(
+        &mut self,
+        scratch: &mut Scratch,
+        base: u64,
+        own: u32,
+        next: u32,
+        triangles: &[[u32; 3]],
+    ) {
+        let n = own.saturating_add(next);
         let past = |t: &[u32; 3]| t[0].max(t[1]).max(t[2]) >= n;
         let repeats = |t: &[u32; 3]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
-        let left_out = match self.links {
-            None => triangles.iter().any(past),
-            Some(_) => triangles.iter().any(|t| past(t) || repeats(t)),
-        };
-        if left_out {
+        if triangles.iter().any(|t| past(t) || repeats(t)) {
             let mut valid = std::mem::take(&mut scratch.valid);
             valid.clear();
             for t in triangles {
@@ -231,15 +252,19 @@ impl StreamCheck {
         } else {
             self.count(scratch, base, own, next, triangles);
         }
-        trim(&mut self.carry);
-        trim(&mut self.carried_edges);
     }
 
-    /// [`StreamCheck::chunk`] of triangles whose indices are all below
-    /// `own + next` (and, in a full check, distinct); `base` numbers the
-    /// chunk's first vertex in the mesh.
+    /// [`StreamCheck::check_chunk`] of triangles whose indices are all
+    /// below `own + next` and distinct; `base` numbers the chunk's first
+    /// vertex in the mesh.
     fn count(&mut self, s: &mut Scratch, base: u64, own: u32, next: u32, triangles: &[[u32; 3]]) {
         self.verdict.triangles += triangles.len() as u64;
+        self.start_classes(s, own, next);
+        let parent = &mut s.parent[..];
+        for t in triangles {
+            unite(parent, t[0], t[1]);
+            unite(parent, t[0], t[2]);
+        }
         let at = match self.parts {
             Some(_) => {
                 let at = &mut s.parts.at;
@@ -248,14 +273,11 @@ impl StreamCheck {
                 for t in triangles {
                     at[t[0] as usize].triangles += 1;
                 }
-                true
+                Some(&mut at[..])
             }
-            None => false,
+            None => None,
         };
-        self.unite(s, own, next, triangles);
-        self.edges(s, own, next, triangles);
         if let Some(links) = &mut self.links {
-            let at = at.then_some(&mut s.parts.at[..]);
             links.chunk(&mut s.sweep, base, own, next, triangles, at);
         }
         self.close(s, own, next);
@@ -270,9 +292,17 @@ impl StreamCheck {
     /// [`StreamCheck::per_component`] (`None` from any other check).
     pub(super) fn finish_components(mut self) -> (Verdict, Option<ComponentState>) {
         self.verdict.components += u64::from(self.classes);
-        for [lo, _, count] in std::mem::take(&mut self.carried_edges) {
-            self.verdict.tally(count);
+        let mut carried = std::mem::take(&mut self.carried_edges);
+        if let Some(links) = &mut self.links {
             // Only where the last chunk said its triangles reach past it.
+            carried = links.carried_edges();
+            let [edges, boundary, nonmanifold] = links.edges();
+            self.verdict.edges += edges;
+            self.verdict.boundary_edges += boundary;
+            self.verdict.nonmanifold_edges += nonmanifold;
+        }
+        for [lo, _, count] in carried {
+            self.verdict.tally(count);
             if let Some(parts) = &mut self.parts {
                 if let Some(t) = parts.carried.get_mut(self.carry[lo as usize] as usize) {
                     t.edge(count);
@@ -288,156 +318,146 @@ impl StreamCheck {
         (self.verdict, self.parts)
     }
 
-    /// Union-find over the carried classes and the next chunk's prefix:
-    /// the chunk's triangles join them.
-    fn unite(&mut self, s: &mut Scratch, own: u32, next: u32, triangles: &[[u32; 3]]) {
-        // Vertices past the carried prefix start classes of their own.
-        while (self.carry.len() as u32) < own {
-            self.carry.push(self.classes);
-            self.classes += 1;
-        }
-        let k = self.classes;
+    /// The union-find over the window's vertices, each in a set of its
+    /// own but those of the chunk's first vertices that share a carried
+    /// class: joined at the first of them (so that a set's root is its
+    /// smallest vertex, as [`unite`] keeps it).
+    fn start_classes(&mut self, s: &mut Scratch, own: u32, next: u32) {
         s.parent.clear();
-        s.parent.extend(0..k + next);
-        let carry = &self.carry[..own as usize];
-        let element = |v: u32| match carry.get(v as usize) {
-            Some(&class) => class,
-            None => k + v - own,
-        };
-        let parent = &mut s.parent[..];
-        for t in triangles {
-            let ra = find(parent, element(t[0]));
-            let rb = find(parent, element(t[1]));
-            let r = if ra != rb {
-                let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-                parent[hi as usize] = lo;
-                lo
+        s.parent.extend(0..own + next);
+        s.first.clear();
+        s.first.resize(self.classes as usize, NONE);
+        for (j, &class) in self.carry.iter().take(own as usize).enumerate() {
+            let first = &mut s.first[class as usize];
+            if *first == NONE {
+                *first = j as u32;
             } else {
-                ra
-            };
-            let rc = find(parent, element(t[2]));
-            if rc != r {
-                let (lo, hi) = if r < rc { (r, rc) } else { (rc, r) };
-                parent[hi as usize] = lo;
+                s.parent[j] = *first;
             }
         }
     }
 
-    /// After [`StreamCheck::unite`] and the counts: the classes that
-    /// finish in this chunk, and those carried to the next one (with
-    /// their tallies in a [`StreamCheck::per_component`]).
-    fn close(&mut self, s: &mut Scratch, own: u32, next: u32) {
-        let k = self.classes;
-        let size = (k + next) as usize;
+    /// The default count's pass over the triangles: each one's edges in
+    /// the [`EdgeTable`] (with those carried from the chunk before), the
+    /// ends of its two edges at its smallest corner joined when new (one
+    /// past the window is left out); then the edges counted, but those
+    /// with both ends in the next chunk, carried to it.
+    #[inline(never)]
+    fn edges_and_unite(&mut self, s: &mut Scratch, own: u32, next: u32, triangles: &[[u32; 3]]) {
+        let n = own.saturating_add(next);
+        let mut table = s.edges.start(n as usize);
+        let mut carried = std::mem::take(&mut self.carried_edges);
+        let mut uses = 0;
+        for &[lo, hi, count] in &carried {
+            table.add(lo, hi, count);
+            uses += u64::from(count);
+        }
         let parent = &mut s.parent[..];
+        let mut invalid = 0;
+        for t in triangles {
+            let (a, b) = (t[0].min(t[1]), t[0].max(t[1]));
+            let (b, c) = (b.min(t[2]), b.max(t[2]));
+            let (a, b) = (a.min(b), a.max(b));
+            if c >= n {
+                invalid += 1;
+                continue;
+            }
+            if table.add(a, b, 1) {
+                unite(parent, a, b);
+            }
+            if table.add(a, c, 1) {
+                unite(parent, a, c);
+            }
+            table.add(b, c, 1);
+        }
+        let valid = triangles.len() as u64 - invalid;
+        self.verdict.invalid_triangles += invalid;
+        self.verdict.triangles += valid;
+        carried.clear();
+        let tally = table.finish(own, uses + 3 * valid, |lo, hi, count| {
+            carried.push([lo - own, hi - own, count]);
+        });
+        self.verdict.edges += tally.edges;
+        self.verdict.boundary_edges += tally.boundary;
+        self.verdict.nonmanifold_edges += tally.nonmanifold;
+        self.carried_edges = carried;
+    }
+
+    /// After the triangles have joined the window's vertices: the sets
+    /// that finish in this chunk (counted, and their tallies kept in a
+    /// [`StreamCheck::per_component`]), and the classes of the next
+    /// chunk's first vertices, carried on with their tallies.
+    fn close(&mut self, s: &mut Scratch, own: u32, next: u32) {
+        let n = (own + next) as usize;
+        let parent = &mut s.parent[..n];
+        // Every vertex straight under its root: a vertex's parent is never
+        // after it ([`StreamCheck::start_classes`], [`unite`], `find`), so
+        // in increasing order the parent's parent is already the root.
+        for v in 0..n {
+            let p = parent[v] as usize;
+            parent[v] = parent[p];
+        }
+        // A carried class none of the chunk's vertices is in (they were
+        // past its own: the chunk has fewer than the one before said).
+        let gone = s.first.iter().filter(|&&f| f == NONE).count();
+        self.verdict.components += gone as u64;
         if let Some(parts) = &mut self.parts {
             let root = &mut s.parts.root;
             root.clear();
-            root.resize(size, Tally::default());
-            for (class, t) in parts.carried.iter().enumerate() {
-                root[find(parent, class as u32) as usize].add(t);
-            }
-            for (v, t) in s.parts.at.iter().enumerate() {
-                let v = v as u32;
-                let element = match self.carry.get(v as usize) {
-                    Some(&class) if v < own => class,
-                    _ => k + v - own,
-                };
-                root[find(parent, element) as usize].add(t);
-            }
-        }
-        // Roots reaching the next chunk (mark 1), and the classes that
-        // finish here (counted, mark 2).
-        s.roots.clear();
-        s.mark.clear();
-        s.mark.resize(size, 0);
-        for j in 0..next {
-            let r = find(parent, k + j);
-            s.roots.push(r);
-            s.mark[r as usize] = 1;
-        }
-        for class in 0..k {
-            let r = find(parent, class) as usize;
-            if s.mark[r] == 0 {
-                s.mark[r] = 2;
-                self.verdict.components += 1;
-                if let Some(parts) = &mut self.parts {
-                    parts.finish(s.parts.root[r]);
+            root.resize(n, Tally::default());
+            let carried = std::mem::take(&mut parts.carried);
+            for (t, &first) in carried.iter().zip(&s.first) {
+                match first {
+                    NONE => parts.finish(*t),
+                    v => root[parent[v as usize] as usize].add(t),
                 }
             }
-        }
-        // Classes for the next chunk's prefix, numbered by first use (the
-        // mark of a reaching root becomes its class plus 3).
-        self.carry.clear();
-        self.classes = 0;
-        if let Some(parts) = &mut self.parts {
+            for (&r, t) in parent.iter().zip(&s.parts.at) {
+                root[r as usize].add(t);
+            }
+            parts.carried = carried;
             parts.carried.clear();
         }
-        for &r in &s.roots {
-            let m = &mut s.mark[r as usize];
-            if *m == 1 {
-                *m = self.classes + 3;
-                self.classes += 1;
+        // The roots reaching the next chunk, their classes numbered by
+        // first use.
+        s.reach.clear();
+        s.reach.resize(n, 0);
+        let reach = &mut s.reach[..];
+        self.carry.clear();
+        self.carry.resize(next as usize, 0);
+        let mut classes = 0;
+        for (&r, class) in parent[own as usize..].iter().zip(self.carry.iter_mut()) {
+            let r = r as usize;
+            if reach[r] == 0 {
+                classes += 1;
+                reach[r] = classes;
                 if let Some(parts) = &mut self.parts {
-                    parts.carried.push(s.parts.root[r as usize]);
+                    parts.carried.push(s.parts.root[r]);
                 }
             }
-            self.carry.push(*m - 3);
+            *class = reach[r] - 1;
+        }
+        self.classes = classes;
+        // The sets that finish here: a root among the own vertices (a
+        // set's root is its smallest vertex) reaching no further.
+        for (v, (&p, &reach)) in parent.iter().zip(&*reach).enumerate().take(own as usize) {
+            if p == v as u32 && reach == 0 {
+                self.verdict.components += 1;
+                if let Some(parts) = &mut self.parts {
+                    parts.finish(s.parts.root[v]);
+                }
+            }
         }
     }
+}
 
-    /// Counts the chunk's edges, matching those shared with its neighbours.
-    ///
-    /// Each edge is kept at its smaller end, in one of [`SLOTS`] places
-    /// (its larger end and how many triangles use it; an edge carried from
-    /// the chunk before comes in with its count): one pass over the
-    /// triangles, each edge matched against the few its smaller end has
-    /// so far. A vertex with more distinct edges than places (rare: a CT
-    /// surface's vertex is the smaller end of about three) sends the rest
-    /// to a list, sorted once: a run of equal edges is one edge and its
-    /// length the edge's triangles. Then every edge is counted, or carried
-    /// when both its ends are in the next chunk.
-    fn edges(&mut self, s: &mut Scratch, own: u32, next: u32, triangles: &[[u32; 3]]) {
-        let n = (own + next) as usize;
-        let mut carried = std::mem::take(&mut self.carried_edges);
-        s.used.clear();
-        s.used.resize(n, 0);
-        if s.places.len() < n {
-            s.places.resize(n, Places::default());
-        }
-        s.spill.clear();
-        let (used, places, spill) = (&mut s.used[..], &mut s.places[..], &mut s.spill);
-        for t in triangles {
-            add_edge(used, places, spill, [t[0], t[1]], 1);
-            add_edge(used, places, spill, [t[1], t[2]], 1);
-            add_edge(used, places, spill, [t[2], t[0]], 1);
-        }
-        for &[lo, hi, count] in &carried {
-            add_edge(used, places, spill, [lo, hi], count);
-        }
-        carried.clear();
-        let mut at = self.parts.as_ref().map(|_| &mut s.parts.at[..]);
-        let mut edge = |lo: u32, hi: u32, count: u32| {
-            if lo >= own {
-                carried.push([lo - own, hi - own, count]);
-            } else {
-                self.verdict.tally(count);
-                if let Some(at) = &mut at {
-                    at[lo as usize].edge(count);
-                }
-            }
-        };
-        for (lo, &in_use) in s.used.iter().enumerate() {
-            let p = &s.places[lo];
-            for (&hi, &count) in p.ends.iter().zip(&p.counts).take(usize::from(in_use)) {
-                edge(lo as u32, hi, count);
-            }
-        }
-        s.spill.sort_unstable();
-        for run in s.spill.chunk_by(|a, b| a == b) {
-            edge(run[0][0], run[0][1], run.len() as u32);
-        }
-        self.carried_edges = carried;
+/// Joins the sets of `a` and `b`, the larger root under the smaller one
+/// (a set's root stays its smallest vertex).
+#[inline(always)]
+fn unite(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        parent[ra.max(rb) as usize] = ra.min(rb);
     }
 }
 
@@ -448,44 +468,6 @@ impl StreamCheck {
 fn trim<T>(v: &mut Vec<T>) {
     if v.capacity() > 2 * v.len() + 64 || (v.is_empty() && v.capacity() > 0) {
         v.shrink_to(v.len());
-    }
-}
-
-/// The edges a vertex is the smaller end of ([`StreamCheck::edges`]): the
-/// larger ends, and how many triangles use each.
-#[derive(Debug, Clone, Copy, Default)]
-struct Places {
-    ends: [u32; SLOTS],
-    counts: [u32; SLOTS],
-}
-
-/// One more use by `k` triangles of the edge `a`-`b` ([`StreamCheck::edges`]):
-/// its count in one of its smaller end's places, a new place, or, with
-/// every place taken by other edges, `k` entries in `spill`.
-#[inline(always)]
-fn add_edge(
-    used: &mut [u8],
-    places: &mut [Places],
-    spill: &mut Vec<[u32; 2]>,
-    [a, b]: [u32; 2],
-    k: u32,
-) {
-    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-    let lo = lo as usize;
-    let in_use = usize::from(used[lo]);
-    let p = &mut places[lo];
-    for (end, c) in p.ends.iter().zip(p.counts.iter_mut()).take(in_use) {
-        if *end == hi {
-            *c += k;
-            return;
-        }
-    }
-    if in_use < SLOTS {
-        p.ends[in_use] = hi;
-        p.counts[in_use] = k;
-        used[lo] += 1;
-    } else {
-        spill.extend(std::iter::repeat_n([lo as u32, hi], k as usize));
     }
 }
 

@@ -126,7 +126,9 @@ pub(super) struct ComponentState {
 pub(super) struct ComponentScratch {
     /// Per window vertex.
     pub at: Vec<Tally>,
-    /// Per union-find element (class or next-chunk vertex), at its root.
+    /// Per window vertex that is the root of a set of the union-find
+    /// (its smallest vertex), the set's tallies (with those its carried
+    /// classes brought).
     pub root: Vec<Tally>,
 }
 

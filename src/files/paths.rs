@@ -1,7 +1,7 @@
 //! Checks of input and output paths, made before any work is done, so that
 //! a run fails at once with a clear line instead of after the extraction.
 
-use super::atomic::{parent_dir, without_temp_path};
+use super::atomic::{missing_dir, parent_dir, without_temp_path};
 use crate::{Error, Result};
 use std::collections::BTreeSet;
 use std::fs;
@@ -79,11 +79,9 @@ fn output_dir(path: &Path) -> Result<&Path> {
             dir.display()
         ))),
         Err(_) => Err(Error::Invalid(format!(
-            "{}: output directory {} does not exist (tmc makes no directories: \
-             create it first, e.g. mkdir -p {})",
+            "{}: {}",
             path.display(),
-            dir.display(),
-            dir.display()
+            missing_dir(dir)
         ))),
     }
 }

@@ -66,8 +66,8 @@ Output formats (chosen by the extension of -o):
   .ply   binary little-endian, shared vertices
   .obj   text, shared vertices
   .off   text, shared vertices
-  .stl   binary; STL cannot share vertices (each facet stores its own corners),
-         so 'tmc check' on an STL file is not meaningful
+  .stl   binary; STL cannot share vertices (each facet stores its own corners):
+         'tmc check' joins corners at the same position into one vertex
   .tmesh tmc's chunked, compressed mesh (64-bit vertex numbers, checksums);
          'tmc convert' turns it into any format above, 'tmc check' reads it,
          scripts/read_tmesh.py reads it with numpy

@@ -203,6 +203,7 @@ fn bad_output_paths_fail_before_extraction() {
         (dir.path().join("no/such/dir/out.ply"), "does not exist"),
         (file.join("out.ply"), "not a directory"),
         (dir.path().join("dir.ply"), "is a directory"),
+        (dir.path().join("out.ply/"), "ends in a path separator"),
         (dir.path().join("out.vtk"), "unknown output format"),
         (dir.path().join("out"), "unknown output format"),
     ];

@@ -82,7 +82,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
                     .create(true)
                     .append(true)
                     .open(&owned)
-                    .map_err(|e| Error::io(owned, e))
+                    .map_err(|e| tmc::files::output_error(&owned, e))
             })?;
             Some((file, path))
         }

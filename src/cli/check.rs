@@ -13,9 +13,14 @@ use tmc::{Error, Result};
 /// and 1, after the report and with one line on stderr, when it has invalid
 /// or degenerate triangles, non-manifold edges or vertices or
 /// inconsistently oriented edges; also 1 if the file could not be read. A .tmesh file has every chunk's
-/// checksum verified; a damaged chunk is named. STL cannot share vertices,
-/// so topology checks on STL files are not meaningful; check a .ply, .obj,
-/// .off or .tmesh file instead.
+/// checksum verified; a damaged chunk is named. STL (binary or ASCII)
+/// stores each facet's own corners, not shared vertices: its corners at
+/// the same position (bit for bit, -0 as 0) are joined into one vertex, as
+/// STL readers do, and that mesh is checked (with a note on stderr). For a
+/// mesh tmc wrote that gives back its connectivity, but vertices of the
+/// original mesh at one position become one vertex (non-manifold there,
+/// and never counted as "sharing a position"); check the .ply, .obj, .off
+/// or .tmesh file for the mesh itself.
 ///
 /// The report also counts zero-area triangles and vertices sharing a
 /// position (with the numbers of the first few triangles of each); they
@@ -126,6 +131,18 @@ fn report(args: &CheckArgs) -> Result<tmc::check::MeshReport> {
             );
         }
     }
-    let mesh = tmc::check::read_mesh(path)?;
+    if tmc::files::lowercase_extension(path) != "stl" {
+        let mesh = tmc::check::read_mesh(path)?;
+        return Ok(tmc::check::check_mesh(&mesh));
+    }
+    // STL stores each facet's own corners: they are joined by exact
+    // position (as STL readers do) into the mesh that is checked.
+    let mesh = tmc::check::read_mesh_to_draw(path)?;
+    if !args.quiet {
+        say!(
+            "tmc: note: {}: STL shares no vertices; facet corners at the same position were joined into one vertex, so the report is of that mesh (vertices that shared a position in the mesh it was written from count as one)",
+            path.display()
+        );
+    }
     Ok(tmc::check::check_mesh(&mesh))
 }

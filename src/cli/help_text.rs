@@ -41,7 +41,8 @@ Input formats:
          series: 'tmc info DIR' lists them, --series N|UID picks one (other
          series, reports, plans, strays skipped: --verbose names them);
          RT Dose in its Dose Units (Gy); uncompressed, deflate, RLE, JPEG
-         baseline/lossless and JPEG 2000 (not JPEG-LS/HTJ2K); a Segmentation
+         baseline/lossless, JPEG 2000 and HTJ2K (not JPEG-LS or JPEG XL:
+         decompress those with 'gdcmconv --raw'); a Segmentation
          (SEG) as a label map of its segments (--labels all), or one segment
          as 0..1 with --segment N (--iso 0.5)
   Zarr   a Zarr v2 or v3 array in a directory store (STORE, or STORE/PATH for
@@ -65,8 +66,8 @@ Output formats (chosen by the extension of -o):
   .ply   binary little-endian, shared vertices
   .obj   text, shared vertices
   .off   text, shared vertices
-  .stl   binary; STL cannot share vertices (each facet stores its own corners),
-         so 'tmc check' on an STL file is not meaningful
+  .stl   binary; STL cannot share vertices (each facet stores its own corners):
+         'tmc check' joins corners at the same position into one vertex
   .tmesh tmc's chunked, compressed mesh (64-bit vertex numbers, checksums);
          'tmc convert' turns it into any format above, 'tmc check' reads it,
          scripts/read_tmesh.py reads it with numpy

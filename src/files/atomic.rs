@@ -36,7 +36,7 @@ impl AtomicFile {
         }
         let temp = builder
             .tempfile_in(dir)
-            .map_err(|e| Error::io(path, without_temp_path(e)))?;
+            .map_err(|e| output_error(path, e))?;
         Ok(AtomicFile {
             _registered: fatal_cleanup::register(temp.path()),
             temp,
@@ -88,7 +88,7 @@ impl AtomicFile {
             temp.as_file().sync_all().map_err(|e| Error::io(&path, e))?;
         }
         temp.persist(&path)
-            .map_err(|e| Error::io(&path, without_temp_path(e.error)))?;
+            .map_err(|e| output_error(&path, e.error))?;
         Ok(())
     }
 }
@@ -130,6 +130,32 @@ where
     file.commit()
 }
 
+/// What to say of an output whose directory `dir` does not exist: that tmc
+/// makes none, and the command that does.
+pub(crate) fn missing_dir(dir: &Path) -> String {
+    format!(
+        "output directory {} does not exist (tmc makes no directories: \
+         create it first, e.g. mkdir -p {})",
+        dir.display(),
+        dir.display()
+    )
+}
+
+/// The error of a failed creation (or rename into place) of the output file
+/// `path`, naming `path` (never a temporary file) and, when its directory
+/// is missing, saying so and what to do, as [`check_output_file`](super::check_output_file) does
+/// before a run. For the writers and for an output whose directory went
+/// away during the run; the error's kind stays `source`'s (Python raises
+/// `FileNotFoundError` for it as before).
+pub fn output_error(path: &Path, source: io::Error) -> Error {
+    let source = without_temp_path(source);
+    let dir = parent_dir(path);
+    if source.kind() == io::ErrorKind::NotFound && std::fs::metadata(dir).is_err() {
+        return Error::io(path, io::Error::new(source.kind(), missing_dir(dir)));
+    }
+    Error::io(path, source)
+}
+
 /// Drops the temporary file's name that `tempfile` adds to its errors (the
 /// user never sees that file), keeping the OS error.
 pub(crate) fn without_temp_path(e: io::Error) -> io::Error {
@@ -144,5 +170,48 @@ pub(crate) fn parent_dir(path: &Path) -> &Path {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A writer called without the CLI's check before the run (the
+    /// library, Python's `Mesh.write`, or a directory removed during the
+    /// run) names the path it was given and says what to do, never the
+    /// temporary file.
+    #[test]
+    fn a_missing_directory_is_named_with_what_to_do() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("no such/dir/out.ply");
+        let error = write_atomically(&path, |_| Ok(())).unwrap_err();
+        let line = error.to_string();
+        assert!(line.starts_with(&path.display().to_string()), "{line}");
+        assert!(line.contains("does not exist"), "{line}");
+        assert!(line.contains("mkdir -p"), "{line}");
+        assert!(!line.contains(".tmc-"), "{line}");
+        // Still a not-found error (Python's FileNotFoundError).
+        match error {
+            Error::Io { source, .. } => assert_eq!(source.kind(), io::ErrorKind::NotFound),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// The directory removed between creation and commit: the rename's
+    /// error says the same.
+    #[test]
+    fn a_directory_removed_before_the_commit_is_named_with_what_to_do() {
+        let dir = tempfile::tempdir().unwrap();
+        let sub = dir.path().join("gone");
+        std::fs::create_dir(&sub).unwrap();
+        let path = sub.join("out.tmesh");
+        let mut file = AtomicFile::create(&path).unwrap();
+        file.write_all(b"x").unwrap();
+        std::fs::remove_dir_all(&sub).unwrap();
+        let line = file.commit().unwrap_err().to_string();
+        assert!(line.starts_with(&path.display().to_string()), "{line}");
+        assert!(line.contains("does not exist"), "{line}");
+        assert!(!line.contains(".tmc-"), "{line}");
     }
 }

@@ -15,7 +15,7 @@ mod placeholders;
 mod withdraw;
 
 pub(crate) use atomic::without_temp_path;
-pub use atomic::{write_atomically, AtomicFile};
+pub use atomic::{output_error, write_atomically, AtomicFile};
 pub use open_files::{check_open_files, raise_open_file_limit};
 pub use paths::{
     check_distinct, check_input_kind, check_output_file, check_output_files, lowercase_extension,

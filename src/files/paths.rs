@@ -1,7 +1,7 @@
 //! Checks of input and output paths, made before any work is done, so that
 //! a run fails at once with a clear line instead of after the extraction.
 
-use super::atomic::{parent_dir, without_temp_path};
+use super::atomic::{missing_dir, parent_dir, without_temp_path};
 use crate::{Error, Result};
 use std::collections::BTreeSet;
 use std::fs;
@@ -62,8 +62,21 @@ pub fn check_output_files<'p>(paths: impl IntoIterator<Item = &'p Path>) -> Resu
 }
 
 /// The directory `path` is to be written in: refused when `path` is a
-/// directory, or the directory does not exist.
+/// directory (or ends in a separator), or the directory does not exist.
 fn output_dir(path: &Path) -> Result<&Path> {
+    // `out.ply/` names a directory: its parent is taken as `.`, and the
+    // rename at the end of the run would fail with ENOTDIR.
+    let bytes = path.as_os_str().as_encoded_bytes();
+    if bytes.len() > 1
+        && bytes
+            .last()
+            .is_some_and(|&b| std::path::is_separator(b.into()))
+    {
+        return Err(Error::Invalid(format!(
+            "{}: ends in a path separator, which names a directory; give the output file's name",
+            path.display()
+        )));
+    }
     if path.is_dir() {
         return Err(Error::Invalid(format!(
             "{}: is a directory, not an output file",
@@ -79,11 +92,9 @@ fn output_dir(path: &Path) -> Result<&Path> {
             dir.display()
         ))),
         Err(_) => Err(Error::Invalid(format!(
-            "{}: output directory {} does not exist (tmc makes no directories: \
-             create it first, e.g. mkdir -p {})",
+            "{}: {}",
             path.display(),
-            dir.display(),
-            dir.display()
+            missing_dir(dir)
         ))),
     }
 }

@@ -368,6 +368,32 @@ fn the_report_may_not_be_the_manifest_or_an_output() {
     assert!(!ply.exists());
 }
 
+/// A report in a missing directory fails before any extraction, naming the
+/// report's path and what to do (it is opened, not written atomically, so
+/// the message is the open's).
+#[test]
+fn a_report_in_a_missing_directory_says_what_to_do() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = synth(dir.path(), "noise", "10,10,10", "f32", "a.nrrd");
+    let report = dir.path().join("no such/r.jsonl");
+    let ply = dir.path().join("a.ply");
+    let out = tmc(&[
+        "extract",
+        s(&a),
+        "--iso",
+        "0",
+        "-o",
+        s(&ply),
+        "--report",
+        s(&report),
+    ]);
+    let line = assert_one_line(&out, 1);
+    assert!(line.contains(s(&report)), "{line}");
+    assert!(line.contains("does not exist"), "{line}");
+    assert!(line.contains("mkdir -p"), "{line}");
+    assert_eq!(names(dir.path()), ["a.nrrd"]);
+}
+
 /// `--progress lines` prints plain progress lines on stderr (not a
 /// terminal here), naming each input of a batch, up to 100%; without it
 /// a run whose stderr is not a terminal prints no progress; `--quiet`

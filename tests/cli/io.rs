@@ -28,7 +28,7 @@ fn help_states_the_convention_formats_and_exit_codes() {
             ".nrrd",
             "--dims and --dtype",
             "STL cannot share vertices",
-            "'tmc check' on an STL file is not meaningful",
+            "'tmc check' joins corners at the same position",
             ".tmesh",
             "tmc convert",
             "0    success",
@@ -203,6 +203,7 @@ fn bad_output_paths_fail_before_extraction() {
         (dir.path().join("no/such/dir/out.ply"), "does not exist"),
         (file.join("out.ply"), "not a directory"),
         (dir.path().join("dir.ply"), "is a directory"),
+        (dir.path().join("out.ply/"), "ends in a path separator"),
         (dir.path().join("out.vtk"), "unknown output format"),
         (dir.path().join("out"), "unknown output format"),
     ];
@@ -391,14 +392,8 @@ fn extract_is_quiet_without_stats_and_reads_raw_and_nrrd() {
     );
     assert!(!parse_stl(&fs::read(&output).unwrap()).is_empty());
 
-    // `tmc check` refuses the STL as STL, and a volume given by mistake
-    // (binary, not an STL's 84 + 50 n bytes) as an unknown mesh format.
-    let check = tmc(&["check", s(&output)]);
-    let said = String::from_utf8_lossy(&check.stderr);
-    assert!(
-        !check.status.success() && said.contains("STL does not share"),
-        "{said}"
-    );
+    // `tmc check` refuses a volume given by mistake (binary, not an STL's
+    // 84 + 50 n bytes) as an unknown mesh format.
     let volume = noise_npy(dir.path(), "volume.npy");
     let check = tmc(&["check", s(&volume)]);
     let said = String::from_utf8_lossy(&check.stderr);
@@ -533,6 +528,79 @@ fn check_reads_tmesh_like_ply() {
     let out = tmc(&["check", s(&open)]);
     assert_eq!(out.status.code(), Some(0));
     assert!(!out.stdout.is_empty());
+}
+
+/// `tmc check` reads STL (it refused it): corners at the same position are
+/// joined, so the STL tmc writes checks as its PLY does (with a note on
+/// stderr); two vertices that share a position in the mesh written become
+/// one, non-manifold where the surfaces only touch there.
+#[test]
+fn check_reads_stl_with_corners_joined_by_position() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = common::cli::synth(d, "torus", "30,30,20", "f32", "torus.npy");
+    let report = |mesh: &Path| {
+        let out = tmc(&["check", s(mesh), "--json"]);
+        assert_eq!(out.status.code(), Some(0), "{out:?}");
+        let note = String::from_utf8_lossy(&out.stderr).into_owned();
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        (json, note)
+    };
+    let (ply, stl) = (d.join("t.ply"), d.join("t.stl"));
+    for mesh in [&ply, &stl] {
+        tmc_ok(&["extract", s(&input), "--iso", "0", "--close", "-o", s(mesh)]);
+    }
+    let (from_ply, quiet) = report(&ply);
+    let (from_stl, note) = report(&stl);
+    assert_eq!(from_stl, from_ply);
+    assert_eq!(from_stl["per_component"][0]["genus"], 1);
+    assert!(quiet.is_empty(), "{quiet}");
+    assert!(note.contains("joined into one vertex"), "{note}");
+    assert_eq!(note.lines().count(), 1, "{note}");
+
+    // Two tetrahedra touching at one point, each with its own vertex
+    // there: the OFF is a manifold with two vertices at one position, the
+    // STL (ASCII) one non-manifold vertex.
+    let tet = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let faces = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+    let (mut off, mut ascii) = (String::new(), String::from("solid two\n"));
+    let mut corners = Vec::new();
+    for (k, sign) in [1.0f32, -1.0].into_iter().enumerate() {
+        for p in tet {
+            corners.push(p.map(|c| c * sign));
+        }
+        for f in faces {
+            off += &format!("3 {} {} {}\n", 4 * k + f[0], 4 * k + f[1], 4 * k + f[2]);
+            ascii += "facet normal 0 0 0\nouter loop\n";
+            for v in f {
+                let [x, y, z] = corners[4 * k + v];
+                ascii += &format!("vertex {x} {y} {z}\n");
+            }
+            ascii += "endloop\nendfacet\n";
+        }
+    }
+    let points: String = corners
+        .iter()
+        .map(|[x, y, z]| format!("{x} {y} {z}\n"))
+        .collect();
+    fs::write(d.join("two.off"), format!("OFF\n8 8 0\n{points}{off}")).unwrap();
+    fs::write(d.join("two.stl"), ascii + "endsolid two\n").unwrap();
+    let (from_off, _) = report(&d.join("two.off"));
+    assert_eq!(from_off["shared_position_vertices"], 2);
+    assert_eq!(from_off["components"], 2);
+    let out = tmc(&["check", s(&d.join("two.stl")), "--json", "-q"]);
+    let line = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{line}");
+    assert_eq!(line.lines().count(), 1, "{line}");
+    assert!(line.contains("non-manifold"), "{line}");
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["vertices"], 7);
+    assert_eq!(json["non_manifold_vertices"], 1);
 }
 
 #[test]

@@ -664,8 +664,8 @@ fn tmc_preview_draws_stl_files_as_the_mesh_they_were_written_from() {
         draw("torus.stl", "torus_stl.png"),
         draw("torus.ply", "torus_ply.png")
     );
-    // A .stl that is neither kind, a cut one, and the checker's refusal are
-    // one line each, and leave no picture.
+    // A .stl that is neither kind and a cut one are one line each, and
+    // leave no picture.
     fs::write(d.join("bad.stl"), b"nothing like an STL").unwrap();
     fs::write(d.join("cut.stl"), &tetra_ascii_stl()[..120]).unwrap();
     for (mesh, needle) in [("bad.stl", "not an STL file"), ("cut.stl", "cut.stl")] {
@@ -675,6 +675,4 @@ fn tmc_preview_draws_stl_files_as_the_mesh_they_were_written_from() {
         assert!(line.contains(needle), "{line}");
         assert!(!picture.exists());
     }
-    let line = assert_one_line(&tmc(&["check", s(&d.join("b.stl"))]), 1);
-    assert!(line.contains("STL does not share vertices"), "{line}");
 }

@@ -197,6 +197,53 @@ fn bad_series_are_errors() {
     let mut plane = vec![0.0; vol.grid().plane_len()];
     let e = vol.read_plane(0, &mut plane).unwrap_err().to_string();
     assert!(e.contains("j2k.dcm: cannot decode the pixel data"), "{e}");
+    assert!(
+        e.contains("(transfer syntax JPEG 2000 Image Compression (Lossless Only) (1.2.840.10008.1.2.4.90))"),
+        "{e}"
+    );
+    assert!(e.contains("gdcmconv --raw"), "{e}");
+}
+
+/// A transfer syntax tmc has no decoder for is refused at open in one line
+/// that names it (name and UID) and says how to decompress the files;
+/// a series of many such files names the first and counts the others.
+#[test]
+fn unsupported_transfer_syntaxes_are_named_with_what_to_do() {
+    let e = open_err(&data_dir().join("dicom_bad_jpegls"));
+    assert!(
+        e.contains(".dcm: transfer syntax JPEG-LS Lossless Image Compression (1.2.840.10008.1.2.4.80) is not supported"),
+        "{e}"
+    );
+    assert_eq!(e.matches("jpegls_").count(), 1, "{e}");
+    assert!(e.contains("'gdcmconv --raw IN.dcm OUT.dcm'"), "{e}");
+    assert!(e.contains("'dcmdjpls IN.dcm OUT.dcm'"), "{e}");
+    assert!(e.contains("and 2 more files not read"), "{e}");
+    let one = open_err(&data_dir().join("dicom_bad_jpegls/jpegls_1.dcm"));
+    assert!(one.contains("JPEG-LS Lossless"), "{one}");
+
+    // A syntax no registry knows: the parser fails, the meta group says why.
+    let e = open_err(&data_dir().join("dicom_bad_syntax/private.dcm"));
+    assert!(
+        e.contains(
+            "transfer syntax 1.2.826.0.1.3680043.8.498.7777.99.1 (unknown) is not supported"
+        ),
+        "{e}"
+    );
+    assert!(e.contains("gdcmconv --raw"), "{e}");
+}
+
+/// HTJ2K (lossless, written by OpenJPH) is decoded by the JPEG 2000
+/// decoder: the samples equal the twin's.
+#[test]
+fn htj2k_is_decoded() {
+    let vol = volume::open(&data_dir().join("dicom_htj2k"), None).unwrap();
+    let npy = volume::open(&data_dir().join("dicom_htj2k.expected.npy"), None).unwrap();
+    assert_eq!(vol.grid().dims, [9, 7, 6]);
+    assert_eq!(vol.grid().spacing, [1.0, 1.0, 2.0]);
+    let order: Vec<usize> = (0..6).collect();
+    let got = samples_in_order(vol.as_ref(), &order);
+    assert_eq!(got, samples_in_order(npy.as_ref(), &order));
+    assert!(got.iter().any(|&v| v > 60000.0), "the high bits are used");
 }
 
 /// A copy of fixture directory `name` in a temporary directory.

@@ -33,7 +33,7 @@ pub fn read_mesh(path: &Path) -> Result<Mesh> {
 /// Reads a mesh as [`read_mesh`] does, and also STL files (binary or
 /// ASCII), whose facets' corners at the same position become one vertex:
 /// for what needs the triangles and not a proof of their connectivity
-/// (`tmc preview`).
+/// (`tmc preview`; `tmc check` of an STL file, which says so).
 pub fn read_mesh_to_draw(path: &Path) -> Result<Mesh> {
     let (format, src) = open(path)?;
     read_format(path, format, src)

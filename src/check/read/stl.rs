@@ -1,10 +1,15 @@
-//! STL, binary and ASCII, for drawing (`tmc preview`), not for checking:
+//! STL, binary and ASCII, for drawing (`tmc preview`) and for `tmc check`:
 //! STL repeats the corners of every facet instead of sharing vertices, so
 //! the reader joins corners at bit-identical positions (`-0` as `0`) into
 //! one vertex. That gives back the connectivity of a mesh written from an
-//! indexed one (what `tmc extract -o X.stl` writes), so the picture's
-//! caption counts its boundary edges and components as for the PLY; it is
-//! no proof of connectivity, which is why `tmc check` still refuses STL.
+//! indexed one with no two vertices at one position (what `tmc extract -o
+//! X.stl` writes), so the picture's caption and the check's report are
+//! those of the PLY. Vertices that shared a position become one, so it is
+//! no proof of the connectivity the mesh had; [`read_mesh`] (the library's
+//! and Python's reader) still refuses STL, and `tmc check` says so in a
+//! note.
+//!
+//! [`read_mesh`]: super::read_mesh
 
 use super::source::{parse, Source, MAX_RESERVE, MAX_TRIANGLES};
 use crate::mesh::Mesh;

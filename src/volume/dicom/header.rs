@@ -5,7 +5,7 @@
 
 use super::attributes::{axes, dot, element, first_item, frame_floats, text, vec3};
 use super::files::format_err;
-use super::{lengths, rt_dose, segmentation, unknown_vr};
+use super::{lengths, rt_dose, segmentation, syntax, unknown_vr};
 use crate::{Error, Result};
 use dicom_dictionary_std::tags;
 use dicom_encoding::TransferSyntaxIndex;
@@ -115,18 +115,18 @@ pub(super) fn probe(path: &Path) -> Probe {
         return Probe::Skip(e);
     }
     let pixels = pixels.map_err(|(_, e)| e);
-    let mut obj =
-        match OpenFileOptions::new()
-            .read_until(tags::PIXEL_DATA)
-            .open_file(path)
-        {
-            Ok(obj) => obj,
-            Err(e) => {
-                return Probe::Skip(pixels.err().unwrap_or_else(|| {
-                    format_err(path, format!("not a readable DICOM file: {e}"))
-                }))
-            }
-        };
+    let mut obj = match OpenFileOptions::new()
+        .read_until(tags::PIXEL_DATA)
+        .open_file(path)
+    {
+        Ok(obj) => obj,
+        Err(e) => {
+            return Probe::Skip(pixels.err().unwrap_or_else(|| {
+                let why = syntax::unreadable(path).unwrap_or_else(|| e.to_string());
+                format_err(path, format!("not a readable DICOM file: {why}"))
+            }))
+        }
+    };
     unknown_vr::resolve(&mut obj);
     if obj.meta().media_storage_sop_class_uid() == MEDIA_STORAGE_DIRECTORY {
         return Probe::Skip(format_err(
@@ -183,23 +183,11 @@ impl Header {
         pixels: Option<lengths::PixelData>,
         meta: &SeriesMeta,
     ) -> Result<Header> {
-        match TransferSyntaxRegistry.get(ts_uid) {
-            None => {
-                return Err(format_err(
-                    path,
-                    format!("unknown transfer syntax {ts_uid}"),
-                ))
-            }
-            Some(ts) if !ts.can_decode_all() => {
-                return Err(format_err(
-                    path,
-                    format!(
-                        "transfer syntax {} ({ts_uid}) not supported (tmc decodes uncompressed, deflate, RLE, JPEG baseline/lossless and JPEG 2000 data; JPEG-LS, HTJ2K and JPEG XL need C codecs it leaves out)",
-                        ts.name()
-                    ),
-                ))
-            }
-            Some(_) => {}
+        if !TransferSyntaxRegistry
+            .get(ts_uid)
+            .is_some_and(|ts| ts.can_decode_all())
+        {
+            return Err(format_err(path, syntax::unsupported(ts_uid)));
         }
         let uint = |tag: Tag, name: &str| -> Result<u32> {
             element(obj, tag)

@@ -50,9 +50,11 @@
 //!   reads); nothing else of the volume is kept.
 //! * Transfer syntaxes: implicit/explicit VR little endian, explicit VR big
 //!   endian, deflate, RLE lossless, JPEG baseline/extended/lossless and
-//!   JPEG 2000 (lossless and lossy, through the pure-Rust OpenJPEG port).
-//!   JPEG-LS, HTJ2K and JPEG XL need codecs tmc leaves out and are refused
-//!   at open. Attributes stored with VR UN are re-read under their
+//!   JPEG 2000 and HTJ2K (lossless and lossy, through the pure-Rust OpenJPEG
+//!   port). JPEG-LS and JPEG XL need codecs tmc leaves out and are refused
+//!   at open, and pixel data a decoder fails on is an error when its plane
+//!   is read; both name the transfer syntax and say how to decompress the
+//!   files (`syntax.rs`). Attributes stored with VR UN are re-read under their
 //!   dictionary VR (`unknown_vr.rs`). Samples must be greyscale (1 sample per pixel) of 8, 16 or 32
 //!   bits, unsigned or signed.
 
@@ -65,6 +67,7 @@ mod seg_volume;
 mod segmentation;
 mod series;
 mod series_index;
+mod syntax;
 mod unknown_vr;
 mod walker;
 

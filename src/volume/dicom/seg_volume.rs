@@ -22,7 +22,7 @@
 
 use super::files::format_err;
 use super::segmentation::{self, Kind, SegHeader};
-use super::{lengths, unknown_vr};
+use super::{lengths, syntax, unknown_vr};
 use crate::volume::{guarded, Grid, SampleSource, ScalarType, SegmentNote, SourceNotes};
 use crate::{Error, Result};
 use dicom_dictionary_std::tags;
@@ -85,15 +85,20 @@ impl DicomSegmentation {
                 return Err(format_err(
                     path,
                     format!(
-                        "a BINARY Segmentation with compressed pixel data ({}) is not supported; store it uncompressed",
-                        lengths::unpadded(obj.meta().transfer_syntax())
+                        "a BINARY Segmentation with compressed pixel data (transfer syntax {}) is not supported; store it uncompressed",
+                        syntax::describe(lengths::unpadded(obj.meta().transfer_syntax()))
                     ),
                 ));
             }
             let mut all = Vec::with_capacity(frame * header.frames);
             for k in 0..header.frames {
-                let cannot =
-                    |e: String| format_err(path, format!("cannot decode frame {}: {e}", k + 1));
+                let cannot = |e: String| {
+                    let ts = lengths::unpadded(obj.meta().transfer_syntax());
+                    format_err(
+                        path,
+                        format!("frame {}: {}", k + 1, syntax::undecodable(ts, &e)),
+                    )
+                };
                 let decoded = guarded::guarded(|| obj.decode_pixel_data_frame(k as u32))
                     .map_err(|panic| cannot(format!("the decoder failed ({panic})")))?
                     .map_err(|e| cannot(e.to_string()))?;

@@ -5,7 +5,7 @@
 use super::attributes::{axes, dot, element};
 use super::files::format_err;
 use super::header::{Format, Header, Plane};
-use super::{lengths, unknown_vr};
+use super::{lengths, syntax, unknown_vr};
 use crate::volume::{guarded, Grid, PlaneView, SampleSource, ScalarType, SharedPlane, SourceNotes};
 use crate::{Error, Result};
 use dicom_dictionary_std::tags;
@@ -197,8 +197,12 @@ impl DicomSeries {
         if lengths::unpadded(syntax) == lengths::DEFLATED_FRAMES {
             self.check_deflated_frame(&obj, plane)?;
         }
-        let cannot =
-            |e: String| format_err(&plane.path, format!("cannot decode the pixel data: {e}"));
+        let cannot = |e: String| {
+            format_err(
+                &plane.path,
+                syntax::undecodable(lengths::unpadded(syntax), &e),
+            )
+        };
         let decoded = guarded::guarded(|| obj.decode_pixel_data_frame(plane.frame))
             .map_err(|panic| cannot(format!("the decoder failed ({panic})")))?
             .map_err(|e| cannot(e.to_string()))?;

@@ -387,7 +387,7 @@ fn select(
             dir,
             format!(
                 "DICOM series {uid} holds no image tmc can read ({})",
-                left_out.join("; ")
+                first_reasons(&left_out)
             ),
         ));
     }
@@ -515,4 +515,15 @@ pub fn list_series(dir: &Path) -> Result<Vec<SeriesSummary>> {
         }
     };
     Ok(Index::read(&dir, None)?.summaries())
+}
+
+/// The first reason of `left_out`, and how many more files there are, for
+/// one error line: a series of thousands of files in a syntax tmc cannot
+/// decode would otherwise be thousands of copies of the same reason.
+fn first_reasons(left_out: &[String]) -> String {
+    match left_out {
+        [] => String::new(),
+        [one] => one.clone(),
+        [first, rest @ ..] => format!("{first}; and {} more files not read", rest.len()),
+    }
 }

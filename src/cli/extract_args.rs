@@ -57,7 +57,8 @@ pub(crate) struct ExtractArgs {
     pub labels: Option<String>,
 
     /// With --labels all: the value that is no label (0 by default); a
-    /// whole number, which a float map's may be written as (-1.0).
+    /// whole number, which a float map's may be written as (-1.0). Refused
+    /// with a list of labels, where it would change nothing.
     #[arg(
         long,
         value_name = "V",

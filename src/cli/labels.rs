@@ -53,6 +53,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         }
     };
     let spec = args.labels.as_deref().unwrap_or("all");
+    // The background only says which value 'all' leaves out.
+    if let (Some(b), true) = (args.background, spec != "all") {
+        return Err(Error::Invalid(format!(
+            "--background {b} chooses what --labels all leaves out; with the list '{spec}' it would change nothing: drop it, or give --labels all"
+        )));
+    }
     let background = args.background.unwrap_or(0);
     let template = &expand_template(template, input)?;
     let per_label = tmc::files::has_placeholder(template, "{label}");

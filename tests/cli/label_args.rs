@@ -94,6 +94,32 @@ fn background_without_labels_is_refused() {
     }
 }
 
+/// With a list of labels, `--background` would change nothing: refused in
+/// one line before anything is read or written.
+#[test]
+fn background_with_a_list_of_labels_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = negative_map(dir.path());
+    let output = dir.path().join("{label}.ply");
+    let out = tmc(&[
+        "extract",
+        s(&input),
+        "-q",
+        "--labels",
+        "1",
+        "--background",
+        "3",
+        "-o",
+        s(&output),
+    ]);
+    let err = assert_one_line(&out, 1);
+    assert!(
+        err.contains("--background 3") && err.contains("--labels all"),
+        "{err}"
+    );
+    assert_eq!(names(dir.path()), ["map.nrrd"]);
+}
+
 /// A float label map's background may be written as it is stored
 /// (`--background -5.0` is label -5, `-0` is 0); a fraction is refused in
 /// one line saying a label is a whole number.

@@ -137,11 +137,23 @@ fn ignored_in(mask: u64) -> Vec<i32> {
 const TWICE_MESSAGE: &[u8] =
     b"tmc: error: interrupted twice; stopped at once, the output in progress was removed\n";
 
-/// Removes the registered temporary outputs, writes `message` to stderr
-/// and exits with `status`, from a signal handler: async-signal-safe
-/// (atomic loads, unlink(2), write(2), _exit(2)); never returns.
+/// The line written instead of a fatal handler's `message` when the run
+/// had put label files in place that it would have removed had it failed
+/// cleanly (see `tmc::files::fatal_cleanup::kept_in_place`).
+const KEPT_MESSAGE: &[u8] = b"tmc: error: stopped at once (a second signal, or SIGBUS: the input \
+changed under the memory map); the output in progress was removed, but label files finished \
+before it were left in place\n";
+
+/// Removes the registered temporary outputs, writes `message` (or
+/// [`KEPT_MESSAGE`]) to stderr and exits with `status`, from a signal
+/// handler: async-signal-safe (atomic loads, unlink(2), write(2),
+/// _exit(2)); never returns.
 fn remove_say_exit(message: &'static [u8], status: i32) -> ! {
     tmc::files::fatal_cleanup::unlink_registered();
+    let message = match tmc::files::fatal_cleanup::kept_in_place() {
+        true => KEPT_MESSAGE,
+        false => message,
+    };
     // SAFETY: write(2) and _exit(2) are async-signal-safe; the buffer is a
     // static byte string, valid for the whole call. A short or failed write
     // changes nothing: the process exits either way.

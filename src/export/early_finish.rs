@@ -46,6 +46,9 @@ impl Finisher {
                 std::thread::spawn(move || {
                     for mut job in queue {
                         let result = job.sink.finish(&job.totals);
+                        if result.is_ok() {
+                            crate::files::fatal_cleanup::note_kept_in_place(1);
+                        }
                         // The receiver lives as long as the finisher.
                         let _ = report.send((job.index, result));
                     }

@@ -342,12 +342,17 @@ impl LabelFiles {
 
     /// The results of the files finished during the pass, by label index,
     /// once the finishing threads are done.
+    /// They are settled by the caller (kept or removed), so they no longer
+    /// count as kept in place by a run that may fail.
     fn finished_early(&mut self) -> Vec<(usize, Result<()>)> {
         // The threads end once every file's sender is gone.
         for file in &mut self.files {
             file.early = None;
         }
-        self.finisher.take().map(Finisher::join).unwrap_or_default()
+        let results = self.finisher.take().map(Finisher::join).unwrap_or_default();
+        let placed = results.iter().filter(|(_, r)| r.is_ok()).count();
+        crate::files::fatal_cleanup::note_kept_in_place(-(placed as isize));
+        results
     }
 
     /// Each label's sink, in the order of the labels.
@@ -475,6 +480,14 @@ mod tests {
     use crate::{Error, Grid};
     use std::path::{Path, PathBuf};
 
+    /// The tests that finish files during the pass, one at a time: they
+    /// look at the process's count of files kept in place.
+    static EARLY: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+    fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+        EARLY.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
     /// Two labels' `.tmesh` files in `dir`, the first finished once the
     /// pass has given it plane 1's chunk, the second at the end.
     fn two_files(dir: &Path) -> (LabelFiles, Vec<PathBuf>) {
@@ -530,6 +543,7 @@ mod tests {
 
     #[test]
     fn a_label_past_its_last_plane_is_finished_during_the_pass() {
+        let _one = one_at_a_time();
         let dir = tempfile::tempdir().unwrap();
         let (mut files, outputs) = two_files(dir.path());
         let sinks = files.sinks();
@@ -551,6 +565,7 @@ mod tests {
         sinks[1].finish(&totals(3, 1)).unwrap();
         assert!(!outputs[1].exists());
         files.finish(None).unwrap();
+        assert!(!crate::files::fatal_cleanup::kept_in_place());
         let read = |p: &Path| {
             let r = crate::meshfile::TmeshReader::open(p).unwrap();
             (r.vertices(), r.triangles())
@@ -561,17 +576,26 @@ mod tests {
 
     #[test]
     fn a_pass_that_fails_after_takes_the_early_file_with_it() {
+        let _one = one_at_a_time();
         let dir = tempfile::tempdir().unwrap();
         let (mut files, outputs) = two_files(dir.path());
         files.sinks()[0].chunk(0, &chunk(1, true)).unwrap();
         assert!(appears(&outputs[0]));
+        // A fatal signal's handler now says the file was left in place.
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
+        while !crate::files::fatal_cleanup::kept_in_place() {
+            assert!(std::time::Instant::now() < deadline, "not counted as kept");
+            std::thread::yield_now();
+        }
         // The pass fails: the files are dropped unfinished.
         drop(files);
         assert!(!outputs[0].exists() && !outputs[1].exists());
+        assert!(!crate::files::fatal_cleanup::kept_in_place());
     }
 
     #[test]
     fn a_mesh_going_on_past_its_last_plane_is_an_error() {
+        let _one = one_at_a_time();
         let dir = tempfile::tempdir().unwrap();
         let (mut files, outputs) = two_files(dir.path());
         let sinks = files.sinks();

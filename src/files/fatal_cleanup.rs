@@ -15,7 +15,7 @@
 use std::ffi::{c_char, CString};
 use std::path::Path;
 use std::ptr::null_mut;
-use std::sync::atomic::{AtomicBool, AtomicPtr, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicUsize, Ordering};
 
 /// Temporary files that can be registered at once (an extraction has one
 /// output; more are simply not removed by the handler).
@@ -41,6 +41,28 @@ pub fn enable() {
 /// Registers `path` in the process's table (see [`Table::register`]).
 pub(crate) fn register(path: &Path) -> Option<Registered> {
     TABLE.register(path)
+}
+
+/// Outputs put in place by a run that may still fail: a label pass's
+/// files finished during the pass (`export::LabelFiles::finish_early`),
+/// which the run removes again if it fails. A fatal handler cannot (it
+/// removes registered temporary files only), so it asks
+/// [`kept_in_place`] and says they were left.
+static KEPT: AtomicUsize = AtomicUsize::new(0);
+
+/// `count` more (or, negative, fewer) outputs put in place by a run that
+/// may still fail (see [`kept_in_place`]).
+pub fn note_kept_in_place(count: isize) {
+    match usize::try_from(count) {
+        Ok(more) => KEPT.fetch_add(more, Ordering::Relaxed),
+        Err(_) => KEPT.fetch_sub(count.unsigned_abs(), Ordering::Relaxed),
+    };
+}
+
+/// Whether a run that may still fail has put outputs in place that a fatal
+/// handler would leave there. Async-signal-safe: one atomic load.
+pub fn kept_in_place() -> bool {
+    KEPT.load(Ordering::Relaxed) > 0
 }
 
 /// Removes every path registered in the process's table.

@@ -519,17 +519,12 @@ fn a_batch_interrupted_after_an_input_keeps_that_output_and_says_so() {
     assert_eq!(names(d), ["again.raw", "noise.tmesh"]);
 }
 
-/// A label pass finishes each label's file as soon as the pass is past the
-/// label's last plane (`LabelFiles::finish_early`): interrupted after such
-/// a file is in place, it removes it again, and leaves nothing.
-#[test]
-fn sigint_stops_a_label_pass_and_takes_back_the_files_finished_during_it() {
-    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
-    let data = tempfile::tempdir().unwrap();
-    let map = data.path().join("map.raw");
-    // Label 1: a block in planes 2 to 5, finished early. Label 2: noise (a
-    // sample in two) in every plane from 8 on, whose surface takes the
-    // pass seconds on one thread.
+/// A label map in `dir`, 256 x 256 x 400 `u8`. Label 1: a block in planes
+/// 2 to 5, whose file is finished early in the pass. Label 2: noise (a
+/// sample in two) in every plane from 8 on, whose surface takes the pass
+/// seconds on one thread.
+fn early_and_late_labels(dir: &Path) -> PathBuf {
+    let map = dir.join("map.raw");
     let [nx, ny, nz] = [256usize, 256, 400];
     let mut bytes = vec![0u8; nx * ny * nz];
     let mut state = 0x9E37_79B9_7F4A_7C15u64;
@@ -545,13 +540,19 @@ fn sigint_stops_a_label_pass_and_takes_back_the_files_finished_during_it() {
         }
     }
     fs::write(&map, &bytes).unwrap();
+    map
+}
+
+/// Starts a label pass of `map` (see [`early_and_late_labels`]) on one
+/// thread and waits until label 1's file is in place while the pass goes
+/// on.
+fn start_labels_until_label_1(map: &Path) -> (tempfile::TempDir, Child) {
     let (dir, output) = out_dir("{label}.tmesh");
-    let dims = format!("{nx},{ny},{nz}");
     let mut child = spawn(&[
         "extract",
-        s(&map),
+        s(map),
         "--dims",
-        &dims,
+        "256,256,400",
         "--dtype",
         "u8",
         "--labels",
@@ -567,5 +568,16 @@ fn sigint_stops_a_label_pass_and_takes_back_the_files_finished_during_it() {
         child.try_wait().unwrap().is_none(),
         "the run finished before the test could interrupt it; use a larger input"
     );
+    (dir, child)
+}
+
+/// A label pass finishes each label's file as soon as the pass is past the
+/// label's last plane (`LabelFiles::finish_early`): interrupted after such
+/// a file is in place, it removes it again, and leaves nothing.
+#[test]
+fn sigint_stops_a_label_pass_and_takes_back_the_files_finished_during_it() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let data = tempfile::tempdir().unwrap();
+    let (dir, child) = start_labels_until_label_1(&early_and_late_labels(data.path()));
     interrupt_and_check(child, ("INT", 130), None, 2.0, (dir.path(), &[]));
 }

@@ -16,8 +16,9 @@ pub(crate) struct RawArgs {
     #[arg(long, value_name = "X,Y,Z", value_parser = values::dims, requires = "dtype", help_heading = "Raw input (headerless samples, x fastest)")]
     pub dims: Option<[usize; 3]>,
 
-    /// Raw input: sample type, one of u8, i8, u16, i16, u32, i32, f32, f64;
-    /// needs --dims.
+    /// Raw input: sample type, one of u8, i8, u16, i16, u32, i32, f32, f64,
+    /// i64, u64, f16 (the last three read as f64: 64-bit integers exactly
+    /// within ±2^53); needs --dims.
     #[arg(long, value_name = "T", value_parser = values::dtype, requires = "dims", help_heading = "Raw input (headerless samples, x fastest)")]
     pub dtype: Option<ScalarType>,
 

@@ -60,7 +60,8 @@ pub(crate) struct SynthArgs {
     #[arg(long, value_name = "X,Y,Z", value_parser = values::dims)]
     pub dims: [usize; 3],
 
-    /// Sample type: u8, i8, u16, i16, u32, i32, f32 or f64.
+    /// Sample type: u8, i8, u16, i16, u32, i32, f32, f64, i64, u64 or f16
+    /// (f16 not in .nrrd, which has no such type).
     #[arg(long, value_name = "T", value_parser = values::dtype)]
     pub dtype: ScalarType,
 

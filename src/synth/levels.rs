@@ -20,13 +20,14 @@ pub fn unit_to_stored(f: f64, scalar: ScalarType) -> f64 {
 /// `(a, b)` with `unit_to_stored(f) = clamp(f, -1, 1) * a + b`.
 fn unit_affine(scalar: ScalarType) -> (f64, f64) {
     match scalar {
-        ScalarType::F32 | ScalarType::F64 => (1.0, 0.0),
+        ScalarType::F16 | ScalarType::F32 | ScalarType::F64 => (1.0, 0.0),
         ScalarType::I8 => (i8::MAX as f64, 0.0),
         ScalarType::I16 => (i16::MAX as f64, 0.0),
-        ScalarType::I32 => (i32::MAX as f64, 0.0),
+        // The 64-bit integers as the 32-bit ones: every value exact in f64.
+        ScalarType::I32 | ScalarType::I64 => (i32::MAX as f64, 0.0),
         ScalarType::U8 => (u8::MAX as f64 / 2.0, u8::MAX as f64 / 2.0),
         ScalarType::U16 => (u16::MAX as f64 / 2.0, u16::MAX as f64 / 2.0),
-        ScalarType::U32 => (u32::MAX as f64 / 2.0, u32::MAX as f64 / 2.0),
+        ScalarType::U32 | ScalarType::U64 => (u32::MAX as f64 / 2.0, u32::MAX as f64 / 2.0),
     }
 }
 
@@ -45,8 +46,9 @@ pub fn hounsfield_to_stored(hu: f64, scalar: ScalarType) -> f64 {
 /// `(a, b)` with `hounsfield_to_stored(hu) = hu * a + b`.
 fn hounsfield_affine(scalar: ScalarType) -> (f64, f64) {
     match scalar {
-        ScalarType::F32 | ScalarType::F64 | ScalarType::I16 | ScalarType::I32 => (1.0, 0.0),
-        ScalarType::U16 | ScalarType::U32 => (1.0, 1000.0),
+        ScalarType::F16 | ScalarType::F32 | ScalarType::F64 => (1.0, 0.0),
+        ScalarType::I16 | ScalarType::I32 | ScalarType::I64 => (1.0, 0.0),
+        ScalarType::U16 | ScalarType::U32 | ScalarType::U64 => (1.0, 1000.0),
         ScalarType::U8 => (0.1, 100.0),
         ScalarType::I8 => (0.08, 0.0),
     }
@@ -90,12 +92,21 @@ pub(crate) fn to_stored(values: &mut [f64], units: Units, scalar: ScalarType) {
             }
             return;
         }
+        ScalarType::F16 => {
+            for v in values.iter_mut() {
+                *v = half::f16::from_f64(v.clamp(lo, hi) * a + b).to_f64();
+            }
+            return;
+        }
         ScalarType::U8 => (0.0, u8::MAX as f64),
         ScalarType::I8 => (i8::MIN as f64, i8::MAX as f64),
         ScalarType::U16 => (0.0, u16::MAX as f64),
         ScalarType::I16 => (i16::MIN as f64, i16::MAX as f64),
         ScalarType::U32 => (0.0, u32::MAX as f64),
         ScalarType::I32 => (i32::MIN as f64, i32::MAX as f64),
+        // Held to 32 bits' range (see `unit_affine`): exact in f64.
+        ScalarType::I64 => (i32::MIN as f64, i32::MAX as f64),
+        ScalarType::U64 => (0.0, u32::MAX as f64),
     };
     // Adding and subtracting 1.5 * 2^52 rounds to the nearest integer (ties
     // to even) for |v| < 2^51, in two vectorizable additions (`f64::round`

@@ -94,6 +94,13 @@ fn value(word: &str, scalar: ScalarType) -> std::result::Result<f64, String> {
             return Err(format!("is outside the range of {scalar}"))
         }
         ScalarType::F32 | ScalarType::F64 => return Ok(v),
+        ScalarType::F16 if v.is_finite() && !half::f16::from_f64(v).is_finite() => {
+            return Err(format!("is outside the range of {scalar}"))
+        }
+        ScalarType::F16 => return Ok(v),
+        // As `f64` (what the samples are read as): exact within ±2^53.
+        ScalarType::I64 => (i64::MIN as f64, i64::MAX as f64),
+        ScalarType::U64 => (0.0, u64::MAX as f64),
     };
     if v.fract() != 0.0 || !(lo..=hi).contains(&v) {
         return Err(format!("does not fit {scalar} (integers {lo} to {hi})"));

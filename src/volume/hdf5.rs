@@ -89,6 +89,8 @@ fn scalar_of(t: &DatatypeMessage) -> Option<ScalarType> {
             (2, true) => ScalarType::I16,
             (4, false) => ScalarType::U32,
             (4, true) => ScalarType::I32,
+            (8, false) => ScalarType::U64,
+            (8, true) => ScalarType::I64,
             _ => return None,
         },
         DatatypeMessage::FloatingPoint { size: 4, .. } => ScalarType::F32,
@@ -137,7 +139,7 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
         .map_err(|e| fail(format!("dataset '/{name}': {e}")))?;
     let scalar = scalar_of(&dtype).ok_or_else(|| {
         fail(format!(
-            "dataset '/{name}': its type is not one tmc reads (u8, i8, u16, i16, u32, i32, f32, f64)"
+            "dataset '/{name}': its type is not one tmc reads (u8, i8, u16, i16, u32, i32, u64, i64, f32, f64)"
         ))
     })?;
     let shape = dataset.shape();
@@ -292,6 +294,15 @@ impl Hdf5Volume {
             ScalarType::I32 => typed::<i32>(d, len, &starts, &counts)?,
             ScalarType::F32 => typed::<f32>(d, len, &starts, &counts)?,
             ScalarType::F64 => typed::<f64>(d, len, &starts, &counts)?,
+            ScalarType::I64 => typed::<i64>(d, len, &starts, &counts)?,
+            ScalarType::U64 => typed::<u64>(d, len, &starts, &counts)?,
+            // `scalar_of` gives no half floats.
+            ScalarType::F16 => {
+                return Err(Error::Format(format!(
+                    "{}: 16-bit float datasets are not read",
+                    self.path.display()
+                )))
+            }
         };
         read.map_err(fail)
     }

@@ -116,7 +116,8 @@ fn swapped<const N: usize>(mut bytes: [u8; N]) -> [u8; N] {
 impl<'a> LentPlane<'a> {
     /// Native-endian samples of `scalar` packed in `bytes`: typed slices
     /// when the bytes are aligned for the type, else byte arrays (the
-    /// `...Bytes` variants); `None` when the bytes do not hold a whole
+    /// `...Bytes` variants); `None` for the types read as `f64`
+    /// ([`ScalarType::is_lent`]) and when the bytes do not hold a whole
     /// number of samples.
     pub fn from_bytes(scalar: ScalarType, bytes: &'a [u8]) -> Option<Self> {
         use bytemuck::try_cast_slice as cast;
@@ -142,12 +143,15 @@ impl<'a> LentPlane<'a> {
             ScalarType::F64 => cast(bytes)
                 .map_or_else(|_| cast(bytes).map(Self::F64Bytes), |s| Ok(Self::F64(s)))
                 .ok()?,
+            // Read as `f64` instead (`ScalarType::is_lent`).
+            ScalarType::I64 | ScalarType::U64 | ScalarType::F16 => return None,
         })
     }
 
     /// Samples of `scalar` packed in `bytes` in the other byte order than
     /// this machine's (the `...Swapped` variants; 8-bit samples have no
-    /// byte order); `None` when the bytes do not hold a whole number of
+    /// byte order); `None` for the types read as `f64` and when the bytes
+    /// do not hold a whole number of
     /// samples.
     pub fn from_foreign_bytes(scalar: ScalarType, bytes: &'a [u8]) -> Option<Self> {
         use bytemuck::try_cast_slice as cast;
@@ -159,6 +163,7 @@ impl<'a> LentPlane<'a> {
             ScalarType::I32 => Self::I32Swapped(cast(bytes).ok()?),
             ScalarType::F32 => Self::F32Swapped(cast(bytes).ok()?),
             ScalarType::F64 => Self::F64Swapped(cast(bytes).ok()?),
+            ScalarType::I64 | ScalarType::U64 | ScalarType::F16 => return None,
         })
     }
 

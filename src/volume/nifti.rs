@@ -2,7 +2,7 @@
 //!
 //! The version is detected from `sizeof_hdr` (348 or 540) in either byte
 //! order. Supported datatypes: uint8, int8, uint16, int16, uint32, int32,
-//! float32 and float64. The volume must be 3-D (`dim[0]` = 3, or more with
+//! int64, uint64 (read as `f64`: exact within ±2^53), float32 and float64. The volume must be 3-D (`dim[0]` = 3, or more with
 //! every extra dimension equal to 1). When
 //! `scl_slope` is nonzero and the pair is not (1, 0), samples are returned
 //! as `value * scl_slope + scl_inter` so isovalues are in physical units.
@@ -505,9 +505,11 @@ fn parse_header(bytes: &[u8]) -> std::result::Result<Header, String> {
         8 => ScalarType::I32,
         16 => ScalarType::F32,
         64 => ScalarType::F64,
+        1024 => ScalarType::I64,
+        1280 => ScalarType::U64,
         other => {
             return Err(format!(
-                "NIfTI datatype {other} is not supported (uint8, int8, uint16, int16, uint32, int32, float32, float64)"
+                "NIfTI datatype {other} is not supported (uint8, int8, uint16, int16, uint32, int32, int64, uint64, float32, float64)"
             ))
         }
     };

@@ -6,8 +6,9 @@
 //! array is indexed `[z][y][x]`, and unit axes change no byte's place in
 //! either order. In C order x varies fastest in memory; in Fortran order
 //! (`fortran_order: True`) z varies fastest, and planes are gathered with a
-//! stride from the memory map. Supported dtypes: `u1 i1 u2 i2 u4 i4 f4 f8` in
-//! either byte order. The grid has unit spacing and zero origin.
+//! stride from the memory map. Supported dtypes: `u1 i1 u2 i2 u4 i4 f4 f8`
+//! in either byte order, read in their own type; `b1` (a mask) as `u1`;
+//! `i8 u8 f2` read as `f64` (64-bit integers exactly within ±2^53). The grid has unit spacing and zero origin.
 
 use super::raw::{compressed_error, compression_magic, Layout, Order, RawVolume};
 use super::{Grid, ScalarType};
@@ -80,7 +81,7 @@ pub fn open(path: &Path) -> Result<RawVolume> {
 
     let (scalar, endian) = ScalarType::from_numpy_descr(&header.descr).ok_or_else(|| {
         fail(format!(
-            "unsupported dtype '{}' (expected u1, i1, u2, i2, u4, i4, f4 or f8)",
+            "unsupported dtype '{}' (expected b1, u1, i1, u2, i2, u4, i4, u8, i8, f2, f4 or f8)",
             header.descr
         ))
     })?;

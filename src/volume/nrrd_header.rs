@@ -265,16 +265,19 @@ fn scalar_type(name: &str) -> Result<ScalarType, String> {
         "uint" | "unsigned int" | "uint32" | "uint32_t" => ScalarType::U32,
         "float" => ScalarType::F32,
         "double" => ScalarType::F64,
-        "longlong" | "long long" | "long long int" | "signed long long"
-        | "signed long long int" | "int64" | "int64_t" | "ulonglong" | "unsigned long long"
-        | "unsigned long long int" | "uint64" | "uint64_t" => {
-            return Err(format!(
-                "type '{name}' is not supported (64-bit integers; use 8-, 16- or 32-bit integers, float or double)"
-            ))
+        "longlong"
+        | "long long"
+        | "long long int"
+        | "signed long long"
+        | "signed long long int"
+        | "int64"
+        | "int64_t" => ScalarType::I64,
+        "ulonglong" | "unsigned long long" | "unsigned long long int" | "uint64" | "uint64_t" => {
+            ScalarType::U64
         }
         _ => {
             return Err(format!(
-                "type '{name}' is not supported (8-, 16- or 32-bit integers, float or double)"
+                "type '{name}' is not supported (8-, 16-, 32- or 64-bit integers, float or double)"
             ))
         }
     };

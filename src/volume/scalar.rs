@@ -23,6 +23,13 @@ pub enum ScalarType {
     F32,
     /// 64-bit float
     F64,
+    /// signed 64-bit: read as `f64`, exactly within ±2^53 (numpy's
+    /// default integer, `skimage.measure.label`'s output)
+    I64,
+    /// unsigned 64-bit: read as `f64`, exactly up to 2^53
+    U64,
+    /// 16-bit float (IEEE half): read as `f64`, always exactly
+    F16,
 }
 
 /// Byte order of multi-byte samples.
@@ -36,11 +43,13 @@ pub enum Endian {
 }
 
 /// The short names accepted by [`ScalarType::from_name`], in display order.
-const NAMES: &str = "u8, i8, u16, i16, u32, i32, f32, f64";
+const NAMES: &str = "u8, i8, u16, i16, u32, i32, f32, f64, i64, u64, f16";
 
 impl ScalarType {
-    /// Every scalar type, smallest first.
-    pub const ALL: [ScalarType; 8] = [
+    /// Every scalar type: the eight the slab loop reads in their own type,
+    /// smallest first, then the three it reads as `f64` (see
+    /// [`ScalarType::is_lent`]).
+    pub const ALL: [ScalarType; 11] = [
         ScalarType::U8,
         ScalarType::I8,
         ScalarType::U16,
@@ -49,15 +58,25 @@ impl ScalarType {
         ScalarType::I32,
         ScalarType::F32,
         ScalarType::F64,
+        ScalarType::I64,
+        ScalarType::U64,
+        ScalarType::F16,
     ];
+
+    /// Can planes of this type be lent to the slab loop in their own type
+    /// ([`LentPlane`](super::LentPlane))? The 64-bit integers and half
+    /// floats cannot: their planes are read as `f64` (a copy per plane).
+    pub fn is_lent(self) -> bool {
+        !matches!(self, ScalarType::I64 | ScalarType::U64 | ScalarType::F16)
+    }
 
     /// Bytes per sample.
     pub fn size(self) -> usize {
         match self {
             ScalarType::U8 | ScalarType::I8 => 1,
-            ScalarType::U16 | ScalarType::I16 => 2,
+            ScalarType::U16 | ScalarType::I16 | ScalarType::F16 => 2,
             ScalarType::U32 | ScalarType::I32 | ScalarType::F32 => 4,
-            ScalarType::F64 => 8,
+            ScalarType::F64 | ScalarType::I64 | ScalarType::U64 => 8,
         }
     }
 
@@ -72,6 +91,9 @@ impl ScalarType {
             ScalarType::I32 => "i32",
             ScalarType::F32 => "f32",
             ScalarType::F64 => "f64",
+            ScalarType::I64 => "i64",
+            ScalarType::U64 => "u64",
+            ScalarType::F16 => "f16",
         }
     }
 
@@ -88,6 +110,9 @@ impl ScalarType {
             "i32" | "int32" => ScalarType::I32,
             "f32" | "float32" | "float" => ScalarType::F32,
             "f64" | "float64" | "double" => ScalarType::F64,
+            "i64" | "int64" => ScalarType::I64,
+            "u64" | "uint64" => ScalarType::U64,
+            "f16" | "float16" | "half" => ScalarType::F16,
             _ => return None,
         };
         Some(t)
@@ -95,7 +120,8 @@ impl ScalarType {
 
     /// Parses a numpy dtype description such as `<u2`, `|u1`, `>f4` or
     /// `<f8` into a type and byte order (`=` means native order; `|` is only
-    /// meaningful for one-byte types and reads as little-endian).
+    /// meaningful for one-byte types and reads as little-endian). A bool
+    /// (`|b1`) is its bytes, 0 and 1: `u8`.
     pub fn from_numpy_descr(descr: &str) -> Option<(ScalarType, Endian)> {
         let mut chars = descr.chars();
         let order = chars.next()?;
@@ -114,6 +140,10 @@ impl ScalarType {
             "i4" => ScalarType::I32,
             "f4" => ScalarType::F32,
             "f8" => ScalarType::F64,
+            "i8" => ScalarType::I64,
+            "u8" => ScalarType::U64,
+            "f2" => ScalarType::F16,
+            "b1" => ScalarType::U8,
             _ => return None,
         };
         Some((t, endian))
@@ -177,6 +207,9 @@ macro_rules! for_each_scalar {
             $crate::volume::ScalarType::I32 => $run!(i32),
             $crate::volume::ScalarType::F32 => $run!(f32),
             $crate::volume::ScalarType::F64 => $run!(f64),
+            $crate::volume::ScalarType::I64 => $run!(i64),
+            $crate::volume::ScalarType::U64 => $run!(u64),
+            $crate::volume::ScalarType::F16 => $run!(half::f16),
         }
     };
 }
@@ -232,11 +265,52 @@ pub fn decode_strided(
                     Endian::Little => <$t>::from_le_bytes(raw),
                     Endian::Big => <$t>::from_be_bytes(raw),
                 };
-                *o = f64::from(v);
+                *o = v.as_f64();
             }
         }};
     }
     for_each_scalar!(scalar, run)
+}
+
+/// A stored sample's value as an `f64`: exact for every type except the
+/// 64-bit integers beyond ±2^53, which round to the nearest `f64` (as
+/// numpy's `astype(float64)` does).
+pub(crate) trait AsF64: Copy {
+    /// The value as an `f64`.
+    fn as_f64(self) -> f64;
+}
+
+macro_rules! as_f64_exactly {
+    ($($t:ty),*) => {$(
+        impl AsF64 for $t {
+            #[inline(always)]
+            fn as_f64(self) -> f64 {
+                f64::from(self)
+            }
+        }
+    )*};
+}
+as_f64_exactly!(u8, i8, u16, i16, u32, i32, f32, f64);
+
+impl AsF64 for i64 {
+    #[inline(always)]
+    fn as_f64(self) -> f64 {
+        self as f64
+    }
+}
+
+impl AsF64 for u64 {
+    #[inline(always)]
+    fn as_f64(self) -> f64 {
+        self as f64
+    }
+}
+
+impl AsF64 for half::f16 {
+    #[inline(always)]
+    fn as_f64(self) -> f64 {
+        self.to_f64()
+    }
 }
 
 /// Encodes `values` as samples of `scalar` in `endian` byte order into
@@ -285,6 +359,10 @@ pub fn encode_samples(scalar: ScalarType, endian: Endian, values: &[f64], bytes:
         ScalarType::I32 => run!(i32, |v: f64| saturate(v, i32::MIN, i32::MAX) as i32),
         ScalarType::F32 => run!(f32, |v: f64| v as f32),
         ScalarType::F64 => run!(f64, |v: f64| v),
+        // Rounded to the nearest integer (ties to even), saturating, NaN 0.
+        ScalarType::I64 => run!(i64, |v: f64| v.round_ties_even() as i64),
+        ScalarType::U64 => run!(u64, |v: f64| v.round_ties_even() as u64),
+        ScalarType::F16 => run!(half::f16, half::f16::from_f64),
     }
 }
 

@@ -11,6 +11,7 @@
 //! whole into `f64`s (8 bytes a sample, two planes a worker).
 
 use super::mapped::MappedFile;
+use super::scalar::AsF64;
 use super::scalar::{decode_strided, for_each_scalar};
 use super::{Access, Endian, Grid, LentPlane, PlaneView, SampleSource, ScalarType};
 use crate::{Error, Result};
@@ -233,7 +234,7 @@ impl StridedVolume<'_> {
         // A function item, not a pointer: one type per function, so the
         // call is inlined rather than made through a pointer per sample.
         D: Fn([u8; N]) -> T,
-        f64: From<T>,
+        T: AsF64,
     {
         let [nx, ny, nz] = self.grid.dims;
         let bytes = self.bytes();
@@ -241,7 +242,7 @@ impl StridedVolume<'_> {
         let sample = |at: isize| -> f64 {
             let at = at as usize;
             let raw: [u8; N] = bytes[at..at + N].try_into().expect("N bytes");
-            f64::from(decode(raw))
+            decode(raw).as_f64()
         };
         // Straight-line code per axis: this runs once per vertex of a mesh.
         for ([x, y, z], [span_x, span_y, span_z]) in elements {

@@ -140,6 +140,8 @@ fn xml_type(name: &str) -> std::result::Result<ScalarType, String> {
         "UInt32" => ScalarType::U32,
         "Float32" => ScalarType::F32,
         "Float64" => ScalarType::F64,
+        "Int64" => ScalarType::I64,
+        "UInt64" => ScalarType::U64,
         other => return Err(format!("unsupported DataArray type '{other}'")),
     })
 }

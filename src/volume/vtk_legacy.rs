@@ -33,6 +33,8 @@ pub(crate) fn legacy_type(name: &str) -> Option<ScalarType> {
         "int" => ScalarType::I32,
         "float" => ScalarType::F32,
         "double" => ScalarType::F64,
+        "vtktypeint64" => ScalarType::I64,
+        "vtktypeuint64" => ScalarType::U64,
         _ => return None,
     })
 }

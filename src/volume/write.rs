@@ -48,13 +48,14 @@ impl VolumeFormat {
     }
 
     /// The bytes before the first sample of a volume on `grid` stored as
-    /// `scalar`.
-    pub fn header(self, grid: &Grid, scalar: ScalarType) -> Vec<u8> {
-        match self {
-            VolumeFormat::Nrrd => nrrd_header(grid, scalar).into_bytes(),
+    /// `scalar`; an error for a type the format has no name for (NRRD has
+    /// no 16-bit float).
+    pub fn header(self, grid: &Grid, scalar: ScalarType) -> Result<Vec<u8>> {
+        Ok(match self {
+            VolumeFormat::Nrrd => nrrd_header(grid, scalar)?.into_bytes(),
             VolumeFormat::Npy => npy_header(grid, scalar),
             VolumeFormat::Raw => Vec::new(),
-        }
+        })
     }
 }
 
@@ -99,7 +100,7 @@ pub fn write_volume_cancellable(
             path.display()
         )));
     }
-    let header = format.header(&grid, scalar);
+    let header = format.header(&grid, scalar)?;
     let mut file = AtomicFile::create(path)?;
     let out = file.file();
     out.write_all(&header).map_err(|e| Error::io(path, e))?;
@@ -169,9 +170,9 @@ fn write_planes(
     })
 }
 
-/// The NRRD type name of `scalar`.
-fn nrrd_type(scalar: ScalarType) -> &'static str {
-    match scalar {
+/// The NRRD type name of `scalar` (none for a 16-bit float).
+fn nrrd_type(scalar: ScalarType) -> Result<&'static str> {
+    Ok(match scalar {
         ScalarType::U8 => "uint8",
         ScalarType::I8 => "int8",
         ScalarType::U16 => "uint16",
@@ -180,16 +181,25 @@ fn nrrd_type(scalar: ScalarType) -> &'static str {
         ScalarType::I32 => "int32",
         ScalarType::F32 => "float",
         ScalarType::F64 => "double",
-    }
+        ScalarType::I64 => "int64",
+        ScalarType::U64 => "uint64",
+        ScalarType::F16 => {
+            return Err(Error::Invalid(
+                "NRRD has no 16-bit float type: write f16 samples as .npy or .raw, or choose f32"
+                    .into(),
+            ))
+        }
+    })
 }
 
 /// A NRRD0004 header (ending with its blank line) for raw little-endian
 /// samples on `grid`.
-fn nrrd_header(grid: &Grid, scalar: ScalarType) -> String {
+fn nrrd_header(grid: &Grid, scalar: ScalarType) -> Result<String> {
     let [nx, ny, nz] = grid.dims;
     let [sx, sy, sz] = grid.spacing;
     let [ox, oy, oz] = grid.origin;
-    format!(
+    let name = nrrd_type(scalar)?;
+    Ok(format!(
         "NRRD0004\n\
          # Complete NRRD file format specification at:\n\
          # http://teem.sourceforge.net/nrrd/format.html\n\
@@ -203,8 +213,8 @@ fn nrrd_header(grid: &Grid, scalar: ScalarType) -> String {
          encoding: raw\n\
          space origin: ({ox},{oy},{oz})\n\
          \n",
-        nrrd_type(scalar)
-    )
+        name
+    ))
 }
 
 /// The numpy dtype description of little-endian `scalar` samples.
@@ -218,6 +228,9 @@ fn npy_descr(scalar: ScalarType) -> &'static str {
         ScalarType::I32 => "<i4",
         ScalarType::F32 => "<f4",
         ScalarType::F64 => "<f8",
+        ScalarType::I64 => "<i8",
+        ScalarType::U64 => "<u8",
+        ScalarType::F16 => "<f2",
     }
 }
 

@@ -158,6 +158,15 @@ fn scalar_of(array: &Array<FilesystemStore>) -> Option<ScalarType> {
         ScalarType::F32
     } else if t.is::<dt::Float64DataType>() {
         ScalarType::F64
+    } else if t.is::<dt::Int64DataType>() {
+        ScalarType::I64
+    } else if t.is::<dt::UInt64DataType>() {
+        ScalarType::U64
+    } else if t.is::<dt::Float16DataType>() {
+        ScalarType::F16
+    } else if t.is::<dt::BoolDataType>() {
+        // One byte a sample, 0 or 1 (a mask): read as u8.
+        ScalarType::U8
     } else {
         return None;
     })
@@ -226,7 +235,7 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         .map_err(|e| fail(format!("cannot open the Zarr array at '{node_path}': {e}")))?;
     let scalar = scalar_of(&array).ok_or_else(|| {
         fail(format!(
-            "Zarr data type {} is not supported (need u8, i8, u16, i16, u32, i32, f32 or f64)",
+            "Zarr data type {} is not supported (need bool, u8, i8, u16, i16, u32, i32, u64, i64, f16, f32 or f64)",
             array.data_type()
         ))
     })?;

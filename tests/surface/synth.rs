@@ -178,7 +178,7 @@ fn nrrd_header_is_standard() {
     }
     assert_eq!(bytes.len() - end, 5 * 4 * 3 * 2);
     assert_eq!(
-        VolumeFormat::Nrrd.header(&grid, ScalarType::U16),
+        VolumeFormat::Nrrd.header(&grid, ScalarType::U16).unwrap(),
         bytes[..end]
     );
 }

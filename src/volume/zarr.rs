@@ -128,6 +128,18 @@ fn enclosing_level(path: &Path) -> Option<OmeLevel> {
     None
 }
 
+/// Whether `dir` holds a Zarr group (v2 `.zgroup`, or a v3 `zarr.json`
+/// of node type `group`).
+fn is_group(dir: &Path) -> bool {
+    if dir.join(".zgroup").is_file() {
+        return true;
+    }
+    std::fs::read(dir.join("zarr.json"))
+        .ok()
+        .and_then(|t| serde_json::from_slice::<Value>(&t).ok())
+        .is_some_and(|m| m.get("node_type").and_then(Value::as_str) == Some("group"))
+}
+
 /// Whether the store's root is itself an array.
 fn root_is_array(root: &Path) -> bool {
     if root.join(".zarray").is_file() {
@@ -190,44 +202,66 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
     let attributes = root_attributes(path)?.unwrap_or(Value::Null);
     let ome = zarr_ome::is_ome(&attributes);
     let mut level: Option<OmeLevel> = None;
-    let node =
-        match (&select.array, root_is_array(path)) {
-            (Some(a), _) => {
-                if select.level.is_some() {
-                    return Err(fail("give --array or --level, not both".into()));
-                }
-                // An array named by path that is a level of the image keeps
-                // that level's grid.
-                if ome {
-                    let name = a.trim_matches('/');
-                    level = (0..)
-                        .map_while(|i| zarr_ome::level(&attributes, i).ok())
-                        .find(|l| l.path.trim_matches('/') == name);
-                }
-                a.trim_matches('/').to_string()
+    let node = match (&select.array, root_is_array(path)) {
+        // A group named by --array (an OME-Zarr label image,
+        // `--array labels/cells`) is opened as if named by path.
+        (Some(a), _) if is_group(&path.join(a.trim_matches('/'))) => {
+            let inner = ZarrSelect {
+                array: None,
+                ..select.clone()
+            };
+            return open(&path.join(a.trim_matches('/')), &inner);
+        }
+        (Some(a), _) => {
+            if select.level.is_some() {
+                return Err(fail("give --array or --level, not both".into()));
             }
-            (None, true) => {
-                if select.level.is_some() {
-                    return Err(fail(
-                        "--level picks a level of an OME-Zarr image; this is an array".into(),
-                    ));
-                }
-                // A level opened by its path (`image.zarr/1`) keeps its
-                // grid, as `image.zarr --array 1` and `--level 1` do.
-                level = enclosing_level(path);
-                String::new()
+            // An array named by path that is a level of the image keeps
+            // that level's grid.
+            if ome {
+                let name = a.trim_matches('/');
+                level = (0..)
+                    .map_while(|i| zarr_ome::level(&attributes, i).ok())
+                    .find(|l| l.path.trim_matches('/') == name);
             }
-            (None, false) if ome => {
-                let l = zarr_ome::level(&attributes, select.level.unwrap_or(0)).map_err(fail)?;
-                let p = l.path.trim_matches('/').to_string();
-                level = Some(l);
-                p
+            a.trim_matches('/').to_string()
+        }
+        (None, true) => {
+            if select.level.is_some() {
+                return Err(fail(
+                    "--level picks a level of an OME-Zarr image; this is an array".into(),
+                ));
             }
-            (None, false) => return Err(fail(
-                "is a Zarr group, not an array: name the array with --array PATH or as STORE/PATH"
-                    .into(),
-            )),
-        };
+            // A level opened by its path (`image.zarr/1`) keeps its
+            // grid, as `image.zarr --array 1` and `--level 1` do.
+            level = enclosing_level(path);
+            String::new()
+        }
+        (None, false) if ome => {
+            let l = zarr_ome::level(&attributes, select.level.unwrap_or(0)).map_err(fail)?;
+            let p = l.path.trim_matches('/').to_string();
+            level = Some(l);
+            p
+        }
+        (None, false) => {
+            // An OME-Zarr `labels` group lists its label images.
+            let names = zarr_ome::label_images(&attributes);
+            let hint = match names.is_empty() {
+                true => String::new(),
+                false => format!(
+                    " (its label images: {})",
+                    names
+                        .iter()
+                        .map(|n| path.join(n).display().to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            };
+            return Err(fail(format!(
+                    "is a Zarr group, not an array: name the array with --array PATH or as STORE/PATH{hint}"
+                )));
+        }
+    };
     let store = FilesystemStore::new(path)
         .map_err(|e| fail(format!("cannot open as a Zarr store: {e}")))?;
     let node_path = format!("/{node}");

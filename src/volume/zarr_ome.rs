@@ -37,6 +37,22 @@ fn multiscales(attributes: &Value) -> Option<&Vec<Value>> {
         .as_array()
 }
 
+/// The label images an OME-Zarr `labels` group lists (NGFF 0.4 `labels`,
+/// 0.5 under `ome`), empty for any other group.
+pub(crate) fn label_images(attributes: &Value) -> Vec<String> {
+    let list = attributes
+        .get("labels")
+        .or_else(|| attributes.get("ome")?.get("labels"));
+    list.and_then(Value::as_array)
+        .map(|l| {
+            l.iter()
+                .filter_map(Value::as_str)
+                .map(str::to_string)
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
 /// Whether a group's attributes describe an OME-Zarr image.
 pub(crate) fn is_ome(attributes: &Value) -> bool {
     multiscales(attributes).is_some_and(|m| !m.is_empty())

@@ -115,7 +115,7 @@ fn usage_errors_exit_2_with_one_line() {
             "extract", i, "--iso", "1", "-o", o, "--dims", "4,4", "--dtype", "u8",
         ],
         vec![
-            "extract", i, "--iso", "1", "-o", o, "--dims", "4,4,4", "--dtype", "u64",
+            "extract", i, "--iso", "1", "-o", o, "--dims", "4,4,4", "--dtype", "u128",
         ],
         vec![
             "extract",

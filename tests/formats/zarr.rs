@@ -274,3 +274,60 @@ fn stem_is_the_stores_name_with_or_without_array() {
         std::fs::remove_file(dir.path().join("zr_group.ply")).unwrap();
     }
 }
+
+/// An OME-Zarr label image (`image.zarr/labels/cells`, a multiscale group
+/// of its own) opens by path and by `--array labels/cells` alike, levels
+/// included; the `labels` group itself is refused with its label images
+/// named. Built from the OME fixtures, NGFF 0.4 (v2) and 0.5 (v3).
+#[test]
+fn an_ome_label_image_opens_by_path_or_array_and_its_group_lists_them() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, v3) in [("zr_ome_04.zarr", false), ("zr_ome_05.zarr", true)] {
+        let image = dir.path().join(format!("image-{name}"));
+        let labels = image.join("labels");
+        let cells = copy(name, &labels.join("tmp"));
+        std::fs::rename(&cells, labels.join("cells")).unwrap();
+        std::fs::remove_dir(labels.join("tmp")).unwrap();
+        match v3 {
+            false => {
+                for dir in [&image, &labels] {
+                    std::fs::write(dir.join(".zgroup"), r#"{"zarr_format": 2}"#).unwrap();
+                }
+                std::fs::write(labels.join(".zattrs"), r#"{"labels": ["cells"]}"#).unwrap();
+            }
+            true => {
+                let group = |attributes: &str| {
+                    format!(
+                        r#"{{"zarr_format": 3, "node_type": "group", "attributes": {attributes}}}"#
+                    )
+                };
+                std::fs::write(image.join("zarr.json"), group("{}")).unwrap();
+                let listed = r#"{"ome": {"version": "0.5", "labels": ["cells"]}}"#;
+                std::fs::write(labels.join("zarr.json"), group(listed)).unwrap();
+            }
+        }
+        for level in [None, Some(1)] {
+            let by_path = zarr::open(
+                &labels.join("cells"),
+                &ZarrSelect {
+                    level,
+                    ..ZarrSelect::default()
+                },
+            )
+            .unwrap();
+            let by_array = zarr::open(
+                &image,
+                &ZarrSelect {
+                    array: Some("labels/cells".into()),
+                    level,
+                    ..ZarrSelect::default()
+                },
+            )
+            .unwrap();
+            assert_eq!(by_array.grid(), by_path.grid(), "{name} {level:?}");
+            assert_eq!(all_samples(&by_array), all_samples(&by_path));
+        }
+        let wanted = labels.join("cells").display().to_string();
+        refused(&labels, &[], &format!("its label images: {wanted}"));
+    }
+}

@@ -305,7 +305,7 @@ fn drawn(tile: &mut Vec<u32>) -> &mut [u32] {
 /// weighted mean of the corners' by the three edge functions, in `f64`
 /// (the weights are exact there: below `2^53`). Their sum is twice the
 /// triangle's signed area, whose sign says which way it faces.
-#[inline]
+#[inline(always)]
 fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: [usize; 4]) {
     let sub = i64::from(SUB);
     let (fx, fy) = (x0 as i64 * sub, y0 as i64 * sub);

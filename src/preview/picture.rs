@@ -39,30 +39,31 @@ const FONT_SCALE: usize = 2;
 
 /// The RGB bytes (row by row, [`DIMENSIONS`]) of the picture of `raster`
 /// with `caption`'s lines (at most two fit) in the band under the tiles.
+///
+/// Each row of the tiles is made once, in a row buffer (the background,
+/// then each shaded pixel [`BLOCK`] times along it), and appended
+/// [`BLOCK`] times: the picture is written once, row by row, not filled
+/// with the background and then overwritten.
 pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
     let (w, h) = DIMENSIONS;
-    let mut rgb = BACKGROUND.repeat(w * h);
-    let blank = BACKGROUND.repeat(DEPTH);
-    let mut line = blank.clone();
-    for view in 0..4 {
-        let (tx, ty) = ((view % GRID) * TILE, (view / GRID) * TILE);
-        let tile = raster.tile(view);
+    let mut rgb = Vec::with_capacity(w * h * 3);
+    let blank = BACKGROUND.repeat(w);
+    let mut row = blank.clone();
+    for band in 0..GRID {
         for y in 0..DEPTH {
-            line.copy_from_slice(&blank);
-            shade_row(tile, y, &mut line);
-            // Each shaded pixel BLOCK times along the row, the row BLOCK
-            // times down.
-            let start = ((ty + BLOCK * y) * w + tx) * 3;
-            let out = &mut rgb[start..start + TILE * 3];
-            for (pixel, block) in line.chunks_exact(3).zip(out.chunks_exact_mut(3 * BLOCK)) {
-                for o in block.chunks_exact_mut(3) {
-                    o.copy_from_slice(pixel);
-                }
+            row.copy_from_slice(&blank);
+            for column in 0..GRID {
+                let tile = raster.tile(band * GRID + column);
+                let out = &mut row[column * TILE * 3..(column + 1) * TILE * 3];
+                shade_row(tile, y, out);
             }
-            for k in 1..BLOCK {
-                rgb.copy_within(start..start + TILE * 3, start + k * w * 3);
+            for _ in 0..BLOCK {
+                rgb.extend_from_slice(&row);
             }
         }
+    }
+    for _ in SIZE..h {
+        rgb.extend_from_slice(&blank);
     }
     let mut put = |x: usize, y: usize, c: [u8; 3]| {
         if x < w && y < h {
@@ -137,12 +138,13 @@ fn slope(before: Option<f32>, here: f32, after: Option<f32>) -> f32 {
 }
 
 /// Row `y` of a view's keys (`DEPTH` by `DEPTH`, row by row) as RGB bytes
-/// into `out` (`3 * DEPTH` bytes, background already there).
+/// into `out` (`3 * TILE` bytes, the background already there): each
+/// pixel drawn, shaded, [`BLOCK`] times; the others left as they are.
 fn shade_row(tile: &[u32], y: usize, out: &mut [u8]) {
     let row = &tile[y * DEPTH..(y + 1) * DEPTH];
     let above = y.checked_sub(1).map(|u| &tile[u * DEPTH..(u + 1) * DEPTH]);
     let below = (y + 1 < DEPTH).then(|| &tile[(y + 1) * DEPTH..(y + 2) * DEPTH]);
-    for (x, &key) in row.iter().enumerate() {
+    for (x, (&key, block)) in row.iter().zip(out.chunks_exact_mut(3 * BLOCK)).enumerate() {
         let Some(here) = depth(key) else {
             continue;
         };
@@ -161,7 +163,10 @@ fn shade_row(tile: &[u32], y: usize, out: &mut [u8]) {
         let cos = (gx * LIGHT[0] - gy * LIGHT[1] - LIGHT[2]) / (gx * gx + gy * gy + 1.0).sqrt();
         let light = 0.2 + 0.8 * cos.clamp(0.0, 1.0);
         let base = if key & BACK == 0 { OUTSIDE } else { INSIDE };
-        out[3 * x..3 * x + 3].copy_from_slice(&base.map(|c| (c * light) as u8));
+        let colour = base.map(|c| (c * light) as u8);
+        for o in block.chunks_exact_mut(3) {
+            o.copy_from_slice(&colour);
+        }
     }
 }
 
@@ -188,9 +193,54 @@ mod tests {
             tile[DEPTH + x] = key(middle[x]);
             tile[2 * DEPTH + x] = key(around);
         }
-        let mut out = BACKGROUND.repeat(DEPTH);
+        let mut out = BACKGROUND.repeat(TILE);
         shade_row(&tile, 1, &mut out);
-        out
+        // Each pixel is there BLOCK times: once is enough.
+        out.chunks_exact(3 * BLOCK)
+            .flat_map(|p| &p[..3])
+            .copied()
+            .collect()
+    }
+
+    /// One pixel drawn in each view: it fills the BLOCK by BLOCK square
+    /// of its own tile, and nothing else in the tiles (but the borders and
+    /// the views' names) leaves the background.
+    #[test]
+    fn a_drawn_pixel_fills_its_square_of_its_own_tile() {
+        let (w, _) = DIMENSIONS;
+        let at = |view: usize| (40 + 30 * view, 100 + 20 * view);
+        let mut raster = Raster::empty();
+        for view in 0..4 {
+            let mut keys = vec![EMPTY; DEPTH * DEPTH];
+            let (x, y) = at(view);
+            keys[y * DEPTH + x] = 7.0f32.to_bits() & !BACK;
+            raster.set_tile(view, keys);
+        }
+        let rgb = compose(&raster, &[]);
+        let plain = compose(&Raster::new(), &[]);
+        let pixel = |img: &[u8], x: usize, y: usize| [0, 1, 2].map(|c| img[(y * w + x) * 3 + c]);
+        let mut changed = Vec::new();
+        for y in 0..SIZE {
+            for x in 0..SIZE {
+                if pixel(&rgb, x, y) != pixel(&plain, x, y) {
+                    changed.push((x, y));
+                }
+            }
+        }
+        let mut want = Vec::new();
+        for y in 0..SIZE {
+            for x in 0..SIZE {
+                let view = (y / TILE) * GRID + x / TILE;
+                let (px, py) = at(view);
+                let (tx, ty) = ((view % GRID) * TILE, (view / GRID) * TILE);
+                if (x - tx) / BLOCK == px && (y - ty) / BLOCK == py {
+                    want.push((x, y));
+                }
+            }
+        }
+        assert_eq!(changed, want);
+        let lit = pixel(&rgb, TILE + BLOCK * at(1).0, BLOCK * at(1).1);
+        assert_ne!(lit, BACKGROUND);
     }
 
     #[test]

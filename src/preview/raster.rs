@@ -20,7 +20,7 @@
 //! the few pixel centres a triangle covers, an edge test and a depth.
 
 use super::views::{View, DEPTH};
-use glam::Vec4;
+use glam::{Vec4, Vec4Swizzles};
 
 /// The key of a pixel no triangle covered.
 pub const EMPTY: u32 = u32::MAX;
@@ -61,8 +61,19 @@ pub struct Raster {
     tiles: [Vec<u32>; 4],
     /// Projected vertices of the batch being drawn (reused).
     projected: Vec<Projected>,
-    /// The same for [`Raster::draw_view`]: fixed-point x and y, depth.
-    one: Vec<(i32, i32, f32)>,
+    /// The same for [`Raster::draw_view`], in its one view.
+    corners: Vec<Corner>,
+}
+
+/// A vertex projected into one view ([`Raster::draw_view`]).
+#[derive(Debug, Clone, Copy)]
+struct Corner {
+    /// The last pixel column and row a triangle through it may cover,
+    /// and minus the first ones (whole numbers in `f32` lanes: a
+    /// triangle's are the maximum of its corners', one `maxps` a corner).
+    reach: Vec4,
+    /// Fixed-point x and y, depth ([`fill`]'s corners).
+    at: (i32, i32, f32),
 }
 
 impl Default for Raster {
@@ -107,7 +118,7 @@ impl Raster {
         Raster {
             tiles: [0; 4].map(|_| vec![EMPTY; DEPTH * DEPTH]),
             projected: Vec::new(),
-            one: Vec::new(),
+            corners: Vec::new(),
         }
     }
 
@@ -119,7 +130,7 @@ impl Raster {
         Raster {
             tiles: Default::default(),
             projected: Vec::new(),
-            one: Vec::new(),
+            corners: Vec::new(),
         }
     }
 
@@ -223,38 +234,51 @@ impl Raster {
         let column =
             |c: usize| Vec4::new(rows[0][c][view], rows[1][c][view], rows[2][c][view], 0.0);
         let (c0, c1, c2, c3) = (column(0), column(1), column(2), column(3));
-        let top = (DEPTH - 1) as f32;
-        let fixed = |v: f32| ((v.min(top) * SUB as f32 + SHIFT).to_bits() & 0x003f_ffff) as i32;
-        self.one.clear();
-        self.one.extend(vertices.iter().map(|p| {
-            let [x, y, d, _] = (c0 * p[0] + c1 * p[1] + c2 * p[2] + c3)
-                .max(Vec4::ZERO)
-                .to_array();
-            (fixed(x), fixed(y), d)
+        let top = Vec4::splat((DEPTH - 1) as f32);
+        let (sub, shift) = (Vec4::splat(SUB as f32), SUB.ilog2());
+        self.corners.clear();
+        self.corners.extend(vertices.iter().map(|p| {
+            let v = (c0 * p[0] + c1 * p[1] + c2 * p[2] + c3).max(Vec4::ZERO);
+            // `project`'s rounding, in all lanes at once (the same
+            // operations on the same numbers; the depth lane is kept
+            // as it was).
+            let [x, y, _, _] = (v.min(top) * sub + Vec4::splat(SHIFT))
+                .to_array()
+                .map(|f| (f.to_bits() & 0x003f_ffff) as i32);
+            // The last column and row a triangle through this corner may
+            // reach (rounded down), and minus the first (rounded up; the
+            // coordinates are not negative: shifts divide).
+            let first = |c: i32| -((c + SUB - 1) >> shift) as f32;
+            let last = |c: i32| (c >> shift) as f32;
+            Corner {
+                reach: Vec4::new(last(x), last(y), first(x), first(y)),
+                at: (x, y, v.z),
+            }
         }));
-        let one = &self.one;
+        let corners = &self.corners;
         let tile = drawn(&mut self.tiles[view]);
-        let shift = SUB.ilog2();
         for t in triangles {
-            let (Some(&a), Some(&b), Some(&c)) = (
-                one.get(t[0] as usize),
-                one.get(t[1] as usize),
-                one.get(t[2] as usize),
+            let (Some(a), Some(b), Some(c)) = (
+                corners.get(t[0] as usize),
+                corners.get(t[1] as usize),
+                corners.get(t[2] as usize),
             ) else {
                 continue;
             };
-            // The first pixel centre at or after the box's low corner, the
-            // last at or before its high one (the coordinates are not
-            // negative: shifts divide).
-            let x0 = (a.0.min(b.0).min(c.0) + SUB - 1) >> shift;
-            let x1 = a.0.max(b.0).max(c.0) >> shift;
-            let y0 = (a.1.min(b.1).min(c.1) + SUB - 1) >> shift;
-            let y1 = a.1.max(b.1).max(c.1) >> shift;
-            if x0 > x1 || y0 > y1 {
+            // The box's last column and row and minus its first ones, of
+            // the three corners at once: the box holds a pixel centre when
+            // last - first is not negative on both axes (most triangles of
+            // a CT surface hold none and stop here).
+            let m = a.reach.max(b.reach).max(c.reach);
+            if (m + m.zwxy()).cmpge(Vec4::ZERO).bitmask() & 3 != 3 {
                 continue;
             }
-            let bbox = [x0, x1, y0, y1].map(|v| v as usize);
-            fill(tile, [a, b, c], bbox);
+            // (Whole numbers below 2^22: the low bits of `c + 2^23`.)
+            let [x1, y1, x0, y0] = (m * Vec4::new(1.0, 1.0, -1.0, -1.0) + Vec4::splat(SHIFT))
+                .to_array()
+                .map(|c| (c.to_bits() & 0x003f_ffff) as usize);
+            let bbox = [x0, x1, y0, y1];
+            fill(tile, [a.at, b.at, c.at], bbox);
         }
     }
 }
@@ -281,7 +305,7 @@ fn drawn(tile: &mut Vec<u32>) -> &mut [u32] {
 /// weighted mean of the corners' by the three edge functions, in `f64`
 /// (the weights are exact there: below `2^53`). Their sum is twice the
 /// triangle's signed area, whose sign says which way it faces.
-#[inline]
+#[inline(always)]
 fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: [usize; 4]) {
     let sub = i64::from(SUB);
     let (fx, fy) = (x0 as i64 * sub, y0 as i64 * sub);

@@ -429,11 +429,9 @@ impl MeshSink for PreviewSink {
         let Ok(own32) = u32::try_from(own) else {
             return Err(Error::Invalid("preview: chunk too large".into()));
         };
-        let top = chunk
-            .triangles
-            .iter()
-            .map(|t| t[0].max(t[1]).max(t[2]))
-            .max();
+        // The largest index of all, over the flat list (a reduction the
+        // compiler does several indices at a time).
+        let top = chunk.triangles.as_flattened().iter().copied().max();
         let past = top.map_or(0, |i| i.saturating_add(1).saturating_sub(own32));
         // Room for the next chunk's vertices too (`flush`).
         let mut vertices = Vec::with_capacity(own + past as usize);

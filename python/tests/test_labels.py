@@ -231,6 +231,11 @@ def test_bad_arguments_are_python_errors(tmp_path):
         tmc.extract_labels_to(seg, tmp_path / "all.obj")
     with pytest.raises(ValueError, match="does not fit the uint32"):
         tmc.extract_labels_to(seg, tmp_path / "all.ply", labels=[-1, 3])
+    # A placeholder the call does not fill in stayed in the names
+    # ('{stem}_3.ply'): refused, naming it.
+    for template in ("{stem}_{label}.ply", "{label}_{part}.tmesh", "{Label}.ply"):
+        with pytest.raises(ValueError, match=r"unknown placeholder \{\w+\} in output; it may use \{label\}"):
+            tmc.extract_labels_to(seg, tmp_path / template)
     with pytest.raises(FileNotFoundError):
         tmc.extract_labels(tmp_path / "missing.nrrd")
     assert list(tmp_path.iterdir()) == []

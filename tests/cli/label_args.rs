@@ -262,7 +262,7 @@ fn hundreds_of_labels_run_under_a_low_soft_limit_on_open_files() {
     fs::create_dir(&parts).unwrap();
     let mut merge = vec!["merge".to_string()];
     for i in 1..=2 {
-        let part = s(&parts.join(format!("{{label}}.{i}.tmesh"))).to_string();
+        let part = s(&parts.join("{label}.{part}.tmesh")).to_string();
         let spec = format!("{i}/2");
         ok(&[
             "extract",

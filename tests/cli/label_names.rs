@@ -85,11 +85,11 @@ fn stem_is_the_input_name_in_one_file_and_in_a_file_per_label() {
 }
 
 /// The label parts of `input` in `parts`, `{label}.{i}.tmesh` for parts
-/// 1 to 3.
+/// 1 to 3 (the same `-o '{label}.{part}.tmesh'` for each).
 fn label_parts(input: &Path, parts: &Path) {
     fs::create_dir(parts).unwrap();
+    let out = parts.join("{label}.{part}.tmesh");
     for i in 1..=3 {
-        let out = parts.join(format!("{{label}}.{i}.tmesh"));
         let part = format!("{i}/3");
         ok(&[
             "extract",

@@ -105,6 +105,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         list => Some(parse_list(list)?),
     };
     let labels = counts.select(wanted.as_deref(), background, input)?;
+    if !args.quiet {
+        note_absent(&labels, &counts, input);
+    }
     // Every label's file stays open until all are committed.
     tmc::files::raise_open_file_limit();
     tmc::files::check_open_files(labels.len(), tmc::export::open_files_per_label(template))?;
@@ -199,6 +202,35 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         .map_err(|e| withdraw(written.iter().copied(), e))?;
     }
     Ok(())
+}
+
+/// Says which labels of a list the map does not hold (a mistyped label
+/// gave an empty mesh without a word, where an isovalue outside the data
+/// range gets a note): one line, naming up to 10.
+fn note_absent(labels: &[i64], counts: &tmc::volume::LabelCounts, input: &Path) {
+    let absent: Vec<String> = labels
+        .iter()
+        .filter(|&&l| counts.samples(l) == 0)
+        .map(i64::to_string)
+        .collect();
+    let (shown, more) = (absent.len().min(10), absent.len().saturating_sub(10));
+    let list = absent[..shown].join(", ")
+        + &if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        };
+    match absent.len() {
+        0 => {}
+        1 => say!(
+            "tmc: note: label {list} is not in {}: its mesh is empty",
+            input.display()
+        ),
+        n => say!(
+            "tmc: note: {n} labels are not in {} ({list}): their meshes are empty",
+            input.display()
+        ),
+    }
 }
 
 /// `L1,L2,...`: integers, each once.

@@ -142,7 +142,7 @@ pub(crate) fn extract_labels_to(
                 output.display()
             )));
         }
-        tmc::export::label_outputs(&output, &[])?;
+        tmc::export::check_label_template(&output)?;
         let options = preflight(source, path, &params, None, cancel)?;
         let (labels, counts) =
             choose(source, path, labels.as_deref(), background, &params, cancel)?;

@@ -78,9 +78,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             args.output.as_deref().unwrap_or(template).display()
         )));
     }
-    // A name without {label} must be one .ply or .tmesh: refused before
-    // the input is read.
-    tmc::export::label_outputs(template, &[])?;
+    // A name without {label} must be one .ply or .tmesh, of a known format
+    // in a directory that takes files: refused before the input is read.
+    tmc::export::check_label_template(template)?;
     if args.part.is_some() && (args.stats || args.json) {
         return Err(Error::Invalid(
             "--labels with --part writes part files: --stats and --json need the merged meshes"

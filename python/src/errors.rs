@@ -2,14 +2,16 @@
 //! the class chosen by what went wrong.
 
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyKeyboardInterrupt, PyMemoryError, PyOSError, PyPermissionError,
-    PyValueError,
+    PyFileNotFoundError, PyIsADirectoryError, PyKeyboardInterrupt, PyMemoryError,
+    PyNotADirectoryError, PyOSError, PyPermissionError, PyValueError,
 };
 use pyo3::PyErr;
 use std::io::ErrorKind;
 
 /// `tmc::Error` to the Python exception a Python user expects:
-/// `FileNotFoundError`/`PermissionError`/`OSError` for files,
+/// `FileNotFoundError`/`PermissionError`/`NotADirectoryError`/
+/// `IsADirectoryError`/`OSError` for files (the same class whether the
+/// check before a run or the write itself finds a missing directory),
 /// `ValueError` for bad input or options, `MemoryError`, and
 /// `KeyboardInterrupt` for a cancelled run.
 pub(crate) fn to_py(error: tmc::Error) -> PyErr {
@@ -18,6 +20,8 @@ pub(crate) fn to_py(error: tmc::Error) -> PyErr {
         tmc::Error::Io { source, .. } => match source.kind() {
             ErrorKind::NotFound => PyFileNotFoundError::new_err(text),
             ErrorKind::PermissionDenied => PyPermissionError::new_err(text),
+            ErrorKind::NotADirectory => PyNotADirectoryError::new_err(text),
+            ErrorKind::IsADirectory => PyIsADirectoryError::new_err(text),
             _ => PyOSError::new_err(text),
         },
         tmc::Error::Format(_) | tmc::Error::Invalid(_) => PyValueError::new_err(text),

@@ -134,8 +134,15 @@ pub(crate) fn extract_labels_to(
     let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
     input.run(py, |source, path, cancel| {
         let started = Instant::now();
-        // The name's form first, before the volume is read.
-        tmc::export::label_outputs(&output, &[])?;
+        // The name's form first, before the volume is read; `{label}` is
+        // the one placeholder filled in ('{stem}' would stay in the name).
+        if let Some(p) = tmc::files::unknown_placeholder(&output, &["{label}"]) {
+            return Err(tmc::Error::Invalid(format!(
+                "{}: unknown placeholder {p} in output; it may use {{label}}",
+                output.display()
+            )));
+        }
+        tmc::export::check_label_template(&output)?;
         let options = preflight(source, path, &params, None, cancel)?;
         let (labels, counts) =
             choose(source, path, labels.as_deref(), background, &params, cancel)?;

@@ -290,3 +290,34 @@ def test_counts_name_themselves(tmp_path):
     for bad in (1.5, True, "0"):
         with pytest.raises(TypeError, match="background must be an integer"):
             tmc.extract_labels(labels, background=bad)
+
+
+def test_output_directory_errors_are_one_class_before_the_run_and_at_the_write(tmp_path):
+    """A missing output directory raised ValueError from the check before
+    a run (extract_to, extract_labels_to) but FileNotFoundError from
+    Mesh.write, which has no such check: now every call raises the OSError
+    subclass of what is wrong (FileNotFoundError, NotADirectoryError,
+    IsADirectoryError), with the CLI's words, and writes nothing."""
+    ball = np.zeros((6, 6, 6), np.float32)
+    ball[2:4, 2:4, 2:4] = 1
+    mesh = tmc.extract(ball, 0.5)
+    seg = (ball > 0).astype(np.uint8)
+    (tmp_path / "file").write_bytes(b"")
+    (tmp_path / "dir.ply").mkdir()
+    writers = {
+        "extract_to": lambda out: tmc.extract_to(ball, 0.5, out),
+        "extract_labels_to": lambda out: tmc.extract_labels_to(seg, out),
+        "Mesh.write": mesh.write,
+    }
+    cases = [
+        (tmp_path / "missing" / "m.ply", FileNotFoundError, "does not exist"),
+        (tmp_path / "file" / "m.ply", NotADirectoryError, None),
+        (tmp_path / "dir.ply", IsADirectoryError, None),
+    ]
+    for out, error, words in cases:
+        for name, write in writers.items():
+            with pytest.raises(error, match=words) as caught:
+                write(out)
+            assert str(out) in str(caught.value), (name, caught.value)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["dir.ply", "file"]
+    assert list((tmp_path / "dir.ply").iterdir()) == []

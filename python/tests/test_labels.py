@@ -211,6 +211,20 @@ def test_a_fraction_is_refused_with_its_position(tmp_path):
     assert list(out.iterdir()) == [], "nothing left behind"
 
 
+def test_an_output_that_cannot_be_written_is_refused_before_the_map_is_read(tmp_path):
+    """A missing directory or an unknown format of a label file is refused
+    before the first reading of the volume: a map that reading refuses (a
+    sample 2.5) gets the output's error (it got the map's, after reading
+    all of it)."""
+    seg = label_map().astype(np.float32)
+    seg[5, 3, 7] = 2.5
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        tmc.extract_labels_to(seg, tmp_path / "missing" / "{label}.ply")
+    with pytest.raises(ValueError, match="unknown output format"):
+        tmc.extract_labels_to(seg, tmp_path / "{label}.xyz")
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_bad_arguments_are_python_errors(tmp_path):
     seg = label_map()
     with pytest.raises(ValueError, match="'all' or a sequence"):
@@ -231,6 +245,11 @@ def test_bad_arguments_are_python_errors(tmp_path):
         tmc.extract_labels_to(seg, tmp_path / "all.obj")
     with pytest.raises(ValueError, match="does not fit the uint32"):
         tmc.extract_labels_to(seg, tmp_path / "all.ply", labels=[-1, 3])
+    # A placeholder the call does not fill in stayed in the names
+    # ('{stem}_3.ply'): refused, naming it.
+    for template in ("{stem}_{label}.ply", "{label}_{part}.tmesh", "{Label}.ply"):
+        with pytest.raises(ValueError, match=r"unknown placeholder \{\w+\} in output; it may use \{label\}"):
+            tmc.extract_labels_to(seg, tmp_path / template)
     with pytest.raises(FileNotFoundError):
         tmc.extract_labels(tmp_path / "missing.nrrd")
     assert list(tmp_path.iterdir()) == []

@@ -109,7 +109,9 @@ class Mesh:
         from :func:`extract` writes the bytes :func:`extract_to` would have
         written; a mesh read from a file, or one whose sizes changed, cannot.
         Vertices must be finite as float32 and triangles integer indices
-        (``ValueError`` / ``TypeError`` otherwise, nothing written).
+        (``ValueError`` / ``TypeError`` otherwise, nothing written). A
+        missing directory raises ``FileNotFoundError`` (as in
+        :func:`extract_to`).
         """
         if os.fsdecode(path).lower().endswith(".tmesh") and self._record is None:
             raise ValueError(
@@ -423,7 +425,11 @@ def extract_to(
     the bytes ``tmc extract --normals`` writes: PLY ``nx ny nz``, OBJ ``vn``,
     the ``.tmesh`` normals attribute (OFF and STL carry none). The other
     arguments are those of :func:`extract`. Returns the run's report
-    (``tmc extract --json``'s keys that describe the run).
+    (``tmc extract --json``'s keys that describe the run). An output whose
+    directory is missing raises ``FileNotFoundError`` before the volume is
+    read (``NotADirectoryError``, ``IsADirectoryError``, ``PermissionError``
+    for the other output paths that cannot be written), as
+    :meth:`Mesh.write` does.
     """
     array, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
@@ -583,13 +589,15 @@ def extract_labels_to(
     bytes ``tmc extract --labels`` writes, without holding the meshes.
 
     ``output`` names the files: with ``{label}`` in it (``"out/{label}.ply"``)
-    one file per label, ``{label}`` replaced by the label's value, in any
+    one file per label, ``{label}`` replaced by the label's value (the one
+    placeholder: any other ``{NAME}`` is a ``ValueError``), in any
     format :func:`extract_to` writes (``.tmesh``, ``.ply``, ``.obj``,
     ``.off``, ``.stl``); without, one ``.ply`` or ``.tmesh`` holding every
     label, each triangle with its label (PLY: a ``uint label`` face
     property; ``.tmesh``: the labels attribute). The files appear all,
     whole, or none (an error or Ctrl-C leaves none behind). The other
-    arguments are those of :func:`extract_labels`, and:
+    arguments are those of :func:`extract_labels` (a missing output
+    directory raises ``FileNotFoundError``, as in :func:`extract_to`), and:
 
     stats : bool
         Count each label's ``components``, ``genus``, ``closed``, ``area``

@@ -38,7 +38,8 @@ class Mesh:
     ) -> None:
         """Wraps vertex and triangle arrays (and optional normals and stats)."""
     def write(self, path: PathLike) -> None:
-        """Writes the mesh as PLY, OBJ, OFF, STL or .tmesh (by extension), atomically."""
+        """Writes the mesh as PLY, OBJ, OFF, STL or .tmesh (by extension),
+        atomically (a missing directory: ``FileNotFoundError``)."""
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``."""
 
@@ -74,7 +75,8 @@ def extract_to(
     segment: Optional[int] = ...,
 ) -> Dict[str, Any]:
     """Streams the isosurface into a mesh file without holding the mesh
-    (with ``normals``, the vertex normals too, as ``tmc extract --normals``)."""
+    (with ``normals``, the vertex normals too, as ``tmc extract --normals``);
+    a missing output directory raises ``FileNotFoundError`` before the run."""
 
 def extract_labels(
     volume: _ArrayOrPath,
@@ -108,8 +110,9 @@ def extract_labels_to(
     segment: Optional[int] = ...,
 ) -> Dict[str, Any]:
     """Streams every label's surface into files in one pass (``{label}`` in
-    ``output`` for a file per label, else one .ply or .tmesh with a
-    per-face label), as ``tmc extract --labels``; returns its report
+    ``output`` for a file per label, the one placeholder, else one .ply or
+    .tmesh with a per-face label), as ``tmc extract --labels``; a missing
+    output directory raises ``FileNotFoundError``; returns its report
     (with ``stats``, each label's components, genus, closed, area and
     enclosed_volume, as ``--json`` gives them)."""
 

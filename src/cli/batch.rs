@@ -68,6 +68,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
                 template.display()
             )));
         }
+        check_unique_pictures(template, &items)?;
     }
     if let Some(path) = &args.batch.report {
         check_report_path(path, args.batch.manifest.as_deref(), &items)?;
@@ -155,6 +156,25 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             )))
         }
     }
+}
+
+/// Fails when two items of the batch would draw the same picture (two
+/// manifest lines of one input, or inputs of one name in two folders,
+/// with `--preview 'out/{stem}.png'`): the second replaced the first
+/// without a word, where two meshes of one name are refused.
+fn check_unique_pictures(template: &Path, items: &[Item]) -> Result<()> {
+    let mut seen = std::collections::HashSet::new();
+    for item in items {
+        for picture in manifest::outputs(template, &item.input, &item.isos) {
+            if !seen.insert(picture.clone()) {
+                return Err(Error::Invalid(format!(
+                    "{}: two previews of the batch have this name; use {{stem}} and {{iso}} in the preview's name",
+                    picture.display()
+                )));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Refuses a report path that is the manifest, an input or an output of the

@@ -103,6 +103,7 @@ pub(crate) struct CompareArgs {
     /// Also draw the two meshes side by side (TMC left, MC right) into
     /// this PNG picture, each as 'tmc extract --preview' draws it, with a
     /// red dot in every view where a cell is triangulated differently.
+    /// {stem} and {iso} as in 'tmc extract --preview'.
     #[arg(long, value_name = "FILE.png")]
     pub preview: Option<PathBuf>,
 
@@ -171,15 +172,24 @@ impl Side {
 
 /// Runs `tmc compare`; setting `cancel` stops it with [`tmc::Error::Interrupted`].
 pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Result<()> {
-    if let Some(picture) = &args.preview {
-        super::with_preview::check_picture(picture, &args.input, &[])?;
-    }
+    // {stem} and {iso} as in 'tmc extract --preview' (they were written
+    // into the picture's name as they stood).
+    let preview = match &args.preview {
+        Some(template) => {
+            let known = super::placeholders::isosurface(None);
+            super::placeholders::check(template, "--preview", &known)?;
+            let picture = super::manifest::outputs(template, &args.input, &[args.iso]).remove(0);
+            super::with_preview::check_picture(&picture, &args.input, &[])?;
+            Some(picture)
+        }
+        None => None,
+    };
     let source = super::raw_input::open_input(&args.input, &args.raw, cancel, args.quiet)?;
     let grid = *source.grid();
     check_grid(&args.input, &grid, args.close)?;
     // The differing cells' marks, in the views the previews will have.
     let bounds = Bounds::of_grid(&grid);
-    let marks = match (&args.preview, bounds) {
+    let marks = match (&preview, bounds) {
         (Some(_), Some(b)) => Some(Marks::new(&b)),
         (Some(picture), None) => {
             return Err(tmc::Error::Invalid(format!(
@@ -299,7 +309,7 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
     };
 
     // 4. The picture.
-    if let (Some(picture), Some(marks)) = (&args.preview, &marks) {
+    if let (Some(picture), Some(marks)) = (&preview, &marks) {
         let name = super::with_preview::title_of(&args.input);
         let caption = |method: &str| {
             format!(

@@ -4,6 +4,7 @@
 use super::extract_args::ExtractArgs;
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
+use super::placeholders;
 use super::require_surface::RequireSurface;
 use super::{memory, report};
 use std::sync::atomic::AtomicBool;
@@ -27,10 +28,18 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             )));
         }
     }
+    let known = placeholders::isosurface(args.part);
+    if let Some(template) = &args.output {
+        placeholders::check(template, "-o", &known)?;
+    }
+    if let Some(template) = &args.preview {
+        placeholders::check(template, "--preview", &known)?;
+    }
     let (input, iso, template) = match (&args.input[..], &args.iso[..], &args.output) {
         ([input], [iso], Some(output)) if !args.batch.given() => (input, *iso, output),
         _ => return super::batch::run(args, cancel),
     };
+    let template = &placeholders::fill_part(template, args.part);
     let output = &super::manifest::outputs(template, input, &[iso])[0];
     if args.part.is_some() && output.extension().is_none_or(|e| e != "tmesh") {
         return Err(Error::Invalid(format!(

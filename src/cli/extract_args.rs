@@ -43,9 +43,10 @@ pub(crate) struct ExtractArgs {
     /// (--background, 0 by default), found by a first reading of the
     /// volume; or a list L1,L2,... -o must contain {label} (one file per
     /// label) or be one .ply or .tmesh (every label, a per-face uint32
-    /// 'label'). With --part I/N, -o must be 'DIR/{label}...tmesh' (one
-    /// part file per label; 'tmc merge' of all of them writes what one run
-    /// writes). With --normals, each label's normals are those of its
+    /// 'label'). With --part I/N, -o must hold {label} and {part} and end
+    /// in .tmesh, the same for every part ('parts/{label}.{part}.tmesh':
+    /// one part file per label and part; 'tmc merge' of all of them writes
+    /// what one run writes). With --normals, each label's normals are those of its
     /// indicator's gradient. A label's surface faces out of its samples
     /// (--inside low is refused). Float inputs must hold whole numbers (the first
     /// sample that does not is an error). --stats/--json give per label
@@ -76,7 +77,9 @@ pub(crate) struct ExtractArgs {
     /// Streamed as it is extracted; written atomically: nothing is left there
     /// if the run fails. {stem} is replaced by the input's name without its
     /// extension(s) (an HDF5 file's, also for FILE.h5:/dataset; a Zarr
-    /// store's, also for STORE.zarr/array), {iso} by the isovalue.
+    /// store's, also for STORE.zarr/array), {iso} by the isovalue, {label}
+    /// by the label (--labels), {part} by I (--part I/N). Any other {NAME}
+    /// is an error; other braces are kept.
     #[arg(
         short,
         long,
@@ -178,7 +181,9 @@ pub(crate) struct ExtractArgs {
 
     /// Extract only part I of N (e.g. 3/7): the I-th of N z-ranges of cell
     /// layers, written as a part file for 'tmc merge' (see docs/hpc.md).
-    /// One input and one isovalue only.
+    /// One input and one isovalue only. {part} in -o is replaced by I, so
+    /// every part can be given the same -o ('parts/p{part}.tmesh'); with
+    /// --labels it is required.
     #[arg(long, value_name = "I/N", value_parser = tmc::part::PartSpec::parse)]
     pub part: Option<tmc::part::PartSpec>,
 
@@ -261,7 +266,8 @@ impl ExtractArgs {
 pub(crate) struct BatchArgs {
     /// Read the inputs from FILE, one per line: 'INPUT ISO[,ISO...] OUTPUT'
     /// separated by whitespace, or by tabs when the line has one (paths with
-    /// spaces); '#' starts a comment line. OUTPUT may use {stem} and {iso}.
+    /// spaces); '#' starts a comment line. OUTPUT may use {stem} and {iso}
+    /// (any other {NAME} is an error naming FILE:LINE).
     /// Relative paths are relative to the current directory.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["input", "iso", "output"])]
     pub manifest: Option<PathBuf>,

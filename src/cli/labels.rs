@@ -17,28 +17,33 @@
 use super::extract_args::{ExtractArgs, InsideArg};
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
+use super::placeholders;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tmc::check::{measure_reports, Measured};
 use tmc::export::{LabelFiles, LabelSink};
+use tmc::part::PartSpec;
 use tmc::stream::label_report::label_reports;
 use tmc::stream::{check_grid, LabelReport, LabelRun};
 use tmc::{Error, MeshSink, Result};
 
-/// The output name `template` with `{stem}` replaced by the name of
-/// `input`; `{iso}`, which batch scripts often carry, is refused: a label
-/// map's pass has no isovalue, and `{label}` names its files.
-fn expand_template(template: &Path, input: &Path) -> Result<PathBuf> {
+/// The output name `template` with `{part}` replaced by the part's number
+/// and `{stem}` by the name of `input`; `{iso}`, which batch scripts often
+/// carry, is refused: a label map's pass has no isovalue, and `{label}`
+/// names its files. So is any other unknown placeholder.
+fn expand_template(template: &Path, input: &Path, part: Option<PartSpec>) -> Result<PathBuf> {
     if tmc::files::has_placeholder(template, "{iso}") {
         return Err(Error::Invalid(format!(
             "{}: {{iso}} has no value with --labels (a label's surface is no isovalue's): use {{label}} instead, e.g. -o 'out/{{stem}}_{{label}}.ply'",
             template.display()
         )));
     }
+    placeholders::check(template, "-o", &placeholders::labels(part))?;
+    let template = placeholders::fill_part(template, part);
     let stem = super::manifest::stem(input);
-    Ok(tmc::files::fill_placeholder(template, "{stem}", &stem))
+    Ok(tmc::files::fill_placeholder(&template, "{stem}", &stem))
 }
 
 /// Runs `tmc extract --labels`.
@@ -60,17 +65,22 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         )));
     }
     let background = args.background.unwrap_or(0);
-    let template = &expand_template(template, input)?;
+    // Each part's files need their own names: the same -o for every part
+    // let part 2 replace part 1's files without a word.
+    let per_part = tmc::files::has_placeholder(template, placeholders::PART);
+    let template = &expand_template(template, input, args.part)?;
     let per_label = tmc::files::has_placeholder(template, "{label}");
-    // A name without {label} must be one .ply or .tmesh: refused before
-    // the input is read.
-    tmc::export::label_outputs(template, &[])?;
-    if args.part.is_some() && (!per_label || template.extension().is_none_or(|e| e != "tmesh")) {
+    if args.part.is_some()
+        && (!per_label || !per_part || template.extension().is_none_or(|e| e != "tmesh"))
+    {
         return Err(Error::Invalid(format!(
-            "{}: --labels with --part writes one part file per label for 'tmc merge': -o must contain {{label}} and end in .tmesh",
-            template.display()
+            "{}: --labels with --part writes one part file per label and part for 'tmc merge': -o must contain {{label}} and {{part}} and end in .tmesh (e.g. -o 'parts/{{label}}.{{part}}.tmesh')",
+            args.output.as_deref().unwrap_or(template).display()
         )));
     }
+    // A name without {label} must be one .ply or .tmesh, of a known format
+    // in a directory that takes files: refused before the input is read.
+    tmc::export::check_label_template(template)?;
     if args.part.is_some() && (args.stats || args.json) {
         return Err(Error::Invalid(
             "--labels with --part writes part files: --stats and --json need the merged meshes"
@@ -95,6 +105,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         list => Some(parse_list(list)?),
     };
     let labels = counts.select(wanted.as_deref(), background, input)?;
+    if !args.quiet {
+        note_absent(&labels, &counts, input);
+    }
     // Every label's file stays open until all are committed.
     tmc::files::raise_open_file_limit();
     tmc::files::check_open_files(labels.len(), tmc::export::open_files_per_label(template))?;
@@ -189,6 +202,35 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         .map_err(|e| withdraw(written.iter().copied(), e))?;
     }
     Ok(())
+}
+
+/// Says which labels of a list the map does not hold (a mistyped label
+/// gave an empty mesh without a word, where an isovalue outside the data
+/// range gets a note): one line, naming up to 10.
+fn note_absent(labels: &[i64], counts: &tmc::volume::LabelCounts, input: &Path) {
+    let absent: Vec<String> = labels
+        .iter()
+        .filter(|&&l| counts.samples(l) == 0)
+        .map(i64::to_string)
+        .collect();
+    let (shown, more) = (absent.len().min(10), absent.len().saturating_sub(10));
+    let list = absent[..shown].join(", ")
+        + &if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        };
+    match absent.len() {
+        0 => {}
+        1 => say!(
+            "tmc: note: label {list} is not in {}: its mesh is empty",
+            input.display()
+        ),
+        n => say!(
+            "tmc: note: {n} labels are not in {} ({list}): their meshes are empty",
+            input.display()
+        ),
+    }
 }
 
 /// `L1,L2,...`: integers, each once.

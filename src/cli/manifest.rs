@@ -98,6 +98,9 @@ pub(crate) fn parse(text: &str, name: &Path) -> Result<Vec<Item>> {
             .map(values::finite)
             .collect::<std::result::Result<Vec<f64>, String>>()
             .map_err(|e| at(format!("bad isovalue: {e}")))?;
+        let known = [super::placeholders::STEM, super::placeholders::ISO];
+        super::placeholders::check(Path::new(output), "OUTPUT", &known)
+            .map_err(|e| at(e.to_string()))?;
         let input = PathBuf::from(input);
         items.push(Item {
             outputs: outputs(Path::new(output), &input, &isos),

@@ -19,7 +19,9 @@ pub(crate) struct MergeArgs {
     pub parts: Vec<PathBuf>,
 
     /// Output mesh; the format comes from the extension, as for 'tmc
-    /// extract'. Written atomically.
+    /// extract'. Written atomically. Label parts merge into one file per
+    /// label with {label} (the one placeholder it takes), or one .ply or
+    /// .tmesh.
     #[arg(short, long, value_name = "OUTPUT")]
     pub output: PathBuf,
 
@@ -32,6 +34,9 @@ pub(crate) struct MergeArgs {
 /// Runs `tmc merge`; setting `cancel` (SIGINT, SIGTERM) stops it before
 /// the next chunk with [`tmc::Error::Interrupted`], leaving no output.
 pub(crate) fn run(args: &MergeArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    // Label parts merge into a file per label with {label}; nothing else
+    // is filled in.
+    super::placeholders::check(&args.output, "-o", &[super::placeholders::LABEL])?;
     for part in &args.parts {
         tmc::files::check_distinct(part, &args.output)?;
     }

@@ -23,6 +23,7 @@ mod memory;
 mod merge;
 mod monitor;
 mod output;
+mod placeholders;
 mod preview;
 mod progress;
 mod raw_input;

@@ -48,6 +48,22 @@ pub fn label_outputs(template: &Path, labels: &[i64]) -> Result<Vec<PathBuf>> {
     Ok(vec![template.to_path_buf()])
 }
 
+/// Refuses, before the volume is read, an output name that no label's
+/// file could take: a form [`label_outputs`] refuses, an unknown format,
+/// or (unless `{label}` is in its directory) a directory that is missing
+/// or takes no file. The labels are known only after a reading of the
+/// whole volume, and these were found only after it.
+pub fn check_label_template(template: &Path) -> Result<()> {
+    label_outputs(template, &[])?;
+    match template
+        .parent()
+        .is_some_and(|p| has_placeholder(p, "{label}"))
+    {
+        true => super::Format::from_path(template).map(drop),
+        false => super::check_output_path(template),
+    }
+}
+
 /// Files a label pass keeps open per label for the output name
 /// `template`: one for a `.tmesh` or `.stl` file per label and for one
 /// file of every label (a `.tmesh` per label in a temporary directory);

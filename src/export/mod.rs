@@ -33,8 +33,8 @@ mod stl;
 pub use crate::files::{check_output_file, fatal_cleanup, write_atomically, AtomicFile};
 pub use by_extension::{check_output_path, check_output_paths, create_sink, write_mesh, Format};
 pub use label_files::{
-    check_label_outputs, label_outputs, open_files_per_label, LabelFile, LabelFiles, LabelSink,
-    FINISHING_THREADS,
+    check_label_outputs, check_label_template, label_outputs, open_files_per_label, LabelFile,
+    LabelFiles, LabelSink, FINISHING_THREADS,
 };
 pub use labelled::write_labelled;
 pub use obj::{write_obj, Obj, ObjSink};

@@ -20,5 +20,7 @@ pub use open_files::{check_open_files, raise_open_file_limit};
 pub use paths::{
     check_distinct, check_input_kind, check_output_file, check_output_files, lowercase_extension,
 };
-pub use placeholders::{fill_placeholder, has_placeholder, insert_before_extension};
+pub use placeholders::{
+    fill_placeholder, has_placeholder, insert_before_extension, unknown_placeholder,
+};
 pub use withdraw::withdraw;

@@ -5,6 +5,7 @@ use super::atomic::{missing_dir, parent_dir, without_temp_path};
 use crate::{Error, Result};
 use std::collections::BTreeSet;
 use std::fs;
+use std::io;
 use std::path::Path;
 
 /// Refuses an input that is neither a regular file nor a directory (a FIFO,
@@ -78,24 +79,27 @@ fn output_dir(path: &Path) -> Result<&Path> {
         )));
     }
     if path.is_dir() {
-        return Err(Error::Invalid(format!(
-            "{}: is a directory, not an output file",
-            path.display()
-        )));
+        let line = "is a directory, not an output file";
+        return Err(Error::io(
+            path,
+            io::Error::new(io::ErrorKind::IsADirectory, line),
+        ));
     }
+    // The file system's errors keep their kind (`Error::Io`), as the
+    // writers' do when a directory is missing at the write itself, so that
+    // Python raises `FileNotFoundError` (`NotADirectoryError`,
+    // `PermissionError`) whether the check or the write finds it.
     let dir = parent_dir(path);
     match fs::metadata(dir) {
         Ok(meta) if meta.is_dir() => Ok(dir),
-        Ok(_) => Err(Error::Invalid(format!(
-            "{}: output directory {} is not a directory",
-            path.display(),
-            dir.display()
-        ))),
-        Err(_) => Err(Error::Invalid(format!(
-            "{}: {}",
-            path.display(),
-            missing_dir(dir)
-        ))),
+        Ok(_) => Err(Error::io(
+            path,
+            io::Error::new(
+                io::ErrorKind::NotADirectory,
+                format!("output directory {} is not a directory", dir.display()),
+            ),
+        )),
+        Err(e) => Err(Error::io(path, io::Error::new(e.kind(), missing_dir(dir)))),
     }
 }
 
@@ -108,12 +112,9 @@ fn try_writing(path: &Path, dir: &Path) -> Result<()> {
         .tempfile_in(dir)
         .map(drop)
         .map_err(|e| {
-            Error::Invalid(format!(
-                "{}: cannot write in directory {}: {}",
-                path.display(),
-                dir.display(),
-                without_temp_path(e)
-            ))
+            let e = without_temp_path(e);
+            let line = format!("cannot write in directory {}: {e}", dir.display());
+            Error::io(path, io::Error::new(e.kind(), line))
         })
 }
 

@@ -40,6 +40,32 @@ pub fn insert_before_extension(path: &Path, text: &str) -> PathBuf {
     from_bytes(bytes)
 }
 
+/// The first placeholder-like `{NAME}` in `path` that is none of `known`
+/// (each written with its braces, `"{stem}"`), if any. `NAME` is one or
+/// more ASCII letters, digits or underscores: a mistyped or unsupported
+/// placeholder (`{Stem}`, `{nonsense}`) would otherwise be written into
+/// the file's name without a word, while other braces (`{}`, `{a b}`,
+/// `{1.5}`... and a lone `{`) stay literal text, as they always were.
+pub fn unknown_placeholder(path: &Path, known: &[&str]) -> Option<String> {
+    let bytes = to_bytes(path);
+    let is_name = |b: &u8| b.is_ascii_alphanumeric() || *b == b'_';
+    let mut i = 0;
+    while let Some(open) = bytes[i..].iter().position(|&b| b == b'{').map(|p| p + i) {
+        let name_len = bytes[open + 1..].iter().take_while(|b| is_name(b)).count();
+        let close = open + 1 + name_len;
+        if name_len > 0 && bytes.get(close) == Some(&b'}') {
+            let found = String::from_utf8_lossy(&bytes[open..=close]).into_owned();
+            if !known.contains(&found.as_str()) {
+                return Some(found);
+            }
+            i = close + 1;
+        } else {
+            i = open + 1;
+        }
+    }
+    None
+}
+
 /// Whether `path` contains `placeholder`.
 pub fn has_placeholder(path: &Path, placeholder: &str) -> bool {
     let from = placeholder.as_bytes();
@@ -86,6 +112,34 @@ mod tests {
         assert_eq!(
             insert_before_extension(Path::new("a.d/mesh"), "_x"),
             Path::new("a.d/mesh_x")
+        );
+    }
+
+    /// `{NAME}` outside `known` is found (the first one), whatever the
+    /// bytes around it; other braces are literal text.
+    #[test]
+    fn unknown_placeholders_are_found_and_other_braces_are_text() {
+        let known = ["{stem}", "{iso}"];
+        let dir = std::ffi::OsStr::from_bytes(b"nu\xffd");
+        for (name, unknown) in [
+            ("{stem}_{iso}.ply", None),
+            ("{nonsense}.ply", Some("{nonsense}")),
+            ("{stem}_{Stem}_{x}.ply", Some("{Stem}")),
+            ("{{stem}}.ply", None),
+            ("{}_{a b}_{1.5}_{_.ply", None),
+            ("{lab{label}.ply", Some("{label}")),
+            ("a{iso}{part}", Some("{part}")),
+        ] {
+            let path = Path::new(dir).join(name);
+            assert_eq!(
+                unknown_placeholder(&path, &known).as_deref(),
+                unknown,
+                "{name}"
+            );
+        }
+        assert_eq!(
+            unknown_placeholder(Path::new("{label}.ply"), &[]).as_deref(),
+            Some("{label}")
         );
     }
 }

@@ -515,3 +515,57 @@ fn manifest_lines_choose_dicom_series() {
         "{line}"
     );
 }
+
+/// Two items of a batch drawing one picture (two manifest lines of one
+/// input, `--preview 'DIR/{stem}.png'`) are refused before anything runs,
+/// as two meshes of one name are: the second picture replaced the first
+/// and the batch exited 0.
+#[test]
+fn two_previews_of_one_name_are_refused_before_the_batch() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = synth(d, "sphere", "10,10,10", "f32", "ball.nrrd");
+    let manifest = d.join("list.txt");
+    let (a, b) = (d.join("a.ply"), d.join("b.ply"));
+    fs::write(
+        &manifest,
+        format!("{0} 0.3 {1}\n{0} 0.5 {2}\n", s(&input), s(&a), s(&b)),
+    )
+    .unwrap();
+    let picture = d.join("{stem}.png");
+    let args = [
+        "extract",
+        "--manifest",
+        s(&manifest),
+        "--preview",
+        s(&picture),
+    ];
+    let err = assert_one_line(&tmc(&[&args[..], &["-q"]].concat()), 1);
+    assert!(
+        err.contains("ball.png: two previews of the batch have this name"),
+        "{err}"
+    );
+    assert_eq!(names(d), ["ball.nrrd", "list.txt"]);
+    // With {iso} each picture has its own name.
+    let picture = d.join("{stem}_{iso}.png");
+    let args = [
+        "extract",
+        "--manifest",
+        s(&manifest),
+        "--preview",
+        s(&picture),
+    ];
+    let out = tmc(&[&args[..], &["-q"]].concat());
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        names(d),
+        [
+            "a.ply",
+            "b.ply",
+            "ball.nrrd",
+            "ball_0.3.png",
+            "ball_0.5.png",
+            "list.txt"
+        ]
+    );
+}

@@ -262,7 +262,7 @@ fn hundreds_of_labels_run_under_a_low_soft_limit_on_open_files() {
     fs::create_dir(&parts).unwrap();
     let mut merge = vec!["merge".to_string()];
     for i in 1..=2 {
-        let part = s(&parts.join(format!("{{label}}.{i}.tmesh"))).to_string();
+        let part = s(&parts.join("{label}.{part}.tmesh")).to_string();
         let spec = format!("{i}/2");
         ok(&[
             "extract",
@@ -370,4 +370,36 @@ fn more_labels_than_open_files_are_refused_before_the_pass() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert_eq!(names(&written).len(), 120);
+}
+
+/// A listed label the map does not hold gets an empty mesh and a note, as
+/// an isovalue outside the data range does (a mistyped label was written
+/// as an empty file without a word); `-q` keeps it quiet.
+#[test]
+fn a_listed_label_not_in_the_map_is_noted() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = negative_map(dir.path());
+    let out = dir.path().join("{label}.ply");
+    let run = |labels: &str, quiet: &[&str]| {
+        let args = ["extract", s(&input), "--labels", labels, "-o", s(&out)];
+        let result = tmc(&[&args[..], quiet].concat());
+        assert!(result.status.success(), "{result:?}");
+        String::from_utf8(result.stderr).unwrap()
+    };
+    let one = run("-5,8,7", &[]);
+    assert_eq!(one.lines().count(), 1, "{one}");
+    assert!(
+        one.starts_with("tmc: note: label 8 is not in ") && one.contains("its mesh is empty"),
+        "{one}"
+    );
+    let many: Vec<String> = (100..115).map(|l| l.to_string()).collect();
+    let several = run(&format!("7,{}", many.join(",")), &[]);
+    assert_eq!(several.lines().count(), 1, "{several}");
+    assert!(
+        several.contains("15 labels are not in") && several.contains("and 5 more"),
+        "{several}"
+    );
+    assert_eq!(run("-5,8", &["-q"]), "");
+    assert_eq!(run("-5,7", &[]), "");
+    assert!(dir.path().join("8.ply").is_file());
 }

@@ -85,11 +85,11 @@ fn stem_is_the_input_name_in_one_file_and_in_a_file_per_label() {
 }
 
 /// The label parts of `input` in `parts`, `{label}.{i}.tmesh` for parts
-/// 1 to 3.
+/// 1 to 3 (the same `-o '{label}.{part}.tmesh'` for each).
 fn label_parts(input: &Path, parts: &Path) {
     fs::create_dir(parts).unwrap();
+    let out = parts.join("{label}.{part}.tmesh");
     for i in 1..=3 {
-        let out = parts.join(format!("{{label}}.{i}.tmesh"));
         let part = format!("{i}/3");
         ok(&[
             "extract",
@@ -242,4 +242,35 @@ fn label_without_labels_is_refused() {
         assert!(err.contains("{label}") && err.contains("--labels"), "{err}");
         assert_eq!(names(dir.path()), ["map.nrrd"]);
     }
+}
+
+/// An output name no label's file could take (a missing directory, an
+/// unknown format) is refused before the map is read: a map whose first
+/// reading fails (a sample 1.5) gets the output's error, not the map's
+/// (the labels are known only after that reading, and the name was
+/// checked only then: minutes into a large map).
+#[test]
+fn a_label_output_that_cannot_be_written_is_refused_before_the_map_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut values = vec![0.0; 64];
+    values[21] = 1.5;
+    let input = d.join("bad.nrrd");
+    write(&input, [4, 4, 4], values, ScalarType::F32);
+    for (out, words) in [
+        ("nodir/{label}.ply", "output directory"),
+        ("{label}.xyz", "unknown output format"),
+        ("{stem}_{label}.xyz", "unknown output format"),
+    ] {
+        let out = d.join(out);
+        let args = ["extract", s(&input), "--labels", "all", "-o", s(&out), "-q"];
+        let err = assert_one_line(&tmc(&args), 1);
+        assert!(err.contains(words) && !err.contains("1.5"), "{err}");
+    }
+    // {label} in the directory: the directories are the labels'.
+    let out = d.join("{label}/m.ply");
+    let args = ["extract", s(&input), "--labels", "all", "-o", s(&out), "-q"];
+    let err = assert_one_line(&tmc(&args), 1);
+    assert!(err.contains("1.5"), "{err}");
+    assert_eq!(names(d), ["bad.nrrd"]);
 }

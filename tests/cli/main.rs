@@ -18,6 +18,7 @@ mod label_args;
 mod label_names;
 mod meshfile;
 mod normals;
+mod placeholders;
 mod preview;
 mod preview_frame;
 mod quiet;

@@ -303,7 +303,7 @@ fn parts_merge_into_the_one_run_bytes() {
             let part = format!("{i}/3");
             let mut args = extra.clone();
             args.extend(["--part", &part, "--threads", "2"]);
-            labels_run(&input, &parts.join(format!("{{label}}.{i}.tmesh")), &args);
+            labels_run(&input, &parts.join("{label}.{part}.tmesh"), &args);
         }
         let mut files: Vec<PathBuf> = std::fs::read_dir(&parts)
             .unwrap()

@@ -11,26 +11,34 @@
 //!
 //! The threads only finish files; what they report is settled with the
 //! other labels' files when the pass has ended ([`super::LabelFiles`]):
-//! all are kept, or none.
+//! all are kept, or none, a file that one replaced put back
+//! ([`SetAside`]).
 
+use super::set_aside::SetAside;
 use crate::mesh::{MeshSink, Totals};
 use crate::Result;
 use crossbeam::channel::{unbounded, Receiver, Sender};
+use std::path::PathBuf;
 use std::thread::JoinHandle;
 
-/// A label's file to finish: the label's index, its sink and the totals of
-/// the chunks it was given.
+/// A label's file to finish: the label's index, its sink, the totals of
+/// the chunks it was given and the path the sink puts it at.
 pub(super) struct Job {
     pub index: usize,
     pub sink: Box<dyn MeshSink + Send>,
     pub totals: Totals,
+    pub target: PathBuf,
 }
+
+/// What finishing a label's file gave: the file it replaced, if any, or
+/// the error.
+pub(super) type Finished = Result<Option<SetAside>>;
 
 /// Threads that finish label files handed to them (see the module
 /// documentation). Dropped, it waits for the files handed over.
 pub(super) struct Finisher {
     jobs: Option<Sender<Job>>,
-    done: Receiver<(usize, Result<()>)>,
+    done: Receiver<(usize, Finished)>,
     threads: Vec<JoinHandle<()>>,
 }
 
@@ -45,7 +53,8 @@ impl Finisher {
                 let report = report.clone();
                 std::thread::spawn(move || {
                     for mut job in queue {
-                        let result = job.sink.finish(&job.totals);
+                        let result = SetAside::before_replacing(&job.target)
+                            .and_then(|aside| job.sink.finish(&job.totals).map(|()| aside));
                         if result.is_ok() {
                             crate::files::fatal_cleanup::note_kept_in_place(1);
                         }
@@ -70,7 +79,7 @@ impl Finisher {
     /// Waits for every file handed over (the senders given out must be
     /// dropped first) and gives each one's result, by label index, in the
     /// order they were finished.
-    pub fn join(mut self) -> Vec<(usize, Result<()>)> {
+    pub fn join(mut self) -> Vec<(usize, Finished)> {
         self.stop();
         self.done.try_iter().collect()
     }

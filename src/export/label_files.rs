@@ -10,7 +10,8 @@
 //! as the pass is past its label (`early_finish.rs`); all of them are kept
 //! or none.
 
-use super::early_finish::{Finisher, Job};
+use super::early_finish::{Finished, Finisher, Job};
+use super::set_aside::SetAside;
 use super::{create_sink, write_labelled};
 use crate::fan_out::fan_out;
 use crate::files::{fill_placeholder, has_placeholder, withdraw};
@@ -153,6 +154,8 @@ struct Early {
     /// The totals of the chunks given so far.
     seen: Totals,
     to: crossbeam::channel::Sender<Job>,
+    /// The path the file is put at.
+    target: PathBuf,
 }
 
 impl LabelFile {
@@ -183,6 +186,7 @@ impl LabelFile {
                 index: early.index,
                 sink,
                 totals: early.seen,
+                target: early.target.clone(),
             };
             early
                 .to
@@ -351,6 +355,7 @@ impl LabelFiles {
                 last_plane: last_planes[i].expect("filtered"),
                 seen: Totals::default(),
                 to: finisher.sender(),
+                target: self.targets[i].clone(),
             });
         }
         self.finisher = Some(finisher);
@@ -360,7 +365,7 @@ impl LabelFiles {
     /// once the finishing threads are done.
     /// They are settled by the caller (kept or removed), so they no longer
     /// count as kept in place by a run that may fail.
-    fn finished_early(&mut self) -> Vec<(usize, Result<()>)> {
+    fn finished_early(&mut self) -> Vec<(usize, Finished)> {
         // The threads end once every file's sender is gone.
         for file in &mut self.files {
             file.early = None;
@@ -383,7 +388,7 @@ impl LabelFiles {
     /// order, an interruption stays [`Error::Interrupted`].
     pub fn finish(mut self, cancel: Option<&AtomicBool>) -> Result<()> {
         let early = self.finished_early();
-        let mut results = finish_all(&mut self.files, cancel)?;
+        let mut results = finish_all(&mut self.files, &self.targets, cancel)?;
         for (i, result) in early {
             results[i] = result;
         }
@@ -413,11 +418,18 @@ const EARLY_FINISHING_THREADS: usize = 8;
 
 impl Drop for LabelFiles {
     /// A pass that failed, or whose files were never finished, leaves none
-    /// of the files finished during it behind.
+    /// of the files finished during it behind: each is removed, or the
+    /// file it replaced put back.
     fn drop(&mut self) {
         for (i, result) in self.finished_early() {
-            if result.is_ok() {
-                let _ = std::fs::remove_file(&self.targets[i]);
+            match result {
+                Ok(Some(aside)) => {
+                    let _ = aside.restore();
+                }
+                Ok(None) => {
+                    let _ = std::fs::remove_file(&self.targets[i]);
+                }
+                Err(_) => {}
             }
         }
     }
@@ -428,12 +440,17 @@ impl Drop for LabelFiles {
 /// threads, the others in turn. Finishing a file is mostly waiting for the
 /// disk (the last bytes written, the file synced, renamed into place), and
 /// one file after another, hundreds of them took longer than the pass.
-/// Each file is finished or removed as in the pass; the result of each, in
+/// Each file is finished or removed as in the pass, the file at its path
+/// (`targets`, in the same order) set aside first; the result of each, in
 /// the order of `files` (see [`all_or_none`]).
-fn finish_all(files: &mut [LabelFile], cancel: Option<&AtomicBool>) -> Result<Vec<Result<()>>> {
+fn finish_all(
+    files: &mut [LabelFile],
+    targets: &[PathBuf],
+    cancel: Option<&AtomicBool>,
+) -> Result<Vec<Finished>> {
     let never = AtomicBool::new(false);
     let cancel = cancel.unwrap_or(&never);
-    let mut results: Vec<Result<()>> = Vec::with_capacity(files.len());
+    let mut results: Vec<Finished> = Vec::with_capacity(files.len());
     let mut moving = Vec::new();
     for (i, file) in files.iter_mut().enumerate() {
         let totals = file
@@ -445,13 +462,18 @@ fn finish_all(files: &mut [LabelFile], cancel: Option<&AtomicBool>) -> Result<Ve
         )));
         match &mut file.inner {
             Some(LabelSink::Send(sink)) => moving.push((i, sink, totals)),
-            Some(LabelSink::Local(sink)) => results[i] = sink.finish_cancellable(&totals, cancel),
+            Some(LabelSink::Local(sink)) => {
+                results[i] = SetAside::before_replacing(&targets[i])
+                    .and_then(|aside| sink.finish_cancellable(&totals, cancel).map(|()| aside))
+            }
             None => {}
         }
     }
     let threads = moving.len().min(FINISHING_THREADS);
     let finished = fan_out(moving, threads, |_, (i, sink, totals)| {
-        (i, sink.finish_cancellable(&totals, cancel))
+        let result = SetAside::before_replacing(&targets[i])
+            .and_then(|aside| sink.finish_cancellable(&totals, cancel).map(|()| aside));
+        (i, result)
     });
     for (i, result) in finished {
         results[i] = result;
@@ -460,37 +482,50 @@ fn finish_all(files: &mut [LabelFile], cancel: Option<&AtomicBool>) -> Result<Ve
 }
 
 /// Settles the files finished at `targets` (`results`, in the same order):
-/// when one failed, those put in place are removed again, so that a failed
+/// when one failed, those put in place are taken back, so that a failed
 /// run leaves none of its label files behind, whichever threads finished
-/// which before the failure (a file it did not put in place, one that was
-/// there before, is left alone). The error is the first label's in order;
-/// an interruption stays one (exit 130).
-fn all_or_none(targets: &[PathBuf], results: Vec<Result<()>>) -> Result<()> {
+/// which before the failure: each is removed, or, where it replaced a file
+/// of an earlier run, that file is put back (a file it did not replace is
+/// left alone). When all succeeded, the files replaced go. The error is
+/// the first label's in order; an interruption stays one (exit 130).
+fn all_or_none(targets: &[PathBuf], results: Vec<Finished>) -> Result<()> {
     let mut placed = Vec::new();
     let mut first_error = None;
     for (target, result) in targets.iter().zip(results) {
         match result {
-            Ok(()) => placed.push(target.as_path()),
+            Ok(aside) => placed.push((target.as_path(), aside)),
             Err(e) => {
                 first_error.get_or_insert(e);
             }
         }
     }
-    match first_error {
-        None => Ok(()),
-        Some(Error::Interrupted) => {
-            for path in placed {
+    let Some(e) = first_error else {
+        return Ok(());
+    };
+    let mut new = Vec::new();
+    for (target, aside) in placed {
+        match aside {
+            // An earlier run's file is back; nothing of this run is left.
+            Some(aside) => {
+                let _ = aside.restore();
+            }
+            None => new.push(target),
+        }
+    }
+    match e {
+        Error::Interrupted => {
+            for path in new {
                 let _ = std::fs::remove_file(path);
             }
             Err(Error::Interrupted)
         }
-        Some(e) => Err(withdraw(placed, e)),
+        e => Err(withdraw(new, e)),
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{all_or_none, LabelFiles, LabelSink};
+    use super::{all_or_none, LabelFiles, LabelSink, SetAside};
     use crate::mesh::{Chunk, MeshInfo, MeshSink, Totals};
     use crate::params::{Inside, Method};
     use crate::{Error, Grid};
@@ -644,7 +679,7 @@ mod tests {
     fn a_failed_label_takes_the_files_put_in_place_with_it() {
         let dir = tempfile::tempdir().unwrap();
         let targets = three(dir.path());
-        let results = vec![Ok(()), Err(Error::Invalid("disk full".into())), Ok(())];
+        let results = vec![Ok(None), Err(Error::Invalid("disk full".into())), Ok(None)];
         let err = all_or_none(&targets, results).unwrap_err().to_string();
         assert!(err.starts_with("disk full; removed the output"), "{err}");
         assert!(!targets[0].exists() && !targets[2].exists());
@@ -657,7 +692,7 @@ mod tests {
         let targets = three(dir.path());
         let results = vec![
             Err(Error::Interrupted),
-            Ok(()),
+            Ok(None),
             Err(Error::Invalid("later".into())),
         ];
         assert!(matches!(
@@ -671,7 +706,56 @@ mod tests {
     fn when_all_are_finished_all_stay() {
         let dir = tempfile::tempdir().unwrap();
         let targets = three(dir.path());
-        all_or_none(&targets, vec![Ok(()), Ok(()), Ok(())]).unwrap();
+        all_or_none(&targets, vec![Ok(None), Ok(None), Ok(None)]).unwrap();
         assert!(targets.iter().all(|t| t.exists()));
+    }
+
+    /// The files of an earlier run into the same directory, replaced by
+    /// this run's: put back when a label fails, let go when all succeed;
+    /// no second name is left either way.
+    #[test]
+    fn a_failed_run_puts_back_the_files_it_replaced() {
+        for fail in [true, false] {
+            let dir = tempfile::tempdir().unwrap();
+            let targets = three(dir.path());
+            let mut results = Vec::new();
+            for t in &targets {
+                let aside = SetAside::before_replacing(t).unwrap();
+                assert!(aside.is_some());
+                let new = dir.path().join("new");
+                std::fs::write(&new, b"this run").unwrap();
+                std::fs::rename(&new, t).unwrap();
+                results.push(Ok(aside));
+            }
+            if fail {
+                results[1] = Err(Error::Invalid("disk full".into()));
+            }
+            assert_eq!(all_or_none(&targets, results).is_err(), fail);
+            let want: &[u8] = if fail { b"mesh" } else { b"this run" };
+            for t in [&targets[0], &targets[2]] {
+                assert_eq!(std::fs::read(t).unwrap(), want, "fail {fail}");
+            }
+            assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 3);
+        }
+    }
+
+    /// A file finished during the pass over an earlier run's file: the
+    /// pass fails, and the earlier file is back.
+    #[test]
+    fn a_pass_that_fails_puts_back_the_file_an_early_one_replaced() {
+        let _one = one_at_a_time();
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("1.tmesh"), b"earlier").unwrap();
+        let (mut files, outputs) = two_files(dir.path());
+        files.sinks()[0].chunk(0, &chunk(1, true)).unwrap();
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
+        while std::fs::read(&outputs[0]).unwrap() == b"earlier" {
+            assert!(std::time::Instant::now() < deadline, "not finished early");
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        drop(files);
+        assert_eq!(std::fs::read(&outputs[0]).unwrap(), b"earlier");
+        assert!(!outputs[1].exists());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 }

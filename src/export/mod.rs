@@ -25,6 +25,7 @@ mod obj;
 mod off;
 mod ply;
 mod replay;
+mod set_aside;
 mod spooled;
 mod stl;
 

@@ -545,9 +545,15 @@ fn early_and_late_labels(dir: &Path) -> PathBuf {
 
 /// Starts a label pass of `map` (see [`early_and_late_labels`]) on one
 /// thread and waits until label 1's file is in place while the pass goes
-/// on.
-fn start_labels_until_label_1(map: &Path) -> (tempfile::TempDir, Child) {
+/// on; `earlier`, if given, is first written to `1.tmesh` and `2.tmesh`
+/// (an earlier run's files, which the pass replaces).
+fn start_labels_until_label_1(map: &Path, earlier: Option<&[u8]>) -> (tempfile::TempDir, Child) {
     let (dir, output) = out_dir("{label}.tmesh");
+    for name in ["1.tmesh", "2.tmesh"] {
+        if let Some(bytes) = earlier {
+            fs::write(dir.path().join(name), bytes).unwrap();
+        }
+    }
     let mut child = spawn(&[
         "extract",
         s(map),
@@ -563,7 +569,9 @@ fn start_labels_until_label_1(map: &Path) -> (tempfile::TempDir, Child) {
         "1",
     ]);
     let early = dir.path().join("1.tmesh");
-    wait_until(&mut child, "label 1's file", || early.exists());
+    wait_until(&mut child, "label 1's file", || {
+        fs::read(&early).is_ok_and(|b| Some(b.as_slice()) != earlier)
+    });
     assert!(
         child.try_wait().unwrap().is_none(),
         "the run finished before the test could interrupt it; use a larger input"
@@ -578,6 +586,23 @@ fn start_labels_until_label_1(map: &Path) -> (tempfile::TempDir, Child) {
 fn sigint_stops_a_label_pass_and_takes_back_the_files_finished_during_it() {
     let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let data = tempfile::tempdir().unwrap();
-    let (dir, child) = start_labels_until_label_1(&early_and_late_labels(data.path()));
+    let (dir, child) = start_labels_until_label_1(&early_and_late_labels(data.path()), None);
     interrupt_and_check(child, ("INT", 130), None, 2.0, (dir.path(), &[]));
+}
+
+/// The same, run into a directory holding an earlier run's files: label
+/// 1's new file replaced the earlier one during the pass; interrupted, the
+/// run puts the earlier file back (it removed it before: data lost).
+#[test]
+fn sigint_in_a_label_pass_puts_back_the_earlier_files_it_replaced() {
+    let _serial = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
+    let data = tempfile::tempdir().unwrap();
+    let earlier = b"an earlier run's mesh";
+    let map = early_and_late_labels(data.path());
+    let (dir, child) = start_labels_until_label_1(&map, Some(earlier));
+    let keep = ["1.tmesh", "2.tmesh"];
+    interrupt_and_check(child, ("INT", 130), None, 2.0, (dir.path(), &keep));
+    for name in keep {
+        assert_eq!(fs::read(dir.path().join(name)).unwrap(), earlier, "{name}");
+    }
 }

@@ -500,6 +500,11 @@ fn all_or_none(targets: &[PathBuf], results: Vec<Finished>) -> Result<()> {
         }
     }
     let Some(e) = first_error else {
+        // The replaced files go: freeing their blocks is waiting for the
+        // disk too, so on several threads.
+        let asides: Vec<SetAside> = placed.into_iter().filter_map(|(_, a)| a).collect();
+        let threads = asides.len().min(FINISHING_THREADS);
+        fan_out(asides, threads, |_, aside| drop(aside));
         return Ok(());
     };
     let mut new = Vec::new();

@@ -131,24 +131,24 @@ fn enclosing_level(path: &Path) -> Option<OmeLevel> {
 /// Whether `dir` holds a Zarr group (v2 `.zgroup`, or a v3 `zarr.json`
 /// of node type `group`).
 fn is_group(dir: &Path) -> bool {
-    if dir.join(".zgroup").is_file() {
+    node_is(dir, ".zgroup", "group")
+}
+
+/// Whether the store's root is itself an array.
+fn root_is_array(root: &Path) -> bool {
+    node_is(root, ".zarray", "array")
+}
+
+/// Whether `dir` holds a Zarr node of `kind`: v2's file `v2_file`, or a
+/// v3 `zarr.json` of that `node_type`.
+fn node_is(dir: &Path, v2_file: &str, kind: &str) -> bool {
+    if dir.join(v2_file).is_file() {
         return true;
     }
     std::fs::read(dir.join("zarr.json"))
         .ok()
         .and_then(|t| serde_json::from_slice::<Value>(&t).ok())
-        .is_some_and(|m| m.get("node_type").and_then(Value::as_str) == Some("group"))
-}
-
-/// Whether the store's root is itself an array.
-fn root_is_array(root: &Path) -> bool {
-    if root.join(".zarray").is_file() {
-        return true;
-    }
-    std::fs::read(root.join("zarr.json"))
-        .ok()
-        .and_then(|t| serde_json::from_slice::<Value>(&t).ok())
-        .is_some_and(|m| m.get("node_type").and_then(Value::as_str) == Some("array"))
+        .is_some_and(|m| m.get("node_type").and_then(Value::as_str) == Some(kind))
 }
 
 /// The sample type of a Zarr data type, if tmc reads it.

@@ -167,11 +167,40 @@ pub fn triangulate_ambiguous(
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
+    triangulate::<false>(g, residual, config, stats, out)
+}
+
+/// [`triangulate_ambiguous`] for a caller that triangulates many cells with
+/// one `out` (the slab loop): the flat contours of a cell that takes the
+/// table's fans (most ambiguous cells) are counted in `out`, one increment
+/// per cell, and reach `stats` only at [`CellMesh::flush_counts`], which the
+/// caller must call before it reads or hands on `stats`. Everything else,
+/// triangles and all other counts, is as [`triangulate_ambiguous`] gives it.
+pub fn triangulate_ambiguous_deferred(
+    g: &[f64; 8],
+    residual: Option<&[f64; 8]>,
+    config: u8,
+    stats: &mut Stats,
+    out: &mut CellMesh,
+) -> Triangles {
+    triangulate::<true>(g, residual, config, stats, out)
+}
+
+/// [`triangulate_ambiguous`], its table cells' flat contours counted in
+/// `out` if `DEFER` (see [`triangulate_ambiguous_deferred`]).
+#[inline(always)]
+fn triangulate<const DEFER: bool>(
+    g: &[f64; 8],
+    residual: Option<&[f64; 8]>,
+    config: u8,
+    stats: &mut Stats,
+    out: &mut CellMesh,
+) -> Triangles {
     let joined = face_decisions(g, residual, config);
     if !in_kernel_range(g) {
-        return triangulate_rescaled(g, residual, config, joined, stats, out);
+        return triangulate_rescaled::<DEFER>(g, residual, config, joined, stats, out);
     }
-    triangulate_decided(g, (g, residual), config, joined, stats, out)
+    triangulate_decided::<DEFER>(g, (g, residual), config, joined, stats, out)
 }
 
 /// [`triangulate_ambiguous`] of a cell in [`in_kernel_range`] whose face
@@ -179,7 +208,7 @@ pub fn triangulate_ambiguous(
 /// on `tested` (the values `g` was scaled from, if it was, and their
 /// residual).
 #[inline(always)]
-fn triangulate_decided(
+fn triangulate_decided<const DEFER: bool>(
     g: &[f64; 8],
     tested: (&[f64; 8], Option<&[f64; 8]>),
     config: u8,
@@ -200,8 +229,10 @@ fn triangulate_decided(
     // twice (most ambiguous cells): the table's fans, found without reading
     // the set itself unless the interior vertex needs its contour.
     if tunnel.is_none() && head.fan_len != 0 {
-        for (i, count) in stats.contours.iter_mut().enumerate() {
-            *count += u64::from(head.flat_counts >> (4 * i) & 0xf);
+        if DEFER {
+            out.count_table_cell(index);
+        } else {
+            count_flat_contours(stats, head.flat_counts, 1);
         }
         let n = usize::from(head.centred_len);
         if n == 0 {
@@ -264,7 +295,7 @@ fn in_kernel_range(g: &[f64; 8]) -> bool {
 /// decided on the values before scaling (the test is homogeneous).
 #[cold]
 #[inline(never)]
-fn triangulate_rescaled(
+fn triangulate_rescaled<const DEFER: bool>(
     g: &[f64; 8],
     residual: Option<&[f64; 8]>,
     config: u8,
@@ -284,7 +315,16 @@ fn triangulate_rescaled(
         // All zero: no corner is inside, so there is nothing to triangulate.
         return Triangles::Table(&[]);
     }
-    triangulate_decided(&scaled, (&finite, residual), config, joined, stats, out)
+    triangulate_decided::<DEFER>(&scaled, (&finite, residual), config, joined, stats, out)
+}
+
+/// Counts `cells` times the flat contours `flat_counts` of a contour set
+/// ([`SetHead::flat_counts`](super::tables::SetHead::flat_counts): four
+/// bits per vertex count, 3 to 6) in the paper's Table 1.
+pub(super) fn count_flat_contours(stats: &mut Stats, flat_counts: u16, cells: u64) {
+    for (i, count) in stats.contours.iter_mut().enumerate() {
+        *count += cells * u64::from(flat_counts >> (4 * i) & 0xf);
+    }
 }
 
 /// Counts a flat contour of `n` vertices in the paper's Table 1.
@@ -495,6 +535,21 @@ fn interior_vertex<'c>(
 mod tests {
     use super::*;
 
+    /// Values of a cell, small integers (many exact ties) if `integers`,
+    /// random reals in `[-0.5, 0.5)` otherwise, and their configuration.
+    fn random_cell(next: &mut impl FnMut() -> u64, integers: bool) -> ([f64; 8], u8) {
+        let g: [f64; 8] = std::array::from_fn(|_| {
+            let r = next();
+            if integers {
+                (r % 7) as f64 - 3.0
+            } else {
+                (r >> 11) as f64 / (1u64 << 52) as f64 - 0.5
+            }
+        });
+        let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+        (g, config)
+    }
+
     #[test]
     fn all_faces_at_once_agree_with_the_decider_face_by_face() {
         // Small integers (many exact ties: saddle value equal to the
@@ -502,15 +557,7 @@ mod tests {
         let mut next = crate::kernel::xorshift(0x5851_f42d_4c95_7f2du64);
         let mut ties = 0;
         for round in 0..200_000u32 {
-            let g: [f64; 8] = std::array::from_fn(|_| {
-                let r = next();
-                if round % 2 == 0 {
-                    (r % 7) as f64 - 3.0
-                } else {
-                    (r >> 11) as f64 / (1u64 << 52) as f64 - 0.5
-                }
-            });
-            let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+            let (g, config) = random_cell(&mut next, round % 2 == 0);
             let ambiguous = tables().ambiguous_faces[config as usize];
             let tied = FACE_CORNERS
                 .iter()
@@ -524,5 +571,36 @@ mod tests {
             );
         }
         assert!(ties > 1000, "only {ties} cells with a tie");
+    }
+
+    /// The deferred entry point triangulates as the immediate one, and after
+    /// `flush_counts` its statistics are the same (before it, the table
+    /// cells' flat contours are missing, so the comparison is not vacuous).
+    #[test]
+    fn deferred_counts_agree_after_the_flush() {
+        let mut next = crate::kernel::xorshift(0x3c6e_f372_fe94_f82bu64);
+        let (mut now, mut later) = (Stats::default(), Stats::default());
+        let (mut a, mut b) = (CellMesh::new(), CellMesh::new());
+        let mut cells = 0;
+        while cells < 20_000 {
+            let (g, config) = random_cell(&mut next, cells % 2 == 0);
+            if !tables().is_ambiguous[config as usize] {
+                continue;
+            }
+            cells += 1;
+            a.clear();
+            b.clear();
+            let x = triangulate_ambiguous(&g, None, config, &mut now, &mut a);
+            let y = triangulate_ambiguous_deferred(&g, None, config, &mut later, &mut b);
+            assert_eq!(x, y, "{g:?}");
+            assert_eq!((&a.triangles, &a.interior), (&b.triangles, &b.interior));
+        }
+        assert_ne!(now.contours, later.contours);
+        b.flush_counts(&mut later);
+        assert_eq!(now, later);
+        assert!(now.contours.iter().all(|&n| n > 100), "{:?}", now.contours);
+        // Flushed counts are forgotten.
+        b.flush_counts(&mut later);
+        assert_eq!(now, later);
     }
 }

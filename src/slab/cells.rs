@@ -10,7 +10,7 @@ use super::plane::Plane;
 use super::samples::cell_samples;
 use crate::error::make_room;
 use crate::kernel::tables::Tables;
-use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles, INTERIOR};
+use crate::kernel::{triangulate_ambiguous_deferred, CellMesh, Triangles, INTERIOR};
 use crate::params::{ExtractParams, Method};
 use crate::{Error, Result, Stats};
 use glam::DVec3;
@@ -198,7 +198,9 @@ pub(super) fn ambiguous_cell(
     // The cell's corner in grid index coordinates, for interior vertices
     // only (most ambiguous cells take table fans over edge vertices).
     let origin = || DVec3::from_array(place.index(x, y, bottom.z));
-    match triangulate_ambiguous(&g, residual, config, stats, cell) {
+    // The table cells' flat contours reach `stats` at the slab's end
+    // (`CellMesh::flush_counts` in `process_window`).
+    match triangulate_ambiguous_deferred(&g, residual, config, stats, cell) {
         Triangles::Table(fans) => {
             // Edge vertices only, as MC.
             make_room(&mut block.triangles, fans.len(), TRIANGLES)?;

@@ -40,8 +40,9 @@ fn edge_points<'a>(g: &'a [f64; 8], contour: &'a [u8]) -> impl Iterator<Item = D
 /// otherwise (the same difference of the same rounded products, negated;
 /// see [`det2_sign`](super::decider::det2_sign) for why its sign is exact
 /// when nonzero). Only faces where the rounded products tie go to
-/// the exact decider.
-#[inline]
+/// the exact decider. Inlined into the kernel (a call, its prologue and
+/// the tables' look-up again cost about a fifth of the decision).
+#[inline(always)]
 pub fn face_decisions(g: &[f64; 8], residual: Option<&[f64; 8]>, config: u8) -> u8 {
     let ambiguous = tables().ambiguous_faces[config as usize];
     if let Some(residual) = residual {
@@ -167,7 +168,7 @@ pub fn triangulate_ambiguous(
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
-    triangulate::<false>(g, residual, config, stats, out)
+    triangulate::<false>(g, residual, config, false, stats, out)
 }
 
 /// [`triangulate_ambiguous`] for a caller that triangulates many cells with
@@ -176,28 +177,50 @@ pub fn triangulate_ambiguous(
 /// per cell, and reach `stats` only at [`CellMesh::flush_counts`], which the
 /// caller must call before it reads or hands on `stats`. Everything else,
 /// triangles and all other counts, is as [`triangulate_ambiguous`] gives it.
+///
+/// `integers` says that `g` are the exact differences `value - iso` (or
+/// `iso - value`) of integer samples of at most 32 bits and the isovalue,
+/// without residual (`residual` is `None`), and that `config` holds their
+/// signs. Such a cell is always in [`in_kernel_range`], which is then not
+/// tested: an ambiguous cell has a corner inside (`g' > 0`) and one outside
+/// (`g <= 0`), whose samples differ, so by at least 1, and so do `g'` and
+/// `g` (both exact), so the larger magnitude is at least 1/2 and the sum
+/// of the magnitudes, rounded or not, is above 2^-197; the isovalue lies
+/// between those two samples, so every `|g|` is at most 2^33 and the sum
+/// at most about 2^36, below 2^197. (The test
+/// `integer_differences_are_in_range` checks this on samples of every
+/// integer type, at their ends, and isovalues of every kind.)
+///
+/// Inlined into the one caller, the slab loop's ambiguous cell, where the
+/// call's prologue and the [`Triangles`] handed back through memory cost
+/// as much as the range test.
+#[inline(always)]
 pub fn triangulate_ambiguous_deferred(
     g: &[f64; 8],
     residual: Option<&[f64; 8]>,
     config: u8,
+    integers: bool,
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
-    triangulate::<true>(g, residual, config, stats, out)
+    triangulate::<true>(g, residual, config, integers, stats, out)
 }
 
 /// [`triangulate_ambiguous`], its table cells' flat contours counted in
-/// `out` if `DEFER` (see [`triangulate_ambiguous_deferred`]).
+/// `out` if `DEFER`, the range test left out if `integers` (see
+/// [`triangulate_ambiguous_deferred`]).
 #[inline(always)]
 fn triangulate<const DEFER: bool>(
     g: &[f64; 8],
     residual: Option<&[f64; 8]>,
     config: u8,
+    integers: bool,
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
+    debug_assert!(!integers || (residual.is_none() && in_kernel_range(g)));
     let joined = face_decisions(g, residual, config);
-    if !in_kernel_range(g) {
+    if !integers && !in_kernel_range(g) {
         return triangulate_rescaled::<DEFER>(g, residual, config, joined, stats, out);
     }
     triangulate_decided::<DEFER>(g, (g, residual), config, joined, stats, out)
@@ -573,6 +596,62 @@ mod tests {
         assert!(ties > 1000, "only {ties} cells with a tie");
     }
 
+    /// The claim of `triangulate_ambiguous_deferred` with `integers`: exact
+    /// differences of integer samples (at most 32 bits) and an isovalue, of
+    /// mixed sign, are in `in_kernel_range`. Samples at the integer types'
+    /// ends and random ones; isovalues on a sample, half-way, tiny or
+    /// subnormal beside one; either side inside. (Differences of float
+    /// samples can lie out of range: the last assertion, so the check can
+    /// fail.)
+    #[test]
+    fn integer_differences_are_in_range() {
+        use crate::kernel::wide::subtraction_residual;
+        let mut next = crate::kernel::xorshift(0x1f83_d9ab_fb41_bd6bu64);
+        let ends = [
+            0.0,
+            1.0,
+            -1.0,
+            127.0,
+            -128.0,
+            255.0,
+            32767.0,
+            -32768.0,
+            65535.0,
+            2147483647.0,
+            -2147483648.0,
+            4294967295.0,
+        ];
+        let offsets = [0.0, 0.5, -0.5, 1e-300, -1e-300, 5e-324, -5e-324, 1e-9];
+        let mut checked = 0;
+        for round in 0..200_000u64 {
+            let v: [f64; 8] = std::array::from_fn(|_| {
+                let r = next();
+                match r % 4 {
+                    0 => ends[(r >> 8) as usize % ends.len()],
+                    1 => f64::from((r >> 32) as u32),
+                    2 => f64::from((r >> 32) as i32),
+                    _ => f64::from((r >> 32) as u8) - 128.0,
+                }
+            });
+            let r = next();
+            let iso = v[(r % 8) as usize] + offsets[(r >> 8) as usize % offsets.len()];
+            let sign = if round % 2 == 0 { 1.0 } else { -1.0 };
+            let g = v.map(|x| (x - iso) * sign);
+            let exact = v
+                .iter()
+                .all(|&x| subtraction_residual(x, iso, x - iso) == 0.0);
+            let mixed = g.iter().any(|&x| x > 0.0) && g.iter().any(|&x| x <= 0.0);
+            if exact && mixed {
+                assert!(in_kernel_range(&g), "{v:?} {iso} {sign}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 50_000, "only {checked} cells");
+        assert!(!in_kernel_range(&[
+            1e-300, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.0
+        ]));
+    }
+
     /// The deferred entry point triangulates as the immediate one, and after
     /// `flush_counts` its statistics are the same (before it, the table
     /// cells' flat contours are missing, so the comparison is not vacuous).
@@ -591,7 +670,7 @@ mod tests {
             a.clear();
             b.clear();
             let x = triangulate_ambiguous(&g, None, config, &mut now, &mut a);
-            let y = triangulate_ambiguous_deferred(&g, None, config, &mut later, &mut b);
+            let y = triangulate_ambiguous_deferred(&g, None, config, false, &mut later, &mut b);
             assert_eq!(x, y, "{g:?}");
             assert_eq!((&a.triangles, &a.interior), (&b.triangles, &b.interior));
         }

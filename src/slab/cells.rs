@@ -182,7 +182,11 @@ pub(super) fn ambiguous_cell(
     let values = cell_samples(bottom, top, y * nx + x, nx);
     // Both planes were read with the same level.
     let level = bottom.level;
-    let g = if bottom.plain && top.plain {
+    // Integer samples whose differences from the isovalue are exact:
+    // the kernel needs no range test for them (see
+    // `triangulate_ambiguous_deferred`), and they have no residual.
+    let integers = bottom.plain && top.plain;
+    let g = if integers {
         level.plain_all(values)
     } else {
         level.rel_all(values)
@@ -200,7 +204,7 @@ pub(super) fn ambiguous_cell(
     let origin = || DVec3::from_array(place.index(x, y, bottom.z));
     // The table cells' flat contours reach `stats` at the slab's end
     // (`CellMesh::flush_counts` in `process_window`).
-    match triangulate_ambiguous_deferred(&g, residual, config, stats, cell) {
+    match triangulate_ambiguous_deferred(&g, residual, config, integers, stats, cell) {
         Triangles::Table(fans) => {
             // Edge vertices only, as MC.
             make_room(&mut block.triangles, fans.len(), TRIANGLES)?;

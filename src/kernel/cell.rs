@@ -9,7 +9,7 @@ use super::scale::normalized;
 use super::tables::tables;
 use super::ties::edge_fraction;
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
-use super::tunnel::labelled_joins;
+use super::tunnel::{labelled_joins, small_integer_joins};
 use crate::Stats;
 use glam::DVec3;
 use std::cmp::Ordering::{Greater, Less};
@@ -168,7 +168,7 @@ pub fn triangulate_ambiguous(
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
-    triangulate::<false>(g, residual, config, false, stats, out)
+    triangulate::<false>(g, residual, config, Known::Nothing, stats, out)
 }
 
 /// [`triangulate_ambiguous`] for a caller that triangulates many cells with
@@ -178,18 +178,8 @@ pub fn triangulate_ambiguous(
 /// caller must call before it reads or hands on `stats`. Everything else,
 /// triangles and all other counts, is as [`triangulate_ambiguous`] gives it.
 ///
-/// `integers` says that `g` are the exact differences `value - iso` (or
-/// `iso - value`) of integer samples of at most 32 bits and the isovalue,
-/// without residual (`residual` is `None`), and that `config` holds their
-/// signs. Such a cell is always in [`in_kernel_range`], which is then not
-/// tested: an ambiguous cell has a corner inside (`g' > 0`) and one outside
-/// (`g <= 0`), whose samples differ, so by at least 1, and so do `g'` and
-/// `g` (both exact), so the larger magnitude is at least 1/2 and the sum
-/// of the magnitudes, rounded or not, is above 2^-197; the isovalue lies
-/// between those two samples, so every `|g|` is at most 2^33 and the sum
-/// at most about 2^36, below 2^197. (The test
-/// `integer_differences_are_in_range` checks this on samples of every
-/// integer type, at their ends, and isovalues of every kind.)
+/// `known` is what the caller knows of `g` (see [`Known`]), which spares
+/// the kernel tests whose answer that knowledge gives.
 ///
 /// Inlined into the one caller, the slab loop's ambiguous cell, where the
 /// call's prologue and the [`Triangles`] handed back through memory cost
@@ -199,43 +189,70 @@ pub fn triangulate_ambiguous_deferred(
     g: &[f64; 8],
     residual: Option<&[f64; 8]>,
     config: u8,
-    integers: bool,
+    known: Known,
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
-    triangulate::<true>(g, residual, config, integers, stats, out)
+    triangulate::<true>(g, residual, config, known, stats, out)
+}
+
+/// What the caller of [`triangulate_ambiguous_deferred`] knows of an
+/// ambiguous cell's values `g` (whose signs `config` holds).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Known {
+    /// Nothing: any values, with or without residual.
+    Nothing,
+    /// `g` are the exact differences `value - iso` (or `iso - value`) of
+    /// integer samples of at most 32 bits and the isovalue, without
+    /// residual. Such a cell is always in `in_kernel_range`, which is
+    /// then not tested: an ambiguous cell has a corner inside (`g' > 0`)
+    /// and one outside (`g <= 0`), whose samples differ, so by at least 1,
+    /// and so do `g'` and `g` (both exact), so the larger magnitude is at
+    /// least 1/2 and the sum of the magnitudes, rounded or not, is above
+    /// 2^-197; the isovalue lies between those two samples, so every `|g|`
+    /// is at most 2^33 and the sum at most about 2^36, below 2^197. (The
+    /// test `integer_differences_are_in_range` checks this on samples of
+    /// every integer type, at their ends, and isovalues of every kind.)
+    Integers,
+    /// [`Known::Integers`] of 8-bit samples and an integer isovalue: `g`
+    /// are integers, of magnitude at most 255 (the isovalue lies between
+    /// two of the samples), which the tunnel test takes as they are
+    /// ([`small_integer_joins`]) instead of testing and converting them.
+    SmallIntegers,
 }
 
 /// [`triangulate_ambiguous`], its table cells' flat contours counted in
-/// `out` if `DEFER`, the range test left out if `integers` (see
+/// `out` if `DEFER`, and the tests that `known` answers left out (see
 /// [`triangulate_ambiguous_deferred`]).
 #[inline(always)]
 fn triangulate<const DEFER: bool>(
     g: &[f64; 8],
     residual: Option<&[f64; 8]>,
     config: u8,
-    integers: bool,
+    known: Known,
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
-    debug_assert!(!integers || (residual.is_none() && in_kernel_range(g)));
+    debug_assert!(known == Known::Nothing || (residual.is_none() && in_kernel_range(g)));
     let joined = face_decisions(g, residual, config);
-    if !integers && !in_kernel_range(g) {
+    if known == Known::Nothing && !in_kernel_range(g) {
         return triangulate_rescaled::<DEFER>(g, residual, config, joined, stats, out);
     }
-    triangulate_decided::<DEFER>(g, (g, residual), config, joined, stats, out)
+    let small = known == Known::SmallIntegers;
+    triangulate_decided::<DEFER>(g, (g, residual), config, joined, small, stats, out)
 }
 
 /// [`triangulate_ambiguous`] of a cell in [`in_kernel_range`] whose face
 /// decisions are `joined`: its vertices placed with `g`, its tunnel decided
 /// on `tested` (the values `g` was scaled from, if it was, and their
-/// residual).
+/// residual), and if `small` on `g` as integers ([`Known::SmallIntegers`]).
 #[inline(always)]
 fn triangulate_decided<const DEFER: bool>(
     g: &[f64; 8],
     tested: (&[f64; 8], Option<&[f64; 8]>),
     config: u8,
     joined: u8,
+    small: bool,
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
@@ -244,6 +261,9 @@ fn triangulate_decided<const DEFER: bool>(
     let head = t.heads[index];
     let tunnel = if head.tunnel_pairs == 0 {
         None
+    } else if small {
+        small_integer_joins(g, head.tunnel_pairs, &head.labels)
+            .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b))
     } else {
         labelled_joins(tested.0, tested.1, head.tunnel_pairs, &head.labels)
             .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b))
@@ -338,7 +358,15 @@ fn triangulate_rescaled<const DEFER: bool>(
         // All zero: no corner is inside, so there is nothing to triangulate.
         return Triangles::Table(&[]);
     }
-    triangulate_decided::<DEFER>(&scaled, (&finite, residual), config, joined, stats, out)
+    triangulate_decided::<DEFER>(
+        &scaled,
+        (&finite, residual),
+        config,
+        joined,
+        false,
+        stats,
+        out,
+    )
 }
 
 /// Counts `cells` times the flat contours `flat_counts` of a contour set
@@ -670,7 +698,14 @@ mod tests {
             a.clear();
             b.clear();
             let x = triangulate_ambiguous(&g, None, config, &mut now, &mut a);
-            let y = triangulate_ambiguous_deferred(&g, None, config, false, &mut later, &mut b);
+            let y = triangulate_ambiguous_deferred(
+                &g,
+                None,
+                config,
+                Known::Nothing,
+                &mut later,
+                &mut b,
+            );
             assert_eq!(x, y, "{g:?}");
             assert_eq!((&a.triangles, &a.interior), (&b.triangles, &b.interior));
         }

@@ -10,7 +10,7 @@ use super::plane::Plane;
 use super::samples::cell_samples;
 use crate::error::make_room;
 use crate::kernel::tables::Tables;
-use crate::kernel::{triangulate_ambiguous_deferred, CellMesh, Triangles, INTERIOR};
+use crate::kernel::{triangulate_ambiguous_deferred, CellMesh, Known, Triangles, INTERIOR};
 use crate::params::{ExtractParams, Method};
 use crate::{Error, Result, Stats};
 use glam::DVec3;
@@ -182,10 +182,15 @@ pub(super) fn ambiguous_cell(
     let values = cell_samples(bottom, top, y * nx + x, nx);
     // Both planes were read with the same level.
     let level = bottom.level;
-    // Integer samples whose differences from the isovalue are exact:
-    // the kernel needs no range test for them (see
-    // `triangulate_ambiguous_deferred`), and they have no residual.
+    // Integer samples whose differences from the isovalue are exact (and
+    // so have no residual), small integers themselves if both planes say
+    // so: what the kernel then need not test (see `Known`).
     let integers = bottom.plain && top.plain;
+    let known = match (integers, bottom.small && top.small) {
+        (false, _) => Known::Nothing,
+        (true, false) => Known::Integers,
+        (true, true) => Known::SmallIntegers,
+    };
     let g = if integers {
         level.plain_all(values)
     } else {
@@ -204,7 +209,7 @@ pub(super) fn ambiguous_cell(
     let origin = || DVec3::from_array(place.index(x, y, bottom.z));
     // The table cells' flat contours reach `stats` at the slab's end
     // (`CellMesh::flush_counts` in `process_window`).
-    match triangulate_ambiguous_deferred(&g, residual, config, integers, stats, cell) {
+    match triangulate_ambiguous_deferred(&g, residual, config, known, stats, cell) {
         Triangles::Table(fans) => {
             // Edge vertices only, as MC.
             make_room(&mut block.triangles, fans.len(), TRIANGLES)?;

@@ -369,10 +369,42 @@ fn triangulate_rescaled<const DEFER: bool>(
     )
 }
 
+impl CellMesh {
+    /// Notes that a cell took the table fans of contour set `index`.
+    #[inline(always)]
+    fn count_table_cell(&mut self, index: usize) {
+        match self.table_cells.get_mut(index) {
+            Some(cells) => *cells += 1,
+            None => self.first_table_cell(index),
+        }
+    }
+
+    /// [`CellMesh::count_table_cell`] before the counters are sized (one
+    /// per contour set).
+    #[cold]
+    #[inline(never)]
+    fn first_table_cell(&mut self, index: usize) {
+        self.table_cells.resize(tables().heads.len(), 0);
+        self.table_cells[index] += 1;
+    }
+
+    /// Adds the flat contours of the cells noted since the last flush to
+    /// `stats` (the paper's Table 1) and forgets them. Once per slab, so its
+    /// look at every contour set costs nothing measurable.
+    pub fn flush_counts(&mut self, stats: &mut Stats) {
+        for (cells, head) in self.table_cells.iter_mut().zip(&tables().heads) {
+            if *cells != 0 {
+                count_flat_contours(stats, head.flat_counts, *cells);
+                *cells = 0;
+            }
+        }
+    }
+}
+
 /// Counts `cells` times the flat contours `flat_counts` of a contour set
 /// ([`SetHead::flat_counts`](super::tables::SetHead::flat_counts): four
 /// bits per vertex count, 3 to 6) in the paper's Table 1.
-pub(super) fn count_flat_contours(stats: &mut Stats, flat_counts: u16, cells: u64) {
+fn count_flat_contours(stats: &mut Stats, flat_counts: u16, cells: u64) {
     for (i, count) in stats.contours.iter_mut().enumerate() {
         *count += cells * u64::from(flat_counts >> (4 * i) & 0xf);
     }

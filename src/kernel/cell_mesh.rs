@@ -4,10 +4,7 @@
 //! Every part of the kernel and the slab loop speak these types, so they
 //! sit apart from the code that makes them.
 
-use super::cell::count_flat_contours;
-use super::tables::tables;
 use super::ties::TIE_OFFSET;
-use crate::Stats;
 use glam::DVec3;
 
 /// A vertex of a cell's triangles: `0..12` is the vertex on that cell edge,
@@ -34,10 +31,10 @@ pub struct CellMesh {
     pub tie_margin: f64,
     /// Per contour set (index into the tables' sets), the cells that took
     /// its table fans and whose flat contours are not yet counted in a
-    /// [`Stats`] ([`triangulate_ambiguous_deferred`](super::cell::triangulate_ambiguous_deferred),
-    /// [`CellMesh::flush_counts`]): one increment per cell in place of four
-    /// additions of a few bits each.
-    table_cells: Vec<u64>,
+    /// `Stats` (`triangulate_ambiguous_deferred`, `CellMesh::flush_counts`,
+    /// both in `kernel::cell`, which sizes it on first use): one increment
+    /// per cell in place of four additions of a few bits each.
+    pub(super) table_cells: Vec<u64>,
 }
 
 impl CellMesh {
@@ -55,25 +52,7 @@ impl CellMesh {
             triangles: Vec::with_capacity(48),
             interior: Vec::with_capacity(8),
             tie_margin: margin.clamp(TIE_OFFSET, 0.25),
-            table_cells: vec![0; tables().heads.len()],
-        }
-    }
-
-    /// Notes that a cell took the table fans of contour set `index`.
-    #[inline(always)]
-    pub(super) fn count_table_cell(&mut self, index: usize) {
-        self.table_cells[index] += 1;
-    }
-
-    /// Adds the flat contours of the cells noted since the last flush to
-    /// `stats` (the paper's Table 1) and forgets them. Once per slab, so its
-    /// look at every contour set costs nothing measurable.
-    pub fn flush_counts(&mut self, stats: &mut Stats) {
-        for (cells, head) in self.table_cells.iter_mut().zip(&tables().heads) {
-            if *cells != 0 {
-                count_flat_contours(stats, head.flat_counts, *cells);
-                *cells = 0;
-            }
+            table_cells: Vec::new(),
         }
     }
 

@@ -9,7 +9,7 @@ use super::scale::normalized;
 use super::tables::tables;
 use super::ties::edge_fraction;
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
-use super::tunnel::labelled_joins;
+use super::tunnel::{labelled_joins, small_integer_joins};
 use crate::Stats;
 use glam::DVec3;
 use std::cmp::Ordering::{Greater, Less};
@@ -40,8 +40,9 @@ fn edge_points<'a>(g: &'a [f64; 8], contour: &'a [u8]) -> impl Iterator<Item = D
 /// otherwise (the same difference of the same rounded products, negated;
 /// see [`det2_sign`](super::decider::det2_sign) for why its sign is exact
 /// when nonzero). Only faces where the rounded products tie go to
-/// the exact decider.
-#[inline]
+/// the exact decider. Inlined into the kernel (a call, its prologue and
+/// the tables' look-up again cost about a fifth of the decision).
+#[inline(always)]
 pub fn face_decisions(g: &[f64; 8], residual: Option<&[f64; 8]>, config: u8) -> u8 {
     let ambiguous = tables().ambiguous_faces[config as usize];
     if let Some(residual) = residual {
@@ -167,23 +168,91 @@ pub fn triangulate_ambiguous(
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
+    triangulate::<false>(g, residual, config, Known::Nothing, stats, out)
+}
+
+/// [`triangulate_ambiguous`] for a caller that triangulates many cells with
+/// one `out` (the slab loop): the flat contours of a cell that takes the
+/// table's fans (most ambiguous cells) are counted in `out`, one increment
+/// per cell, and reach `stats` only at [`CellMesh::flush_counts`], which the
+/// caller must call before it reads or hands on `stats`. Everything else,
+/// triangles and all other counts, is as [`triangulate_ambiguous`] gives it.
+///
+/// `known` is what the caller knows of `g` (see [`Known`]), which spares
+/// the kernel tests whose answer that knowledge gives.
+///
+/// Inlined into the one caller, the slab loop's ambiguous cell, where the
+/// call's prologue and the [`Triangles`] handed back through memory cost
+/// as much as the range test.
+#[inline(always)]
+pub fn triangulate_ambiguous_deferred(
+    g: &[f64; 8],
+    residual: Option<&[f64; 8]>,
+    config: u8,
+    known: Known,
+    stats: &mut Stats,
+    out: &mut CellMesh,
+) -> Triangles {
+    triangulate::<true>(g, residual, config, known, stats, out)
+}
+
+/// What the caller of [`triangulate_ambiguous_deferred`] knows of an
+/// ambiguous cell's values `g` (whose signs `config` holds).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Known {
+    /// Nothing: any values, with or without residual.
+    Nothing,
+    /// `g` are the exact differences `value - iso` (or `iso - value`) of
+    /// integer samples of at most 32 bits and the isovalue, without
+    /// residual. Such a cell is always in `in_kernel_range`, which is
+    /// then not tested: an ambiguous cell has a corner inside (`g' > 0`)
+    /// and one outside (`g <= 0`), whose samples differ, so by at least 1,
+    /// and so do `g'` and `g` (both exact), so the larger magnitude is at
+    /// least 1/2 and the sum of the magnitudes, rounded or not, is above
+    /// 2^-197; the isovalue lies between those two samples, so every `|g|`
+    /// is at most 2^33 and the sum at most about 2^36, below 2^197. (The
+    /// test `integer_differences_are_in_range` checks this on samples of
+    /// every integer type, at their ends, and isovalues of every kind.)
+    Integers,
+    /// [`Known::Integers`] of 8-bit samples and an integer isovalue: `g`
+    /// are integers, of magnitude at most 255 (the isovalue lies between
+    /// two of the samples), which the tunnel test takes as they are
+    /// ([`small_integer_joins`]) instead of testing and converting them.
+    SmallIntegers,
+}
+
+/// [`triangulate_ambiguous`], its table cells' flat contours counted in
+/// `out` if `DEFER`, and the tests that `known` answers left out (see
+/// [`triangulate_ambiguous_deferred`]).
+#[inline(always)]
+fn triangulate<const DEFER: bool>(
+    g: &[f64; 8],
+    residual: Option<&[f64; 8]>,
+    config: u8,
+    known: Known,
+    stats: &mut Stats,
+    out: &mut CellMesh,
+) -> Triangles {
+    debug_assert!(known == Known::Nothing || (residual.is_none() && in_kernel_range(g)));
     let joined = face_decisions(g, residual, config);
-    if !in_kernel_range(g) {
-        return triangulate_rescaled(g, residual, config, joined, stats, out);
+    if known == Known::Nothing && !in_kernel_range(g) {
+        return triangulate_rescaled::<DEFER>(g, residual, config, joined, stats, out);
     }
-    triangulate_decided(g, (g, residual), config, joined, stats, out)
+    let small = known == Known::SmallIntegers;
+    triangulate_decided::<DEFER>(g, (g, residual), config, joined, small, stats, out)
 }
 
 /// [`triangulate_ambiguous`] of a cell in [`in_kernel_range`] whose face
 /// decisions are `joined`: its vertices placed with `g`, its tunnel decided
 /// on `tested` (the values `g` was scaled from, if it was, and their
-/// residual).
+/// residual), and if `small` on `g` as integers ([`Known::SmallIntegers`]).
 #[inline(always)]
-fn triangulate_decided(
+fn triangulate_decided<const DEFER: bool>(
     g: &[f64; 8],
     tested: (&[f64; 8], Option<&[f64; 8]>),
     config: u8,
     joined: u8,
+    small: bool,
     stats: &mut Stats,
     out: &mut CellMesh,
 ) -> Triangles {
@@ -192,6 +261,9 @@ fn triangulate_decided(
     let head = t.heads[index];
     let tunnel = if head.tunnel_pairs == 0 {
         None
+    } else if small {
+        small_integer_joins(g, head.tunnel_pairs, &head.labels)
+            .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b))
     } else {
         labelled_joins(tested.0, tested.1, head.tunnel_pairs, &head.labels)
             .and_then(|j| tunnel_contours(&t.contours[index], j.a, j.b))
@@ -200,8 +272,10 @@ fn triangulate_decided(
     // twice (most ambiguous cells): the table's fans, found without reading
     // the set itself unless the interior vertex needs its contour.
     if tunnel.is_none() && head.fan_len != 0 {
-        for (i, count) in stats.contours.iter_mut().enumerate() {
-            *count += u64::from(head.flat_counts >> (4 * i) & 0xf);
+        if DEFER {
+            out.count_table_cell(index);
+        } else {
+            count_flat_contours(stats, head.flat_counts, 1);
         }
         let n = usize::from(head.centred_len);
         if n == 0 {
@@ -264,7 +338,7 @@ fn in_kernel_range(g: &[f64; 8]) -> bool {
 /// decided on the values before scaling (the test is homogeneous).
 #[cold]
 #[inline(never)]
-fn triangulate_rescaled(
+fn triangulate_rescaled<const DEFER: bool>(
     g: &[f64; 8],
     residual: Option<&[f64; 8]>,
     config: u8,
@@ -284,7 +358,56 @@ fn triangulate_rescaled(
         // All zero: no corner is inside, so there is nothing to triangulate.
         return Triangles::Table(&[]);
     }
-    triangulate_decided(&scaled, (&finite, residual), config, joined, stats, out)
+    triangulate_decided::<DEFER>(
+        &scaled,
+        (&finite, residual),
+        config,
+        joined,
+        false,
+        stats,
+        out,
+    )
+}
+
+impl CellMesh {
+    /// Notes that a cell took the table fans of contour set `index`.
+    #[inline(always)]
+    fn count_table_cell(&mut self, index: usize) {
+        match self.table_cells.get_mut(index) {
+            Some(cells) => *cells += 1,
+            None => self.first_table_cell(index),
+        }
+    }
+
+    /// [`CellMesh::count_table_cell`] before the counters are sized (one
+    /// per contour set).
+    #[cold]
+    #[inline(never)]
+    fn first_table_cell(&mut self, index: usize) {
+        self.table_cells.resize(tables().heads.len(), 0);
+        self.table_cells[index] += 1;
+    }
+
+    /// Adds the flat contours of the cells noted since the last flush to
+    /// `stats` (the paper's Table 1) and forgets them. Once per slab, so its
+    /// look at every contour set costs nothing measurable.
+    pub fn flush_counts(&mut self, stats: &mut Stats) {
+        for (cells, head) in self.table_cells.iter_mut().zip(&tables().heads) {
+            if *cells != 0 {
+                count_flat_contours(stats, head.flat_counts, *cells);
+                *cells = 0;
+            }
+        }
+    }
+}
+
+/// Counts `cells` times the flat contours `flat_counts` of a contour set
+/// ([`SetHead::flat_counts`](super::tables::SetHead::flat_counts): four
+/// bits per vertex count, 3 to 6) in the paper's Table 1.
+fn count_flat_contours(stats: &mut Stats, flat_counts: u16, cells: u64) {
+    for (i, count) in stats.contours.iter_mut().enumerate() {
+        *count += cells * u64::from(flat_counts >> (4 * i) & 0xf);
+    }
 }
 
 /// Counts a flat contour of `n` vertices in the paper's Table 1.
@@ -495,6 +618,21 @@ fn interior_vertex<'c>(
 mod tests {
     use super::*;
 
+    /// Values of a cell, small integers (many exact ties) if `integers`,
+    /// random reals in `[-0.5, 0.5)` otherwise, and their configuration.
+    fn random_cell(next: &mut impl FnMut() -> u64, integers: bool) -> ([f64; 8], u8) {
+        let g: [f64; 8] = std::array::from_fn(|_| {
+            let r = next();
+            if integers {
+                (r % 7) as f64 - 3.0
+            } else {
+                (r >> 11) as f64 / (1u64 << 52) as f64 - 0.5
+            }
+        });
+        let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+        (g, config)
+    }
+
     #[test]
     fn all_faces_at_once_agree_with_the_decider_face_by_face() {
         // Small integers (many exact ties: saddle value equal to the
@@ -502,15 +640,7 @@ mod tests {
         let mut next = crate::kernel::xorshift(0x5851_f42d_4c95_7f2du64);
         let mut ties = 0;
         for round in 0..200_000u32 {
-            let g: [f64; 8] = std::array::from_fn(|_| {
-                let r = next();
-                if round % 2 == 0 {
-                    (r % 7) as f64 - 3.0
-                } else {
-                    (r >> 11) as f64 / (1u64 << 52) as f64 - 0.5
-                }
-            });
-            let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+            let (g, config) = random_cell(&mut next, round % 2 == 0);
             let ambiguous = tables().ambiguous_faces[config as usize];
             let tied = FACE_CORNERS
                 .iter()
@@ -524,5 +654,99 @@ mod tests {
             );
         }
         assert!(ties > 1000, "only {ties} cells with a tie");
+    }
+
+    /// The claim of `triangulate_ambiguous_deferred` with `integers`: exact
+    /// differences of integer samples (at most 32 bits) and an isovalue, of
+    /// mixed sign, are in `in_kernel_range`. Samples at the integer types'
+    /// ends and random ones; isovalues on a sample, half-way, tiny or
+    /// subnormal beside one; either side inside. (Differences of float
+    /// samples can lie out of range: the last assertion, so the check can
+    /// fail.)
+    #[test]
+    fn integer_differences_are_in_range() {
+        use crate::kernel::wide::subtraction_residual;
+        let mut next = crate::kernel::xorshift(0x1f83_d9ab_fb41_bd6bu64);
+        let ends = [
+            0.0,
+            1.0,
+            -1.0,
+            127.0,
+            -128.0,
+            255.0,
+            32767.0,
+            -32768.0,
+            65535.0,
+            2147483647.0,
+            -2147483648.0,
+            4294967295.0,
+        ];
+        let offsets = [0.0, 0.5, -0.5, 1e-300, -1e-300, 5e-324, -5e-324, 1e-9];
+        let mut checked = 0;
+        for round in 0..200_000u64 {
+            let v: [f64; 8] = std::array::from_fn(|_| {
+                let r = next();
+                match r % 4 {
+                    0 => ends[(r >> 8) as usize % ends.len()],
+                    1 => f64::from((r >> 32) as u32),
+                    2 => f64::from((r >> 32) as i32),
+                    _ => f64::from((r >> 32) as u8) - 128.0,
+                }
+            });
+            let r = next();
+            let iso = v[(r % 8) as usize] + offsets[(r >> 8) as usize % offsets.len()];
+            let sign = if round % 2 == 0 { 1.0 } else { -1.0 };
+            let g = v.map(|x| (x - iso) * sign);
+            let exact = v
+                .iter()
+                .all(|&x| subtraction_residual(x, iso, x - iso) == 0.0);
+            let mixed = g.iter().any(|&x| x > 0.0) && g.iter().any(|&x| x <= 0.0);
+            if exact && mixed {
+                assert!(in_kernel_range(&g), "{v:?} {iso} {sign}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 50_000, "only {checked} cells");
+        assert!(!in_kernel_range(&[
+            1e-300, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.0
+        ]));
+    }
+
+    /// The deferred entry point triangulates as the immediate one, and after
+    /// `flush_counts` its statistics are the same (before it, the table
+    /// cells' flat contours are missing, so the comparison is not vacuous).
+    #[test]
+    fn deferred_counts_agree_after_the_flush() {
+        let mut next = crate::kernel::xorshift(0x3c6e_f372_fe94_f82bu64);
+        let (mut now, mut later) = (Stats::default(), Stats::default());
+        let (mut a, mut b) = (CellMesh::new(), CellMesh::new());
+        let mut cells = 0;
+        while cells < 20_000 {
+            let (g, config) = random_cell(&mut next, cells % 2 == 0);
+            if !tables().is_ambiguous[config as usize] {
+                continue;
+            }
+            cells += 1;
+            a.clear();
+            b.clear();
+            let x = triangulate_ambiguous(&g, None, config, &mut now, &mut a);
+            let y = triangulate_ambiguous_deferred(
+                &g,
+                None,
+                config,
+                Known::Nothing,
+                &mut later,
+                &mut b,
+            );
+            assert_eq!(x, y, "{g:?}");
+            assert_eq!((&a.triangles, &a.interior), (&b.triangles, &b.interior));
+        }
+        assert_ne!(now.contours, later.contours);
+        b.flush_counts(&mut later);
+        assert_eq!(now, later);
+        assert!(now.contours.iter().all(|&n| n > 100), "{:?}", now.contours);
+        // Flushed counts are forgotten.
+        b.flush_counts(&mut later);
+        assert_eq!(now, later);
     }
 }

@@ -29,6 +29,12 @@ pub struct CellMesh {
     /// origin; the slab loop's `Placement` chooses it per grid, so every
     /// slab and part places alike). Between `TIE_OFFSET` and `1/4`.
     pub tie_margin: f64,
+    /// Per contour set (index into the tables' sets), the cells that took
+    /// its table fans and whose flat contours are not yet counted in a
+    /// `Stats` (`triangulate_ambiguous_deferred`, `CellMesh::flush_counts`,
+    /// both in `kernel::cell`, which sizes it on first use): one increment
+    /// per cell in place of four additions of a few bits each.
+    pub(super) table_cells: Vec<u64>,
 }
 
 impl CellMesh {
@@ -46,6 +52,7 @@ impl CellMesh {
             triangles: Vec::with_capacity(48),
             interior: Vec::with_capacity(8),
             tie_margin: margin.clamp(TIE_OFFSET, 0.25),
+            table_cells: Vec::new(),
         }
     }
 
@@ -59,7 +66,8 @@ impl CellMesh {
         INTERIOR + (self.interior.len() - 1) as u8
     }
 
-    /// Empties the mesh for reuse.
+    /// Empties the mesh for reuse (the counts of
+    /// [`CellMesh::flush_counts`] are kept).
     pub fn clear(&mut self) {
         self.triangles.clear();
         self.interior.clear();

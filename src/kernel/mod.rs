@@ -42,7 +42,7 @@ pub mod triangulate;
 pub mod tunnel;
 pub mod wide;
 
-pub use cell::triangulate_ambiguous;
+pub use cell::{triangulate_ambiguous, triangulate_ambiguous_deferred, Known};
 pub use cell_mesh::{CellMesh, Triangles, VertexRef, INTERIOR};
 
 /// A xorshift generator for the kernel's randomised tests (`seed` nonzero).

@@ -164,8 +164,10 @@ fn cut_crossing(c: &Cut, axis: usize, s: f64) -> (DVec3, bool) {
 ///
 /// Slot `2 axis + i` holds the crossing at root `i` of that axis' quadratic,
 /// the roots in the order they were computed: only [`Saddles::iter`] needs
-/// them ascending, and sorts. The points are stored coordinate by
-/// coordinate, `coords[c][slot]`, as the two slots of an axis are computed.
+/// them ascending, and sorts. The points are stored axis by axis, as each
+/// axis' two slots are computed, coordinate by coordinate within it:
+/// `axes[axis][c][i]` (no shuffling of the eighteen values into another
+/// order on the way out of [`saddle_points`]).
 ///
 /// Where an axis' two roots are equal, its two points are either both found
 /// or neither, and both are read as the first: sorted, as [`roots`] returns
@@ -173,7 +175,7 @@ fn cut_crossing(c: &Cut, axis: usize, s: f64) -> (DVec3, bool) {
 /// the sign of a zero (roots 0 and -0).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Saddles {
-    coords: [[f64; 6]; 3],
+    axes: [[[f64; 2]; 3]; 3],
     found: u8,
 }
 
@@ -185,12 +187,14 @@ fn into_cell(x: f64) -> f64 {
 impl Saddles {
     /// The point in `slot`, clamped into the closed unit cell.
     fn point(&self, slot: usize) -> DVec3 {
-        let c = &self.coords;
-        DVec3::new(
-            into_cell(c[0][slot]),
-            into_cell(c[1][slot]),
-            into_cell(c[2][slot]),
-        )
+        let c = &self.axes[slot / 2];
+        let i = slot % 2;
+        DVec3::new(into_cell(c[0][i]), into_cell(c[1][i]), into_cell(c[2][i]))
+    }
+
+    /// Coordinate `axis` of the two slots of `axis`: its quadratic's roots.
+    fn roots(&self, axis: usize) -> [f64; 2] {
+        self.axes[axis][axis]
     }
 
     /// How many points were found.
@@ -218,9 +222,11 @@ impl Saddles {
             rest.trailing_zeros() as usize
         };
         let second = second.min(5);
-        // The two slots of one axis with equal roots: the first twice.
-        let roots = &self.coords[first / 2];
-        let tie = (second == first | 1) & (roots[second] == roots[first]);
+        // The two slots of one axis with equal roots: the first twice. (Only
+        // when `first` is even can `second` be `first | 1`; the roots are then
+        // those of slots `first` and `second`.)
+        let roots = self.roots(first / 2);
+        let tie = (second == first | 1) & (roots[1] == roots[0]);
         let second = std::hint::select_unpredictable(tie, first, second);
         [self.point(first), self.point(second)]
     }
@@ -229,14 +235,15 @@ impl Saddles {
     pub fn iter(&self) -> impl Iterator<Item = DVec3> + '_ {
         // The slots in that order, each with the slot it reads.
         let mut order = [(0, 0); 6];
-        for (axis, roots) in self.coords.iter().enumerate() {
+        for axis in 0..3 {
+            let roots = self.roots(axis);
             let first = 2 * axis;
-            let (low, high) = if roots[first + 1] < roots[first] {
+            let (low, high) = if roots[1] < roots[0] {
                 (first + 1, first)
             } else {
                 (first, first + 1)
             };
-            let tie = roots[first + 1] == roots[first];
+            let tie = roots[1] == roots[0];
             order[first] = (low, low);
             order[first + 1] = (high, if tie { first } else { high });
         }
@@ -263,12 +270,8 @@ pub fn saddle_points(g: &[f64; 8]) -> Saddles {
         axis_saddles::<1>(g),
         axis_saddles::<2>(g),
     ];
-    let coord = |c: usize| {
-        let [x, y, z] = axes.map(|axis| axis.coords[c]);
-        [x[0], x[1], y[0], y[1], z[0], z[1]]
-    };
     Saddles {
-        coords: [coord(0), coord(1), coord(2)],
+        axes: axes.map(|axis| axis.coords),
         found: axes[0].found | axes[1].found | axes[2].found,
     }
 }
@@ -575,16 +578,16 @@ mod tests {
             -6.140293119715201e148,
         ];
         let saddles = saddle_points(&g);
-        let roots = saddles.coords[1];
-        assert_eq!((roots[2], roots[3]), (0.0, 0.0));
-        assert_ne!(roots[2].to_bits(), roots[3].to_bits());
+        let roots = saddles.roots(1);
+        assert_eq!((roots[0], roots[1]), (0.0, 0.0));
+        assert_ne!(roots[0].to_bits(), roots[1].to_bits());
         let found: Vec<[u64; 3]> = saddles
             .iter()
             .map(|p| p.to_array().map(f64::to_bits))
             .collect();
         assert_eq!(found.len(), 5);
         assert_eq!(found[2], found[3]);
-        let first = cut_saddle(&g, 1, roots[2]).expect("a saddle");
+        let first = cut_saddle(&g, 1, roots[0]).expect("a saddle");
         assert_eq!(
             found[2],
             first.to_array().map(|x| x.clamp(0.0, 1.0).to_bits())

@@ -76,15 +76,7 @@ pub fn labelled_joins(
     }
     if residual.is_none() {
         if let Some(ints) = small_integers(g) {
-            // Every 8- and 16-bit volume at an integer isovalue: no scaling,
-            // and only the pairs whose determinant can have the sign of a
-            // join somewhere on the cell's height (on lidc_chest_ct @ 114,
-            // about 4,200 of 10,346 pairs; see `hull`).
-            let pairs = possible_pairs(&ints, pairs);
-            if pairs == 0 {
-                return None;
-            }
-            return exact(sweep_both(&ints, pairs, labels));
+            return small_joins(&ints, pairs, labels);
         }
     }
     // Float data: nearly always settled here, without the wider arithmetic.
@@ -110,6 +102,34 @@ pub fn labelled_joins(
         )),
         _ => wide_joins(g, &[0.0; 8], pairs, labels),
     }
+}
+
+/// [`labelled_joins`] of values `g` that the caller knows to be integers
+/// of magnitude below `2^14` without residual (8-bit samples at an integer
+/// isovalue: the slab loop's ambiguous cells), so that they are converted
+/// without the test of `small_integers`. The same answer as
+/// `labelled_joins(g, None, pairs, labels)`.
+#[inline(never)]
+pub fn small_integer_joins(g: &[f64; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
+    debug_assert!(small_integers(g).is_some(), "{g:?}");
+    if pairs == 0 {
+        return None;
+    }
+    small_joins(&rounded_integers(&g.map(|v| v + ROUND)), pairs, labels)
+}
+
+/// [`labelled_joins`] of integers below `2^SMALL_BITS` in magnitude (every
+/// 8- and 16-bit volume at an integer isovalue): no scaling, and only the
+/// pairs whose determinant can have the sign of a join somewhere on the
+/// cell's height (on lidc_chest_ct @ 114, about 4,200 of 10,346 pairs; see
+/// `hull`).
+#[inline(always)]
+fn small_joins(ints: &[i64; 8], pairs: u8, labels: &[u8; 8]) -> Option<Join> {
+    let pairs = possible_pairs(ints, pairs);
+    if pairs == 0 {
+        return None;
+    }
+    exact(sweep_both(ints, pairs, labels))
 }
 
 /// [`labelled_joins`] by a plain `f64` sweep on the values scaled by the
@@ -226,13 +246,24 @@ fn small_integers(g: &[f64; 8]) -> Option<[i64; 8]> {
     // The integer is then the difference of the sum's bits and ROUND's (the
     // sum lies in [2^52, 2^53), where the last bit of the mantissa is worth
     // 1), which converts the eight side by side.
-    const ROUND: f64 = 1.5 * (1u64 << 52) as f64;
     const LIMIT: f64 = (1u64 << SMALL_BITS) as f64;
     let rounded = g.map(|v| v + ROUND);
     let small = g.iter().zip(&rounded).fold(true, |small, (&v, &r)| {
         small & (v.abs() < LIMIT) & (r - ROUND == v)
     });
-    small.then(|| rounded.map(|r| r.to_bits() as i64 - ROUND.to_bits() as i64))
+    small.then(|| rounded_integers(&rounded))
+}
+
+/// Adding and taking away `ROUND` rounds a value below 2^51 in magnitude
+/// to an integer (see [`small_integers`]).
+const ROUND: f64 = 1.5 * (1u64 << 52) as f64;
+
+/// The integers `v` of `v + ROUND` (`rounded`), for `|v|` below 2^51: the
+/// difference of the sum's bits and `ROUND`'s, eight side by side (a cast
+/// of each `f64` to `i64` saturates, and costs a few comparisons each).
+#[inline(always)]
+fn rounded_integers(rounded: &[f64; 8]) -> [i64; 8] {
+    rounded.map(|r| r.to_bits() as i64 - ROUND.to_bits() as i64)
 }
 
 /// A fraction `p / q` with `q > 0`.
@@ -561,6 +592,35 @@ mod tests {
             0 => 0,
             _ => (next() % (2 * r + 1)) as i64 - r as i64,
         })
+    }
+
+    /// `small_integer_joins` answers as `labelled_joins`, for cells of 8-bit samples less an integer isovalue
+    /// (magnitudes up to 255, a third ties) of every ambiguous
+    /// configuration and decision, and every set of pairs the tables ask.
+    #[test]
+    fn small_integer_joins_agree_with_labelled_joins() {
+        let tables = crate::kernel::tables::tables();
+        let mut next = crate::kernel::xorshift(0x6a09_e667_f3bc_c909u64);
+        let (mut tested, mut found) = (0, 0);
+        for round in 0..400_000u64 {
+            let ints = small_cell(&mut next, [3, 16, 255][(round % 3) as usize]);
+            let g = ints.map(|v| v as f64);
+            let config = (0..8).fold(0u8, |m, c| m | (u8::from(g[c] > 0.0) << c));
+            if !tables.is_ambiguous[config as usize] {
+                continue;
+            }
+            let joined = crate::kernel::cell::face_decisions(&g, None, config);
+            let set = tables.contour_set(config, joined);
+            let expected = labelled_joins(&g, None, set.tunnel_pairs, &set.corner_comp);
+            let got = small_integer_joins(&g, set.tunnel_pairs, &set.corner_comp);
+            assert_eq!(got, expected, "{ints:?}");
+            tested += usize::from(set.tunnel_pairs != 0);
+            found += usize::from(expected.is_some());
+        }
+        assert!(
+            tested > 10_000 && found > 100,
+            "{tested} tested, {found} joins"
+        );
     }
 
     #[test]

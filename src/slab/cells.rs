@@ -10,7 +10,7 @@ use super::plane::Plane;
 use super::samples::cell_samples;
 use crate::error::make_room;
 use crate::kernel::tables::Tables;
-use crate::kernel::{triangulate_ambiguous, CellMesh, Triangles, INTERIOR};
+use crate::kernel::{triangulate_ambiguous_deferred, CellMesh, Known, Triangles, INTERIOR};
 use crate::params::{ExtractParams, Method};
 use crate::{Error, Result, Stats};
 use glam::DVec3;
@@ -182,7 +182,16 @@ pub(super) fn ambiguous_cell(
     let values = cell_samples(bottom, top, y * nx + x, nx);
     // Both planes were read with the same level.
     let level = bottom.level;
-    let g = if bottom.plain && top.plain {
+    // Integer samples whose differences from the isovalue are exact (and
+    // so have no residual), small integers themselves if both planes say
+    // so: what the kernel then need not test (see `Known`).
+    let integers = bottom.plain && top.plain;
+    let known = match (integers, bottom.small && top.small) {
+        (false, _) => Known::Nothing,
+        (true, false) => Known::Integers,
+        (true, true) => Known::SmallIntegers,
+    };
+    let g = if integers {
         level.plain_all(values)
     } else {
         level.rel_all(values)
@@ -198,7 +207,9 @@ pub(super) fn ambiguous_cell(
     // The cell's corner in grid index coordinates, for interior vertices
     // only (most ambiguous cells take table fans over edge vertices).
     let origin = || DVec3::from_array(place.index(x, y, bottom.z));
-    match triangulate_ambiguous(&g, residual, config, stats, cell) {
+    // The table cells' flat contours reach `stats` at the slab's end
+    // (`CellMesh::flush_counts` in `process_window`).
+    match triangulate_ambiguous_deferred(&g, residual, config, known, stats, cell) {
         Triangles::Table(fans) => {
             // Edge vertices only, as MC.
             make_room(&mut block.triangles, fans.len(), TRIANGLES)?;

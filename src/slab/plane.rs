@@ -34,6 +34,10 @@ pub(super) struct Plane<'s> {
     /// Every sample's `rel` is also the plain `(value - iso) * sign`:
     /// integer samples, so never NaN, and `exact`, so never clamped.
     pub(super) plain: bool,
+    /// `plain`, of 8-bit samples and an integer isovalue: the `rel` of a
+    /// sample is an integer, and in a cell of both signs at most 255 in
+    /// magnitude (see [`crate::kernel::Known::SmallIntegers`]).
+    pub(super) small: bool,
     /// `rel(sample) > 0` per sample.
     pub(super) inside: SignBits,
     /// Local index of the first x-edge vertex of each row.
@@ -88,6 +92,7 @@ impl<'s> Plane<'s> {
             },
             exact: true,
             plain: false,
+            small: false,
             inside,
             x_first,
             y_first,
@@ -149,6 +154,9 @@ impl<'s> Plane<'s> {
             None => level.iso == 0.0,
         };
         self.plain = self.exact && self.lent.is_some_and(|s| s.is_integer());
+        self.small = self.plain
+            && matches!(self.lent, Some(LentPlane::U8(_) | LentPlane::I8(_)))
+            && level.iso.fract() == 0.0;
         match self.lent {
             None => classify_checked(&mut self.inside, &self.read, nx, level, source)?,
             Some(LentPlane::U8(s)) => classify_checked(&mut self.inside, s, nx, level, source)?,

@@ -176,6 +176,9 @@ pub fn process_window(
         chunks.push(with_values(chunk, per_vertex.values));
         std::mem::swap(&mut bottom, &mut top);
     }
+    // The flat contours of the slab's table cells (see
+    // `kernel::triangulate_ambiguous_deferred`).
+    cell.flush_counts(&mut stats);
     if layers.end == nz - 1 {
         if let Some(normals) = &mut normals {
             normals.fill(&bottom, None, &mut block)?;

@@ -55,7 +55,7 @@ fn every_kind_type_and_format_reads_back_exactly() {
                     (a.min(v), b.max(v))
                 });
             assert!(lo < hi, "{kind} {scalar}: constant volume");
-            if !matches!(scalar, ScalarType::F32 | ScalarType::F64) {
+            if !matches!(scalar, ScalarType::F16 | ScalarType::F32 | ScalarType::F64) {
                 assert!(
                     expected.iter().all(|v| v.fract() == 0.0),
                     "{kind} {scalar}: not integral"
@@ -63,6 +63,12 @@ fn every_kind_type_and_format_reads_back_exactly() {
             }
             for ext in ["nrrd", "npy", "raw"] {
                 let path = dir.path().join(format!("{kind}-{scalar}.{ext}"));
+                if (scalar, ext) == (ScalarType::F16, "nrrd") {
+                    // NRRD has no 16-bit float type: refused, nothing written.
+                    assert!(write_volume(&path, &source, scalar, None).is_err());
+                    assert!(!path.exists());
+                    continue;
+                }
                 let bytes = write_volume(&path, &source, scalar, None).unwrap();
                 assert_eq!(bytes, fs::metadata(&path).unwrap().len());
                 let raw = (ext == "raw").then_some(RawOptions {
@@ -324,7 +330,7 @@ fn cli_synth_fails_cleanly() {
     let bad_ext = dir.path().join("v.vtk");
     let sub = dir.path().join("sub.nrrd");
     fs::create_dir(&sub).unwrap();
-    let cases: [(Vec<&str>, i32, &str); 10] = [
+    let cases: [(Vec<&str>, i32, &str); 11] = [
         (
             vec![
                 "cube",
@@ -370,12 +376,25 @@ fn cli_synth_fails_cleanly() {
                 "--dims",
                 "4,4,4",
                 "--dtype",
-                "u64",
+                "u128",
                 "-o",
                 s(&out_nrrd),
             ],
             2,
-            "u64",
+            "u128",
+        ),
+        (
+            vec![
+                "sphere",
+                "--dims",
+                "4,4,4",
+                "--dtype",
+                "f16",
+                "-o",
+                s(&out_nrrd),
+            ],
+            1,
+            "NRRD has no 16-bit float type",
         ),
         (
             vec!["sphere", "--dims", "4,4,4", "-o", s(&out_nrrd)],

@@ -532,30 +532,24 @@ fn two_previews_of_one_name_are_refused_before_the_batch() {
         format!("{0} 0.3 {1}\n{0} 0.5 {2}\n", s(&input), s(&a), s(&b)),
     )
     .unwrap();
-    let picture = d.join("{stem}.png");
-    let args = [
-        "extract",
-        "--manifest",
-        s(&manifest),
-        "--preview",
-        s(&picture),
-    ];
-    let err = assert_one_line(&tmc(&[&args[..], &["-q"]].concat()), 1);
+    let batch = |picture: &Path| {
+        tmc(&[
+            "extract",
+            "--manifest",
+            s(&manifest),
+            "--preview",
+            s(picture),
+            "-q",
+        ])
+    };
+    let err = assert_one_line(&batch(&d.join("{stem}.png")), 1);
     assert!(
         err.contains("ball.png: two previews of the batch have this name"),
         "{err}"
     );
     assert_eq!(names(d), ["ball.nrrd", "list.txt"]);
     // With {iso} each picture has its own name.
-    let picture = d.join("{stem}_{iso}.png");
-    let args = [
-        "extract",
-        "--manifest",
-        s(&manifest),
-        "--preview",
-        s(&picture),
-    ];
-    let out = tmc(&[&args[..], &["-q"]].concat());
+    let out = batch(&d.join("{stem}_{iso}.png"));
     assert!(out.status.success(), "{}", stderr(&out));
     assert_eq!(
         names(d),

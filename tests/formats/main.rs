@@ -20,4 +20,5 @@ mod nrrd;
 mod readers;
 mod tiff_voxel;
 mod vtk_tiff;
+mod wide_types;
 mod zarr;

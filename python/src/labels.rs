@@ -17,12 +17,13 @@ use tmc::check::{measure_reports, Measured};
 use tmc::export::{LabelFiles, LabelSink};
 use tmc::stream::label_report::label_reports;
 use tmc::stream::LabelRun;
-use tmc::volume::LabelCounts;
+use tmc::volume::{LabelCounts, MapRuns};
 use tmc::{ExtractParams, MeshSink, SampleSource};
 
 /// The labels of `source` to extract (`labels`, or every value present
-/// but `background`), with the counts of its values; a sample that is not
-/// a whole number is an error naming its position.
+/// but `background`), with the counts of its values and the runs the scan
+/// kept for the pass (the package sets no memory budget); a sample that
+/// is not a whole number is an error naming its position.
 fn choose(
     source: &dyn SampleSource,
     path: Option<&Path>,
@@ -30,11 +31,12 @@ fn choose(
     background: i64,
     params: &ExtractParams,
     cancel: &AtomicBool,
-) -> tmc::Result<(Vec<i64>, LabelCounts)> {
+) -> tmc::Result<(Vec<i64>, LabelCounts, MapRuns)> {
     let name = path.unwrap_or(Path::new("array"));
-    let counts = tmc::volume::scan_label_map(name, source, Some(cancel), params.threads)?;
+    let (counts, runs) =
+        tmc::volume::scan_label_map(name, source, Some(cancel), params.threads, None)?;
     let chosen = counts.select(labels, background, name)?;
-    Ok((chosen, counts))
+    Ok((chosen, counts, runs))
 }
 
 /// The parameters of every label's indicator: isovalue 0.5, inside high,
@@ -74,7 +76,8 @@ pub(crate) fn extract_labels<'py>(
     let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
     let collected: Vec<(i64, Collected)> = input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, None, cancel)?;
-        let (labels, _) = choose(source, path, labels.as_deref(), background, &params, cancel)?;
+        let (labels, _, runs) =
+            choose(source, path, labels.as_deref(), background, &params, cancel)?;
         // One collector per label: the meshes asked for, nothing more.
         let mut recorders: Vec<Recorder<[f64; 3]>> =
             labels.iter().map(|_| Recorder::default()).collect();
@@ -82,8 +85,9 @@ pub(crate) fn extract_labels<'py>(
             .iter_mut()
             .map(|r| r as &mut dyn MeshSink)
             .collect();
-        let stats =
-            tmc::stream::extract_labels_to(source, &labels, &params, &options, None, &mut sinks)?;
+        let stats = tmc::stream::extract_labels_with_runs_to(
+            source, &runs, &labels, &params, &options, None, &mut sinks,
+        )?;
         drop(sinks);
         let mut out = Vec::with_capacity(labels.len());
         for ((label, recorder), stats) in labels.into_iter().zip(recorders).zip(&stats) {
@@ -144,7 +148,7 @@ pub(crate) fn extract_labels_to(
         }
         tmc::export::check_label_template(&output)?;
         let options = preflight(source, path, &params, None, cancel)?;
-        let (labels, counts) =
+        let (labels, counts, runs) =
             choose(source, path, labels.as_deref(), background, &params, cancel)?;
         let scan_seconds = started.elapsed().as_secs_f64();
         let outputs = tmc::export::label_outputs(&output, &labels)?;
@@ -170,8 +174,9 @@ pub(crate) fn extract_labels_to(
             .iter_mut()
             .map(|m| m as &mut dyn MeshSink)
             .collect();
-        let label_stats =
-            tmc::stream::extract_labels_to(source, &labels, &params, &options, None, &mut sinks)?;
+        let label_stats = tmc::stream::extract_labels_with_runs_to(
+            source, &runs, &labels, &params, &options, None, &mut sinks,
+        )?;
         drop(sinks);
         let grid = source.grid();
         let mut reports = label_reports(&labels, &outputs, &label_stats, &counts, grid);

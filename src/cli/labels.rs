@@ -97,8 +97,13 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let grid = *source.grid();
     check_grid(input, &grid, args.close)?;
     let scan_start = Instant::now();
-    let counts =
-        tmc::volume::scan_label_map(input, source.as_ref(), cancel, args.threads.unwrap_or(0))?;
+    let (counts, runs) = tmc::volume::scan_label_map(
+        input,
+        source.as_ref(),
+        cancel,
+        args.threads.unwrap_or(0),
+        args.max_memory,
+    )?;
     let scan_seconds = scan_start.elapsed().as_secs_f64();
     let wanted = match spec {
         "all" => None,
@@ -161,8 +166,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let options = args.pipeline_options(&on_progress, cancel);
     let pass_start = Instant::now();
     let part = args.part.map(|p| (p.index, p.count));
-    let stats = tmc::stream::extract_labels_to(
+    let stats = tmc::stream::extract_labels_with_runs_to(
         source.as_ref(),
+        &runs,
         &labels,
         &params,
         &options,

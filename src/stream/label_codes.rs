@@ -10,7 +10,7 @@
 //! planes' indicators, the **codes** of every sample (2 bytes each) as
 //! well. Either way a label's indicator holds the same bytes.
 
-use crate::volume::{plane_runs, SampleSource};
+use crate::volume::{plane_runs, MapRuns, SampleSource};
 use crate::{Error, Result};
 use std::ops::{Range, RangeInclusive};
 
@@ -143,7 +143,7 @@ pub(super) fn tie_border(plane: &mut [u16], nx: usize, cap: bool) {
 /// the plane where they became too many.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn code_planes(
-    source: &dyn SampleSource,
+    (source, map_runs): (&dyn SampleSource, &MapRuns),
     lookup: &Lookup,
     planes: RangeInclusive<usize>,
     layers: &Range<usize>,
@@ -162,7 +162,14 @@ pub(super) fn code_planes(
             .map(|c| &mut c[k * area..(k + 1) * area]);
         // Only the slab's own planes bound a label's cells.
         let own = layers.start <= z && z <= layers.end;
-        plane_runs(source, z, &mut values, |y, x, end, v| {
+        // The scan's runs of the map's plane (with `--close` the source is
+        // the padded map, a plane further on).
+        let kept = match close {
+            true => z.checked_sub(1).filter(|&z| z + 2 < nz),
+            false => Some(z),
+        }
+        .and_then(|z| map_runs.plane(z));
+        let each_run = |y, x, end, v| {
             let code = lookup.code_of(v);
             if let Some(plane) = plane.as_deref_mut() {
                 let run = &mut plane[y * nx + x..y * nx + end];
@@ -190,7 +197,11 @@ pub(super) fn code_planes(
                 }
             }
             Ok(())
-        })?;
+        };
+        match kept {
+            Some(kept) => kept.each(close, each_run)?,
+            None => plane_runs(source, z, &mut values, each_run)?,
+        }
         if let (Some(plane), true) = (plane, close) {
             tie_border(plane, nx, z == 0 || z == nz - 1);
         }

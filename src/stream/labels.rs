@@ -35,7 +35,7 @@ use crate::grid::Grid;
 use crate::mesh::{Chunk, MeshSink};
 use crate::params::{ExtractParams, Inside, PipelineOptions};
 use crate::slab::{process_window, PerVertex, Spares, Window};
-use crate::volume::{Access, LentPlane, SampleSource};
+use crate::volume::{Access, LentPlane, MapRuns, SampleSource};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
 use std::sync::{Mutex, PoisonError};
@@ -66,6 +66,26 @@ pub fn extract_labels_to(
     part: Option<(usize, usize)>,
     sinks: &mut [&mut dyn MeshSink],
 ) -> Result<Vec<Stats>> {
+    let none = MapRuns::default();
+    extract_labels_with_runs_to(source, &none, labels, params, options, part, sinks)
+}
+
+/// [`extract_labels_to`], with the runs of `source`'s planes that
+/// [`scan_label_map`](crate::volume::scan_label_map) kept: the slabs are
+/// coded from them rather than from the source's planes, which are read
+/// only where no runs were kept. `runs` must be those of `source` (as the
+/// map was when scanned): the meshes are those of the map the runs
+/// describe. The runs are held through the pass, so they count against
+/// `options.max_memory`: the slabs get what they leave.
+pub fn extract_labels_with_runs_to(
+    source: &dyn SampleSource,
+    runs: &MapRuns,
+    labels: &[i64],
+    params: &ExtractParams,
+    options: &PipelineOptions,
+    part: Option<(usize, usize)>,
+    sinks: &mut [&mut dyn MeshSink],
+) -> Result<Vec<Stats>> {
     if labels.is_empty() {
         return Err(Error::Invalid("no label to extract".into()));
     }
@@ -88,6 +108,12 @@ pub fn extract_labels_to(
         )));
     }
     let lookup = Lookup::new(lookup);
+    let options = &PipelineOptions {
+        max_memory: options
+            .max_memory
+            .map(|max| max.saturating_sub(runs.bytes() as u64)),
+        ..*options
+    };
     let each = ExtractParams {
         iso: 0.5,
         inside: Inside::High,
@@ -102,7 +128,7 @@ pub fn extract_labels_to(
         let take = || scratch.lock().unwrap_or_else(PoisonError::into_inner).pop();
         let mut buffers = take().unwrap_or_default();
         let result = label_slab(
-            source,
+            (source, runs),
             &lookup,
             &all,
             layers,
@@ -167,7 +193,7 @@ struct Scratch {
 /// where there is at most one per `run_samples` samples (0: never; the
 /// bytes are the same either way).
 fn label_slab(
-    source: &dyn SampleSource,
+    (source, map_runs): (&dyn SampleSource, &MapRuns),
     lookup: &Lookup,
     params: &[ExtractParams],
     layers: Range<usize>,
@@ -201,7 +227,7 @@ fn label_slab(
     // The runs alone where they are few (and no normals need the codes).
     let by_runs = !normals
         && code_planes(
-            source,
+            (source, map_runs),
             lookup,
             layers.start..=layers.end,
             &layers,
@@ -223,7 +249,7 @@ fn label_slab(
             }
             let codes = &mut scratch.codes[..planes * area];
             let few = code_planes(
-                source,
+                (source, map_runs),
                 lookup,
                 codes_from..=codes_to,
                 &layers,
@@ -477,14 +503,27 @@ mod tests {
     /// Every slab's chunks and counts: indicators from the runs alone,
     /// from the codes, and from the runs beside the codes (normals) are
     /// the same, with and without `--close` (the padded volume's NaN
-    /// border: ties, which the runs path writes itself).
+    /// border: ties, which the runs path writes itself); so are those of
+    /// slabs coded from the scan's runs (all planes kept, some, none).
     #[test]
-    fn runs_and_codes_give_the_same_chunks() {
+    fn runs_codes_and_the_scans_runs_give_the_same_chunks() {
         for (seed, run) in [(1, 1), (2, 4), (3, 40)] {
             let dims = [19, 13, 9];
             let volume = ArrayVolume::new(Grid::unit(dims), map(dims, run, seed)).unwrap();
             let lookup = Lookup::new((1..=5).map(|l| (l, l as u16)).collect());
-            for close in [false, true] {
+            let scan = |cap| {
+                crate::volume::scan_keeping_runs(&volume, None, 1, cap)
+                    .unwrap()
+                    .1
+            };
+            let all = scan(usize::MAX);
+            assert_eq!(all.kept_planes(), dims[2]);
+            // A cap that keeps some planes (each run of planes gets its share).
+            let some = (1..10)
+                .map(|tenths| scan(all.bytes() * tenths / 10))
+                .find(|runs| (1..dims[2]).contains(&runs.kept_planes()))
+                .unwrap();
+            for (close, normals) in [(false, false), (true, false), (false, true), (true, true)] {
                 let padded;
                 let source: &dyn SampleSource = match close {
                     true => {
@@ -497,32 +536,55 @@ mod tests {
                 let each = ExtractParams {
                     iso: 0.5,
                     close,
+                    normals,
                     threads: 1,
                     ..Default::default()
                 };
                 let params = vec![each; 5];
                 let spares = Spares::new(2, 8);
-                let slab = |layers: Range<usize>, run_samples: usize| {
+                let slab = |runs: &MapRuns, layers: Range<usize>, run_samples: usize| {
                     let mut scratch = Scratch::default();
-                    label_slab(
-                        source,
+                    let chunks = label_slab(
+                        (source, runs),
                         &lookup,
                         &params,
                         layers,
                         (&spares, run_samples),
                         &mut scratch,
                     )
-                    .unwrap()
+                    .unwrap();
+                    // Bit for bit: a vertex without a gradient has a NaN
+                    // normal until the stream fills it.
+                    let bits = |c: &Chunk| {
+                        let normals: Vec<[u32; 3]> =
+                            c.normals.iter().map(|n| n.map(f32::to_bits)).collect();
+                        let c = Chunk {
+                            normals: Vec::new(),
+                            ..c.clone()
+                        };
+                        (c, normals)
+                    };
+                    let bits: Vec<(Vec<_>, u64)> = chunks
+                        .iter()
+                        .map(|(c, stats)| (c.iter().map(bits).collect(), stats.triangles))
+                        .collect();
+                    bits
                 };
                 for layers in [0..nz - 1, 0..3, 3..4, 4..nz - 1] {
-                    let runs = slab(layers.clone(), 1);
-                    let codes = slab(layers.clone(), 0);
-                    assert!(runs
+                    let read = slab(&MapRuns::default(), layers.clone(), 1);
+                    assert!(read
                         .iter()
-                        .any(|(c, _)| c.iter().any(|c| !c.triangles.is_empty())));
-                    for (a, b) in runs.iter().zip(&codes) {
-                        assert!(a.0 == b.0, "seed {seed} close {close} layers {layers:?}");
-                        assert_eq!(a.1.triangles, b.1.triangles);
+                        .any(|(c, _)| c.iter().any(|(c, _)| !c.triangles.is_empty())));
+                    let codes = slab(&MapRuns::default(), layers.clone(), 0);
+                    assert!(read == codes, "seed {seed} close {close} layers {layers:?}");
+                    for runs in [&all, &some] {
+                        for run_samples in [0, 1] {
+                            let kept = slab(runs, layers.clone(), run_samples);
+                            assert!(
+                                read == kept,
+                                "seed {seed} close {close} normals {normals} {layers:?}"
+                            );
+                        }
                     }
                 }
             }

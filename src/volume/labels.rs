@@ -3,6 +3,7 @@
 //! number refused ([`scan_label_map`] for a pass over a label map's
 //! labels, [`LabelCounts::select`] for the labels it extracts).
 
+use super::label_runs::{MapRuns, PlaneRuns, PlaneRunsBuilder};
 use super::{LentPlane, Sample, SampleSource};
 use crate::error::make_room;
 use crate::fan_out::fan_out;
@@ -87,13 +88,18 @@ impl LabelCounts {
 /// Counts the values of the label map `input` read from `source` (as
 /// [`scan_labels_on`]), first refusing a DICOM Segmentation whose segments
 /// overlap: its label map gives a shared sample to one segment only, so
-/// the meshes would not be the segments'. Errors name `input`.
+/// the meshes would not be the segments'. Errors name `input`. Also gives
+/// the planes' runs, as many as [`MapRuns::cap`] allows and at most a
+/// quarter of `max_memory` (the pass's budget, which they count against),
+/// for the pass ([`crate::stream::extract_labels_with_runs_to`]) to code
+/// its slabs from.
 pub fn scan_label_map(
     input: &Path,
     source: &dyn SampleSource,
     cancel: Option<&AtomicBool>,
     threads: usize,
-) -> Result<LabelCounts> {
+    max_memory: Option<u64>,
+) -> Result<(LabelCounts, MapRuns)> {
     let pairs = &source.notes().overlapping_segments;
     if !pairs.is_empty() {
         let pairs: Vec<String> = pairs.iter().map(|[a, b]| format!("{a} and {b}")).collect();
@@ -103,7 +109,11 @@ pub fn scan_label_map(
             pairs.join(", ")
         )));
     }
-    scan_labels_on(source, cancel, threads).map_err(|e| match e {
+    let [nx, ny, nz] = source.grid().dims;
+    let samples = (nx as u64) * (ny as u64) * (nz as u64);
+    let quarter = max_memory.map_or(usize::MAX, |max| (max / 4) as usize);
+    let cap = MapRuns::cap(samples, source.sample_bytes()).min(quarter);
+    scan(source, cancel, threads, cap).map_err(|e| match e {
         Error::Invalid(m) => Error::Invalid(format!("{}: {m}", input.display())),
         other => other,
     })
@@ -132,6 +142,17 @@ pub fn scan_labels_on(
     cancel: Option<&AtomicBool>,
     threads: usize,
 ) -> Result<LabelCounts> {
+    Ok(scan(source, cancel, threads, 0)?.0)
+}
+
+/// [`scan_labels_on`], keeping the planes' runs while they take at most
+/// `cap` bytes (each run of planes a thread reads its share of them).
+pub(crate) fn scan(
+    source: &dyn SampleSource,
+    cancel: Option<&AtomicBool>,
+    threads: usize,
+    cap: usize,
+) -> Result<(LabelCounts, MapRuns)> {
     let nz = source.grid().dims[2];
     let threads = match threads {
         0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -150,8 +171,9 @@ pub fn scan_labels_on(
     // A thread stops once a thread with earlier planes has failed (its
     // error comes first); the ranges' results are merged in z order.
     let failed_before = std::sync::atomic::AtomicUsize::new(usize::MAX);
+    let share = cap / ranges.len().max(1);
     let scan = |k: usize, range: std::ops::Range<usize>| {
-        let result = count_planes(source, cancel, range, || {
+        let result = count_planes(source, cancel, range, share, || {
             failed_before.load(Ordering::Relaxed) < k
         });
         if result.is_err() {
@@ -162,35 +184,44 @@ pub fn scan_labels_on(
     let results = fan_out(ranges, threads, scan);
     // Ranges in z order: a later range's last plane of a value is later.
     let mut counts: BTreeMap<i64, (u64, usize)> = BTreeMap::new();
+    let mut runs = Vec::with_capacity(nz);
     for result in results {
-        for (value, (n, last)) in result? {
+        let (tally, kept) = result?;
+        for (value, (n, last)) in tally {
             let entry = counts.entry(value).or_default();
             *entry = (entry.0 + n, entry.1.max(last));
         }
+        runs.extend(kept);
     }
-    Ok(LabelCounts {
+    let counts = LabelCounts {
         counts: counts.iter().map(|(&v, &(n, _))| (v, n)).collect(),
         last_planes: counts.values().map(|&(_, last)| last).collect(),
-    })
+    };
+    Ok((counts, MapRuns::new(runs)))
 }
 
 /// The counts of planes `planes` (see [`scan_labels`]), each value's with
-/// the last of these planes holding it; gives up, with
-/// [`Error::Interrupted`], once `cancel` is set or `give_up` says so
-/// (looked at every plane).
+/// the last of these planes holding it, and the planes' runs (`None` for
+/// each plane from the first that would take the runs past `cap` bytes);
+/// gives up, with [`Error::Interrupted`], once `cancel` is set or
+/// `give_up` says so (looked at every plane).
 fn count_planes(
     source: &dyn SampleSource,
     cancel: Option<&AtomicBool>,
     planes: std::ops::Range<usize>,
+    mut cap: usize,
     give_up: impl Fn() -> bool,
-) -> Result<BTreeMap<i64, (u64, usize)>> {
+) -> Result<(Counts, Vec<Option<PlaneRuns>>)> {
     const LIMIT: f64 = (1u64 << 53) as f64;
+    let ny = source.grid().dims[1];
     let mut plane = Vec::new();
     let mut counts = Tally::default();
+    let mut kept = Vec::with_capacity(planes.len());
     for z in planes {
         if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) || give_up() {
             return Err(Error::Interrupted);
         }
+        let mut runs = (cap > 0).then(|| PlaneRunsBuilder::new(ny));
         plane_runs(source, z, &mut plane, |y, x, end, v| {
             if !(v.fract() == 0.0 && v.abs() <= LIMIT) {
                 let why = match v.fract() == 0.0 {
@@ -203,15 +234,34 @@ fn count_planes(
                 )));
             }
             counts.add(v as i64, (end - x) as u64, z);
+            if let Some(runs) = &mut runs {
+                runs.push(y, end, v as i64);
+            }
             Ok(())
         })?;
+        let runs = runs.map(PlaneRunsBuilder::finish);
+        // Past the cap, this plane and every later one are read again.
+        match runs.filter(|r| MapRuns::plane_bytes(r) <= cap) {
+            Some(runs) => {
+                cap -= MapRuns::plane_bytes(&runs);
+                kept.push(Some(runs));
+            }
+            None => {
+                cap = 0;
+                kept.push(None);
+            }
+        }
     }
-    Ok(counts.into_map())
+    Ok((counts.into_map(), kept))
 }
+
+/// Samples and last plane of each value of some planes.
+type Counts = BTreeMap<i64, (u64, usize)>;
 
 /// Samples counted per value, with the last plane holding each (planes
 /// are counted in z order): values from 0 to 65535 (most label maps'
-/// labels) in an array, a run's count one addition; others in a map.
+/// labels) in an array up to the largest seen, a run's count one
+/// addition; others in a map.
 #[derive(Default)]
 struct Tally {
     /// `small[v]`: the samples of value `v` and its last plane (empty
@@ -224,8 +274,10 @@ impl Tally {
     fn add(&mut self, value: i64, samples: u64, z: usize) {
         let entry = match usize::try_from(value) {
             Ok(v) if v < 1 << 16 => {
-                if self.small.is_empty() {
-                    self.small = vec![(0, 0); 1 << 16];
+                // As long as the largest value seen (a map of a few hundred
+                // labels: a few KiB, not 1 MiB of pages to fault in).
+                if v >= self.small.len() {
+                    self.small.resize((v + 1).next_power_of_two(), (0, 0));
                 }
                 &mut self.small[v]
             }

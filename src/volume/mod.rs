@@ -15,6 +15,7 @@ pub mod hdf5;
 mod held;
 pub mod histogram;
 pub mod info;
+mod label_runs;
 mod labels;
 mod lent;
 mod mapped;
@@ -57,6 +58,9 @@ pub use held::HeldPlanes;
 pub use info::{
     automatic_plane_step, describe, volume_info, VolumeInfo, HISTOGRAM_BUDGET, MAX_BINS, MIN_BINS,
 };
+pub use label_runs::{MapRuns, PlaneRuns};
+#[cfg(test)]
+pub(crate) use labels::scan as scan_keeping_runs;
 pub use labels::{
     plane_runs, scan_label_map, scan_labels, scan_labels_on, LabelCounts, MOST_LABELS,
 };

@@ -11,6 +11,7 @@
 
 use super::packing::{pack_numbers, pack_triples, put_as_is};
 use super::ZSTD_LEVEL;
+use crate::error::make_room;
 use crate::mesh::Chunk;
 use crate::{Error, Result};
 use std::cell::RefCell;
@@ -19,37 +20,117 @@ thread_local! {
     /// One compression context per thread, for every chunk it compresses:
     /// making one per chunk cost more than compressing small chunks (a
     /// 2x2x1000000 volume spent 57% of its 25 s there). It lives as long
-    /// as its thread (a pass's workers end with the pass).
-    static COMPRESSOR: RefCell<Option<zstd::bulk::Compressor<'static>>> =
-        const { RefCell::new(None) };
+    /// as its thread (a pass's workers end with the pass). The second is
+    /// for small chunks: literals stored as they are.
+    static COMPRESSOR: RefCell<[Option<zstd::bulk::Compressor<'static>>; 2]> =
+        const { RefCell::new([None, None]) };
+    /// The thread's packed bytes and compressed frame, kept from chunk to
+    /// chunk (as long as the largest chunk's): a label map's pass
+    /// compresses thousands of small chunks, and allocating both for each
+    /// cost more than copying the frame out.
+    static BUFFERS: RefCell<(Vec<u8>, Vec<u8>)> = const { RefCell::new((Vec::new(), Vec::new())) };
 }
+
+/// Chunks of fewer bytes (packed) than this keep their literals as they
+/// are: building a Huffman table for them cost more than it saved
+/// (see docs/performance-labels.md).
+const SMALL_CHUNK_BYTES: usize = 16 << 10;
 
 /// The compressed payload of `chunk`, as the `.tmesh` format stores it.
 pub fn encode_payload(chunk: &Chunk) -> Result<Vec<u8>> {
-    let raw = raw_payload(chunk)?;
-    let failed = |e: std::io::Error| Error::Invalid(format!("zstd compression failed: {e}"));
-    COMPRESSOR.with(|slot| {
-        let mut slot = slot.borrow_mut();
-        let compressor = match &mut *slot {
-            Some(compressor) => compressor,
-            None => slot.insert(zstd::bulk::Compressor::new(ZSTD_LEVEL).map_err(failed)?),
-        };
-        compressor.compress(&raw).map_err(failed)
+    BUFFERS.with(|buffers| {
+        let (raw, frame) = &mut *buffers.borrow_mut();
+        raw_payload(chunk, raw)?;
+        compress(raw, frame)?;
+        let mut payload = crate::error::try_vec("a .tmesh chunk's frame", frame.len())?;
+        payload.extend_from_slice(frame);
+        Ok(payload)
     })
 }
 
-/// The payload of a chunk before compression, packed
+/// Compresses `raw` into `frame` (one zstd frame, replacing its bytes).
+fn compress(raw: &[u8], frame: &mut Vec<u8>) -> Result<()> {
+    let failed = |e: std::io::Error| Error::Invalid(format!("zstd compression failed: {e}"));
+    frame.clear();
+    make_room(
+        frame,
+        zstd::zstd_safe::compress_bound(raw.len()),
+        "a .tmesh chunk's frame",
+    )?;
+    let small = raw.len() < SMALL_CHUNK_BYTES;
+    COMPRESSOR.with(|slots| {
+        let mut slots = slots.borrow_mut();
+        let slot = &mut slots[usize::from(small)];
+        let compressor = match slot {
+            Some(compressor) => compressor,
+            None => {
+                let mut c = zstd::bulk::Compressor::new(ZSTD_LEVEL).map_err(failed)?;
+                if small {
+                    let raw_literals = zstd::zstd_safe::CParameter::LiteralCompressionMode(
+                        zstd::zstd_safe::ParamSwitch::Disable,
+                    );
+                    c.set_parameter(raw_literals).map_err(failed)?;
+                }
+                slot.insert(c)
+            }
+        };
+        compressor.compress_to_buffer(raw, frame).map_err(failed)?;
+        Ok(())
+    })
+}
+
+/// The payload of a chunk before compression into `raw` (its bytes
+/// replaced), packed
 /// ([`super::packing`]): positions, then relative indices, then the
 /// normals if it has any (as they are: see `packing.rs`), then the
 /// triangles' labels if it has any.
-fn raw_payload(chunk: &Chunk) -> Result<Vec<u8>> {
+fn raw_payload(chunk: &Chunk, raw: &mut Vec<u8>) -> Result<()> {
     let len = (chunk.vertices.len() + chunk.triangles.len() + chunk.normals.len())
         .saturating_mul(12)
         .saturating_add(chunk.labels.len().saturating_mul(4));
-    let mut raw = crate::error::try_vec::<u8>("a .tmesh chunk", len)?;
-    pack_triples(&mut raw, &chunk.vertices);
-    pack_numbers(&mut raw, chunk.triangles.as_flattened());
-    put_as_is(&mut raw, chunk.normals.as_flattened());
-    pack_numbers(&mut raw, &chunk.labels);
-    Ok(raw)
+    raw.clear();
+    make_room(raw, len, "a .tmesh chunk")?;
+    pack_triples(raw, &chunk.vertices);
+    pack_numbers(raw, chunk.triangles.as_flattened());
+    put_as_is(raw, chunk.normals.as_flattened());
+    pack_numbers(raw, &chunk.labels);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chunk of `n` vertices and triangles (numbers like a mesh's).
+    fn chunk(n: usize) -> Chunk {
+        Chunk {
+            vertices: (0..n).map(|i| [i as f32 * 0.5, (i % 7) as f32, 3.0]).collect(),
+            triangles: (0..n as u32).map(|i| [i, i + 1, i + 2]).collect(),
+            ..Chunk::default()
+        }
+    }
+
+    /// Chunks below and above the small-chunk size (literals stored as
+    /// they are, or Huffman coded) decompress to their packed bytes, and a
+    /// chunk's frame is the same whatever was compressed before it on the
+    /// thread.
+    #[test]
+    fn small_and_large_chunks_give_back_their_bytes() {
+        let sizes = [0, 1, 100, 600, 700, 5000];
+        let mut raw = Vec::new();
+        let mut first = Vec::new();
+        for &n in &sizes {
+            let chunk = chunk(n);
+            raw_payload(&chunk, &mut raw).unwrap();
+            let frame = encode_payload(&chunk).unwrap();
+            assert_eq!(zstd::decode_all(&frame[..]).unwrap(), raw, "{n} vertices");
+            first.push(frame);
+        }
+        // Both sides of SMALL_CHUNK_BYTES are covered (24 bytes a vertex
+        // and triangle).
+        assert!(24 * 600 < SMALL_CHUNK_BYTES && 24 * 700 > SMALL_CHUNK_BYTES);
+        for (&n, frame) in sizes.iter().zip(&first).rev() {
+            assert_eq!(&encode_payload(&chunk(n)).unwrap(), frame, "{n} vertices");
+        }
+    }
 }

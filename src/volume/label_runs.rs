@@ -23,9 +23,14 @@ pub struct PlaneRuns {
 }
 
 impl PlaneRuns {
-    /// Bytes the plane's runs take.
+    /// The plane's runs.
+    pub(super) fn len(&self) -> usize {
+        self.ends.len()
+    }
+
+    /// Bytes the plane's runs take (their vectors' room).
     fn bytes(&self) -> usize {
-        4 * self.rows.len() + 4 * self.ends.len() + 8 * self.values.len()
+        4 * self.rows.capacity() + 4 * self.ends.capacity() + 8 * self.values.capacity()
     }
 
     /// Calls `f(y, x, end, value)` for every run `x..end` of each row `y`,
@@ -75,10 +80,15 @@ pub(super) struct PlaneRunsBuilder {
 }
 
 impl PlaneRunsBuilder {
-    pub(super) fn new(ny: usize) -> Self {
+    /// A builder with room for `expected` runs (the plane before's, so
+    /// that a plane's vectors seldom grow: growing them on two threads at
+    /// once made the threads wait for the allocator's lock).
+    pub(super) fn new(ny: usize, expected: usize) -> Self {
         let mut runs = PlaneRuns::default();
         runs.rows.reserve(ny + 1);
         runs.rows.push(0);
+        runs.ends.reserve(expected);
+        runs.values.reserve(expected);
         PlaneRunsBuilder { runs, ny }
     }
 
@@ -92,6 +102,7 @@ impl PlaneRunsBuilder {
         runs.values.push(value);
     }
 
+    /// The plane's runs (no more of them to come).
     pub(super) fn finish(mut self) -> PlaneRuns {
         let runs = &mut self.runs;
         while runs.rows.len() <= self.ny {
@@ -162,7 +173,7 @@ mod tests {
     #[test]
     fn a_plane_gives_back_its_runs_and_those_of_its_padded_plane() {
         // Rows of 4: [7 7 0 0], [5 5 5 5].
-        let mut b = PlaneRunsBuilder::new(2);
+        let mut b = PlaneRunsBuilder::new(2, 0);
         b.push(0, 2, 7);
         b.push(0, 4, 0);
         b.push(1, 4, 5);
@@ -189,7 +200,8 @@ mod tests {
                 (3, 0, 6, "NaN".into()),
             ]
         );
-        assert_eq!(runs.bytes(), 4 * 3 + 12 * 3);
+        // At least the numbers held (room may be more).
+        assert!(runs.bytes() >= 4 * 3 + 12 * 3);
     }
 
     #[test]

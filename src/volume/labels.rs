@@ -217,11 +217,12 @@ fn count_planes(
     let mut plane = Vec::new();
     let mut counts = Tally::default();
     let mut kept = Vec::with_capacity(planes.len());
+    let mut expected = 0;
     for z in planes {
         if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) || give_up() {
             return Err(Error::Interrupted);
         }
-        let mut runs = (cap > 0).then(|| PlaneRunsBuilder::new(ny));
+        let mut runs = (cap > 0).then(|| PlaneRunsBuilder::new(ny, expected + expected / 4));
         plane_runs(source, z, &mut plane, |y, x, end, v| {
             if !(v.fract() == 0.0 && v.abs() <= LIMIT) {
                 let why = match v.fract() == 0.0 {
@@ -240,6 +241,7 @@ fn count_planes(
             Ok(())
         })?;
         let runs = runs.map(PlaneRunsBuilder::finish);
+        expected = runs.as_ref().map_or(0, PlaneRuns::len);
         // Past the cap, this plane and every later one are read again.
         match runs.filter(|r| MapRuns::plane_bytes(r) <= cap) {
             Some(runs) => {

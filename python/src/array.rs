@@ -67,6 +67,9 @@ fn scalar_of(array: &Bound<'_, PyUntypedArray>) -> PyResult<(ScalarType, Endian)
         (b'i', 4) => Some(ScalarType::I32),
         (b'f', 4) => Some(ScalarType::F32),
         (b'f', 8) => Some(ScalarType::F64),
+        (b'i', 8) => Some(ScalarType::I64),
+        (b'u', 8) => Some(ScalarType::U64),
+        (b'f', 2) => Some(ScalarType::F16),
         _ => None,
     };
     let endian = match dtype.byteorder() {
@@ -78,7 +81,7 @@ fn scalar_of(array: &Bound<'_, PyUntypedArray>) -> PyResult<(ScalarType, Endian)
     match (scalar, endian) {
         (Some(s), Some(e)) => Ok((s, e)),
         _ => Err(PyTypeError::new_err(format!(
-            "unsupported dtype '{}' (expected u1, i1, u2, i2, u4, i4, f4 or f8)",
+            "unsupported dtype '{}' (expected u1, i1, u2, i2, u4, i4, u8, i8, f2, f4 or f8)",
             dtype.str().map(|s| s.to_string()).unwrap_or_default()
         ))),
     }

@@ -12,7 +12,7 @@ import pytest
 import tmc
 from conftest import read_ply, run_cli
 
-DTYPES = ["u1", "i1", "u2", "i2", "u4", "i4", "f4", "f8"]
+DTYPES = ["u1", "i1", "u2", "i2", "u4", "i4", "u8", "i8", "f2", "f4", "f8"]
 
 
 def noise_volume(dtype: str, shape=(9, 10, 11), seed=7) -> np.ndarray:

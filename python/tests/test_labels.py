@@ -148,6 +148,8 @@ DTYPE_LABELS = {
     "u2": [65535, 1, 2, 300, 4, 5, 6, 7, 8, 9, 10, 11],
     "i4": [-(2**31), -1, 2, 3, 2**31 - 1, 5, 6, 7, 8, 9, 10, 11],
     "i8": [-(2**40) - 3, -1, 2**33, 3, 4, 5, 6, 7, 8, 9, 10, 2**52],
+    "u8": [2**53, 2**40 + 1, 2**33, 3, 4, 5, 6, 7, 8, 9, 10, 11],
+    "f2": [-2048.0, -1.0, 2048.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0],
     "f4": [-1e6, -2.0, 3.0, 4.0, 16777216.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0],
 }
 
@@ -162,6 +164,15 @@ def test_dtypes_and_negative_labels(dtype):
     assert sorted(meshes) == sorted(int(v) for v in values[1:])
     for label, mesh in meshes.items():
         assert_same_mesh(mesh, tmc.extract(indicator(seg, label), 0.5, close=True))
+
+
+def test_a_64_bit_label_beyond_2_53_is_refused_with_its_position():
+    """64-bit labels are read in place (no copy to float64); one that a
+    float64 does not hold exactly is refused, naming its sample."""
+    seg = label_map().astype(np.uint64)
+    seg[2, 3, 4] = 2**53 + 2
+    with pytest.raises(ValueError, match=r"sample \(x 4, y 3, z 2\) is .*beyond ±2\^53"):
+        tmc.extract_labels(seg)
 
 
 def test_background_and_chosen_labels():

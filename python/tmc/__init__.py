@@ -51,7 +51,10 @@ __version__: str = _tmc.__version__
 PathLike = Union[str, bytes, "os.PathLike[str]", "os.PathLike[bytes]"]
 
 # The dtypes the library reads in place (the CLI's: u1 i1 u2 i2 u4 i4 f4 f8).
-_READ_IN_PLACE = {np.dtype(t).str[1:] for t in ("u1", "i1", "u2", "i2", "u4", "i4", "f4", "f8")}
+_READ_IN_PLACE = {
+    np.dtype(t).str[1:]
+    for t in ("u1", "i1", "u2", "i2", "u4", "i4", "u8", "i8", "f2", "f4", "f8")
+}
 
 
 class Mesh:
@@ -183,10 +186,10 @@ def _mapped_file(array: np.ndarray) -> Optional[Tuple[str, int]]:
 
 def _as_samples(volume: Any) -> np.ndarray:
     """``volume`` as an array the library reads in place: the same array
-    for the dtypes tmc reads (any order, any strides), a view for ``bool``,
-    an exact copy for wider integers that fit 32 bits and for float16;
-    ``TypeError`` for anything else, and for a masked array with a masked
-    sample (its mask would be ignored)."""
+    for the dtypes tmc reads (any order, any strides; 64-bit integers are
+    converted to float64 plane by plane as they are read, exact within
+    ±2**53), a view for ``bool``; ``TypeError`` for anything else, and for
+    a masked array with a masked sample (its mask would be ignored)."""
     if isinstance(volume, np.ma.MaskedArray) and np.ma.getmaskarray(volume).any():
         # np.asarray would drop the mask, and the masked samples' stored
         # values would make the surface.
@@ -201,17 +204,9 @@ def _as_samples(volume: Any) -> np.ndarray:
         return array
     if dtype.kind == "b":
         return array.view(np.uint8)
-    if dtype.kind in "iu" and array.size:
-        low, high = array.min(), array.max()
-        for narrow in (np.int32, np.uint32):
-            info = np.iinfo(narrow)
-            if info.min <= low and high <= info.max:
-                return array.astype(narrow)
-    if dtype.kind == "f" and dtype.itemsize < 4:
-        return array.astype(np.float32)
     raise TypeError(
-        f"unsupported dtype '{dtype.str}' (expected u1, i1, u2, i2, u4, i4, f4 or f8"
-        "; 64-bit integers are taken when their values fit 32 bits)"
+        f"unsupported dtype '{dtype.str}' (expected u1, i1, u2, i2, u4, i4, u8, i8, "
+        "f2, f4 or f8)"
     )
 
 
@@ -475,17 +470,10 @@ def _label_args(
     segment: Any,
 ) -> Tuple[Any, Tuple[Any, ...]]:
     """The input and the other arguments of the library's label calls.
-    An array is taken as :func:`_source_args` takes it, except that 64-bit
-    integers that do not fit 32 bits are taken as float64 when exact
-    (within ±2**53)."""
+    An array is taken as :func:`_source_args` takes it (64-bit integer
+    labels in place; the library refuses a label beyond ±2**53, which a
+    float64 would not hold exactly)."""
     chosen = _label_list(labels)
-    if not isinstance(volume, (str, bytes, os.PathLike)):
-        array = volume if isinstance(volume, np.ndarray) else np.asarray(volume)
-        if array.dtype.kind in "iu" and array.dtype.itemsize == 8 and array.size:
-            low, high = int(array.min()), int(array.max())
-            fits32 = np.iinfo(np.int32).min <= low and high <= np.iinfo(np.uint32).max
-            if not fits32 and -(2**53) <= low and high <= 2**53:
-                volume = array.astype(np.float64)
     array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
     rest = (chosen, _integer(background, "background"), spacing3, origin3, mapped,
             _flag(close, "close"), _threads(threads), _flag(normals, "normals"),
@@ -520,9 +508,10 @@ def extract_labels(
     Parameters
     ----------
     volume : ndarray or path
-        A 3-D label map indexed ``[z][y][x]`` (any integer dtype whose
-        values fit 32 bits, or up to ±2**53 for 64-bit ones; float32 or
-        float64 holding whole numbers; any order or strides), or the path
+        A 3-D label map indexed ``[z][y][x]`` (any integer dtype, read in
+        place, 64-bit ones with labels within ±2**53; bool; float16,
+        float32 or float64 holding whole numbers; any order or strides),
+        or the path
         of any volume file ``tmc extract`` reads (NRRD, NIfTI, Zarr, a
         DICOM Segmentation ...).
     labels : "all" or sequence of int

@@ -104,7 +104,9 @@ mod tests {
     /// A chunk of `n` vertices and triangles (numbers like a mesh's).
     fn chunk(n: usize) -> Chunk {
         Chunk {
-            vertices: (0..n).map(|i| [i as f32 * 0.5, (i % 7) as f32, 3.0]).collect(),
+            vertices: (0..n)
+                .map(|i| [i as f32 * 0.5, (i % 7) as f32, 3.0])
+                .collect(),
             triangles: (0..n as u32).map(|i| [i, i + 1, i + 2]).collect(),
             ..Chunk::default()
         }

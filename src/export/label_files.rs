@@ -125,11 +125,12 @@ impl LabelSink {
 }
 
 /// The bytes each label's `.tmesh` writer gathers before it writes them:
-/// 64 MiB shared by all labels, between 4 KiB and 1 MiB (a single
-/// extraction's buffer) each, so that hundreds of labels do not hold
-/// hundreds of MiB of output (each label's file is mostly smaller than
-/// 1 MiB, so it was held whole until the end), nor thousands of labels
-/// (an instance segmentation's cells) a GiB of buffers.
+/// 64 MiB shared by all labels, between 4 KiB and 64 KiB each, so that
+/// hundreds of labels do not hold hundreds of MiB of output, nor
+/// thousands of labels (an instance segmentation's cells) a GiB of
+/// buffers. Up to 1 MiB each (a single extraction's buffer), most label
+/// files were held whole until the end, and every buffer's pages were
+/// faulted in afresh: 64 KiB was faster (docs/performance-labels.md).
 fn label_buffer(labels: usize) -> usize {
     ((64 << 20) / labels.max(1)).clamp(4 << 10, 64 << 10)
 }

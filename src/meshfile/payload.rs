@@ -25,7 +25,7 @@ thread_local! {
     static COMPRESSOR: RefCell<[Option<zstd::bulk::Compressor<'static>>; 2]> =
         const { RefCell::new([None, None]) };
     /// The thread's packed bytes and compressed frame, kept from chunk to
-    /// chunk (as long as the largest chunk's): a label map's pass
+    /// chunk while at most [`KEPT_BUFFER_BYTES`] each: a label map's pass
     /// compresses thousands of small chunks, and allocating both for each
     /// cost more than copying the frame out.
     static BUFFERS: RefCell<(Vec<u8>, Vec<u8>)> = const { RefCell::new((Vec::new(), Vec::new())) };
@@ -36,15 +36,27 @@ thread_local! {
 /// (see docs/performance-labels.md).
 const SMALL_CHUNK_BYTES: usize = 16 << 10;
 
+/// The most bytes of room each of a thread's buffers keeps after a chunk:
+/// a larger chunk's (a dense plane's packed bytes may be hundreds of MB)
+/// are freed, so that no thread holds memory the budget does not count.
+const KEPT_BUFFER_BYTES: usize = 1 << 20;
+
 /// The compressed payload of `chunk`, as the `.tmesh` format stores it.
 pub fn encode_payload(chunk: &Chunk) -> Result<Vec<u8>> {
     BUFFERS.with(|buffers| {
         let (raw, frame) = &mut *buffers.borrow_mut();
-        raw_payload(chunk, raw)?;
-        compress(raw, frame)?;
-        let mut payload = crate::error::try_vec("a .tmesh chunk's frame", frame.len())?;
-        payload.extend_from_slice(frame);
-        Ok(payload)
+        let payload = raw_payload(chunk, raw).and_then(|()| {
+            compress(raw, frame)?;
+            let mut payload = crate::error::try_vec("a .tmesh chunk's frame", frame.len())?;
+            payload.extend_from_slice(frame);
+            Ok(payload)
+        });
+        for buffer in [raw, frame] {
+            if buffer.capacity() > KEPT_BUFFER_BYTES {
+                *buffer = Vec::new();
+            }
+        }
+        payload
     })
 }
 
@@ -135,5 +147,25 @@ mod tests {
         for (&n, frame) in sizes.iter().zip(&first).rev() {
             assert_eq!(&encode_payload(&chunk(n)).unwrap(), frame, "{n} vertices");
         }
+    }
+
+    /// A chunk larger than the kept room leaves no buffer of its size on
+    /// the thread; a small one's buffers are kept.
+    #[test]
+    fn a_large_chunks_buffers_are_not_kept() {
+        let room = || BUFFERS.with(|b| [b.borrow().0.capacity(), b.borrow().1.capacity()]);
+        let large = chunk(100_000);
+        let frame = encode_payload(&large).unwrap();
+        let mut raw = Vec::new();
+        raw_payload(&large, &mut raw).unwrap();
+        assert!(raw.len() > KEPT_BUFFER_BYTES);
+        assert_eq!(zstd::decode_all(&frame[..]).unwrap(), raw);
+        assert!(
+            room().iter().all(|&r| r <= KEPT_BUFFER_BYTES),
+            "{:?}",
+            room()
+        );
+        encode_payload(&chunk(100)).unwrap();
+        assert!(room()[0] > 0, "a small chunk's packed bytes are kept");
     }
 }

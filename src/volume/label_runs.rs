@@ -29,7 +29,7 @@ impl PlaneRuns {
     }
 
     /// Bytes the plane's runs take (their vectors' room).
-    fn bytes(&self) -> usize {
+    pub(super) fn bytes(&self) -> usize {
         4 * self.rows.capacity() + 4 * self.ends.capacity() + 8 * self.values.capacity()
     }
 
@@ -148,11 +148,6 @@ impl MapRuns {
     /// Planes whose runs are kept.
     pub fn kept_planes(&self) -> usize {
         self.planes.iter().flatten().count()
-    }
-
-    /// Bytes of a plane's runs before it is kept, to hold to the cap.
-    pub(super) fn plane_bytes(runs: &PlaneRuns) -> usize {
-        runs.bytes()
     }
 }
 

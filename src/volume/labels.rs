@@ -243,12 +243,12 @@ fn count_planes(
         let runs = runs.map(PlaneRunsBuilder::finish);
         expected = runs.as_ref().map_or(0, PlaneRuns::len);
         // Past the cap, this plane and every later one are read again.
-        match runs.filter(|r| MapRuns::plane_bytes(r) <= cap) {
-            Some(runs) => {
-                cap -= MapRuns::plane_bytes(&runs);
+        match runs {
+            Some(runs) if runs.bytes() <= cap => {
+                cap -= runs.bytes();
                 kept.push(Some(runs));
             }
-            None => {
+            _ => {
                 cap = 0;
                 kept.push(None);
             }

@@ -1,6 +1,7 @@
 """HDF5 datasets written by h5py at test time (contiguous, chunked with gzip
-and shuffle, big-endian, in a group) give the mesh of the same samples as a
-numpy array; `element_size_um` gives the spacing; a damaged chunk and a
+and shuffle, big-endian, half floats, in a group) give the mesh of the same
+samples as a numpy array, and a bool dataset (an enumeration to HDF5) that
+of its 0/1 mask; `element_size_um` gives the spacing; a damaged chunk and a
 missing dataset raise."""
 
 import numpy as np
@@ -25,6 +26,9 @@ CASES = {
     "gzip_f4_whole_planes": dict(dtype="<f4", kw=dict(chunks=(3, 24, 29), compression="gzip",
                                                       compression_opts=9, shuffle=True)),
     "gzip_big_endian_i4": dict(dtype=">i4", kw=dict(chunks=(4, 4, 4), compression="gzip")),
+    # Half floats hold the torus's integers (all below 2048) exactly.
+    "gzip_f2": dict(dtype="<f2", kw=dict(chunks=(5, 7, 8), compression="gzip", shuffle=True)),
+    "big_endian_f2": dict(dtype=">f2", kw={}),
     "f8_latest": dict(dtype="<f8", kw=dict(chunks=(6, 9, 10), compression="gzip", shuffle=True,
                                            maxshape=(None, None, None)), libver="latest"),
 }
@@ -43,6 +47,21 @@ def test_hdf5_gives_the_mesh_of_the_array(tmp_path, case):
         assert len(want.triangles) > 0
         np.testing.assert_array_equal(got.triangles, want.triangles)
         np.testing.assert_array_equal(got.vertices, want.vertices)
+
+
+def test_a_bool_dataset_is_its_mask(tmp_path):
+    """h5py stores a bool array as an enumeration of int8 (FALSE 0, TRUE 1):
+    read as those integers, a mask's surface at 0.5."""
+    mask = volume() > 700
+    path = tmp_path / "mask.h5"
+    with h5py.File(path, "w") as f:
+        f.create_dataset("mask", data=mask, chunks=(5, 7, 8), compression="gzip")
+        assert h5py.check_enum_dtype(f["mask"].dtype) is not None or f["mask"].dtype == bool
+    got = tmc.extract(f"{path}:/mask", 0.5)
+    want = tmc.extract(mask.astype(np.uint8), 0.5)
+    assert len(want.triangles) > 0
+    np.testing.assert_array_equal(got.triangles, want.triangles)
+    np.testing.assert_array_equal(got.vertices, want.vertices)
 
 
 def test_element_size_um_is_the_spacing(tmp_path):

@@ -95,6 +95,21 @@ fn scalar_of(t: &DatatypeMessage) -> Option<ScalarType> {
         },
         DatatypeMessage::FloatingPoint { size: 4, .. } => ScalarType::F32,
         DatatypeMessage::FloatingPoint { size: 8, .. } => ScalarType::F64,
+        // IEEE half precision only (h5py's float16): a 2-byte float of
+        // another layout (bfloat16: 8 exponent bits) is not a `half::f16`.
+        DatatypeMessage::FloatingPoint {
+            size: 2,
+            exponent_size: 5,
+            mantissa_size: 10,
+            exponent_bias: 15,
+            ..
+        } => ScalarType::F16,
+        // An enumeration is read as its integers (h5py stores a bool array
+        // as an enumeration of i8: FALSE 0, TRUE 1, a mask).
+        DatatypeMessage::Enum { ref base, .. } => match **base {
+            DatatypeMessage::FixedPoint { .. } => scalar_of(base)?,
+            _ => return None,
+        },
         _ => return None,
     })
 }
@@ -139,7 +154,7 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
         .map_err(|e| fail(format!("dataset '/{name}': {e}")))?;
     let scalar = scalar_of(&dtype).ok_or_else(|| {
         fail(format!(
-            "dataset '/{name}': its type is not one tmc reads (u8, i8, u16, i16, u32, i32, u64, i64, f32, f64)"
+            "dataset '/{name}': its type is not one tmc reads (u8, i8, u16, i16, u32, i32, u64, i64, f16, f32, f64, or an enumeration of integers such as a bool mask)"
         ))
     })?;
     let shape = dataset.shape();
@@ -296,13 +311,8 @@ impl Hdf5Volume {
             ScalarType::F64 => typed::<f64>(d, len, &starts, &counts)?,
             ScalarType::I64 => typed::<i64>(d, len, &starts, &counts)?,
             ScalarType::U64 => typed::<u64>(d, len, &starts, &counts)?,
-            // `scalar_of` gives no half floats.
-            ScalarType::F16 => {
-                return Err(Error::Format(format!(
-                    "{}: 16-bit float datasets are not read",
-                    self.path.display()
-                )))
-            }
+            // The half floats' bits, in the host's byte order.
+            ScalarType::F16 => typed::<u16>(d, len, &starts, &counts)?,
         };
         read.map_err(fail)
     }

@@ -8,8 +8,10 @@
 //! well as z slices (a hyperstack) is refused: stacked as z planes they
 //! would interleave.
 //!
-//! Greyscale pages of 8-, 16- or 32-bit unsigned or signed integers or 32-
-//! or 64-bit floats are read, classic TIFF or BigTIFF; every page must have
+//! Greyscale pages of 8-, 16-, 32- or 64-bit unsigned or signed integers or
+//! 16-, 32- or 64-bit floats are read (64-bit integers and half floats
+//! converted to `f64` plane by plane, never lent), classic TIFF or BigTIFF;
+//! every page must have
 //! the same size and type. At open only the page directories are read; a
 //! page is decoded when its plane is asked for, and only the last decoded
 //! page is kept, with the decoder of its file: the decoder remembers where
@@ -122,6 +124,10 @@ fn page_info(
         (SampleFormat::Int, 32) => ScalarType::I32,
         (SampleFormat::IEEEFP, 32) => ScalarType::F32,
         (SampleFormat::IEEEFP, 64) => ScalarType::F64,
+        // Read by converting each plane to f64 (see `read_plane`).
+        (SampleFormat::Uint, 64) => ScalarType::U64,
+        (SampleFormat::Int, 64) => ScalarType::I64,
+        (SampleFormat::IEEEFP, 16) => ScalarType::F16,
         (f, b) => return Err(format!("{b}-bit {f:?} samples are not supported")),
     };
     Ok((dims, scalar))
@@ -387,17 +393,22 @@ impl SampleSource for TiffStack {
         }
         let plane = self.shared(z)?;
         let (file, index) = &self.pages[z];
-        let lent = plane.lent().filter(|p| p.len() == out.len());
-        let lent = lent.ok_or_else(|| {
-            Error::Format(format!(
-                "{} page {index}: not {} {} samples",
-                file.display(),
-                out.len(),
-                self.scalar.name()
-            ))
-        })?;
-        lent.get_range(0, out);
-        Ok(())
+        if let Some(lent) = plane.lent().filter(|p| p.len() == out.len()) {
+            lent.get_range(0, out);
+            return Ok(());
+        }
+        // 64-bit integers and half floats are not lent: converted here.
+        let bytes = plane.data.get(plane.bytes.clone()).unwrap_or_default();
+        if !self.scalar.is_lent() && bytes.len() == out.len() * self.scalar.size() {
+            super::decode_samples(self.scalar, super::Endian::native(), bytes, out);
+            return Ok(());
+        }
+        Err(Error::Format(format!(
+            "{} page {index}: not {} {} samples",
+            file.display(),
+            out.len(),
+            self.scalar.name()
+        )))
     }
 
     fn data_files(&self) -> Vec<&Path> {
@@ -419,7 +430,8 @@ impl SampleSource for TiffStack {
     /// decoded into its own type; `None` if it cannot be (`read_plane`
     /// then says why).
     fn share_plane(&self, z: usize) -> Option<SharedPlane> {
-        if z >= self.grid.dims[2] {
+        // A plane of 64-bit integers or half floats is read as f64s.
+        if z >= self.grid.dims[2] || !self.scalar.is_lent() {
             return None;
         }
         self.shared(z).ok()

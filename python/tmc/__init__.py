@@ -602,7 +602,9 @@ def extract_labels_to(
     ``vertices``, ``samples``, ``voxel_volume`` and, with ``stats``,
     ``components``, ``genus`` (absent when a component is not an oriented
     manifold), ``closed`` (a closed, oriented manifold), ``area`` and
-    ``enclosed_volume``, in world units) and the seconds spent.
+    ``enclosed_volume`` (absent when the surface is not closed: over an
+    open surface the sum is no volume), in world units) and the seconds
+    spent.
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment)

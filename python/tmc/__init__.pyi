@@ -113,8 +113,8 @@ def extract_labels_to(
     ``output`` for a file per label, the one placeholder, else one .ply or
     .tmesh with a per-face label), as ``tmc extract --labels``; a missing
     output directory raises ``FileNotFoundError``; returns its report
-    (with ``stats``, each label's components, genus, closed, area and
-    enclosed_volume, as ``--json`` gives them)."""
+    (with ``stats``, each label's components, genus, closed, area and,
+    for a closed surface, enclosed_volume, as ``--json`` gives them)."""
 
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a .tmesh, PLY, OBJ or OFF file."""

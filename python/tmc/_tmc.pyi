@@ -99,7 +99,8 @@ def extract_labels_to(
 ) -> str:
     """Streams every label's mesh into the files output names; returns the
     report JSON (with stats, each label's components, genus, closed, area
-    and enclosed_volume counted as its chunks stream)."""
+    and, for a closed surface, enclosed_volume, counted as its chunks
+    stream)."""
 
 def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
     """Reads a mesh file: (vertices float64, triangles uint32)."""

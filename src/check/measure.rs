@@ -78,7 +78,8 @@ pub struct Measurement {
 
 impl Measurement {
     /// Sets `report`'s components, genus, closed, area and enclosed
-    /// volume; left as they are when the verdict has no figures of
+    /// volume (only for a closed manifold, as the genus only for an
+    /// oriented one); left as they are when the verdict has no figures of
     /// [`check_mesh`](super::check_mesh) ([`Verdict::checked`]).
     pub fn fill(&self, report: &mut LabelReport) {
         let Some(checked) = self.verdict.checked() else {
@@ -88,7 +89,10 @@ impl Measurement {
         report.genus = checked.genus;
         report.closed = Some(checked.closed_manifold);
         report.area = Some(self.sums.area);
-        report.enclosed_volume = Some(self.sums.volume);
+        // The divergence sum is a volume only over a closed surface: over
+        // an open one (a label at the border without `--close`) it moves
+        // with the origin.
+        report.enclosed_volume = checked.closed_manifold.then_some(self.sums.volume);
     }
 }
 

@@ -50,7 +50,7 @@ pub(crate) struct ExtractArgs {
     /// indicator's gradient. A label's surface faces out of its samples
     /// (--inside low is refused). Float inputs must hold whole numbers (the first
     /// sample that does not is an error). --stats/--json give per label
-    /// triangles, components, genus, area and enclosed volume beside the
+    /// triangles, components, genus, area and (closed surfaces) enclosed volume beside the
     /// label's voxel count times the voxel volume. Not with --preview (draw
     /// a label's file with 'tmc preview').
     #[arg(long, value_name = "all|L1,L2,...", allow_hyphen_values = true,

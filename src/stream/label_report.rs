@@ -43,7 +43,9 @@ pub struct LabelReport {
     /// Surface area of its mesh ([`SurfaceSums`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub area: Option<f64>,
-    /// Volume its mesh encloses ([`SurfaceSums`]).
+    /// Volume its mesh encloses ([`SurfaceSums`]); `None` unless the mesh
+    /// is a closed manifold (over an open surface the sum depends on the
+    /// origin).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub enclosed_volume: Option<f64>,
 }

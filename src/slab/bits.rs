@@ -139,12 +139,18 @@ fn pack_bits<T: Copy>(values: &[T], bits: &mut [u64], inside: impl Fn(T) -> bool
         }
         *word = gather_flags(&flags);
     }
-    if !rest.is_empty() {
+    if let Some(&first) = rest.first() {
+        // Padded to 64 samples (with copies of its first) and tested as a
+        // full word is, in vector registers, then the padding's bits
+        // cleared: a row of a label's narrow window is mostly remainder,
+        // which one test at a time made the dearest part of classifying.
+        let mut padded = [first; 64];
+        padded[..rest.len()].copy_from_slice(rest);
         let mut flags = [0u8; 64];
-        for (flag, &v) in flags.iter_mut().zip(rest) {
+        for (flag, &v) in flags.iter_mut().zip(&padded) {
             *flag = u8::from(inside(v));
         }
-        bits[full] = gather_flags(&flags);
+        bits[full] = gather_flags(&flags) & (u64::MAX >> (64 - rest.len()));
     }
 }
 

@@ -501,3 +501,23 @@ fn the_shell_script_splits_and_merges_a_label_map() {
         );
     }
 }
+
+/// `{label}` in `tmc merge -o` for the parts of an isosurface (not of
+/// `--labels`) is refused with nothing written, as `tmc extract --iso` with
+/// it is: the merge wrote a file named `{label}.ply` and exited 0.
+#[test]
+fn label_placeholder_for_isosurface_parts_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = synth(dir.path(), "sphere", "10,9,12", "f32", "v.nrrd");
+    let parts = parts(&input, dir.path(), &["--iso", "0.5"], 2);
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let output = out_dir.join("{label}.ply");
+    let out = tmc(&["merge", s(&parts[0]), s(&parts[1]), "-o", s(&output)]);
+    let line = assert_one_line(&out, 1);
+    assert!(
+        line.contains("{label} names the files of label parts"),
+        "{line}"
+    );
+    assert!(common::cli::names(&out_dir).is_empty());
+}

@@ -4,6 +4,9 @@
 #
 #   scripts/slurm/parts-local.sh INPUT N OUTPUT [extract options: --iso V ...]
 #
+# With --labels (a label map), OUTPUT is what tmc merge writes: 'out/{label}.ply'
+# (one mesh per label) or one .ply/.tmesh of every label.
+#
 # Part files go to a temporary directory next to OUTPUT; TMC names the tmc
 # binary (default: tmc on PATH); JOBS caps the concurrent parts (default N).
 set -eu
@@ -19,6 +22,11 @@ trap 'rm -rf "$parts"' EXIT
 trap 'rm -rf "$parts"; exit 130' INT
 trap 'rm -rf "$parts"; exit 143' TERM
 trap 'rm -rf "$parts"; exit 129' HUP
+# A label map's parts are one file per label: tmc fills in {label} and {part}.
+name='part-{}.tmesh'
+for option in "$@"; do
+    case $option in --labels | --labels=*) name='{label}.part-{part}.tmesh' ;; esac
+done
 seq 1 "$n" | xargs -P "${JOBS:-$n}" -I{} \
-    "$tmc" extract "$input" -q --threads 1 --part "{}/$n" -o "$parts/part-{}.tmesh" "$@"
-"$tmc" merge "$parts"/part-*.tmesh -o "$output"
+    "$tmc" extract "$input" -q --threads 1 --part "{}/$n" -o "$parts/$name" "$@"
+"$tmc" merge "$parts"/*.tmesh -o "$output"

@@ -166,7 +166,7 @@ fn check_unique_pictures(template: &Path, items: &[Item]) -> Result<()> {
     let mut seen = std::collections::HashSet::new();
     for item in items {
         for picture in manifest::outputs(template, &item.input, &item.isos) {
-            if !seen.insert(picture.clone()) {
+            if !seen.insert(manifest::file_key(&picture)) {
                 return Err(Error::Invalid(format!(
                     "{}: two previews of the batch have this name; use {{stem}} and {{iso}} in the preview's name",
                     picture.display()

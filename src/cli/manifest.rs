@@ -123,15 +123,18 @@ pub(crate) fn parse(text: &str, name: &Path) -> Result<Vec<Item>> {
 /// Reads and parses the manifest at `path`.
 pub(crate) fn read(path: &Path) -> Result<Vec<Item>> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-    parse(&text, path)
+    // A byte order mark (Windows editors write one) is no part of the first input's name.
+    parse(text.strip_prefix('\u{feff}').unwrap_or(&text), path)
 }
 
-/// Fails when two items would write the same output.
+/// Fails when two items would write the same output, however its path is
+/// spelled (`a.ply`, `./a.ply`, `out/../a.ply`, a link to the directory):
+/// the second replaced the first without a word.
 fn check_unique(items: Vec<Item>) -> Result<Vec<Item>> {
     let mut seen = HashSet::new();
     for item in &items {
         for output in &item.outputs {
-            if !seen.insert(output.clone()) {
+            if !seen.insert(file_key(output)) {
                 return Err(Error::Invalid(format!(
                     "{}: two outputs of the batch have this name; use {{stem}} and {{iso}} in the output name",
                     output.display()
@@ -140,6 +143,22 @@ fn check_unique(items: Vec<Item>) -> Result<Vec<Item>> {
         }
     }
     Ok(items)
+}
+
+/// The file `path` names, as one key for every spelling of it: its
+/// directory's canonical path (where the directory exists) joined with its
+/// name, else the path made absolute (without `.` components). Equal keys
+/// are one file; distinct keys may still be one (hard links), as a file
+/// system can tell only for files that exist.
+pub(crate) fn file_key(path: &Path) -> PathBuf {
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let parent = absolute
+        .parent()
+        .and_then(|dir| std::fs::canonicalize(dir).ok());
+    match (parent, absolute.file_name()) {
+        (Some(dir), Some(name)) => dir.join(name),
+        _ => absolute,
+    }
 }
 
 /// The outputs of `input` at `isos`: `template` with `{stem}` and `{iso}`

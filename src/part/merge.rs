@@ -50,6 +50,13 @@ pub fn merge(parts: &[PathBuf], output: &Path, cancel: &AtomicBool) -> Result<To
     if scanned.iter().any(|p| p.record.label.is_some()) {
         return merge_labels(scanned, output, cancel);
     }
+    // An isosurface is one mesh: `{label}` was written into its name.
+    if crate::files::has_placeholder(output, "{label}") {
+        return Err(Error::Invalid(format!(
+            "{}: {{label}} names the files of label parts (tmc extract --labels --part); these parts are of an isosurface: give one output file",
+            output.display()
+        )));
+    }
     crate::export::check_output_path(output)?;
     let parts = order(scanned)?;
     stitch(&parts, output, cancel)

@@ -42,6 +42,9 @@ pub struct Hdf5Volume {
     scalar: ScalarType,
     /// Axes of the dataset (3 and more).
     rank: usize,
+    /// One past the x axis: `rank`, less the trailing axes of one entry
+    /// (channels last, as ilastik writes `zyxc`).
+    end: usize,
     /// Planes per layer: the chunk depth, or 1 for a contiguous dataset.
     depth: usize,
     layers: ChunkLayers,
@@ -164,17 +167,24 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
             "dataset '/{name}' has {rank} axes; tmc reads 3-D volumes (z, y, x last)"
         )));
     }
-    if let Some(n) = shape[..rank - 3].iter().find(|&&n| n != 1) {
+    // Trailing axes of one entry (a channel axis last, ilastik's `zyxc`) are
+    // dropped: a volume one sample wide in x has no cells, so an axis of one
+    // entry last is never the x of a volume to extract.
+    let mut end = rank;
+    while end > 3 && shape[end - 1] == 1 {
+        end -= 1;
+    }
+    if let Some(n) = shape[..end - 3].iter().find(|&&n| n != 1) {
         return Err(fail(format!(
             "dataset '/{name}' has {n} entries along an axis before z, y, x; tmc reads one 3-D volume: write the one you want as its own dataset"
         )));
     }
-    let [nz, ny, nx] = [shape[rank - 3], shape[rank - 2], shape[rank - 1]];
+    let [nz, ny, nx] = [shape[end - 3], shape[end - 2], shape[end - 1]];
     if [nx, ny, nz].contains(&0) {
         return Err(fail(format!("dataset '/{name}' is empty")));
     }
     let chunk = dataset.chunk_dims();
-    let depth = chunk.as_ref().map_or(1, |c| c[rank - 3].max(1));
+    let depth = chunk.as_ref().map_or(1, |c| c[end - 3].max(1));
     let mut grid = Grid::unit([nx, ny, nz]);
     let mut spacing_from = ValueFrom::Default;
     if let Ok(attribute) = dataset.attr(SPACING_ATTRIBUTE) {
@@ -224,7 +234,7 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
             format!("HDF5 chunked: {}", names.join(" > "))
         };
         let counts = [nx, ny, nz].map(|n| n as u64);
-        let sizes = [c[rank - 1], c[rank - 2], c[rank - 3]];
+        let sizes = [c[end - 1], c[end - 2], c[end - 3]];
         ChunkNotes {
             chunk_shape: sizes,
             codec,
@@ -241,6 +251,7 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
         grid,
         scalar,
         rank,
+        end,
         depth,
         layers: ChunkLayers::new(),
         read: AtomicU64::new(0),
@@ -277,8 +288,8 @@ impl Hdf5Volume {
         let depth = self.depth.min(nz - z0);
         let mut starts = vec![0; self.rank];
         let mut counts = vec![1; self.rank];
-        starts[self.rank - 3] = z0;
-        counts[self.rank - 3..].copy_from_slice(&[depth, ny, nx]);
+        starts[self.end - 3] = z0;
+        counts[self.end - 3..self.end].copy_from_slice(&[depth, ny, nx]);
         let len = depth * ny * nx;
         let fail = |e: rust_hdf5::Hdf5Error| {
             Error::Format(format!(

@@ -563,3 +563,53 @@ fn two_previews_of_one_name_are_refused_before_the_batch() {
         ]
     );
 }
+
+/// Two manifest lines writing one file under two spellings of its path
+/// (`out/a.ply` and `./out/a.ply`, `out/../out/a.ply`, a link to the
+/// folder) are refused before anything runs, as two lines of one spelling
+/// are: the second mesh replaced the first and the batch exited 0.
+#[test]
+fn one_output_spelled_two_ways_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = synth(d, "sphere", "10,10,10", "f32", "ball.nrrd");
+    fs::create_dir(d.join("out")).unwrap();
+    std::os::unix::fs::symlink(d.join("out"), d.join("link")).unwrap();
+    let manifest = d.join("list.txt");
+    let plain = d.join("out/a.ply");
+    for other in [
+        format!("{}/./out/a.ply", s(d)),
+        format!("{}/out/../out/a.ply", s(d)),
+        format!("{}/link/a.ply", s(d)),
+    ] {
+        fs::write(
+            &manifest,
+            format!("{0} 0.3 {1}\n{0} 0.5 {other}\n", s(&input), s(&plain)),
+        )
+        .unwrap();
+        let out = tmc(&["extract", "--manifest", s(&manifest), "-q"]);
+        let err = assert_one_line(&out, 1);
+        assert!(err.contains("two outputs of the batch"), "{other}: {err}");
+        assert!(names(&d.join("out")).is_empty(), "{other}");
+    }
+}
+
+/// A manifest saved with a byte order mark (as Windows editors write
+/// UTF-8) runs: the mark was read as part of the first input's name, which
+/// then did not exist.
+#[test]
+fn a_manifest_with_a_byte_order_mark_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = synth(d, "sphere", "10,10,10", "f32", "ball.nrrd");
+    let manifest = d.join("list.txt");
+    let mesh = d.join("ball.ply");
+    fs::write(
+        &manifest,
+        format!("\u{feff}{} 0.3 {}\r\n", s(&input), s(&mesh)),
+    )
+    .unwrap();
+    let out = tmc(&["extract", "--manifest", s(&manifest), "-q"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(mesh.exists());
+}

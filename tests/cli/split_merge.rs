@@ -442,3 +442,82 @@ fn the_shell_script_removes_its_parts_when_interrupted() {
     let left: Vec<_> = std::fs::read_dir(&out_dir).unwrap().flatten().collect();
     assert!(left.is_empty(), "left {left:?}");
 }
+
+/// A u8 label map of `dims` (x, y, z) with four labels in blocks.
+fn label_map(dir: &Path, [nx, ny, nz]: [usize; 3]) -> PathBuf {
+    let mut bytes = npy_header(&format!(
+        "{{'descr': '|u1', 'fortran_order': False, 'shape': ({nz}, {ny}, {nx}), }}"
+    ));
+    for z in 0..nz {
+        for y in 0..ny {
+            for x in 0..nx {
+                bytes.push(((x / 4 + 2 * (y / 3) + 3 * (z / 5)) % 4) as u8);
+            }
+        }
+    }
+    let path = dir.join("labels.npy");
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+/// `parts-local.sh` with `--labels`: one mesh per label (`OUTPUT` with
+/// `{label}`) and one file of every label, each byte for byte what one
+/// run writes. Its part names had no `{label}` or `{part}`, so every
+/// part was refused.
+#[test]
+fn the_shell_script_splits_and_merges_a_label_map() {
+    let Some(script) = parts_local() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = label_map(d, [13, 11, 17]);
+    for dir in ["one", "split"] {
+        std::fs::create_dir(d.join(dir)).unwrap();
+    }
+    extract(
+        &input,
+        &d.join("one/{label}.ply"),
+        &["--labels", "all"],
+        None,
+    );
+    extract(&input, &d.join("one/all.ply"), &["--labels", "all"], None);
+    for output in ["split/{label}.ply", "split/all.ply"] {
+        let mut sh = std::process::Command::new("sh");
+        sh.arg(&script)
+            .args([s(&input), "3", s(&d.join(output)), "--labels", "all"])
+            .env("TMC", common::cli::tmc_path());
+        let out = sh.output().unwrap();
+        assert!(out.status.success(), "{out:?}");
+    }
+    let one = common::cli::names(&d.join("one"));
+    assert_eq!(one, ["1.ply", "2.ply", "3.ply", "all.ply"]);
+    assert_eq!(common::cli::names(&d.join("split")), one);
+    for name in one {
+        assert_eq!(
+            std::fs::read(d.join("split").join(&name)).unwrap(),
+            std::fs::read(d.join("one").join(&name)).unwrap(),
+            "{name}"
+        );
+    }
+}
+
+/// `{label}` in `tmc merge -o` for the parts of an isosurface (not of
+/// `--labels`) is refused with nothing written, as `tmc extract --iso` with
+/// it is: the merge wrote a file named `{label}.ply` and exited 0.
+#[test]
+fn label_placeholder_for_isosurface_parts_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = synth(dir.path(), "sphere", "10,9,12", "f32", "v.nrrd");
+    let parts = parts(&input, dir.path(), &["--iso", "0.5"], 2);
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let output = out_dir.join("{label}.ply");
+    let out = tmc(&["merge", s(&parts[0]), s(&parts[1]), "-o", s(&output)]);
+    let line = assert_one_line(&out, 1);
+    assert!(
+        line.contains("{label} names the files of label parts"),
+        "{line}"
+    );
+    assert!(common::cli::names(&out_dir).is_empty());
+}

@@ -203,3 +203,39 @@ fn stem_is_the_files_name_with_or_without_dataset() {
     let names = run(&[s(&suffix), s(&other)]);
     assert_eq!(names, ["h5_twin.ply", "other.ply"]);
 }
+
+/// A dataset with a channel axis of one entry last (`z, y, x, 1`: ilastik
+/// exports `zyxc`), chunked with odd edge chunks and contiguous, reads as
+/// its volume: it was refused as "13 entries along an axis before z, y,
+/// x", reading the volume's z as a time axis and the channel as x.
+#[test]
+fn a_trailing_axis_of_one_entry_is_a_channel() {
+    let twin = volume::open(&data("vt_twin.npy"), None).unwrap();
+    let [nx, ny, nz] = twin.grid().dims;
+    let samples = all_samples(twin.as_ref());
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("zyxc.h5");
+    {
+        let h5 = rust_hdf5::H5File::create(&file).unwrap();
+        h5.new_dataset::<f64>()
+            .shape([nz, ny, nx, 1])
+            .chunk(&[3, 5, 4, 1])
+            .deflate(4)
+            .create("chunked")
+            .unwrap()
+            .write_raw(&samples)
+            .unwrap();
+        h5.new_dataset::<f64>()
+            .shape([1, nz, ny, nx, 1, 1])
+            .create("contiguous")
+            .unwrap()
+            .write_raw(&samples)
+            .unwrap();
+    }
+    for name in ["/chunked", "/contiguous"] {
+        let path = PathBuf::from(format!("{}:{name}", file.display()));
+        let src = volume::open(&path, None).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(src.grid().dims, [nx, ny, nz], "{name}");
+        same_mesh(src.as_ref(), twin.as_ref());
+    }
+}

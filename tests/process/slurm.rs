@@ -606,3 +606,60 @@ fn the_part_script_takes_threads_and_memory_from_the_allocation() {
     assert_eq!(run(&whole), args("--threads 2"));
     assert_eq!(run(&[]), args("--threads 0"));
 }
+
+/// The job scripts with `LABELS` (a label map), without Slurm: the array
+/// tasks' environment given by hand and the built `tmc` on `PATH`. Every
+/// part and the merge succeed, one mesh per label equal byte for byte to
+/// one run's; `ISO` and `LABELS` together are refused. The scripts had no
+/// way to pass `--labels`: with `EXTRA=--labels` every part was refused.
+#[test]
+fn the_job_scripts_split_and_merge_a_label_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = synth(d, "head", "24,20,30", "u8", "map.npy");
+    let scripts = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm");
+    let bin = Path::new(tmc_path()).parent().unwrap().to_path_buf();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let run = |script: &str, env: &[(&str, &str)]| {
+        Command::new("bash")
+            .arg(scripts.join(script))
+            .current_dir(d)
+            .env_clear()
+            .env("PATH", &path)
+            .envs([("N", "3"), ("IN", s(&input)), ("LABELS", "all")])
+            .envs(env.iter().copied())
+            .output()
+            .unwrap()
+    };
+    for task in ["1", "2", "3"] {
+        let out = run("tmc-parts.sbatch", &[("SLURM_ARRAY_TASK_ID", task)]);
+        assert!(out.status.success(), "{out:?}");
+    }
+    for dir in ["one", "merged"] {
+        fs::create_dir(d.join(dir)).unwrap();
+    }
+    let out = run("tmc-merge.sbatch", &[("OUT", "merged/{label}.ply")]);
+    assert!(out.status.success(), "{out:?}");
+    let one = d.join("one/{label}.ply");
+    let out = tmc(&["extract", s(&input), "--labels", "all", "-q", "-o", s(&one)]);
+    assert!(out.status.success(), "{out:?}");
+    let labels = names(&d.join("one"));
+    assert!(labels.len() > 1, "{labels:?}");
+    assert_eq!(names(&d.join("merged")), labels);
+    for name in labels {
+        assert_eq!(
+            fs::read(d.join("merged").join(&name)).unwrap(),
+            fs::read(d.join("one").join(&name)).unwrap(),
+            "{name}"
+        );
+    }
+    let both = run(
+        "tmc-parts.sbatch",
+        &[("SLURM_ARRAY_TASK_ID", "1"), ("ISO", "3")],
+    );
+    assert_eq!(both.status.code(), Some(2), "{both:?}");
+}

@@ -391,24 +391,21 @@ impl SampleSource for TiffStack {
                 self.grid.plane_len()
             )));
         }
+        // The page decoded in its own type (native byte order), converted
+        // as a chunk layer's plane is: every type, 64-bit and half included.
         let plane = self.shared(z)?;
-        let (file, index) = &self.pages[z];
-        if let Some(lent) = plane.lent().filter(|p| p.len() == out.len()) {
-            lent.get_range(0, out);
-            return Ok(());
+        let bytes = &plane.data[plane.bytes.clone()];
+        if bytes.len() != out.len() * self.scalar.size() {
+            let (file, index) = &self.pages[z];
+            return Err(Error::Format(format!(
+                "{} page {index}: not {} {} samples",
+                file.display(),
+                out.len(),
+                self.scalar.name()
+            )));
         }
-        // 64-bit integers and half floats are not lent: converted here.
-        let bytes = plane.data.get(plane.bytes.clone()).unwrap_or_default();
-        if !self.scalar.is_lent() && bytes.len() == out.len() * self.scalar.size() {
-            super::decode_samples(self.scalar, super::Endian::native(), bytes, out);
-            return Ok(());
-        }
-        Err(Error::Format(format!(
-            "{} page {index}: not {} {} samples",
-            file.display(),
-            out.len(),
-            self.scalar.name()
-        )))
+        super::decode_samples(self.scalar, super::Endian::native(), bytes, out);
+        Ok(())
     }
 
     fn data_files(&self) -> Vec<&Path> {

@@ -66,6 +66,13 @@ pub(crate) struct RawArgs {
     )]
     pub level: Option<usize>,
 
+    /// Zarr and HDF5: the entry to read of each axis before z, y, x, e.g.
+    /// --at c=1 for the second channel of an OME-Zarr image (t, c, z, y,
+    /// x), or --at 0=3 by position (0 the slowest); axes of one entry need
+    /// none. Only the chunks holding that entry are read.
+    #[arg(long, value_name = "AXIS=I,...", value_delimiter = ',', value_parser = tmc::volume::leading_axes::parse_pick, help_heading = "Zarr and HDF5 input")]
+    pub at: Vec<(String, u64)>,
+
     /// HDF5: the dataset to read (its path in the file), e.g.
     /// --dataset /exchange/data; the same as giving FILE:/exchange/data as
     /// the input.
@@ -141,6 +148,7 @@ pub(crate) fn open_input(
         dataset: args.dataset.clone(),
         series: args.series.clone(),
         segment: args.segment,
+        at: args.at.clone(),
     };
     let source = tmc::volume::open_selected(input, raw, &select, cancel.unwrap_or(&never))?;
     let (source, notes) = tmc::volume::regrid(source, args.spacing, args.origin)?;

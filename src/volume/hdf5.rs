@@ -45,6 +45,8 @@ pub struct Hdf5Volume {
     /// One past the x axis: `rank`, less the trailing axes of one entry
     /// (channels last, as ilastik writes `zyxc`).
     end: usize,
+    /// The entry read of each axis before z, y, x (`--at`).
+    lead: Vec<u64>,
     /// Planes per layer: the chunk depth, or 1 for a contiguous dataset.
     depth: usize,
     layers: ChunkLayers,
@@ -119,6 +121,13 @@ fn scalar_of(t: &DatatypeMessage) -> Option<ScalarType> {
 
 /// Opens dataset `dataset` of the HDF5 file at `path`.
 pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
+    open_at(path, dataset, &[])
+}
+
+/// [`open`], reading the entries `picks` chooses of the axes before z, y,
+/// x (named by position, 0 the slowest: `("0", 2)`; see
+/// [`super::leading_axes`]); an axis of one entry needs no pick.
+pub fn open_at(path: &Path, dataset: Option<&str>, picks: &[(String, u64)]) -> Result<Hdf5Volume> {
     let fail = |what: String| Error::Format(format!("{}: {what}", path.display()));
     let file = H5File::open(path).map_err(|e| fail(format!("cannot open as HDF5: {e}")))?;
     let listed = || {
@@ -174,11 +183,10 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
     while end > 3 && shape[end - 1] == 1 {
         end -= 1;
     }
-    if let Some(n) = shape[..end - 3].iter().find(|&&n| n != 1) {
-        return Err(fail(format!(
-            "dataset '/{name}' has {n} entries along an axis before z, y, x; tmc reads one 3-D volume: write the one you want as its own dataset"
-        )));
-    }
+    let positions: Vec<String> = (0..end).map(|i| i.to_string()).collect();
+    let lengths: Vec<u64> = shape[..end].iter().map(|&n| n as u64).collect();
+    let lead = super::leading_axes::entries(&lengths, &positions, picks)
+        .map_err(|why| fail(format!("dataset '/{name}': {why}")))?;
     let [nz, ny, nx] = [shape[end - 3], shape[end - 2], shape[end - 1]];
     if [nx, ny, nz].contains(&0) {
         return Err(fail(format!("dataset '/{name}' is empty")));
@@ -252,6 +260,7 @@ pub fn open(path: &Path, dataset: Option<&str>) -> Result<Hdf5Volume> {
         scalar,
         rank,
         end,
+        lead,
         depth,
         layers: ChunkLayers::new(),
         read: AtomicU64::new(0),
@@ -287,6 +296,9 @@ impl Hdf5Volume {
         let z0 = k * self.depth;
         let depth = self.depth.min(nz - z0);
         let mut starts = vec![0; self.rank];
+        for (start, &entry) in starts.iter_mut().zip(&self.lead) {
+            *start = entry as usize;
+        }
         let mut counts = vec![1; self.rank];
         starts[self.end - 3] = z0;
         counts[self.end - 3..self.end].copy_from_slice(&[depth, ny, nx]);

@@ -17,6 +17,7 @@ pub mod histogram;
 pub mod info;
 mod label_runs;
 mod labels;
+pub mod leading_axes;
 mod lent;
 mod mapped;
 pub mod metaimage;

@@ -130,7 +130,8 @@ pub fn open_selected(
                     path.display()
                 )));
             }
-            return checked_size(path, Box::new(hdf5::open(&file, Some(&dataset))?));
+            let volume = hdf5::open_at(&file, Some(&dataset), &select.at)?;
+            return checked_size(path, Box::new(volume));
         }
     }
     check_input_kind(path)?;
@@ -138,6 +139,12 @@ pub fn open_selected(
     if (select.array.is_some() || select.level.is_some()) && format != Some(Format::Zarr) {
         return Err(crate::Error::Invalid(format!(
             "{}: --array and --level choose an array of a Zarr store, and this is not one",
+            path.display()
+        )));
+    }
+    if !select.at.is_empty() && !matches!(format, Some(Format::Zarr | Format::Hdf5)) {
+        return Err(crate::Error::Invalid(format!(
+            "{}: --at picks an entry of the axes before z, y, x of a Zarr array or HDF5 dataset, and this is neither",
             path.display()
         )));
     }
@@ -214,7 +221,7 @@ pub fn open_selected(
         Format::TiffStack => Box::new(tiff_stack::open(path)?),
         Format::Dicom => dicom::open_source(path, select.series.as_deref(), select.segment)?,
         Format::Zarr => Box::new(zarr::open(path, select)?),
-        Format::Hdf5 => Box::new(hdf5::open(path, select.dataset.as_deref())?),
+        Format::Hdf5 => Box::new(hdf5::open_at(path, select.dataset.as_deref(), &select.at)?),
     };
     checked_size(path, source)
 }

@@ -4,8 +4,9 @@
 //! gzip, bytes of either byte order, transpose, sharding, crc32c), and the
 //! fill value for chunks that are not stored.
 //!
-//! The last three axes are z, y, x (C order, as numpy); axes before them
-//! (OME's `t` and `c`) must have one entry, which is read. A group is read
+//! The last three axes are z, y, x (C order, as numpy); of each axis before
+//! them (OME's `t` and `c`) one entry is read: the only one, or the one
+//! `--at` picks (`leading_axes.rs`). A group is read
 //! through the array that `--array PATH` names, or through the level of
 //! its OME-Zarr `multiscales` (`--level N`, 0 by default; a level opened
 //! by its path, `image.zarr/1`, alike), whose `scale` and `translation`
@@ -47,6 +48,10 @@ pub struct ZarrSelect {
     /// The segment of a DICOM Segmentation object to read alone, as 0 to
     /// 1 (`--segment`), instead of the label map of all its segments.
     pub segment: Option<u32>,
+    /// Zarr and HDF5: the entry to read of axes before z, y, x (`--at
+    /// c=1`), as (axis name or position, entry); an axis of one entry
+    /// needs none.
+    pub at: Vec<(String, u64)>,
 }
 
 /// A Zarr array read plane by plane from its chunk layers.
@@ -59,6 +64,10 @@ pub struct ZarrVolume {
     rank: usize,
     /// Chunk shape along z, y, x.
     chunk: [usize; 3],
+    /// The entry read of each axis before z, y, x.
+    lead: Vec<u64>,
+    /// The chunk shape of those axes.
+    lead_chunk: Vec<u64>,
     /// Chunks along z, y, x.
     chunks: [usize; 3],
     layers: ChunkLayers,
@@ -284,15 +293,7 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         Some(l) if l.axes.len() == rank => l.axes.clone(),
         _ => (0..rank).map(|i| format!("{i}")).collect(),
     };
-    for (i, &n) in shape[..rank - 3].iter().enumerate() {
-        if n != 1 {
-            return Err(fail(format!(
-                "axis '{}' has {n} entries, and tmc reads one 3-D volume (z, y, x): write the one you want as its own array (in zarr-python, zarr.create_array(store, name='pick', data=a[{}])) and open it with --array pick",
-                names[i],
-                vec!["i"; rank - 3].join(", ")
-            )));
-        }
-    }
+    let lead = super::leading_axes::entries(&shape, &names, &select.at).map_err(fail)?;
     let to_usize = |v: u64| usize::try_from(v).map_err(|_| fail("array too large".into()));
     let [nz, ny, nx] = [
         to_usize(shape[rank - 3])?,
@@ -302,6 +303,7 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
     let first = array
         .chunk_shape(&vec![0; rank])
         .map_err(|e| fail(e.to_string()))?;
+    let lead_chunk: Vec<u64> = first[..rank - 3].iter().map(|c| c.get()).collect();
     let chunk = [
         to_usize(first[rank - 3].get())?,
         to_usize(first[rank - 2].get())?,
@@ -358,6 +360,8 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         scalar,
         rank,
         chunk,
+        lead,
+        lead_chunk,
         chunks,
         layers: ChunkLayers::new(),
         decoded: AtomicU64::new(0),
@@ -497,9 +501,20 @@ impl ZarrVolume {
             .min(jobs.len())
             .max(1);
         let options = CodecOptions::default().with_concurrent_target(1);
+        // The chunks along the axes before z, y, x that hold the picked
+        // entries, and where the picked (z, y, x) block starts in each
+        // (chunks are C order over all axes, so the block is contiguous).
+        let mut lead_index = Vec::with_capacity(self.rank);
+        let mut block_start = 0usize;
+        for (&entry, &along) in self.lead.iter().zip(&self.lead_chunk) {
+            lead_index.push(entry / along);
+            block_start = block_start * along as usize + (entry % along) as usize;
+        }
+        let block_start = block_start * cz * cy * cx * size;
         let work = |t: usize| -> Result<()> {
             for &(gy, gx) in jobs.iter().skip(t).step_by(threads) {
-                let mut index = vec![0u64; self.rank];
+                let mut index = lead_index.clone();
+                index.extend([0; 3]);
                 index[self.rank - 3] = k as u64;
                 index[self.rank - 2] = gy as u64;
                 index[self.rank - 1] = gx as u64;
@@ -519,7 +534,7 @@ impl ZarrVolume {
                 let (y0, x0) = (gy * cy, gx * cx);
                 let run = cx.min(nx - x0) * size;
                 let rows = cy.min(ny - y0);
-                let need = cz * cy * cx * size;
+                let need = block_start + cz * cy * cx * size;
                 if bytes.len() < need {
                     return Err(Error::Format(format!(
                         "{}: chunk {index:?} decodes to {} bytes, need {need}",
@@ -530,7 +545,7 @@ impl ZarrVolume {
                 let mut out = layer.lock().unwrap_or_else(|p| p.into_inner());
                 for dz in 0..depth {
                     for r in 0..rows {
-                        let from = ((dz * cy + r) * cx) * size;
+                        let from = block_start + ((dz * cy + r) * cx) * size;
                         let to = ((dz * ny + y0 + r) * nx + x0) * size;
                         out[to..to + run].copy_from_slice(&bytes[from..from + run]);
                     }

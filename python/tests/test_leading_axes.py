@@ -1,0 +1,83 @@
+"""`tmc extract --at AXIS=I`: one volume of an OME-Zarr image of several
+channels and time points, or of an HDF5 dataset of several volumes, read
+in place. Each pick must give the mesh of that entry's samples as a numpy
+array (zarr-python and h5py write the files; the expected mesh comes from
+tmc's in-memory path on the numpy slice, which shares no reader with the
+Zarr and HDF5 ones)."""
+
+import numpy as np
+import pytest
+
+import tmc
+from conftest import read_ply, tmc_binary
+
+import subprocess
+
+
+def volumes(shape):
+    """A stack of different volumes: a noisy ball whose centre and radius
+    change with the leading indices."""
+    rng = np.random.default_rng(7)
+    z, y, x = np.mgrid[0:13, 0:17, 0:19]
+    out = np.empty(shape + z.shape, np.int16)
+    for k, index in enumerate(np.ndindex(*shape)):
+        r = np.sqrt((x - 9.1 - k % 3) ** 2 + (y - 8.4) ** 2 + (z - 6.2 + k % 2) ** 2)
+        out[index] = 1000 - (50 + 7 * k) * r + rng.integers(0, 30, r.shape)
+    return out
+
+
+def cli(*args):
+    return subprocess.run([tmc_binary(), *args], capture_output=True, text=True)
+
+
+def same_as_slice(path, at, samples, tmp_path):
+    out = tmp_path / f"at_{at.replace(',', '_').replace('=', '')}.ply"
+    done = cli("extract", str(path), "--iso", "500.5", "--at", at, "-o", str(out), "-q")
+    assert done.returncode == 0, done.stderr
+    vertices, triangles = read_ply(out)
+    want = tmc.extract(np.ascontiguousarray(samples), 500.5)
+    assert len(want.triangles) > 0
+    np.testing.assert_array_equal(triangles, want.triangles)
+    np.testing.assert_array_equal(vertices, want.vertices.astype(np.float32))
+
+
+def test_ome_zarr_channels_and_times_are_picked(tmp_path):
+    zarr = pytest.importorskip("zarr", minversion="3")
+    data = volumes((2, 3))
+    path = tmp_path / "image.zarr"
+    g = zarr.open_group(str(path), mode="w", zarr_format=2)
+    # Two channels a chunk: the third channel's chunk is a partial one,
+    # and channel 1 starts inside its chunk.
+    a = g.create_array("0", shape=data.shape, dtype=data.dtype, chunks=(1, 2, 5, 17, 8))
+    a[...] = data
+    axes = [{"name": "t", "type": "time"}, {"name": "c", "type": "channel"}] + [
+        {"name": n, "type": "space"} for n in "zyx"]
+    g.attrs["multiscales"] = [{"version": "0.4", "axes": axes, "datasets": [
+        {"path": "0", "coordinateTransformations": [{"type": "scale", "scale": [1.0] * 5}]}]}]
+    for t in range(2):
+        for c in range(3):
+            same_as_slice(path, f"c={c},t={t}", data[t, c], tmp_path)
+    # By position, as for any array.
+    same_as_slice(path, "0=1,1=2", data[1, 2], tmp_path)
+    # Without a pick: one line saying how to give it, no output.
+    out = tmp_path / "none.ply"
+    done = cli("extract", str(path), "--iso", "500.5", "-o", str(out))
+    assert done.returncode != 0
+    assert "pick one with --at t=I (I from 0 to 1)" in done.stderr, done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1, done.stderr
+    assert not out.exists()
+    done = cli("extract", str(path), "--iso", "500.5", "--at", "c=3,t=0", "-o", str(out))
+    assert done.returncode != 0 and "axis 'c' has 3 entries (0 to 2)" in done.stderr
+    assert not out.exists()
+
+
+def test_hdf5_volumes_are_picked_by_position(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    data = volumes((3,))
+    path = tmp_path / "stack.h5"
+    with h5py.File(path, "w") as f:
+        f.create_dataset("scans", data=data, chunks=(2, 5, 7, 8), compression="gzip")
+    for k in range(3):
+        same_as_slice(f"{path}:/scans", f"0={k}", data[k], tmp_path)
+    done = cli("extract", f"{path}:/scans", "--iso", "500.5", "-o", str(tmp_path / "x.ply"))
+    assert done.returncode != 0 and "pick one with --at 0=I (I from 0 to 2)" in done.stderr

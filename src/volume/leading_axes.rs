@@ -1,0 +1,146 @@
+//! Which entry of each axis before z, y, x a chunked array is read at
+//! (`--at c=1,t=0`): an OME-Zarr image of several channels or time points,
+//! or an HDF5 dataset of several volumes, is one 3-D volume per entry, and
+//! the user picks one instead of copying it out first.
+//!
+//! Axes are named as the file names them (OME-Zarr's `t`, `c`), or by
+//! their position, 0 the slowest (any array): `--at 0=2`. An axis of one
+//! entry needs no pick; an axis of several needs one, and the error says
+//! how to give it.
+
+/// The entry to read of each axis before the last three (z, y, x) of an
+/// array of `shape` whose axes are `names` (one per axis, slowest first),
+/// from the user's `picks` (axis, entry). An error, as one line, when a
+/// pick names no such axis, names one twice or lies past its axis, or
+/// when an axis of several entries has no pick.
+pub(crate) fn entries(
+    shape: &[u64],
+    names: &[String],
+    picks: &[(String, u64)],
+) -> Result<Vec<u64>, String> {
+    let lead = shape.len().saturating_sub(3);
+    let position = |axis: &str| {
+        (0..shape.len()).find(|&i| names.get(i).is_some_and(|n| n == axis) || i.to_string() == axis)
+    };
+    let leading: Vec<String> = (0..lead).map(|i| names[i].clone()).collect();
+    let mut chosen: Vec<Option<u64>> = vec![None; lead];
+    for (axis, entry) in picks {
+        let i = match position(axis) {
+            Some(i) if i < lead => i,
+            Some(_) => {
+                return Err(format!(
+                    "--at {axis}={entry}: '{axis}' is one of the volume's own axes (z, y, x); --at picks an entry of an axis before them{}",
+                    listed(&leading)
+                ))
+            }
+            None => {
+                return Err(format!(
+                    "--at {axis}={entry}: the array has no axis '{axis}'{}",
+                    listed(&leading)
+                ))
+            }
+        };
+        if chosen[i].is_some() {
+            return Err(format!("--at names axis '{}' twice", names[i]));
+        }
+        if *entry >= shape[i] {
+            return Err(format!(
+                "--at {axis}={entry}: axis '{}' has {} entries (0 to {})",
+                names[i],
+                shape[i],
+                shape[i] - 1
+            ));
+        }
+        chosen[i] = Some(*entry);
+    }
+    (0..lead)
+        .map(|i| match chosen[i] {
+            Some(entry) => Ok(entry),
+            None if shape[i] == 1 => Ok(0),
+            None => Err(format!(
+                "axis '{}' has {} entries, and tmc reads one 3-D volume (z, y, x): pick one with --at {}=I (I from 0 to {})",
+                names[i],
+                shape[i],
+                names[i],
+                shape[i] - 1
+            )),
+        })
+        .collect()
+}
+
+/// The axes a pick may name, for an error message.
+fn listed(leading: &[String]) -> String {
+    match leading.is_empty() {
+        true => " (it has no axis before z, y, x)".into(),
+        false => format!(" (its axes before z, y, x: {})", leading.join(", ")),
+    }
+}
+
+/// Parses one of `--at`'s pairs, `AXIS=ENTRY`.
+pub fn parse_pick(pair: &str) -> Result<(String, u64), String> {
+    let (axis, entry) = pair
+        .split_once('=')
+        .ok_or_else(|| format!("'{pair}' is not AXIS=ENTRY (e.g. c=1)"))?;
+    let axis = axis.trim();
+    if axis.is_empty() {
+        return Err(format!("'{pair}' names no axis (e.g. c=1)"));
+    }
+    let entry = entry
+        .trim()
+        .parse::<u64>()
+        .map_err(|_| format!("'{pair}': the entry must be a whole number from 0 (e.g. c=1)"))?;
+    Ok((axis.to_string(), entry))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(n: &[&str]) -> Vec<String> {
+        n.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn picks_by_name_or_position_and_singletons_need_none() {
+        let axes = names(&["t", "c", "z", "y", "x"]);
+        let shape = [1, 3, 4, 5, 6];
+        let pick = |p: &[(&str, u64)]| {
+            let p: Vec<_> = p.iter().map(|&(a, e)| (a.to_string(), e)).collect();
+            entries(&shape, &axes, &p)
+        };
+        assert_eq!(pick(&[("c", 2)]), Ok(vec![0, 2]));
+        assert_eq!(pick(&[("1", 1), ("t", 0)]), Ok(vec![0, 1]));
+        let none = pick(&[]).unwrap_err();
+        assert!(
+            none.contains("pick one with --at c=I (I from 0 to 2)"),
+            "{none}"
+        );
+        assert!(pick(&[("c", 3)])
+            .unwrap_err()
+            .contains("has 3 entries (0 to 2)"));
+        assert!(pick(&[("t", 1), ("c", 0)])
+            .unwrap_err()
+            .contains("1 entries (0 to 0)"));
+        assert!(pick(&[("c", 0), ("1", 1)]).unwrap_err().contains("twice"));
+        let own = pick(&[("z", 1)]).unwrap_err();
+        assert!(
+            own.contains("volume's own axes") && own.contains("t, c"),
+            "{own}"
+        );
+        assert!(pick(&[("q", 1)]).unwrap_err().contains("no axis 'q'"));
+        // A 3-D array has nothing to pick.
+        let three = entries(&[4, 5, 6], &names(&["z", "y", "x"]), &[]);
+        assert_eq!(three, Ok(vec![]));
+        let err = entries(&[4, 5, 6], &names(&["0", "1", "2"]), &[("0".into(), 1)]);
+        assert!(err.unwrap_err().contains("no axis before z, y, x"));
+    }
+
+    #[test]
+    fn the_option_parses_pairs() {
+        assert_eq!(parse_pick(" t = 0"), Ok(("t".to_string(), 0)));
+        assert!(parse_pick("c").is_err());
+        assert!(parse_pick("=1").is_err());
+        assert!(parse_pick("c=-1").is_err());
+        assert!(parse_pick("").is_err());
+    }
+}

@@ -76,6 +76,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let mut monitor = Monitor::new(&grid, args, input);
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
     let options = args.pipeline_options(&on_progress, cancel);
+    // A budget too small is refused before anything is read (a part's
+    // record reads the planes at its seams).
+    tmc::stream::check_budget(source.as_ref(), &params, &options)?;
     let mut sink: Box<dyn tmc::MeshSink> = match args.part {
         Some(spec) => {
             let reading = raw.as_ref().map(|r| format!("{r:?}"));

@@ -9,6 +9,7 @@
 //! decides, so [`super::schedule`] measures the mesh as it is made and
 //! starts slabs only as far as the budget allows.
 
+use crate::volume::PlaneMemory;
 use crate::{Error, Result};
 
 /// Bytes each worker holds per sample of a z-plane, whatever the depth: two
@@ -16,6 +17,17 @@ use crate::{Error, Result};
 /// inside bits, rounded up (edge numbers are kept per row, see
 /// `slab::edges`).
 pub const WORK_BYTES_PER_SAMPLE: u64 = 17;
+
+/// [`WORK_BYTES_PER_SAMPLE`] for planes lent or shared in their own type
+/// ([`PlaneMemory::Lent`], [`PlaneMemory::Decoded`]): the inside bits of
+/// two planes (a quarter of a byte), rounded up for the rows' edge
+/// numbers and the bands of samples converted on the way.
+pub const LENT_WORK_BYTES_PER_SAMPLE: u64 = 1;
+
+/// Planes a worker may hold beyond its slab's cell layers (the top plane,
+/// and the normals' neighbours: `HeldPlanes` holds from the plane below
+/// the slab to the third above its last layer).
+pub const HELD_EXTRA_PLANES: usize = 4;
 
 /// Bytes the mesh of one cell is assumed to take while its slab waits to be
 /// written (vertices of 12 bytes, triangles of 12 bytes; dense value noise
@@ -38,16 +50,78 @@ pub struct Plan {
     pub window: usize,
 }
 
-/// Estimated peak bytes of `threads` workers on planes of `plane_len`
-/// samples with slabs of `depth` layers, `window` of them in flight (plus
-/// one slab's worth of written block vectors kept for reuse, see
-/// [`crate::slab::Spares`]).
-pub fn estimate(plane_len: usize, threads: usize, depth: usize, window: usize) -> u128 {
-    let plane = plane_len as u128;
-    let work = threads as u128 * plane * u128::from(WORK_BYTES_PER_SAMPLE);
+/// The workers of a pass as the budget counts them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Workers {
+    /// Samples of a plane.
+    pub plane_len: usize,
+    /// Planes the work holds per plane of the slab loop, each counted as
+    /// one read into `f64`s: 1 for the slab loop alone, more with normals
+    /// or a label pass's work.
+    pub work_planes: usize,
+    /// Worker threads.
+    pub threads: usize,
+    /// How the source's planes are held ([`crate::volume::SampleSource::plane_memory`]).
+    pub planes: PlaneMemory,
+}
+
+impl Workers {
+    /// Workers reading planes of `plane_len` samples into `f64`s (the most
+    /// a plane can take), one plane of work each.
+    pub fn reading(plane_len: usize, threads: usize) -> Self {
+        Workers {
+            plane_len,
+            work_planes: 1,
+            threads,
+            planes: PlaneMemory::Read,
+        }
+    }
+
+    /// Cells of one layer, as the mesh estimate counts them (times the
+    /// work's planes).
+    pub fn layer_cells(&self) -> u128 {
+        self.plane_len as u128 * self.work_planes.max(1) as u128
+    }
+
+    /// Estimated peak bytes besides the mesh with slabs of `depth` layers:
+    /// the fixed buffers, each worker's planes, and for a source that
+    /// decodes layers of chunks the layers its cache keeps
+    /// (`threads + 2`), a decode in flight on every worker and the planes
+    /// each worker's slab holds, counted apart although mostly the same.
+    pub fn buffers(&self, depth: usize) -> u128 {
+        let plane = self.plane_len as u128;
+        let threads = self.threads.max(1) as u128;
+        let per_sample = match (self.planes, self.work_planes) {
+            (PlaneMemory::Lent | PlaneMemory::Decoded { .. }, 0 | 1) => {
+                u128::from(LENT_WORK_BYTES_PER_SAMPLE)
+            }
+            (_, planes) => u128::from(WORK_BYTES_PER_SAMPLE) * planes.max(1) as u128,
+        };
+        let decoded = match self.planes {
+            PlaneMemory::Decoded {
+                sample_bytes,
+                layer,
+                decoding,
+            } => {
+                let layer = layer.max(1) as u128;
+                let kept = (threads + 2) * layer;
+                let decoding = threads * decoding as u128 * layer;
+                let held = threads * (depth + HELD_EXTRA_PLANES) as u128;
+                plane * sample_bytes as u128 * (kept + decoding + held)
+            }
+            PlaneMemory::Read | PlaneMemory::Lent => 0,
+        };
+        u128::from(FIXED_BYTES) + threads * plane * per_sample + decoded
+    }
+}
+
+/// Estimated peak bytes of `workers` with slabs of `depth` layers, `window`
+/// of them in flight (plus one slab's worth of written block vectors kept
+/// for reuse, see [`crate::slab::Spares`]).
+pub fn estimate(workers: &Workers, depth: usize, window: usize) -> u128 {
     let slabs = window as u128 + 1;
-    let output = slabs * depth as u128 * plane * u128::from(OUTPUT_BYTES_PER_CELL);
-    u128::from(FIXED_BYTES) + work + output
+    let output = slabs * depth as u128 * workers.layer_cells() * u128::from(OUTPUT_BYTES_PER_CELL);
+    workers.buffers(depth) + output
 }
 
 /// The estimate up to which `depth` layers may have `2 * threads + 2` slabs
@@ -61,23 +135,21 @@ pub const ROOMY_WINDOW_BYTES: u64 = 512 << 20;
 /// `2 * threads + 2` slabs when their estimate is within
 /// [`ROOMY_WINDOW_BYTES`] and `max_bytes`, else `threads + 1` slabs when that
 /// fits in `max_bytes` (or there is no budget), otherwise the deepest slabs
-/// that fit with `threads + 1`, then with `threads` slabs in flight. An
-/// error when even slabs of [`MIN_DEPTH`] layers, one per worker, do not
-/// fit.
-pub fn plan(
-    plane_len: usize,
-    threads: usize,
-    depth: usize,
-    max_bytes: Option<u64>,
-) -> Result<Plan> {
-    let threads = threads.max(1);
+/// that fit with `threads + 1`, then with `threads` slabs in flight, and
+/// when no mesh estimate fits, slabs of [`MIN_DEPTH`] layers, one per
+/// worker, which [`super::schedule`] thins further to the mesh it
+/// measures. An error, before anything is read, when even the buffers of
+/// slabs of [`MIN_DEPTH`] layers do not fit: what the workers hold whatever
+/// the surface.
+pub fn plan(workers: &Workers, depth: usize, max_bytes: Option<u64>) -> Result<Plan> {
+    let threads = workers.threads.max(1);
     let depth = depth.max(1);
     let roomy = Plan {
         depth,
         window: 2 * threads + 2,
     };
     let roomy_cap = max_bytes.map_or(ROOMY_WINDOW_BYTES, |max| max.min(ROOMY_WINDOW_BYTES));
-    if estimate(plane_len, threads, depth, roomy.window) <= u128::from(roomy_cap) {
+    if estimate(workers, depth, roomy.window) <= u128::from(roomy_cap) {
         return Ok(roomy);
     }
     let full = Plan {
@@ -87,7 +159,7 @@ pub fn plan(
     let Some(max) = max_bytes else {
         return Ok(full);
     };
-    let fits = |p: &Plan| estimate(plane_len, threads, p.depth, p.window) <= u128::from(max);
+    let fits = |p: &Plan| estimate(workers, p.depth, p.window) <= u128::from(max);
     for window in [threads + 1, threads] {
         let found = (MIN_DEPTH.min(depth)..=depth)
             .rev()
@@ -97,8 +169,15 @@ pub fn plan(
             return Ok(plan);
         }
     }
-    let needed = estimate(plane_len, threads, MIN_DEPTH.min(depth), threads);
-    let workers = match threads {
+    let thinnest = MIN_DEPTH.min(depth);
+    let needed = workers.buffers(thinnest);
+    if needed <= u128::from(max) {
+        return Ok(Plan {
+            depth: thinnest,
+            window: threads,
+        });
+    }
+    let workers_text = match threads {
         1 => "1 worker".to_string(),
         n => format!("{n} workers"),
     };
@@ -106,11 +185,24 @@ pub fn plan(
         1 => "1 byte".to_string(),
         n => format!("{n} bytes"),
     };
+    let layers = match workers.planes {
+        PlaneMemory::Decoded { .. } => {
+            let without = Workers {
+                planes: PlaneMemory::Lent,
+                ..*workers
+            };
+            format!(
+                ", {} of them decoded chunk layers",
+                mebibytes(needed - without.buffers(thinnest))
+            )
+        }
+        _ => String::new(),
+    };
     Err(Error::OutOfMemory(format!(
-        "--max-memory of {bytes} ({}) is too small: {workers} on planes of {plane_len} samples need about {} (one slab of {} layers each, plus {} MiB of buffers); allow at least that{}",
+        "--max-memory of {bytes} ({}) is too small: {workers_text} on planes of {} samples need about {} before any mesh (slabs of {thinnest} layers, {} MiB of buffers{layers}); allow at least that{}",
         mebibytes(u128::from(max)),
+        workers.plane_len,
         mebibytes(needed),
-        MIN_DEPTH.min(depth),
         FIXED_BYTES >> 20,
         match threads {
             1 => "",
@@ -131,7 +223,7 @@ mod tests {
     #[test]
     fn no_budget_keeps_the_depth_and_widens_the_window_of_small_slabs() {
         assert_eq!(
-            plan(1000, 2, 64, None).unwrap(),
+            plan(&Workers::reading(1000, 2), 64, None).unwrap(),
             Plan {
                 depth: 64,
                 window: 6
@@ -139,41 +231,105 @@ mod tests {
         );
         // 2048^2 planes, 64 layers: 1 GiB per slab by the estimate.
         assert_eq!(
-            plan(2048 * 2048, 2, 64, None).unwrap(),
+            plan(&Workers::reading(2048 * 2048, 2), 64, None).unwrap(),
             Plan {
                 depth: 64,
                 window: 3
             }
         );
         // A budget below the wide window's estimate keeps the narrow one.
-        let narrow = estimate(1 << 20, 2, 16, 3) as u64;
-        assert!(estimate(1 << 20, 2, 16, 6) <= u128::from(ROOMY_WINDOW_BYTES));
-        assert_eq!(plan(1 << 20, 2, 16, Some(narrow)).unwrap().window, 3);
-        assert_eq!(plan(1 << 20, 2, 16, None).unwrap().window, 6);
+        let narrow = estimate(&Workers::reading(1 << 20, 2), 16, 3) as u64;
+        assert!(estimate(&Workers::reading(1 << 20, 2), 16, 6) <= u128::from(ROOMY_WINDOW_BYTES));
+        assert_eq!(
+            plan(&Workers::reading(1 << 20, 2), 16, Some(narrow))
+                .unwrap()
+                .window,
+            3
+        );
+        assert_eq!(
+            plan(&Workers::reading(1 << 20, 2), 16, None)
+                .unwrap()
+                .window,
+            6
+        );
     }
 
     #[test]
     fn a_budget_thins_the_slabs_then_shrinks_the_window() {
-        let plane = 1 << 20;
-        let roomy = estimate(plane, 2, 64, 3) as u64;
-        assert_eq!(plan(plane, 2, 64, Some(roomy)).unwrap().depth, 64);
-        let tight = estimate(plane, 2, 10, 3) as u64;
+        let w = Workers::reading(1 << 20, 2);
+        let roomy = estimate(&w, 64, 3) as u64;
+        assert_eq!(plan(&w, 64, Some(roomy)).unwrap().depth, 64);
+        let tight = estimate(&w, 10, 3) as u64;
         assert_eq!(
-            plan(plane, 2, 64, Some(tight)).unwrap(),
+            plan(&w, 64, Some(tight)).unwrap(),
             Plan {
                 depth: 10,
                 window: 3
             }
         );
-        let tighter = estimate(plane, 2, 2, 2) as u64;
+        let tighter = estimate(&w, 2, 2) as u64;
         assert_eq!(
-            plan(plane, 2, 64, Some(tighter)).unwrap(),
+            plan(&w, 64, Some(tighter)).unwrap(),
             Plan {
                 depth: 2,
                 window: 2
             }
         );
-        let err = plan(plane, 2, 64, Some(tighter - 1)).unwrap_err();
+        // Below any mesh estimate, the thinnest slabs while the buffers
+        // fit (the schedule measures the mesh); below the buffers, an
+        // error.
+        let buffers = w.buffers(2) as u64;
+        assert_eq!(
+            plan(&w, 64, Some(buffers)).unwrap(),
+            Plan {
+                depth: 2,
+                window: 2
+            }
+        );
+        let err = plan(&w, 64, Some(buffers - 1)).unwrap_err();
         assert!(err.to_string().contains("too small"), "{err}");
+    }
+
+    #[test]
+    fn lent_planes_take_their_bits_and_decoded_layers_count() {
+        let plane = 4096 * 4096;
+        let read = Workers::reading(plane, 2);
+        let lent = Workers {
+            planes: PlaneMemory::Lent,
+            ..read
+        };
+        // 4096^2 u8 lent: a 64 MiB budget holds the buffers; read into
+        // f64s it does not.
+        assert!(lent.buffers(2) <= 64 << 20);
+        assert!(plan(&lent, 5, Some(64 << 20)).is_ok());
+        assert!(plan(&read, 5, Some(64 << 20)).is_err());
+        // Normals' planes count as before, lent or not.
+        let normals = Workers {
+            work_planes: 3,
+            ..lent
+        };
+        assert_eq!(
+            normals.buffers(2),
+            Workers {
+                work_planes: 3,
+                ..read
+            }
+            .buffers(2)
+        );
+        // A Zarr of f32 in chunks 8 deep: the cache's 4 layers, a decode
+        // of 2 layers a worker, and the 2 + 4 planes each worker holds.
+        let zarr = Workers {
+            planes: PlaneMemory::Decoded {
+                sample_bytes: 4,
+                layer: 8,
+                decoding: 2,
+            },
+            ..read
+        };
+        let plane_bytes = 4 * plane as u128;
+        let layers = plane_bytes * (4 * 8 + 2 * 2 * 8 + 2 * 6);
+        assert_eq!(zarr.buffers(2), lent.buffers(2) + layers);
+        let err = plan(&zarr, 16, Some(1 << 30)).unwrap_err().to_string();
+        assert!(err.contains("decoded chunk layers"), "{err}");
     }
 }

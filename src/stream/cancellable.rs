@@ -36,6 +36,7 @@ impl SampleSource for Cancellable<'_> {
         sample_bytes,
         stored_type,
         notes,
+        plane_memory,
     );
 
     fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {

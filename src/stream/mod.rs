@@ -46,7 +46,7 @@ pub use entry::{extract, extract_part_to, extract_to};
 pub use label_report::{LabelReport, LabelRun};
 pub use labels::{extract_labels_to, extract_labels_with_runs_to, last_label_chunks, MOST_LABELS};
 pub use parts::layer_range;
-pub use pass::extract_many_to;
+pub use pass::{check_budget, extract_many_to};
 pub use preflight::check_grid;
 pub use report::RunSummary;
 pub use seam::Seam;

@@ -23,7 +23,7 @@ use crate::mesh::{Chunk, ChunkEncoder, MeshInfo, MeshSink};
 use crate::normals::{has_pending, FillPending};
 use crate::params::{ExtractParams, PipelineOptions, Progress, VertexValues};
 use crate::slab::{chunk_bytes, process_slab, Spares};
-use crate::volume::{Access, HeldPlanes, Padded, SampleSource};
+use crate::volume::{Access, HeldPlanes, Padded, PlaneMemory, SampleSource};
 use crate::{Error, Result, Stats};
 use std::ops::Range;
 use std::sync::atomic::Ordering;
@@ -154,25 +154,16 @@ pub(crate) fn run_pass(
         )));
     }
     let layers = dims[2] - 1;
-    // No more threads than layers: more would find no slab to work on.
-    let threads = worker_threads(first.threads).min(layers.max(1));
-    let depth = if options.slab_depth > 0 {
-        options.slab_depth.min(64)
-    } else {
-        default_depth(source.grid().plane_len(), layers, threads)
-    };
-    // Normals hold up to four more planes of `f64` per worker (32 bytes
-    // per sample beside the loop's 17) and 12 bytes per vertex: the budget
-    // counts each plane three times, which covers both.
     let normals = params.iter().any(|p| p.normals);
-    let budget_plane = source.grid().plane_len()
-        * match &work {
-            Some(work) => work.budget_planes,
-            None if normals => 3,
-            None => 1,
-        };
-    let plan = budget::plan(budget_plane, threads, depth, options.max_memory)?;
-    let depth = plan.depth;
+    let (workers, plan) = plan_pass(
+        dims,
+        source.plane_memory(),
+        first.threads,
+        normals,
+        work.as_ref().map(|w| w.budget_planes),
+        options,
+    )?;
+    let (threads, depth) = (workers.threads, plan.depth);
     check_cancel(options)?;
     let range = match part {
         Some((i, n)) => layer_range(layers, i, n)?,
@@ -188,13 +179,7 @@ pub(crate) fn run_pass(
     } else {
         range
     };
-    let mut schedule = Schedule::new(
-        range,
-        layers,
-        plan,
-        options.max_memory,
-        [budget_plane, threads],
-    );
+    let mut schedule = Schedule::new(range, layers, plan, options.max_memory, &workers);
     let layers_total = schedule.layers_total();
     let mut fills: Vec<FillPending> = sinks
         .iter_mut()
@@ -269,7 +254,11 @@ pub(crate) fn run_pass(
         }
         schedule.start_next(written, spares.block_bytes())
     };
-    if threads == 1 {
+    // A source that decodes layers keeps one per thread of the pool its
+    // reader runs on, and two more (`chunk_layers.rs`): one worker runs in
+    // a pool of one, as the budget counts it.
+    let decodes = matches!(workers.planes, PlaneMemory::Decoded { .. });
+    if threads == 1 && !decodes {
         while let Some((i, layers)) = start_next(&mut schedule, seams[0].written()) {
             let result = run(layers)?;
             schedule.finished(i, mesh_bytes(&result));
@@ -319,6 +308,61 @@ pub(crate) fn run_pass(
         stats.seconds = start.elapsed().as_secs_f64();
     }
     Ok(all)
+}
+
+/// The workers of a pass over a source of `dims` (padded with `--close`
+/// already) whose planes are held as `planes` says, at `threads` (0: one
+/// per core), and the budget's plan for them: slab depth and slabs in
+/// flight. `work_planes` is a [`SlabWork`]'s `budget_planes`. Reads
+/// nothing: an error here comes before any sample is read.
+fn plan_pass(
+    dims: [usize; 3],
+    planes: PlaneMemory,
+    threads: usize,
+    normals: bool,
+    work_planes: Option<usize>,
+    options: &PipelineOptions,
+) -> Result<(budget::Workers, budget::Plan)> {
+    let plane_len = dims[0] * dims[1];
+    let layers = dims[2].saturating_sub(1);
+    // No more threads than layers: more would find no slab to work on.
+    let threads = worker_threads(threads).min(layers.max(1));
+    let depth = if options.slab_depth > 0 {
+        options.slab_depth.min(64)
+    } else {
+        default_depth(plane_len, layers, threads)
+    };
+    // Normals hold up to four more planes of `f64` per worker (32 bytes
+    // per sample beside the loop's 17) and 12 bytes per vertex: the budget
+    // counts each plane three times, which covers both.
+    let workers = budget::Workers {
+        plane_len,
+        work_planes: match work_planes {
+            Some(planes) => planes,
+            None if normals => 3,
+            None => 1,
+        },
+        threads,
+        planes,
+    };
+    let plan = budget::plan(&workers, depth, options.max_memory)?;
+    Ok((workers, plan))
+}
+
+/// Whether the budget (`options.max_memory`) allows extracting `params`
+/// from `source`: the error [`extract_many_to`] would give before reading
+/// anything, for a front end that reads the volume before the pass
+/// (`--part` checksums the planes at its seams).
+pub fn check_budget(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    options: &PipelineOptions,
+) -> Result<()> {
+    // `--close` pads the grid by a sample on every side (`Padded`).
+    let pad = if params.close { 2 } else { 0 };
+    let dims = source.grid().dims.map(|d| d + pad);
+    let planes = source.plane_memory();
+    plan_pass(dims, planes, params.threads, params.normals, None, options).map(|_| ())
 }
 
 /// Encodes the chunks of each output whose sink has an encoder
@@ -402,6 +446,7 @@ impl SampleSource for KeepResident<'_> {
         interrupted,
         sample_bytes,
         stored_type,
+        plane_memory,
     );
 
     fn advise(&self, planes: Range<usize>, access: Access) {

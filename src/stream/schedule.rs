@@ -15,7 +15,7 @@
 //! hold). The output does
 //! not depend on how the layers are cut.
 
-use super::budget::{estimate, Plan, OUTPUT_BYTES_PER_CELL};
+use super::budget::{Plan, Workers, OUTPUT_BYTES_PER_CELL};
 use std::collections::BTreeMap;
 use std::ops::Range;
 
@@ -60,18 +60,19 @@ struct Budget {
 
 impl Schedule {
     /// The slabs covering `range` of `layers` under `plan`; with a budget of
-    /// `max_memory` bytes for `threads` workers on planes of `plane_len`
-    /// samples. (The plan has checked that its buffers fit the budget.)
+    /// `max_memory` bytes for `workers`, the mesh gets what their buffers
+    /// with slabs of the plan's depth leave. (The plan has checked that
+    /// those buffers fit the budget.)
     pub fn new(
         range: Range<usize>,
         layers: usize,
         plan: Plan,
         max_memory: Option<u64>,
-        [plane_len, threads]: [usize; 2],
+        workers: &Workers,
     ) -> Self {
         let budget = max_memory.map(|max| Budget {
-            allowance: u128::from(max).saturating_sub(estimate(plane_len, threads, 0, 0)),
-            layer_cells: plane_len as u128,
+            allowance: u128::from(max).saturating_sub(workers.buffers(plan.depth)),
+            layer_cells: workers.layer_cells(),
             bytes_per_cell: u128::from(FIRST_BYTES_PER_CELL),
             measured: false,
             running: BTreeMap::new(),
@@ -193,7 +194,7 @@ mod tests {
 
     #[test]
     fn without_a_budget_slabs_have_the_plan_s_depth_and_window() {
-        let mut s = Schedule::new(0..10, 10, plan(4, 2), None, [100, 2]);
+        let mut s = Schedule::new(0..10, 10, plan(4, 2), None, &Workers::reading(100, 2));
         assert_eq!(s.start_next(0, 0), Some((0, 0..4)));
         assert_eq!(s.start_next(0, 0), Some((1, 4..8)));
         assert_eq!(s.start_next(0, 0), None, "the window is full");
@@ -204,19 +205,25 @@ mod tests {
 
     #[test]
     fn an_empty_part_at_the_top_has_one_empty_slab() {
-        let mut s = Schedule::new(7..7, 7, plan(4, 2), None, [100, 1]);
+        let mut s = Schedule::new(7..7, 7, plan(4, 2), None, &Workers::reading(100, 1));
         assert!(!s.all_started());
         assert_eq!(s.start_next(0, 0), Some((0, 7..7)));
         assert!(s.all_started());
-        let s = Schedule::new(3..3, 7, plan(4, 2), None, [100, 1]);
+        let s = Schedule::new(3..3, 7, plan(4, 2), None, &Workers::reading(100, 1));
         assert!(s.all_started());
     }
 
     #[test]
     fn a_budget_follows_the_measured_mesh() {
         // 1000 cells a layer; room for 200 kB of mesh.
-        let max = (estimate(1000, 1, 0, 0) + 200_000) as u64;
-        let mut s = Schedule::new(0..100, 100, plan(8, 4), Some(max), [1000, 1]);
+        let max = (Workers::reading(1000, 1).buffers(8) + 200_000) as u64;
+        let mut s = Schedule::new(
+            0..100,
+            100,
+            plan(8, 4),
+            Some(max),
+            &Workers::reading(1000, 1),
+        );
         // Before any slab finished, 96 bytes a cell: two layers fit.
         assert_eq!(s.start_next(0, 0), Some((0, 0..2)));
         // Nothing more fits while it runs.

@@ -21,7 +21,7 @@
 //! inflated on one thread.
 
 use super::chunk_layers::ChunkLayers;
-use super::{units, Grid, SampleSource, ScalarType};
+use super::{units, Grid, PlaneMemory, SampleSource, ScalarType};
 use super::{ChunkNotes, SharedPlane, SourceNotes, ValueFrom};
 use crate::{Error, Result};
 use rust_hdf5::{DatatypeMessage, H5Dataset, H5File};
@@ -290,8 +290,8 @@ impl Hdf5Volume {
         self.depth
     }
 
-    /// Reads layer `k`: its planes, x fastest, native byte order.
-    fn read_layer(&self, k: usize) -> Result<Vec<u8>> {
+    /// Reads layer `k`: its planes, each x fastest, native byte order.
+    fn read_layer(&self, k: usize) -> Result<Vec<Vec<u8>>> {
         let [nx, ny, nz] = self.grid.dims;
         let z0 = k * self.depth;
         let depth = self.depth.min(nz - z0);
@@ -315,27 +315,32 @@ impl Hdf5Volume {
             len: usize,
             starts: &[usize],
             counts: &[usize],
-        ) -> Result<std::result::Result<Vec<u8>, rust_hdf5::Hdf5Error>> {
+            plane: usize,
+        ) -> Result<std::result::Result<Vec<Vec<u8>>, rust_hdf5::Hdf5Error>> {
             let mut samples =
                 crate::error::try_filled("a layer of HDF5 samples", len, T::zeroed())?;
-            Ok(d.read_slice_into(&mut samples, starts, counts)
-                .map(|()| bytemuck::cast_slice(&samples).to_vec()))
+            Ok(d.read_slice_into(&mut samples, starts, counts).map(|()| {
+                samples
+                    .chunks(plane.max(1))
+                    .map(|p| bytemuck::cast_slice(p).to_vec())
+                    .collect()
+            }))
         }
         let d = &self.dataset;
         self.read.fetch_add(1, Ordering::Relaxed);
         let read = match self.scalar {
-            ScalarType::U8 => typed::<u8>(d, len, &starts, &counts)?,
-            ScalarType::I8 => typed::<i8>(d, len, &starts, &counts)?,
-            ScalarType::U16 => typed::<u16>(d, len, &starts, &counts)?,
-            ScalarType::I16 => typed::<i16>(d, len, &starts, &counts)?,
-            ScalarType::U32 => typed::<u32>(d, len, &starts, &counts)?,
-            ScalarType::I32 => typed::<i32>(d, len, &starts, &counts)?,
-            ScalarType::F32 => typed::<f32>(d, len, &starts, &counts)?,
-            ScalarType::F64 => typed::<f64>(d, len, &starts, &counts)?,
-            ScalarType::I64 => typed::<i64>(d, len, &starts, &counts)?,
-            ScalarType::U64 => typed::<u64>(d, len, &starts, &counts)?,
+            ScalarType::U8 => typed::<u8>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::I8 => typed::<i8>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::U16 => typed::<u16>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::I16 => typed::<i16>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::U32 => typed::<u32>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::I32 => typed::<i32>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::F32 => typed::<f32>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::F64 => typed::<f64>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::I64 => typed::<i64>(d, len, &starts, &counts, ny * nx)?,
+            ScalarType::U64 => typed::<u64>(d, len, &starts, &counts, ny * nx)?,
             // The half floats' bits, in the host's byte order.
-            ScalarType::F16 => typed::<u16>(d, len, &starts, &counts)?,
+            ScalarType::F16 => typed::<u16>(d, len, &starts, &counts, ny * nx)?,
         };
         read.map_err(fail)
     }
@@ -369,6 +374,17 @@ impl SampleSource for Hdf5Volume {
 
     fn stored_type(&self) -> Option<ScalarType> {
         Some(self.scalar)
+    }
+
+    /// Layers of a chunk's depth (a plane when contiguous); a read holds
+    /// the layer's samples, their planes, and the library's buffers of a
+    /// chunk (stored and inflated, each at most a layer).
+    fn plane_memory(&self) -> PlaneMemory {
+        PlaneMemory::Decoded {
+            sample_bytes: self.scalar.size(),
+            layer: self.depth,
+            decoding: 4,
+        }
     }
 
     fn notes(&self) -> SourceNotes {

@@ -48,6 +48,7 @@ impl SampleSource for HeldPlanes<'_> {
         sample_bytes,
         stored_type,
         notes,
+        plane_memory,
     );
 
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {

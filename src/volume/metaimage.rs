@@ -96,6 +96,15 @@ impl SampleSource for MetaImageVolume {
         }
     }
 
+    fn plane_memory(&self) -> super::PlaneMemory {
+        match &self.data {
+            Data::Volume(v) => v.plane_memory(),
+            Data::Slices(slices) => slices
+                .first()
+                .map_or(super::PlaneMemory::Read, |s| s.plane_memory()),
+        }
+    }
+
     fn advise(&self, planes: Range<usize>, access: Access) {
         match &self.data {
             Data::Volume(v) => v.advise(planes, access),

@@ -77,7 +77,7 @@ pub use sample::{Sample, Threshold};
 pub use scalar::{decode_samples, decode_strided, encode_samples, Endian, ScalarType};
 pub use shared::SharedPlane;
 pub(crate) use source::forward_to_inner;
-pub use source::{Access, SampleSource};
+pub use source::{Access, PlaneMemory, SampleSource};
 pub use strided::{StridedLayout, StridedVolume};
 pub use summary::{summarize, Suggestions, Summary, SummaryOptions};
 pub use write::{write_volume, write_volume_cancellable, VolumeFormat};

@@ -161,6 +161,10 @@ impl SampleSource for NiftiVolume {
         self.inner.advise(planes, access);
     }
 
+    fn plane_memory(&self) -> super::PlaneMemory {
+        self.inner.plane_memory()
+    }
+
     fn check_unchanged(&self) -> Result<()> {
         self.inner.check_unchanged()
     }

@@ -91,6 +91,10 @@ impl SampleSource for NrrdVolume {
         self.data.lend_plane(z)
     }
 
+    fn plane_memory(&self) -> super::PlaneMemory {
+        self.data.plane_memory()
+    }
+
     fn advise(&self, planes: Range<usize>, access: Access) {
         self.data.advise(planes, access)
     }

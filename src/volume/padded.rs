@@ -96,6 +96,12 @@ impl SampleSource for Padded<'_> {
         self.inner.check_unchanged()
     }
 
+    /// The inner source's: its planes are lent or shared with the border
+    /// supplied on the fly.
+    fn plane_memory(&self) -> super::PlaneMemory {
+        self.inner.plane_memory()
+    }
+
     fn interrupted(&self) -> bool {
         self.inner.interrupted()
     }

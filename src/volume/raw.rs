@@ -7,7 +7,7 @@
 
 use super::mapped::MappedFile;
 use super::scalar::{decode_samples, decode_strided};
-use super::{Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
+use super::{Access, Endian, Grid, LentPlane, PlaneMemory, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::fmt;
 use std::fs::File;
@@ -295,6 +295,13 @@ impl SampleSource for RawVolume {
 
     /// Lends x-fastest planes as stored, at any alignment, in either byte
     /// order (the other one's samples are swapped as they are read).
+    fn plane_memory(&self) -> PlaneMemory {
+        match self.order {
+            Order::XFastest => PlaneMemory::Lent,
+            _ => PlaneMemory::Read,
+        }
+    }
+
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
         if self.order != Order::XFastest {
             return None;

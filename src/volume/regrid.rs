@@ -82,6 +82,7 @@ impl SampleSource for Regridded {
         data_files,
         sample_bytes,
         stored_type,
+        plane_memory,
     );
 
     fn grid(&self) -> &Grid {

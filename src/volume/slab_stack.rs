@@ -6,7 +6,7 @@
 //! data held in memory), so nothing is read before the slab loop asks for a plane;
 //! plane `z` lives in file `z / depth` at plane `z % depth`.
 
-use super::{Access, Grid, LentPlane, RawVolume, SampleSource};
+use super::{Access, Grid, LentPlane, PlaneMemory, RawVolume, SampleSource};
 use crate::{Error, Result};
 use std::ops::Range;
 use std::path::Path;
@@ -54,6 +54,12 @@ impl SampleSource for SlabStack {
 
     fn lend_plane(&self, z: usize) -> Option<LentPlane<'_>> {
         self.slabs.get(z / self.depth)?.lend_plane(z % self.depth)
+    }
+
+    fn plane_memory(&self) -> PlaneMemory {
+        self.slabs
+            .first()
+            .map_or(PlaneMemory::Read, |s| s.plane_memory())
     }
 
     fn advise(&self, planes: Range<usize>, access: Access) {

@@ -94,6 +94,40 @@ pub trait SampleSource: Sync {
     fn notes(&self) -> SourceNotes {
         SourceNotes::default()
     }
+
+    /// How the slab loop gets this source's planes, for the memory budget
+    /// (`--max-memory`, [`crate::stream::budget`]); never used to read.
+    /// [`PlaneMemory::Read`] (the default) assumes the most a worker can
+    /// hold per sample; wrappers pass the question on.
+    fn plane_memory(&self) -> PlaneMemory {
+        PlaneMemory::Read
+    }
+}
+
+/// What the workers of a pass hold of a source's planes (see
+/// [`SampleSource::plane_memory`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlaneMemory {
+    /// Read into `f64` buffers, two per worker.
+    Read,
+    /// Lent in place from a memory map ([`SampleSource::lend_plane`]):
+    /// a worker holds only their inside bits; the pages belong to the
+    /// page cache.
+    Lent,
+    /// Decoded a layer of `layer` planes at a time (Zarr, HDF5: a chunk's
+    /// depth) into buffers of `sample_bytes` a sample that the source's
+    /// cache keeps ([`SampleSource::share_plane`]); a worker holds the
+    /// planes of its slab, and while it decodes a layer, up to
+    /// `decoding` layers' worth of buffers (the new layer and the
+    /// decoder's own).
+    Decoded {
+        /// Bytes of a decoded sample.
+        sample_bytes: usize,
+        /// Planes decoded at once.
+        layer: usize,
+        /// Layers' worth of memory a decode takes until its layer is kept.
+        decoding: usize,
+    },
 }
 
 /// What the pipeline is about to do with some planes (see [`SampleSource::advise`]).
@@ -167,6 +201,11 @@ macro_rules! forward_to_inner {
     (@ notes) => {
         fn notes(&self) -> $crate::volume::SourceNotes {
             self.inner.notes()
+        }
+    };
+    (@ plane_memory) => {
+        fn plane_memory(&self) -> $crate::volume::PlaneMemory {
+            self.inner.plane_memory()
         }
     };
 }

@@ -23,7 +23,7 @@
 use super::chunk_layers::ChunkLayers;
 use super::zarr_ome::{self, OmeLevel};
 use super::{ChunkNotes, SharedPlane, SourceNotes, ValueFrom};
-use super::{Grid, SampleSource, ScalarType};
+use super::{Grid, PlaneMemory, SampleSource, ScalarType};
 use crate::{Error, Result};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -483,15 +483,17 @@ impl ZarrVolume {
         self.decoded.load(Ordering::Relaxed)
     }
 
-    /// Decodes chunk layer `k`: its planes, x fastest, native byte order.
-    fn decode_layer(&self, k: usize) -> Result<Vec<u8>> {
+    /// Decodes chunk layer `k`: its planes, each x fastest, native byte
+    /// order.
+    fn decode_layer(&self, k: usize) -> Result<Vec<Vec<u8>>> {
         let [nx, ny, nz] = self.grid.dims;
         let [cz, cy, cx] = self.chunk;
         let z0 = k * cz;
         let depth = cz.min(nz - z0);
         let size = self.scalar.size();
-        let layer =
-            crate::error::try_filled("a layer of Zarr chunks", depth * ny * nx * size, 0u8)?;
+        let layer = (0..depth)
+            .map(|_| crate::error::try_filled("a layer of Zarr chunks", ny * nx * size, 0u8))
+            .collect::<Result<Vec<Vec<u8>>>>()?;
         let layer = Mutex::new(layer);
         let jobs: Vec<(usize, usize)> = (0..self.chunks[1])
             .flat_map(|y| (0..self.chunks[2]).map(move |x| (y, x)))
@@ -543,11 +545,11 @@ impl ZarrVolume {
                     )));
                 }
                 let mut out = layer.lock().unwrap_or_else(|p| p.into_inner());
-                for dz in 0..depth {
+                for (dz, plane) in out.iter_mut().enumerate() {
                     for r in 0..rows {
                         let from = block_start + ((dz * cy + r) * cx) * size;
-                        let to = ((dz * ny + y0 + r) * nx + x0) * size;
-                        out[to..to + run].copy_from_slice(&bytes[from..from + run]);
+                        let to = ((y0 + r) * nx + x0) * size;
+                        plane[to..to + run].copy_from_slice(&bytes[from..from + run]);
                     }
                 }
             }
@@ -597,6 +599,20 @@ impl SampleSource for ZarrVolume {
 
     fn stored_type(&self) -> Option<ScalarType> {
         Some(self.scalar)
+    }
+
+    /// Layers of a chunk's depth; a decode holds the new layer and, on each
+    /// of its threads, a chunk decoded and its stored bytes (a layer's
+    /// worth at most in all when the layer has as many chunks as threads,
+    /// two layers' when a chunk spans the plane).
+    fn plane_memory(&self) -> PlaneMemory {
+        let chunks = (self.chunks[1] * self.chunks[2]).max(1);
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        PlaneMemory::Decoded {
+            sample_bytes: self.scalar.size(),
+            layer: self.chunk[0],
+            decoding: 1 + (2 * threads.min(chunks)).div_ceil(chunks),
+        }
     }
 
     fn notes(&self) -> SourceNotes {

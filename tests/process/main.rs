@@ -14,6 +14,7 @@ mod common;
 /// them (beside the streaming check's test it took 0.62-0.75 s, not 0.5).
 pub static CORES: std::sync::RwLock<()> = std::sync::RwLock::new(());
 
+mod budget;
 mod interrupt_latency;
 mod interrupts;
 mod python_package;

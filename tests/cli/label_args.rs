@@ -196,6 +196,59 @@ fn a_whole_float_beyond_2_53_is_not_called_a_fraction() {
     assert_eq!(names(d), ["big.nrrd"]);
 }
 
+/// A 64-bit integer is read as an `f64`, so 2^53 + 1 reads as 2^53: two
+/// labels that would be one label's mesh. A 64-bit label of magnitude
+/// 2^53 or more is refused, naming the first such sample; below it,
+/// labels are read exactly (2^53 - 1 and 2^53 - 2 are two labels).
+#[test]
+fn a_64_bit_label_that_reads_as_2_53_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let raw = |name: &str, dtype: &str, values: [[u8; 8]; 2]| {
+        let mut bytes = vec![0u8; 27 * 8];
+        bytes[13 * 8..14 * 8].copy_from_slice(&values[0]);
+        bytes[14 * 8..15 * 8].copy_from_slice(&values[1]);
+        let path = d.join(name);
+        fs::write(&path, bytes).unwrap();
+        let out = d.join(format!("{dtype}-{{label}}.ply"));
+        let args = ["--dims", "3,3,3", "--dtype", dtype, "--labels", "all"];
+        let mut all = vec!["extract", s(&path), "-q", "-o", s(&out)];
+        all.extend_from_slice(&args);
+        tmc(&all)
+    };
+    let two53 = 1u64 << 53;
+    for (dtype, values) in [
+        ("u64", [(two53 + 1).to_le_bytes(), two53.to_le_bytes()]),
+        (
+            "i64",
+            [(-(two53 as i64) - 1).to_le_bytes(), 5i64.to_le_bytes()],
+        ),
+        ("u64", [two53.to_le_bytes(), 7u64.to_le_bytes()]),
+        ("u64", [u64::MAX.to_le_bytes(), 7u64.to_le_bytes()]),
+        ("i64", [i64::MIN.to_le_bytes(), 7i64.to_le_bytes()]),
+    ] {
+        let err = assert_one_line(&raw("map.raw", dtype, values), 1);
+        assert!(err.contains("sample (x 1, y 1, z 1)"), "{dtype}: {err}");
+        assert!(err.contains("2^53"), "{dtype}: {err}");
+        assert_eq!(names(d), ["map.raw"], "{dtype}: nothing written");
+    }
+    // Just below: two labels, each its own file.
+    let below = raw(
+        "map.raw",
+        "u64",
+        [(two53 - 1).to_le_bytes(), (two53 - 2).to_le_bytes()],
+    );
+    assert!(below.status.success(), "{below:?}");
+    assert_eq!(
+        names(d),
+        [
+            "map.raw",
+            "u64-9007199254740990.ply",
+            "u64-9007199254740991.ply"
+        ]
+    );
+}
+
 /// `tmc extract INPUT --labels all -o OUT -q`, asserting success.
 fn all_labels(input: &Path, out: &str) {
     ok(&["extract", s(input), "--labels", "all", "-o", out, "-q"]);

@@ -18,6 +18,7 @@ use super::extract_args::{ExtractArgs, InsideArg};
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
 use super::placeholders;
+use super::values::LabelSpec;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -57,11 +58,16 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             ))
         }
     };
-    let spec = args.labels.as_deref().unwrap_or("all");
+    let wanted = match &args.labels {
+        Some(LabelSpec::List(list)) => Some(list.as_slice()),
+        Some(LabelSpec::All) | None => None,
+    };
     // The background only says which value 'all' leaves out.
-    if let (Some(b), true) = (args.background, spec != "all") {
+    if let (Some(b), Some(list)) = (args.background, wanted) {
+        let list: Vec<String> = list.iter().map(i64::to_string).collect();
         return Err(Error::Invalid(format!(
-            "--background {b} chooses what --labels all leaves out; with the list '{spec}' it would change nothing: drop it, or give --labels all"
+            "--background {b} chooses what --labels all leaves out; with the list '{}' it would change nothing: drop it, or give --labels all",
+            list.join(",")
         )));
     }
     let background = args.background.unwrap_or(0);
@@ -105,11 +111,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         args.max_memory,
     )?;
     let scan_seconds = scan_start.elapsed().as_secs_f64();
-    let wanted = match spec {
-        "all" => None,
-        list => Some(parse_list(list)?),
-    };
-    let labels = counts.select(wanted.as_deref(), background, input)?;
+    let labels = counts.select(wanted, background, input)?;
     if !args.quiet {
         note_absent(&labels, &counts, input);
     }
@@ -237,23 +239,6 @@ fn note_absent(labels: &[i64], counts: &tmc::volume::LabelCounts, input: &Path) 
             input.display()
         ),
     }
-}
-
-/// `L1,L2,...`: integers, each once.
-fn parse_list(list: &str) -> Result<Vec<i64>> {
-    let mut labels = Vec::new();
-    for item in list.split(',') {
-        let l: i64 = item.trim().parse().map_err(|_| {
-            Error::Invalid(format!(
-                "--labels: '{item}' is not an integer (give 'all' or L1,L2,...)"
-            ))
-        })?;
-        if labels.contains(&l) {
-            return Err(Error::Invalid(format!("--labels: {l} is given twice")));
-        }
-        labels.push(l);
-    }
-    Ok(labels)
 }
 
 /// The `--stats` table on stderr.

@@ -456,3 +456,39 @@ fn a_listed_label_not_in_the_map_is_noted() {
     assert_eq!(run("-5,7", &[]), "");
     assert!(dir.path().join("8.ply").is_file());
 }
+
+/// A malformed `--labels` list is a usage error (exit status 2, as a
+/// malformed `--background` or `--iso` is), found before the map is read:
+/// it was refused with status 1 after the first reading of the map, so a
+/// bad map's error came first and a typo cost a full reading of a large
+/// one.
+#[test]
+fn a_malformed_label_list_is_a_usage_error_before_the_map_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A map of label 3 that the scan refuses at its last sample (1.5).
+    let values = (0..27).map(|i| [0.0, 3.0, 1.5][usize::from(i == 5) + 2 * usize::from(i == 26)]);
+    let input = d.join("map.nrrd");
+    write(&input, [3, 3, 3], values.collect(), ScalarType::F32);
+    let out = d.join("{label}.ply");
+    for (list, says) in [
+        ("3,x", "'x' is not an integer"),
+        ("3,,4", "'' is not an integer"),
+        ("", "'' is not an integer"),
+        ("ALL", "'ALL' is not an integer"),
+        ("3.5", "'3.5' is not an integer"),
+        ("5,3,5", "5 is given twice"),
+    ] {
+        let arg = format!("--labels={list}");
+        let err = assert_one_line(&tmc(&["extract", s(&input), &arg, "-o", s(&out)]), 2);
+        assert!(
+            err.contains(says) && err.contains("--labels"),
+            "{list}: {err}"
+        );
+        assert!(
+            !err.contains("1.5"),
+            "{list}: the map was read first: {err}"
+        );
+        assert_eq!(names(d), ["map.nrrd"]);
+    }
+}

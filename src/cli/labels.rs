@@ -86,7 +86,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     }
     // A name without {label} must be one .ply or .tmesh, of a known format
     // in a directory that takes files: refused before the input is read.
-    tmc::export::check_label_template(template)?;
+    tmc::export::check_label_template(template, wanted.unwrap_or_default())?;
     if args.part.is_some() && (args.stats || args.json) {
         return Err(Error::Invalid(
             "--labels with --part writes part files: --stats and --json need the merged meshes"

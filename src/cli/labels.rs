@@ -113,7 +113,13 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let scan_seconds = scan_start.elapsed().as_secs_f64();
     let labels = counts.select(wanted, background, input)?;
     if !args.quiet {
-        note_absent(&labels, &counts, input);
+        match wanted {
+            Some(_) => note_absent(&labels, &counts, input),
+            None if counts.samples(background) == 0 => {
+                note_background_absent(background, &labels, input)
+            }
+            None => {}
+        }
     }
     // Every label's file stays open until all are committed.
     tmc::files::raise_open_file_limit();
@@ -216,18 +222,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
 /// gave an empty mesh without a word, where an isovalue outside the data
 /// range gets a note): one line, naming up to 10.
 fn note_absent(labels: &[i64], counts: &tmc::volume::LabelCounts, input: &Path) {
-    let absent: Vec<String> = labels
+    let absent: Vec<i64> = labels
         .iter()
-        .filter(|&&l| counts.samples(l) == 0)
-        .map(i64::to_string)
+        .copied()
+        .filter(|&l| counts.samples(l) == 0)
         .collect();
-    let (shown, more) = (absent.len().min(10), absent.len().saturating_sub(10));
-    let list = absent[..shown].join(", ")
-        + &if more > 0 {
-            format!(" and {more} more")
-        } else {
-            String::new()
-        };
+    let list = listed(&absent);
     match absent.len() {
         0 => {}
         1 => say!(
@@ -239,6 +239,29 @@ fn note_absent(labels: &[i64], counts: &tmc::volume::LabelCounts, input: &Path) 
             input.display()
         ),
     }
+}
+
+/// Says that the background of `--labels all` is not in the map, so that
+/// every value is a label (a mistyped `--background` gave the real
+/// background's surface as a label without a word): one line, naming up
+/// to 10 of the labels.
+fn note_background_absent(background: i64, labels: &[i64], input: &Path) {
+    say!(
+        "tmc: note: background {background} is not in {}: every value present is a label ({})",
+        input.display(),
+        listed(labels)
+    );
+}
+
+/// Up to 10 labels, comma-separated, then how many more.
+fn listed(labels: &[i64]) -> String {
+    let shown = labels.len().min(10);
+    let names: Vec<String> = labels[..shown].iter().map(i64::to_string).collect();
+    names.join(", ")
+        + &match labels.len() - shown {
+            0 => String::new(),
+            more => format!(" and {more} more"),
+        }
 }
 
 /// The `--stats` table on stderr.

@@ -427,15 +427,16 @@ fn more_labels_than_open_files_are_refused_before_the_pass() {
 
 /// A listed label the map does not hold gets an empty mesh and a note, as
 /// an isovalue outside the data range does (a mistyped label was written
-/// as an empty file without a word); `-q` keeps it quiet.
+/// as an empty file without a word); so does a `--background` the map
+/// does not hold with `all`; `-q` keeps them quiet.
 #[test]
 fn a_listed_label_not_in_the_map_is_noted() {
     let dir = tempfile::tempdir().unwrap();
     let input = negative_map(dir.path());
     let out = dir.path().join("{label}.ply");
-    let run = |labels: &str, quiet: &[&str]| {
+    let run = |labels: &str, more: &[&str]| {
         let args = ["extract", s(&input), "--labels", labels, "-o", s(&out)];
-        let result = tmc(&[&args[..], quiet].concat());
+        let result = tmc(&[&args[..], more].concat());
         assert!(result.status.success(), "{result:?}");
         String::from_utf8(result.stderr).unwrap()
     };
@@ -455,6 +456,18 @@ fn a_listed_label_not_in_the_map_is_noted() {
     assert_eq!(run("-5,8", &["-q"]), "");
     assert_eq!(run("-5,7", &[]), "");
     assert!(dir.path().join("8.ply").is_file());
+    // A background the map does not hold makes every value a label, the
+    // real background's box too: one note says so (it was silent).
+    let note = run("all", &["--background", "99"]);
+    assert_eq!(note.lines().count(), 1, "{note}");
+    assert!(
+        note.starts_with("tmc: note: background 99 is not in ")
+            && note.contains("every value present is a label (-5, 0, 7)"),
+        "{note}"
+    );
+    assert_eq!(run("all", &["--background", "99", "-q"]), "");
+    assert_eq!(run("all", &["--background=-5"]), "");
+    assert!(dir.path().join("0.ply").is_file());
 }
 
 /// A malformed `--labels` list is a usage error (exit status 2, as a

@@ -146,7 +146,7 @@ pub(crate) fn extract_labels_to(
                 output.display()
             )));
         }
-        tmc::export::check_label_template(&output)?;
+        tmc::export::check_label_template(&output, labels.as_deref().unwrap_or_default())?;
         let options = preflight(source, path, &params, None, cancel)?;
         let (labels, counts, runs) =
             choose(source, path, labels.as_deref(), background, &params, cancel)?;

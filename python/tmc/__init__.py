@@ -471,8 +471,8 @@ def _label_args(
 ) -> Tuple[Any, Tuple[Any, ...]]:
     """The input and the other arguments of the library's label calls.
     An array is taken as :func:`_source_args` takes it (64-bit integer
-    labels in place; the library refuses a label beyond ±2**53, which a
-    float64 would not hold exactly)."""
+    labels in place; the library refuses a 64-bit label at or beyond
+    ±2**53: read as a float64, 2**53 + 1 would be 2**53)."""
     chosen = _label_list(labels)
     array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
     rest = (chosen, _integer(background, "background"), spacing3, origin3, mapped,
@@ -509,7 +509,7 @@ def extract_labels(
     ----------
     volume : ndarray or path
         A 3-D label map indexed ``[z][y][x]`` (any integer dtype, read in
-        place, 64-bit ones with labels within ±2**53; bool; float16,
+        place, 64-bit ones with labels within ±(2**53 - 1); bool; float16,
         float32 or float64 holding whole numbers; any order or strides),
         or the path
         of any volume file ``tmc extract`` reads (NRRD, NIfTI, Zarr, a

@@ -54,8 +54,9 @@ pub(crate) struct ExtractArgs {
     /// label's voxel count times the voxel volume. Not with --preview (draw
     /// a label's file with 'tmc preview').
     #[arg(long, value_name = "all|L1,L2,...", allow_hyphen_values = true,
-          conflicts_with_all = ["iso", "manifest", "require_surface", "preview"])]
-    pub labels: Option<String>,
+          conflicts_with_all = ["iso", "manifest", "require_surface", "preview"],
+          value_parser = values::label_spec)]
+    pub labels: Option<values::LabelSpec>,
 
     /// With --labels all: the value that is no label (0 by default); a
     /// whole number, which a float map's may be written as (-1.0). Refused

@@ -18,6 +18,7 @@ use super::extract_args::{ExtractArgs, InsideArg};
 use super::monitor::Monitor;
 use super::output::{to_stdout, withdraw};
 use super::placeholders;
+use super::values::LabelSpec;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -57,11 +58,16 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
             ))
         }
     };
-    let spec = args.labels.as_deref().unwrap_or("all");
+    let wanted = match &args.labels {
+        Some(LabelSpec::List(list)) => Some(list.as_slice()),
+        Some(LabelSpec::All) | None => None,
+    };
     // The background only says which value 'all' leaves out.
-    if let (Some(b), true) = (args.background, spec != "all") {
+    if let (Some(b), Some(list)) = (args.background, wanted) {
+        let list: Vec<String> = list.iter().map(i64::to_string).collect();
         return Err(Error::Invalid(format!(
-            "--background {b} chooses what --labels all leaves out; with the list '{spec}' it would change nothing: drop it, or give --labels all"
+            "--background {b} chooses what --labels all leaves out; with the list '{}' it would change nothing: drop it, or give --labels all",
+            list.join(",")
         )));
     }
     let background = args.background.unwrap_or(0);
@@ -80,7 +86,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     }
     // A name without {label} must be one .ply or .tmesh, of a known format
     // in a directory that takes files: refused before the input is read.
-    tmc::export::check_label_template(template)?;
+    tmc::export::check_label_template(template, wanted.unwrap_or_default())?;
     if args.part.is_some() && (args.stats || args.json) {
         return Err(Error::Invalid(
             "--labels with --part writes part files: --stats and --json need the merged meshes"
@@ -105,13 +111,15 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         args.max_memory,
     )?;
     let scan_seconds = scan_start.elapsed().as_secs_f64();
-    let wanted = match spec {
-        "all" => None,
-        list => Some(parse_list(list)?),
-    };
-    let labels = counts.select(wanted.as_deref(), background, input)?;
+    let labels = counts.select(wanted, background, input)?;
     if !args.quiet {
-        note_absent(&labels, &counts, input);
+        match wanted {
+            Some(_) => note_absent(&labels, &counts, input),
+            None if counts.samples(background) == 0 => {
+                note_background_absent(background, &labels, input)
+            }
+            None => {}
+        }
     }
     // Every label's file stays open until all are committed.
     tmc::files::raise_open_file_limit();
@@ -214,18 +222,12 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
 /// gave an empty mesh without a word, where an isovalue outside the data
 /// range gets a note): one line, naming up to 10.
 fn note_absent(labels: &[i64], counts: &tmc::volume::LabelCounts, input: &Path) {
-    let absent: Vec<String> = labels
+    let absent: Vec<i64> = labels
         .iter()
-        .filter(|&&l| counts.samples(l) == 0)
-        .map(i64::to_string)
+        .copied()
+        .filter(|&l| counts.samples(l) == 0)
         .collect();
-    let (shown, more) = (absent.len().min(10), absent.len().saturating_sub(10));
-    let list = absent[..shown].join(", ")
-        + &if more > 0 {
-            format!(" and {more} more")
-        } else {
-            String::new()
-        };
+    let list = listed(&absent);
     match absent.len() {
         0 => {}
         1 => say!(
@@ -239,21 +241,27 @@ fn note_absent(labels: &[i64], counts: &tmc::volume::LabelCounts, input: &Path) 
     }
 }
 
-/// `L1,L2,...`: integers, each once.
-fn parse_list(list: &str) -> Result<Vec<i64>> {
-    let mut labels = Vec::new();
-    for item in list.split(',') {
-        let l: i64 = item.trim().parse().map_err(|_| {
-            Error::Invalid(format!(
-                "--labels: '{item}' is not an integer (give 'all' or L1,L2,...)"
-            ))
-        })?;
-        if labels.contains(&l) {
-            return Err(Error::Invalid(format!("--labels: {l} is given twice")));
+/// Says that the background of `--labels all` is not in the map, so that
+/// every value is a label (a mistyped `--background` gave the real
+/// background's surface as a label without a word): one line, naming up
+/// to 10 of the labels.
+fn note_background_absent(background: i64, labels: &[i64], input: &Path) {
+    say!(
+        "tmc: note: background {background} is not in {}: every value present is a label ({})",
+        input.display(),
+        listed(labels)
+    );
+}
+
+/// Up to 10 labels, comma-separated, then how many more.
+fn listed(labels: &[i64]) -> String {
+    let shown = labels.len().min(10);
+    let names: Vec<String> = labels[..shown].iter().map(i64::to_string).collect();
+    names.join(", ")
+        + &match labels.len() - shown {
+            0 => String::new(),
+            more => format!(" and {more} more"),
         }
-        labels.push(l);
-    }
-    Ok(labels)
 }
 
 /// The `--stats` table on stderr.

@@ -31,6 +31,35 @@ pub(crate) fn label(text: &str) -> Result<i64, String> {
     }
 }
 
+/// What `--labels` asks for: every label of the map, or a list.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) enum LabelSpec {
+    /// `all`: every value present but the background.
+    All,
+    /// `L1,L2,...`: these labels, in this order, each once.
+    List(Vec<i64>),
+}
+
+/// Parses `--labels`: `all` or `L1,L2,...`, integers, each once (a usage
+/// error otherwise, found before the map is read).
+pub(crate) fn label_spec(text: &str) -> Result<LabelSpec, String> {
+    if text == "all" {
+        return Ok(LabelSpec::All);
+    }
+    let mut labels = Vec::new();
+    for item in text.split(',') {
+        let l: i64 = item
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{item}' is not an integer (give 'all' or L1,L2,...)"))?;
+        if labels.contains(&l) {
+            return Err(format!("{l} is given twice"));
+        }
+        labels.push(l);
+    }
+    Ok(LabelSpec::List(labels))
+}
+
 /// The most worker threads `--threads` takes: more is a typo, and starting
 /// that many threads would take longer than any extraction.
 const MAX_THREADS: usize = 1024;

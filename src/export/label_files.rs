@@ -50,12 +50,14 @@ pub fn label_outputs(template: &Path, labels: &[i64]) -> Result<Vec<PathBuf>> {
 }
 
 /// Refuses, before the volume is read, an output name that no label's
-/// file could take: a form [`label_outputs`] refuses, an unknown format,
-/// or (unless `{label}` is in its directory) a directory that is missing
-/// or takes no file. The labels are known only after a reading of the
-/// whole volume, and these were found only after it.
-pub fn check_label_template(template: &Path) -> Result<()> {
-    label_outputs(template, &[])?;
+/// file could take: a form [`label_outputs`] refuses (also for the labels
+/// `listed`, when a list was asked for: one file's uint32 cannot hold
+/// label -5), an unknown format, or (unless `{label}` is in its
+/// directory) a directory that is missing or takes no file. The labels
+/// of `all` are known only after a reading of the whole volume, and
+/// these were found only after it.
+pub fn check_label_template(template: &Path, listed: &[i64]) -> Result<()> {
+    label_outputs(template, listed)?;
     match template
         .parent()
         .is_some_and(|p| has_placeholder(p, "{label}"))

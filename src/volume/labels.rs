@@ -4,7 +4,7 @@
 //! labels, [`LabelCounts::select`] for the labels it extracts).
 
 use super::label_runs::{MapRuns, PlaneRuns, PlaneRunsBuilder};
-use super::{LentPlane, Sample, SampleSource};
+use super::{LentPlane, Sample, SampleSource, ScalarType};
 use crate::error::make_room;
 use crate::fan_out::fan_out;
 use crate::{Error, Result};
@@ -123,7 +123,8 @@ pub fn scan_label_map(
 /// memory) and counts the samples of each value. Label maps hold integers,
 /// though many are stored as floats: a sample that is not a whole number
 /// within ±2^53 (a fraction, NaN, an infinity) is an error naming its
-/// position, the first in the file's order (x fastest, then y, then z).
+/// position, the first in the file's order (x fastest, then y, then z);
+/// so is a 64-bit integer sample read as ±2^53 (2^53 + 1 reads as 2^53).
 /// Stops with [`Error::Interrupted`] once `cancel` is set (looked at every
 /// plane).
 pub fn scan_labels(source: &dyn SampleSource, cancel: Option<&AtomicBool>) -> Result<LabelCounts> {
@@ -213,6 +214,13 @@ fn count_planes(
     give_up: impl Fn() -> bool,
 ) -> Result<(Counts, Vec<Option<PlaneRuns>>)> {
     const LIMIT: f64 = (1u64 << 53) as f64;
+    // A 64-bit integer is read rounded to an `f64`: 2^53 + 1 reads as
+    // 2^53, so a sample that reads as ±2^53 may be another label than
+    // it says; such maps hold labels below 2^53 in magnitude.
+    let rounded = matches!(
+        source.stored_type(),
+        Some(ScalarType::I64 | ScalarType::U64)
+    );
     let ny = source.grid().dims[1];
     let mut plane = Vec::new();
     let mut counts = Tally::default();
@@ -224,15 +232,25 @@ fn count_planes(
         }
         let mut runs = (cap > 0).then(|| PlaneRunsBuilder::new(ny, expected + expected / 4));
         plane_runs(source, z, &mut plane, |y, x, end, v| {
-            if !(v.fract() == 0.0 && v.abs() <= LIMIT) {
-                let why = match v.fract() == 0.0 {
-                    // Whole, but beyond the integers an `f64` holds exactly.
-                    true => "beyond ±2^53",
-                    false => "not a whole number",
-                };
-                return Err(Error::Invalid(format!(
-                    "sample (x {x}, y {y}, z {z}) is {v}, {why}: a label map holds integer labels (whole numbers within ±2^53)"
-                )));
+            let whole = v.fract() == 0.0;
+            if !(whole && v.abs() <= LIMIT) || (rounded && v.abs() == LIMIT) {
+                return Err(Error::Invalid(if rounded && whole {
+                    // Its value as read is not the one stored: not printed.
+                    format!(
+                        "sample (x {x}, y {y}, z {z}) is a 64-bit integer at or beyond ±2^53, which is not read exactly: a label map's 64-bit labels are within ±(2^53 - 1)"
+                    )
+                } else {
+                    // Whole, but beyond the integers an `f64` holds exactly;
+                    // or a fraction, NaN or an infinity.
+                    let why = if whole {
+                        "beyond ±2^53"
+                    } else {
+                        "not a whole number"
+                    };
+                    format!(
+                        "sample (x {x}, y {y}, z {z}) is {v}, {why}: a label map holds integer labels (whole numbers within ±2^53)"
+                    )
+                }));
             }
             counts.add(v as i64, (end - x) as u64, z);
             if let Some(runs) = &mut runs {

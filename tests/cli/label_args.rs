@@ -196,6 +196,59 @@ fn a_whole_float_beyond_2_53_is_not_called_a_fraction() {
     assert_eq!(names(d), ["big.nrrd"]);
 }
 
+/// A 64-bit integer is read as an `f64`, so 2^53 + 1 reads as 2^53: two
+/// labels that would be one label's mesh. A 64-bit label of magnitude
+/// 2^53 or more is refused, naming the first such sample; below it,
+/// labels are read exactly (2^53 - 1 and 2^53 - 2 are two labels).
+#[test]
+fn a_64_bit_label_that_reads_as_2_53_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let raw = |name: &str, dtype: &str, values: [[u8; 8]; 2]| {
+        let mut bytes = vec![0u8; 27 * 8];
+        bytes[13 * 8..14 * 8].copy_from_slice(&values[0]);
+        bytes[14 * 8..15 * 8].copy_from_slice(&values[1]);
+        let path = d.join(name);
+        fs::write(&path, bytes).unwrap();
+        let out = d.join(format!("{dtype}-{{label}}.ply"));
+        let args = ["--dims", "3,3,3", "--dtype", dtype, "--labels", "all"];
+        let mut all = vec!["extract", s(&path), "-q", "-o", s(&out)];
+        all.extend_from_slice(&args);
+        tmc(&all)
+    };
+    let two53 = 1u64 << 53;
+    for (dtype, values) in [
+        ("u64", [(two53 + 1).to_le_bytes(), two53.to_le_bytes()]),
+        (
+            "i64",
+            [(-(two53 as i64) - 1).to_le_bytes(), 5i64.to_le_bytes()],
+        ),
+        ("u64", [two53.to_le_bytes(), 7u64.to_le_bytes()]),
+        ("u64", [u64::MAX.to_le_bytes(), 7u64.to_le_bytes()]),
+        ("i64", [i64::MIN.to_le_bytes(), 7i64.to_le_bytes()]),
+    ] {
+        let err = assert_one_line(&raw("map.raw", dtype, values), 1);
+        assert!(err.contains("sample (x 1, y 1, z 1)"), "{dtype}: {err}");
+        assert!(err.contains("2^53"), "{dtype}: {err}");
+        assert_eq!(names(d), ["map.raw"], "{dtype}: nothing written");
+    }
+    // Just below: two labels, each its own file.
+    let below = raw(
+        "map.raw",
+        "u64",
+        [(two53 - 1).to_le_bytes(), (two53 - 2).to_le_bytes()],
+    );
+    assert!(below.status.success(), "{below:?}");
+    assert_eq!(
+        names(d),
+        [
+            "map.raw",
+            "u64-9007199254740990.ply",
+            "u64-9007199254740991.ply"
+        ]
+    );
+}
+
 /// `tmc extract INPUT --labels all -o OUT -q`, asserting success.
 fn all_labels(input: &Path, out: &str) {
     ok(&["extract", s(input), "--labels", "all", "-o", out, "-q"]);
@@ -374,15 +427,16 @@ fn more_labels_than_open_files_are_refused_before_the_pass() {
 
 /// A listed label the map does not hold gets an empty mesh and a note, as
 /// an isovalue outside the data range does (a mistyped label was written
-/// as an empty file without a word); `-q` keeps it quiet.
+/// as an empty file without a word); so does a `--background` the map
+/// does not hold with `all`; `-q` keeps them quiet.
 #[test]
 fn a_listed_label_not_in_the_map_is_noted() {
     let dir = tempfile::tempdir().unwrap();
     let input = negative_map(dir.path());
     let out = dir.path().join("{label}.ply");
-    let run = |labels: &str, quiet: &[&str]| {
+    let run = |labels: &str, more: &[&str]| {
         let args = ["extract", s(&input), "--labels", labels, "-o", s(&out)];
-        let result = tmc(&[&args[..], quiet].concat());
+        let result = tmc(&[&args[..], more].concat());
         assert!(result.status.success(), "{result:?}");
         String::from_utf8(result.stderr).unwrap()
     };
@@ -402,4 +456,52 @@ fn a_listed_label_not_in_the_map_is_noted() {
     assert_eq!(run("-5,8", &["-q"]), "");
     assert_eq!(run("-5,7", &[]), "");
     assert!(dir.path().join("8.ply").is_file());
+    // A background the map does not hold makes every value a label, the
+    // real background's box too: one note says so (it was silent).
+    let note = run("all", &["--background", "99"]);
+    assert_eq!(note.lines().count(), 1, "{note}");
+    assert!(
+        note.starts_with("tmc: note: background 99 is not in ")
+            && note.contains("every value present is a label (-5, 0, 7)"),
+        "{note}"
+    );
+    assert_eq!(run("all", &["--background", "99", "-q"]), "");
+    assert_eq!(run("all", &["--background=-5"]), "");
+    assert!(dir.path().join("0.ply").is_file());
+}
+
+/// A malformed `--labels` list is a usage error (exit status 2, as a
+/// malformed `--background` or `--iso` is), found before the map is read:
+/// it was refused with status 1 after the first reading of the map, so a
+/// bad map's error came first and a typo cost a full reading of a large
+/// one.
+#[test]
+fn a_malformed_label_list_is_a_usage_error_before_the_map_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A map of label 3 that the scan refuses at its last sample (1.5).
+    let values = (0..27).map(|i| [0.0, 3.0, 1.5][usize::from(i == 5) + 2 * usize::from(i == 26)]);
+    let input = d.join("map.nrrd");
+    write(&input, [3, 3, 3], values.collect(), ScalarType::F32);
+    let out = d.join("{label}.ply");
+    for (list, says) in [
+        ("3,x", "'x' is not an integer"),
+        ("3,,4", "'' is not an integer"),
+        ("", "'' is not an integer"),
+        ("ALL", "'ALL' is not an integer"),
+        ("3.5", "'3.5' is not an integer"),
+        ("5,3,5", "5 is given twice"),
+    ] {
+        let arg = format!("--labels={list}");
+        let err = assert_one_line(&tmc(&["extract", s(&input), &arg, "-o", s(&out)]), 2);
+        assert!(
+            err.contains(says) && err.contains("--labels"),
+            "{list}: {err}"
+        );
+        assert!(
+            !err.contains("1.5"),
+            "{list}: the map was read first: {err}"
+        );
+        assert_eq!(names(d), ["map.nrrd"]);
+    }
 }

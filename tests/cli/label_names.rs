@@ -267,6 +267,19 @@ fn a_label_output_that_cannot_be_written_is_refused_before_the_map_is_read() {
         let err = assert_one_line(&tmc(&args), 1);
         assert!(err.contains(words) && !err.contains("1.5"), "{err}");
     }
+    // A listed label one file's uint32 'label' cannot hold: known from
+    // the list, refused before the map is read too.
+    for (list, out) in [
+        ("--labels=-5", "one.ply"),
+        ("--labels=3,4294967296", "one.tmesh"),
+    ] {
+        let out = d.join(out);
+        let err = assert_one_line(&tmc(&["extract", s(&input), list, "-o", s(&out)]), 1);
+        assert!(
+            err.contains("does not fit the uint32") && !err.contains("1.5"),
+            "{err}"
+        );
+    }
     // {label} in the directory: the directories are the labels'.
     let out = d.join("{label}/m.ply");
     let args = ["extract", s(&input), "--labels", "all", "-o", s(&out), "-q"];

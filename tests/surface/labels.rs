@@ -372,7 +372,7 @@ fn bad_label_arguments_are_one_line() {
     let each = dir.path().join("{label}.ply");
     let err = assert_one_line(
         &tmc(&["extract", s(&input), "--labels", "1,x", "-o", s(&each)]),
-        1,
+        2,
     );
     assert!(err.contains("'x' is not an integer"), "{err}");
     let obj = dir.path().join("all.obj");

@@ -34,7 +34,7 @@ impl<'a> Input<'a> {
     ) -> PyResult<Self> {
         match input.cast::<PyUntypedArray>() {
             Ok(_) if select != ZarrSelect::default() => Err(PyValueError::new_err(
-                "series and segment choose what to read of a DICOM path, not of an array",
+                "series, segment and at choose what to read of a path (a DICOM series, a Zarr or HDF5 entry), not of an array",
             )),
             Ok(array) => Ok(Input::Array(Box::new(array::volume(
                 array, spacing, origin, mapped,
@@ -75,12 +75,18 @@ impl<'a> Input<'a> {
     }
 }
 
-/// What to read of a path: the DICOM series (number or UID) and the
-/// Segmentation segment, if given.
-pub(crate) fn select(series: Option<String>, segment: Option<u32>) -> ZarrSelect {
+/// What to read of a path: the DICOM series (number or UID), the
+/// Segmentation segment, and the entry of a Zarr array's or HDF5
+/// dataset's axes before z, y, x (`--at`), if given.
+pub(crate) fn select(
+    series: Option<String>,
+    segment: Option<u32>,
+    at: Option<Vec<(String, u64)>>,
+) -> ZarrSelect {
     ZarrSelect {
         series,
         segment,
+        at: at.unwrap_or_default(),
         ..ZarrSelect::default()
     }
 }
@@ -194,7 +200,7 @@ pub(crate) type Collected = (
 /// `record.rs`). The vertices are widened to f64 as the chunks come (on
 /// the writing thread, while the workers triangulate).
 #[pyfunction]
-#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, series = None, segment = None))]
+#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, series = None, segment = None, at = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract<'py>(
     py: Python<'py>,
@@ -210,9 +216,10 @@ pub(crate) fn extract<'py>(
     normals: bool,
     series: Option<String>,
     segment: Option<u32>,
+    at: Option<Vec<(String, u64)>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
+    let input = Input::new(input, spacing, origin, mapped, select(series, segment, at))?;
     let (vertices, triangles, n, report, record): Collected =
         input.run(py, |source, path, cancel| {
             let options = preflight(source, path, &params, None, cancel)?;
@@ -294,7 +301,7 @@ pub(crate) fn marching_cubes<'py>(
 /// normals go into it too (formats that carry them), as `tmc extract
 /// --normals` writes them. Returns the report JSON.
 #[pyfunction]
-#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, series = None, segment = None))]
+#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, series = None, segment = None, at = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_to(
     py: Python<'_>,
@@ -311,9 +318,10 @@ pub(crate) fn extract_to(
     normals: bool,
     series: Option<String>,
     segment: Option<u32>,
+    at: Option<Vec<(String, u64)>>,
 ) -> PyResult<String> {
     let params = params(iso, method, inside, close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select(series, segment))?;
+    let input = Input::new(input, spacing, origin, mapped, select(series, segment, at))?;
     input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, Some(&output), cancel)?;
         let mut sink = tmc::export::create_sink(&output)?;

@@ -83,7 +83,7 @@ pub(crate) fn check_mesh(
 /// a DICOM directory of several series and no `series`, their listing
 /// (`input`, `format`, `series`), as `tmc info --json` prints it.
 #[pyfunction]
-#[pyo3(signature = (path, bins = 1024, plane_step = 0, series = None, segment = None))]
+#[pyo3(signature = (path, bins = 1024, plane_step = 0, series = None, segment = None, at = None))]
 pub(crate) fn info(
     py: Python<'_>,
     path: PathBuf,
@@ -91,6 +91,7 @@ pub(crate) fn info(
     plane_step: usize,
     series: Option<String>,
     segment: Option<u32>,
+    at: Option<Vec<(String, u64)>>,
 ) -> PyResult<String> {
     interrupt::run(py, |cancel| {
         tmc::files::check_input_kind(&path)?;
@@ -104,7 +105,7 @@ pub(crate) fn info(
                 return Ok(value.to_string());
             }
         }
-        let select = crate::extract::select(series, segment);
+        let select = crate::extract::select(series, segment, at);
         let source = tmc::volume::open_selected(&path, None, &select, cancel)?;
         let info = tmc::volume::volume_info(&path, None, source.as_ref(), bins, plane_step)?;
         serde_json::to_string(&info).map_err(|e| tmc::Error::Invalid(e.to_string()))

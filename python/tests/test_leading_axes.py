@@ -81,3 +81,43 @@ def test_hdf5_volumes_are_picked_by_position(tmp_path):
         same_as_slice(f"{path}:/scans", f"0={k}", data[k], tmp_path)
     done = cli("extract", f"{path}:/scans", "--iso", "500.5", "-o", str(tmp_path / "x.ply"))
     assert done.returncode != 0 and "pick one with --at 0=I (I from 0 to 2)" in done.stderr
+
+
+def test_the_python_functions_take_at(tmp_path):
+    zarr = pytest.importorskip("zarr", minversion="3")
+    data = volumes((2, 3))
+    path = tmp_path / "plain.zarr"
+    a = zarr.create_array(store=str(path), shape=data.shape, dtype=data.dtype,
+                          chunks=(1, 2, 5, 17, 8))
+    a[...] = data
+    for at in ({0: 1, 1: 2}, {"0": 1, "1": 2}):
+        got = tmc.extract(str(path), 500.5, at=at)
+        want = tmc.extract(np.ascontiguousarray(data[1, 2]), 500.5)
+        np.testing.assert_array_equal(got.triangles, want.triangles)
+        np.testing.assert_array_equal(got.vertices, want.vertices)
+    report = tmc.extract_to(str(path), 500.5, tmp_path / "x.tmesh", at={0: 0, 1: 1})
+    assert report["triangles"] == len(tmc.extract(np.ascontiguousarray(data[0, 1]), 500.5).triangles)
+    info = tmc.info(str(path), at={0: 1, 1: 0})
+    assert info["max"] == float(data[1, 0].max())
+    labels = (data[1, 1] > 700).astype(np.uint8) + (data[1, 1] > 900)
+    lpath = tmp_path / "labels.zarr"
+    la = zarr.create_array(store=str(lpath), shape=(2,) + labels.shape, dtype=np.uint8,
+                           chunks=(1,) + labels.shape)
+    la[1] = labels
+    by_at = tmc.extract_labels(str(lpath), at={0: 1})
+    want = tmc.extract_labels(labels)
+    assert sorted(by_at) == sorted(want) == [1, 2]
+    for k in want:
+        np.testing.assert_array_equal(by_at[k].triangles, want[k].triangles)
+    out = tmc.extract_labels_to(str(lpath), tmp_path / "{label}.ply", at={0: 1})
+    assert len(out["labels"]) == 2
+    with pytest.raises(ValueError, match="pick one with --at 0=I"):
+        tmc.extract(str(path), 500.5)
+    with pytest.raises(ValueError, match="not of an array"):
+        tmc.extract(data[0, 0], 500.5, at={0: 0})
+    with pytest.raises(TypeError, match="mapping"):
+        tmc.extract(str(path), 500.5, at=[("0", 1)])
+    with pytest.raises(TypeError):
+        tmc.extract(str(path), 500.5, at={0: 1.5, 1: 0})
+    with pytest.raises(ValueError, match="0 or more"):
+        tmc.extract(str(path), 500.5, at={0: -1, 1: 0})

@@ -25,7 +25,7 @@ import mmap
 import operator
 import os
 import warnings
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -337,6 +337,7 @@ def extract(
     normals: bool = False,
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
+    at: Optional[Mapping[Union[str, int], int]] = None,
 ) -> Mesh:
     """Extracts the isosurface at ``iso`` into a :class:`Mesh`, with the
     ``tmc extract`` conventions.
@@ -371,6 +372,11 @@ def extract(
         The segment of a DICOM Segmentation object to read alone, as 0 to
         1 (so ``iso=0.5`` is its surface), as ``--segment``; without it a
         SEG reads as the label map of its segments.
+    at : mapping, optional
+        The entry to read of each axis before z, y, x of a Zarr array or
+        HDF5 dataset, as ``--at``: ``{"c": 1, "t": 0}`` by the OME-Zarr
+        axis names, or ``{0: 2}`` by position (0 the slowest); an axis of
+        one entry needs none. Only the chunks holding that entry are read.
 
     Returns
     -------
@@ -387,7 +393,7 @@ def extract(
     source = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
     vertices, triangles, vertex_normals, report, record = _tmc.extract(
-        *source, *options, _flag(normals, "normals"), *_select(series, segment)
+        *source, *options, _flag(normals, "normals"), *_select(series, segment, at)
     )
     mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
     mesh._record = record
@@ -408,6 +414,7 @@ def extract_to(
     normals: bool = False,
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
+    at: Optional[Mapping[Union[str, int], int]] = None,
 ) -> Dict[str, Any]:
     """Streams the isosurface at ``iso`` into the file ``output`` without
     holding the mesh in memory (the CLI's memory bound, for volumes of any
@@ -430,7 +437,7 @@ def extract_to(
     options = _options(method, inside, close, threads)
     report = _tmc.extract_to(
         array, os.fsdecode(output), *rest, *options, _flag(normals, "normals"),
-        *_select(series, segment)
+        *_select(series, segment, at)
     )
     return json.loads(report)
 
@@ -468,6 +475,7 @@ def _label_args(
     normals: Any,
     series: Any,
     segment: Any,
+    at: Any,
 ) -> Tuple[Any, Tuple[Any, ...]]:
     """The input and the other arguments of the library's label calls.
     An array is taken as :func:`_source_args` takes it (64-bit integer
@@ -477,7 +485,7 @@ def _label_args(
     array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
     rest = (chosen, _integer(background, "background"), spacing3, origin3, mapped,
             _flag(close, "close"), _threads(threads), _flag(normals, "normals"),
-            *_select(series, segment))
+            *_select(series, segment, at))
     return array, rest
 
 
@@ -493,6 +501,7 @@ def extract_labels(
     normals: bool = False,
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
+    at: Optional[Mapping[Union[str, int], int]] = None,
 ) -> Dict[int, Mesh]:
     """The surface of every label of a segmentation label map, in one pass
     over the volume, as ``tmc extract --labels`` extracts them.
@@ -549,7 +558,7 @@ def extract_labels(
         cannot be read, ``KeyboardInterrupt`` on Ctrl-C.
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
-                              normals, series, segment)
+                              normals, series, segment, at)
     meshes = _tmc.extract_labels(array, *rest)
     result: Dict[int, Mesh] = {}
     for label, (vertices, triangles, vertex_normals, report, record) in meshes:
@@ -573,6 +582,7 @@ def extract_labels_to(
     stats: bool = False,
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
+    at: Optional[Mapping[Union[str, int], int]] = None,
 ) -> Dict[str, Any]:
     """Streams the surface of every label into files in one pass, the
     bytes ``tmc extract --labels`` writes, without holding the meshes.
@@ -607,7 +617,7 @@ def extract_labels_to(
     spent.
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
-                              normals, series, segment)
+                              normals, series, segment, at)
     report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=_flag(stats, "stats"))
     return json.loads(report)
 
@@ -626,6 +636,7 @@ def info(
     plane_step: int = 0,
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
+    at: Optional[Mapping[Union[str, int], int]] = None,
 ) -> Dict[str, Any]:
     """What ``tmc info --json`` prints for a volume file: format, grid,
     index-to-world affine, value range, NaN count, and Otsu's suggested
@@ -637,7 +648,7 @@ def info(
     ``dims``, ``readable`` ...)."""
     return json.loads(
         _tmc.info(os.fsdecode(path), _count(bins, "bins"), _count(plane_step, "plane_step"),
-                  *_select(series, segment))
+                  *_select(series, segment, at))
     )
 
 
@@ -654,11 +665,14 @@ def _count(value: Any, name: str) -> int:
     return value
 
 
-def _select(series: Any, segment: Any) -> Tuple[Optional[str], Optional[int]]:
-    """The series (as text: a number or a UID) and segment arguments:
+def _select(
+    series: Any, segment: Any, at: Any
+) -> Tuple[Optional[str], Optional[int], Optional[List[Tuple[str, int]]]]:
+    """The series (as text: a number or a UID), segment and at arguments:
     ``TypeError`` for a series that is neither (a bool was the series
-    "True") and for a segment that is no whole number (1.5 was segment 1,
-    "a" a ``ValueError`` of ``int``)."""
+    "True"), for a segment that is no whole number (1.5 was segment 1,
+    "a" a ``ValueError`` of ``int``), and for an ``at`` that is not a
+    mapping of axis names or positions to entries."""
     if series is not None and (
         isinstance(series, (bool, np.bool_)) or not isinstance(series, (int, np.integer, str))
     ):
@@ -669,7 +683,19 @@ def _select(series: Any, segment: Any) -> Tuple[Optional[str], Optional[int]]:
         segment = _integer(segment, "segment", "a segment number")
         if segment < 1:
             raise ValueError(f"segment must be a segment number (1 or more), not {segment}")
-    return (None if series is None else str(series)), segment
+    picks = None
+    if at is not None:
+        if not isinstance(at, Mapping):
+            raise TypeError(f"at must be a mapping of axes to entries, like {{'c': 1}}, not {at!r}")
+        picks = []
+        for axis, entry in at.items():
+            if isinstance(axis, (bool, np.bool_)) or not isinstance(axis, (str, int, np.integer)):
+                raise TypeError(f"at: an axis is a name or a position, not {axis!r}")
+            entry = _integer(entry, f"at[{axis!r}]", "an entry number")
+            if entry < 0:
+                raise ValueError(f"at[{axis!r}] must be 0 or more, not {entry}")
+            picks.append((str(axis) if isinstance(axis, str) else str(operator.index(axis)), entry))
+    return (None if series is None else str(series)), segment, picks
 
 
 def marching_cubes(

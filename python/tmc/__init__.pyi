@@ -1,7 +1,7 @@
 """Type stubs of the tmc package (see tmc/__init__.py for the docs)."""
 
 import os
-from typing import Any, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -56,6 +56,7 @@ def extract(
     normals: bool = ...,
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
+    at: Optional[Mapping[Union[str, int], int]] = ...,
 ) -> Mesh:
     """Extracts the isosurface at ``iso`` into a Mesh (tmc's conventions)."""
 
@@ -73,6 +74,7 @@ def extract_to(
     normals: bool = ...,
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
+    at: Optional[Mapping[Union[str, int], int]] = ...,
 ) -> Dict[str, Any]:
     """Streams the isosurface into a mesh file without holding the mesh
     (with ``normals``, the vertex normals too, as ``tmc extract --normals``);
@@ -90,6 +92,7 @@ def extract_labels(
     normals: bool = ...,
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
+    at: Optional[Mapping[Union[str, int], int]] = ...,
 ) -> Dict[int, Mesh]:
     """Every label's surface of a label map in one pass, keyed by label:
     each the extraction of the label's 0/1 indicator at 0.5."""
@@ -108,6 +111,7 @@ def extract_labels_to(
     stats: bool = ...,
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
+    at: Optional[Mapping[Union[str, int], int]] = ...,
 ) -> Dict[str, Any]:
     """Streams every label's surface into files in one pass (``{label}`` in
     ``output`` for a file per label, the one placeholder, else one .ply or
@@ -126,6 +130,7 @@ def info(
     plane_step: int = ...,
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
+    at: Optional[Mapping[Union[str, int], int]] = ...,
 ) -> Dict[str, Any]:
     """What ``tmc info --json`` prints for a volume file (a DICOM series or
     segment chosen, or the series of a DICOM directory listed)."""

@@ -33,6 +33,7 @@ def extract(
     normals: bool,
     series: Optional[str] = ...,
     segment: Optional[int] = ...,
+    at: Optional[List[Tuple[str, int]]] = ...,
 ) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]:
     """Extracts into arrays in tmc's layout: (vertices float64, triangles
     uint32, normals float32 or None, report JSON, record)."""
@@ -63,6 +64,7 @@ def extract_to(
     normals: bool,
     series: Optional[str] = ...,
     segment: Optional[int] = ...,
+    at: Optional[List[Tuple[str, int]]] = ...,
 ) -> str:
     """Streams into a file (with vertex normals if ``normals``); returns the report JSON."""
 
@@ -78,6 +80,7 @@ def extract_labels(
     normals: bool,
     series: Optional[str] = ...,
     segment: Optional[int] = ...,
+    at: Optional[List[Tuple[str, int]]] = ...,
 ) -> List[Tuple[int, Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]]]:
     """Every label's mesh in one pass (None: every value present but
     background): (label, extract's tuple for its indicator) per label."""
@@ -95,6 +98,7 @@ def extract_labels_to(
     normals: bool,
     series: Optional[str] = ...,
     segment: Optional[int] = ...,
+    at: Optional[List[Tuple[str, int]]] = ...,
     stats: bool = ...,
 ) -> str:
     """Streams every label's mesh into the files output names; returns the
@@ -124,6 +128,7 @@ def info(
     plane_step: int = ...,
     series: Optional[str] = ...,
     segment: Optional[int] = ...,
+    at: Optional[List[Tuple[str, int]]] = ...,
 ) -> str:
     """What tmc info --json prints, as JSON text."""
 

@@ -34,7 +34,7 @@ impl<'a> Input<'a> {
     ) -> PyResult<Self> {
         match input.cast::<PyUntypedArray>() {
             Ok(_) if select != ZarrSelect::default() => Err(PyValueError::new_err(
-                "series, segment and at choose what to read of a path (a DICOM series, a Zarr or HDF5 entry), not of an array",
+                "series, segment, at, array, level and dataset choose what to read of a path (a DICOM series, a Zarr array or HDF5 dataset and its entry), not of an array",
             )),
             Ok(array) => Ok(Input::Array(Box::new(array::volume(
                 array, spacing, origin, mapped,
@@ -75,19 +75,39 @@ impl<'a> Input<'a> {
     }
 }
 
-/// What to read of a path: the DICOM series (number or UID), the
-/// Segmentation segment, and the entry of a Zarr array's or HDF5
-/// dataset's axes before z, y, x (`--at`), if given.
-pub(crate) fn select(
-    series: Option<String>,
-    segment: Option<u32>,
-    at: Option<Vec<(String, u64)>>,
-) -> ZarrSelect {
-    ZarrSelect {
-        series,
-        segment,
-        at: at.unwrap_or_default(),
-        ..ZarrSelect::default()
+/// What to read of a path, as the package's `_select` passes it: the
+/// DICOM series (number or UID), the Segmentation segment, the entry of a
+/// Zarr array's or HDF5 dataset's axes before z, y, x (`--at`), the Zarr
+/// array inside its store (`--array`), the OME-Zarr level (`--level`) and
+/// the HDF5 dataset (`--dataset`), each `None` when not given.
+#[derive(FromPyObject)]
+pub(crate) struct Select(
+    Option<String>,
+    Option<u32>,
+    Option<Vec<(String, u64)>>,
+    Option<String>,
+    Option<usize>,
+    Option<String>,
+);
+
+impl Select {
+    /// Whether a DICOM series or segment was chosen (`info` lists a DICOM
+    /// directory's series when neither was).
+    pub(crate) fn names_dicom_part(&self) -> bool {
+        self.0.is_some() || self.1.is_some()
+    }
+}
+
+impl From<Select> for ZarrSelect {
+    fn from(Select(series, segment, at, array, level, dataset): Select) -> Self {
+        ZarrSelect {
+            array,
+            level,
+            dataset,
+            series,
+            segment,
+            at: at.unwrap_or_default(),
+        }
     }
 }
 
@@ -200,7 +220,7 @@ pub(crate) type Collected = (
 /// `record.rs`). The vertices are widened to f64 as the chunks come (on
 /// the writing thread, while the workers triangulate).
 #[pyfunction]
-#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, series = None, segment = None, at = None))]
+#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, select))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract<'py>(
     py: Python<'py>,
@@ -214,12 +234,10 @@ pub(crate) fn extract<'py>(
     close: bool,
     threads: usize,
     normals: bool,
-    series: Option<String>,
-    segment: Option<u32>,
-    at: Option<Vec<(String, u64)>>,
+    select: Select,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select(series, segment, at))?;
+    let input = Input::new(input, spacing, origin, mapped, select.into())?;
     let (vertices, triangles, n, report, record): Collected =
         input.run(py, |source, path, cancel| {
             let options = preflight(source, path, &params, None, cancel)?;
@@ -301,7 +319,7 @@ pub(crate) fn marching_cubes<'py>(
 /// normals go into it too (formats that carry them), as `tmc extract
 /// --normals` writes them. Returns the report JSON.
 #[pyfunction]
-#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, series = None, segment = None, at = None))]
+#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, select))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_to(
     py: Python<'_>,
@@ -316,12 +334,10 @@ pub(crate) fn extract_to(
     close: bool,
     threads: usize,
     normals: bool,
-    series: Option<String>,
-    segment: Option<u32>,
-    at: Option<Vec<(String, u64)>>,
+    select: Select,
 ) -> PyResult<String> {
     let params = params(iso, method, inside, close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select(series, segment, at))?;
+    let input = Input::new(input, spacing, origin, mapped, select.into())?;
     input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, Some(&output), cancel)?;
         let mut sink = tmc::export::create_sink(&output)?;

@@ -6,7 +6,7 @@
 //! [`tmc::check::Measured`]).
 
 use crate::array::MappedAt;
-use crate::extract::{params, preflight, report, select, Collected, Input};
+use crate::extract::{params, preflight, report, Collected, Input, Select};
 use crate::output::arrays;
 use crate::record::Recorder;
 use pyo3::prelude::*;
@@ -56,7 +56,7 @@ type LabelMesh<'py> = (i64, Bound<'py, PyAny>);
 /// record))`, each tuple what `extract` gives for that label's 0/1
 /// indicator at 0.5.
 #[pyfunction]
-#[pyo3(signature = (input, labels, background, spacing, origin, mapped, close, threads, normals, series = None, segment = None, at = None))]
+#[pyo3(signature = (input, labels, background, spacing, origin, mapped, close, threads, normals, select))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_labels<'py>(
     py: Python<'py>,
@@ -69,12 +69,10 @@ pub(crate) fn extract_labels<'py>(
     close: bool,
     threads: usize,
     normals: bool,
-    series: Option<String>,
-    segment: Option<u32>,
-    at: Option<Vec<(String, u64)>>,
+    select: Select,
 ) -> PyResult<Vec<LabelMesh<'py>>> {
     let params = label_params(close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select(series, segment, at))?;
+    let input = Input::new(input, spacing, origin, mapped, select.into())?;
     let collected: Vec<(i64, Collected)> = input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, None, cancel)?;
         let (labels, _, runs) =
@@ -117,7 +115,7 @@ pub(crate) fn extract_labels<'py>(
 /// volume counted while its chunks stream ([`tmc::check::Measured`], as
 /// the CLI counts them), else without them.
 #[pyfunction]
-#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, series = None, segment = None, at = None, stats = false))]
+#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, select, stats = false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_labels_to(
     py: Python<'_>,
@@ -131,13 +129,11 @@ pub(crate) fn extract_labels_to(
     close: bool,
     threads: usize,
     normals: bool,
-    series: Option<String>,
-    segment: Option<u32>,
-    at: Option<Vec<(String, u64)>>,
+    select: Select,
     stats: bool,
 ) -> PyResult<String> {
     let params = label_params(close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select(series, segment, at))?;
+    let input = Input::new(input, spacing, origin, mapped, select.into())?;
     input.run(py, |source, path, cancel| {
         let started = Instant::now();
         // The name's form first, before the volume is read; `{label}` is

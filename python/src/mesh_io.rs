@@ -2,11 +2,13 @@
 //! the library's readers, writers, checker and `tmc info`.
 
 use crate::errors::OrPyErr;
+use crate::extract::Select;
 use crate::interrupt;
 use crate::output::{mesh_arrays, rows_from};
 use crate::record::{write_tmesh, Record};
 use pyo3::prelude::*;
 use std::path::PathBuf;
+use tmc::volume::zarr::ZarrSelect;
 
 /// Reads a `.tmesh`, PLY, OBJ or OFF mesh: `(vertices, triangles)` in
 /// tmc's layout (float64, uint32).
@@ -78,24 +80,23 @@ pub(crate) fn check_mesh(
         .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
 }
 
-/// What `tmc info --json` prints for the volume at `path` (the DICOM
-/// series `series`, the Segmentation segment `segment`), as JSON text; for
-/// a DICOM directory of several series and no `series`, their listing
-/// (`input`, `format`, `series`), as `tmc info --json` prints it.
+/// What `tmc info --json` prints for the volume at `path` (what `select`
+/// chooses of it: a DICOM series or segment, a Zarr array, level or entry,
+/// an HDF5 dataset), as JSON text; for a DICOM directory of several series
+/// and neither a series nor a segment chosen, their listing (`input`,
+/// `format`, `series`), as `tmc info --json` prints it.
 #[pyfunction]
-#[pyo3(signature = (path, bins = 1024, plane_step = 0, series = None, segment = None, at = None))]
+#[pyo3(signature = (path, bins = 1024, plane_step = 0, select = None))]
 pub(crate) fn info(
     py: Python<'_>,
     path: PathBuf,
     bins: usize,
     plane_step: usize,
-    series: Option<String>,
-    segment: Option<u32>,
-    at: Option<Vec<(String, u64)>>,
+    select: Option<Select>,
 ) -> PyResult<String> {
     interrupt::run(py, |cancel| {
         tmc::files::check_input_kind(&path)?;
-        if series.is_none() && segment.is_none() {
+        if !select.as_ref().is_some_and(Select::names_dicom_part) {
             if let Some(listed) = tmc::volume::dicom_series_to_choose(&path)? {
                 let value = serde_json::json!({
                     "input": path.display().to_string(),
@@ -105,7 +106,7 @@ pub(crate) fn info(
                 return Ok(value.to_string());
             }
         }
-        let select = crate::extract::select(series, segment, at);
+        let select = select.map(ZarrSelect::from).unwrap_or_default();
         let source = tmc::volume::open_selected(&path, None, &select, cancel)?;
         let info = tmc::volume::volume_info(&path, None, source.as_ref(), bins, plane_step)?;
         serde_json::to_string(&info).map_err(|e| tmc::Error::Invalid(e.to_string()))

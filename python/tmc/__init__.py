@@ -338,6 +338,9 @@ def extract(
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
     at: Optional[Mapping[Union[str, int], int]] = None,
+    array: Optional[str] = None,
+    level: Optional[int] = None,
+    dataset: Optional[str] = None,
 ) -> Mesh:
     """Extracts the isosurface at ``iso`` into a :class:`Mesh`, with the
     ``tmc extract`` conventions.
@@ -377,6 +380,16 @@ def extract(
         HDF5 dataset, as ``--at``: ``{"c": 1, "t": 0}`` by the OME-Zarr
         axis names, or ``{0: 2}`` by position (0 the slowest); an axis of
         one entry needs none. Only the chunks holding that entry are read.
+    array : str, optional
+        The array of a Zarr store to read, by its path inside the store
+        (``"labels/0"``), as ``--array``: the same as the path
+        ``"store.zarr/labels/0"``.
+    level : int, optional
+        The level of an OME-Zarr image pyramid to read (0, the finest, by
+        default), as ``--level``.
+    dataset : str, optional
+        The dataset of an HDF5 file (``"/scan/ct"``), as ``--dataset``: the
+        same as the path ``"file.h5:/scan/ct"``.
 
     Returns
     -------
@@ -393,7 +406,8 @@ def extract(
     source = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
     vertices, triangles, vertex_normals, report, record = _tmc.extract(
-        *source, *options, _flag(normals, "normals"), *_select(series, segment, at)
+        *source, *options, _flag(normals, "normals"),
+        _select(series, segment, at, array, level, dataset),
     )
     mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
     mesh._record = record
@@ -415,6 +429,9 @@ def extract_to(
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
     at: Optional[Mapping[Union[str, int], int]] = None,
+    array: Optional[str] = None,
+    level: Optional[int] = None,
+    dataset: Optional[str] = None,
 ) -> Dict[str, Any]:
     """Streams the isosurface at ``iso`` into the file ``output`` without
     holding the mesh in memory (the CLI's memory bound, for volumes of any
@@ -433,11 +450,11 @@ def extract_to(
     for the other output paths that cannot be written), as
     :meth:`Mesh.write` does.
     """
-    array, *rest = _source_args(volume, iso, spacing, origin)
+    samples, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)
     report = _tmc.extract_to(
-        array, os.fsdecode(output), *rest, *options, _flag(normals, "normals"),
-        *_select(series, segment, at)
+        samples, os.fsdecode(output), *rest, *options, _flag(normals, "normals"),
+        _select(series, segment, at, array, level, dataset)
     )
     return json.loads(report)
 
@@ -476,6 +493,9 @@ def _label_args(
     series: Any,
     segment: Any,
     at: Any,
+    zarr_array: Any,
+    level: Any,
+    dataset: Any,
 ) -> Tuple[Any, Tuple[Any, ...]]:
     """The input and the other arguments of the library's label calls.
     An array is taken as :func:`_source_args` takes it (64-bit integer
@@ -485,7 +505,7 @@ def _label_args(
     array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
     rest = (chosen, _integer(background, "background"), spacing3, origin3, mapped,
             _flag(close, "close"), _threads(threads), _flag(normals, "normals"),
-            *_select(series, segment, at))
+            _select(series, segment, at, zarr_array, level, dataset))
     return array, rest
 
 
@@ -502,6 +522,9 @@ def extract_labels(
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
     at: Optional[Mapping[Union[str, int], int]] = None,
+    array: Optional[str] = None,
+    level: Optional[int] = None,
+    dataset: Optional[str] = None,
 ) -> Dict[int, Mesh]:
     """The surface of every label of a segmentation label map, in one pass
     over the volume, as ``tmc extract --labels`` extracts them.
@@ -538,8 +561,9 @@ def extract_labels(
     normals : bool
         Unit outward vertex normals from the gradient of each label's
         indicator, as :func:`extract` computes them.
-    series, segment : optional
-        What to read of a DICOM path, as in :func:`extract`.
+    series, segment, at, array, level, dataset : optional
+        What to read of a path (a DICOM series or segment, a Zarr array,
+        level or entry, an HDF5 dataset), as in :func:`extract`.
 
     Returns
     -------
@@ -558,7 +582,7 @@ def extract_labels(
         cannot be read, ``KeyboardInterrupt`` on Ctrl-C.
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
-                              normals, series, segment, at)
+                              normals, series, segment, at, array, level, dataset)
     meshes = _tmc.extract_labels(array, *rest)
     result: Dict[int, Mesh] = {}
     for label, (vertices, triangles, vertex_normals, report, record) in meshes:
@@ -583,6 +607,9 @@ def extract_labels_to(
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
     at: Optional[Mapping[Union[str, int], int]] = None,
+    array: Optional[str] = None,
+    level: Optional[int] = None,
+    dataset: Optional[str] = None,
 ) -> Dict[str, Any]:
     """Streams the surface of every label into files in one pass, the
     bytes ``tmc extract --labels`` writes, without holding the meshes.
@@ -617,7 +644,7 @@ def extract_labels_to(
     spent.
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
-                              normals, series, segment, at)
+                              normals, series, segment, at, array, level, dataset)
     report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=_flag(stats, "stats"))
     return json.loads(report)
 
@@ -637,18 +664,21 @@ def info(
     series: Optional[Union[int, str]] = None,
     segment: Optional[int] = None,
     at: Optional[Mapping[Union[str, int], int]] = None,
+    array: Optional[str] = None,
+    level: Optional[int] = None,
+    dataset: Optional[str] = None,
 ) -> Dict[str, Any]:
     """What ``tmc info --json`` prints for a volume file: format, grid,
     index-to-world affine, value range, NaN count, and Otsu's suggested
     isovalues (``suggested_iso``, ``suggested_iso_single``); a DICOM
-    Segmentation's ``segments``. ``series`` and ``segment`` are those of
-    :func:`extract`; a DICOM directory of several series without ``series``
+    Segmentation's ``segments``. ``series``, ``segment``, ``at``,
+    ``array``, ``level`` and ``dataset`` are those of :func:`extract`; a DICOM directory of several series without ``series``
     gives their listing instead (``input``, ``format``, ``series``: one
     dict per series with ``number``, ``uid``, ``modality``, ``description``,
     ``dims``, ``readable`` ...)."""
     return json.loads(
         _tmc.info(os.fsdecode(path), _count(bins, "bins"), _count(plane_step, "plane_step"),
-                  *_select(series, segment, at))
+                  _select(series, segment, at, array, level, dataset))
     )
 
 
@@ -666,13 +696,17 @@ def _count(value: Any, name: str) -> int:
 
 
 def _select(
-    series: Any, segment: Any, at: Any
-) -> Tuple[Optional[str], Optional[int], Optional[List[Tuple[str, int]]]]:
-    """The series (as text: a number or a UID), segment and at arguments:
-    ``TypeError`` for a series that is neither (a bool was the series
-    "True"), for a segment that is no whole number (1.5 was segment 1,
-    "a" a ``ValueError`` of ``int``), and for an ``at`` that is not a
-    mapping of axis names or positions to entries."""
+    series: Any, segment: Any, at: Any, array: Any = None, level: Any = None,
+    dataset: Any = None,
+) -> Tuple[Optional[str], Optional[int], Optional[List[Tuple[str, int]]], Optional[str],
+           Optional[int], Optional[str]]:
+    """What to read of a path, as one tuple for the library: the series
+    (as text: a number or a UID), segment, at, array, level and dataset
+    arguments. ``TypeError`` for a series that is neither (a bool was the
+    series "True"), for a segment or level that is no whole number (1.5
+    was segment 1, "a" a ``ValueError`` of ``int``), for an ``at`` that is
+    not a mapping of axis names or positions to entries, and for an array
+    or dataset path that is not text."""
     if series is not None and (
         isinstance(series, (bool, np.bool_)) or not isinstance(series, (int, np.integer, str))
     ):
@@ -695,7 +729,14 @@ def _select(
             if entry < 0:
                 raise ValueError(f"at[{axis!r}] must be 0 or more, not {entry}")
             picks.append((str(axis) if isinstance(axis, str) else str(operator.index(axis)), entry))
-    return (None if series is None else str(series)), segment, picks
+    for name, path in (("array", array), ("dataset", dataset)):
+        if path is not None and not isinstance(path, str):
+            raise TypeError(f"{name} must be a path inside the file, as a str, not {path!r}")
+        if path is not None and "\0" in path:
+            raise ValueError(f"{name} must not hold a NUL character")
+    if level is not None:
+        level = _count(level, "level")
+    return ((None if series is None else str(series)), segment, picks, array, level, dataset)
 
 
 def marching_cubes(

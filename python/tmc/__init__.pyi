@@ -57,6 +57,9 @@ def extract(
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
     at: Optional[Mapping[Union[str, int], int]] = ...,
+    array: Optional[str] = ...,
+    level: Optional[int] = ...,
+    dataset: Optional[str] = ...,
 ) -> Mesh:
     """Extracts the isosurface at ``iso`` into a Mesh (tmc's conventions)."""
 
@@ -75,6 +78,9 @@ def extract_to(
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
     at: Optional[Mapping[Union[str, int], int]] = ...,
+    array: Optional[str] = ...,
+    level: Optional[int] = ...,
+    dataset: Optional[str] = ...,
 ) -> Dict[str, Any]:
     """Streams the isosurface into a mesh file without holding the mesh
     (with ``normals``, the vertex normals too, as ``tmc extract --normals``);
@@ -93,6 +99,9 @@ def extract_labels(
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
     at: Optional[Mapping[Union[str, int], int]] = ...,
+    array: Optional[str] = ...,
+    level: Optional[int] = ...,
+    dataset: Optional[str] = ...,
 ) -> Dict[int, Mesh]:
     """Every label's surface of a label map in one pass, keyed by label:
     each the extraction of the label's 0/1 indicator at 0.5."""
@@ -112,6 +121,9 @@ def extract_labels_to(
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
     at: Optional[Mapping[Union[str, int], int]] = ...,
+    array: Optional[str] = ...,
+    level: Optional[int] = ...,
+    dataset: Optional[str] = ...,
 ) -> Dict[str, Any]:
     """Streams every label's surface into files in one pass (``{label}`` in
     ``output`` for a file per label, the one placeholder, else one .ply or
@@ -131,6 +143,9 @@ def info(
     series: Optional[Union[int, str]] = ...,
     segment: Optional[int] = ...,
     at: Optional[Mapping[Union[str, int], int]] = ...,
+    array: Optional[str] = ...,
+    level: Optional[int] = ...,
+    dataset: Optional[str] = ...,
 ) -> Dict[str, Any]:
     """What ``tmc info --json`` prints for a volume file (a DICOM series or
     segment chosen, or the series of a DICOM directory listed)."""

@@ -20,6 +20,12 @@ __all__ = [
     "write_mesh",
 ]
 
+# What to read of a path: series, segment, at, array, level, dataset.
+_Select = Tuple[
+    Optional[str], Optional[int], Optional[List[Tuple[str, int]]], Optional[str],
+    Optional[int], Optional[str],
+]
+
 def extract(
     input: Any,
     iso: float,
@@ -31,9 +37,7 @@ def extract(
     close: bool,
     threads: int,
     normals: bool,
-    series: Optional[str] = ...,
-    segment: Optional[int] = ...,
-    at: Optional[List[Tuple[str, int]]] = ...,
+    select: _Select,
 ) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]:
     """Extracts into arrays in tmc's layout: (vertices float64, triangles
     uint32, normals float32 or None, report JSON, record)."""
@@ -62,9 +66,7 @@ def extract_to(
     close: bool,
     threads: int,
     normals: bool,
-    series: Optional[str] = ...,
-    segment: Optional[int] = ...,
-    at: Optional[List[Tuple[str, int]]] = ...,
+    select: _Select,
 ) -> str:
     """Streams into a file (with vertex normals if ``normals``); returns the report JSON."""
 
@@ -78,9 +80,7 @@ def extract_labels(
     close: bool,
     threads: int,
     normals: bool,
-    series: Optional[str] = ...,
-    segment: Optional[int] = ...,
-    at: Optional[List[Tuple[str, int]]] = ...,
+    select: _Select,
 ) -> List[Tuple[int, Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]]]:
     """Every label's mesh in one pass (None: every value present but
     background): (label, extract's tuple for its indicator) per label."""
@@ -96,9 +96,7 @@ def extract_labels_to(
     close: bool,
     threads: int,
     normals: bool,
-    series: Optional[str] = ...,
-    segment: Optional[int] = ...,
-    at: Optional[List[Tuple[str, int]]] = ...,
+    select: _Select,
     stats: bool = ...,
 ) -> str:
     """Streams every label's mesh into the files output names; returns the
@@ -126,9 +124,7 @@ def info(
     path: str,
     bins: int = ...,
     plane_step: int = ...,
-    series: Optional[str] = ...,
-    segment: Optional[int] = ...,
-    at: Optional[List[Tuple[str, int]]] = ...,
+    select: Optional[_Select] = ...,
 ) -> str:
     """What tmc info --json prints, as JSON text."""
 

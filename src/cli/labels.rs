@@ -102,13 +102,22 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let source = super::raw_input::open_input(input, &args.raw, cancel, args.quiet)?;
     let grid = *source.grid();
     check_grid(input, &grid, args.close)?;
+    // A budget too small for the pass is refused before the map is read;
+    // the runs the scan keeps take only what the pass leaves.
+    let params = args.params(0.5);
+    let no_progress = |_: &tmc::Progress| {};
+    let runs_room = tmc::stream::label_runs_room(
+        source.as_ref(),
+        &params,
+        &args.pipeline_options(&no_progress, cancel),
+    )?;
     let scan_start = Instant::now();
     let (counts, runs) = tmc::volume::scan_label_map(
         input,
         source.as_ref(),
         cancel,
         args.threads.unwrap_or(0),
-        args.max_memory,
+        runs_room,
     )?;
     let scan_seconds = scan_start.elapsed().as_secs_f64();
     let labels = counts.select(wanted, background, input)?;
@@ -168,7 +177,6 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     );
     let mut dyn_sinks: Vec<&mut dyn MeshSink> =
         sinks.iter_mut().map(|s| s as &mut dyn MeshSink).collect();
-    let params = args.params(0.5);
     let mut monitor = Monitor::new(&grid, args, input);
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
     let options = args.pipeline_options(&on_progress, cancel);

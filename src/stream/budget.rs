@@ -63,6 +63,11 @@ pub struct Workers {
     pub threads: usize,
     /// How the source's planes are held ([`crate::volume::SampleSource::plane_memory`]).
     pub planes: PlaneMemory,
+    /// Bytes the pass holds from its start to its end besides the
+    /// workers' buffers (a label map's runs), counted with the fixed
+    /// bytes: a refusal names the whole need, so that the size it names
+    /// is enough.
+    pub held: u64,
 }
 
 impl Workers {
@@ -74,6 +79,7 @@ impl Workers {
             work_planes: 1,
             threads,
             planes: PlaneMemory::Read,
+            held: 0,
         }
     }
 
@@ -111,7 +117,7 @@ impl Workers {
             }
             PlaneMemory::Read | PlaneMemory::Lent => 0,
         };
-        u128::from(FIXED_BYTES) + threads * plane * per_sample + decoded
+        u128::from(FIXED_BYTES) + u128::from(self.held) + threads * plane * per_sample + decoded
     }
 }
 
@@ -198,8 +204,12 @@ pub fn plan(workers: &Workers, depth: usize, max_bytes: Option<u64>) -> Result<P
         }
         _ => String::new(),
     };
+    let held = match workers.held {
+        0 => String::new(),
+        held => format!(", {} of the label map's runs", mebibytes(u128::from(held))),
+    };
     Err(Error::OutOfMemory(format!(
-        "--max-memory of {bytes} ({}) is too small: {workers_text} on planes of {} samples need about {} before any mesh (slabs of {thinnest} layers, {} MiB of buffers{layers}); allow at least that{}",
+        "--max-memory of {bytes} ({}) is too small: {workers_text} on planes of {} samples need about {} before any mesh (slabs of {thinnest} layers, {} MiB of buffers{layers}{held}); allow at least that{}",
         mebibytes(u128::from(max)),
         workers.plane_len,
         mebibytes(needed),
@@ -288,6 +298,22 @@ mod tests {
         );
         let err = plan(&w, 64, Some(buffers - 1)).unwrap_err();
         assert!(err.to_string().contains("too small"), "{err}");
+    }
+
+    #[test]
+    fn what_the_pass_holds_counts_and_a_refusal_names_it() {
+        let workers = Workers::reading(1 << 20, 2);
+        let holding = Workers {
+            held: 40 << 20,
+            ..workers
+        };
+        assert_eq!(holding.buffers(2), workers.buffers(2) + (40 << 20));
+        // Room for the workers alone is not room for what the pass holds.
+        let room = workers.buffers(2) as u64;
+        assert!(plan(&workers, 64, Some(room)).is_ok());
+        let err = plan(&holding, 64, Some(room)).unwrap_err().to_string();
+        assert!(err.contains("40.0 MiB of the label map's runs"), "{err}");
+        assert!(plan(&holding, 64, Some(room + (40 << 20))).is_ok());
     }
 
     #[test]

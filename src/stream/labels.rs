@@ -108,12 +108,6 @@ pub fn extract_labels_with_runs_to(
         )));
     }
     let lookup = Lookup::new(lookup);
-    let options = &PipelineOptions {
-        max_memory: options
-            .max_memory
-            .map(|max| max.saturating_sub(runs.bytes() as u64)),
-        ..*options
-    };
     let each = ExtractParams {
         iso: 0.5,
         inside: Inside::High,
@@ -141,17 +135,47 @@ pub fn extract_labels_with_runs_to(
             .push(buffers);
         result
     };
-    // Codes of the slab's planes (2 bytes a sample, a slab of up to 64
-    // layers) and one indicator (1 byte): counted as 4 of the slab loop's
-    // planes of 17 bytes; normals add the whole planes' indicator (1 byte)
-    // and the gradients' window (up to four planes of 8 bytes).
     let work = SlabWork {
         run: &run,
-        budget_planes: if params.normals { 8 } else { 4 },
+        budget_planes: work_planes(params.normals),
+        held_bytes: runs.bytes() as u64,
     };
     run_pass(source, &all, options, part, sinks, Some(work))
 }
 
+/// The slab loop's planes a label pass's worker holds, for the budget:
+/// the codes of the slab's planes (2 bytes a sample, a slab of up to 64
+/// layers) and one indicator (1 byte), counted as 4 of the slab loop's
+/// planes of 17 bytes; normals add the whole planes' indicator (1 byte)
+/// and the gradients' window (up to four planes of 8 bytes).
+fn work_planes(normals: bool) -> usize {
+    if normals {
+        8
+    } else {
+        4
+    }
+}
+
+/// The bytes a label map's runs may take beside a label pass over `source`
+/// within `options.max_memory`, for
+/// [`scan_label_map`](crate::volume::scan_label_map): half of what the
+/// workers' buffers leave (the other half is the mesh's in flight), and
+/// at most a quarter of the budget; `None` without a budget. Fails, before
+/// anything is read, as the pass would when the budget does not hold even
+/// the workers' buffers. The runs only spare the pass a second reading of
+/// the map: kept within this room, the size a refusal names is enough.
+pub fn label_runs_room(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    options: &PipelineOptions,
+) -> Result<Option<u64>> {
+    let work = Some((work_planes(params.normals), 0));
+    let (workers, plan) = super::pass::plan_source(source, params, work, options)?;
+    Ok(options.max_memory.map(|max| {
+        let buffers = u64::try_from(workers.buffers(plan.depth)).unwrap_or(u64::MAX);
+        (max.saturating_sub(buffers) / 2).min(max / 4)
+    }))
+}
 /// The last plane whose chunk may hold part of each of `labels`' meshes,
 /// from the last plane holding each label (`counts`, the scan's); `None`
 /// for a label the map does not hold. A chunk of plane `z` holds the

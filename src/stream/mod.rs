@@ -44,7 +44,9 @@ pub mod threads;
 
 pub use entry::{extract, extract_part_to, extract_to};
 pub use label_report::{LabelReport, LabelRun};
-pub use labels::{extract_labels_to, extract_labels_with_runs_to, last_label_chunks, MOST_LABELS};
+pub use labels::{
+    extract_labels_to, extract_labels_with_runs_to, label_runs_room, last_label_chunks, MOST_LABELS,
+};
 pub use parts::layer_range;
 pub use pass::{check_budget, extract_many_to};
 pub use preflight::check_grid;

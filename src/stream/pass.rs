@@ -76,6 +76,9 @@ pub(crate) struct SlabWork<'w> {
     pub(crate) run: &'w SlabFn<'w>,
     /// How many of the slab loop's planes the work holds, for the budget.
     pub(crate) budget_planes: usize,
+    /// Bytes the work holds through the whole pass (a label map's runs),
+    /// for the budget.
+    pub(crate) held_bytes: u64,
 }
 
 /// The function of a [`SlabWork`].
@@ -160,7 +163,7 @@ pub(crate) fn run_pass(
         source.plane_memory(),
         first.threads,
         normals,
-        work.as_ref().map(|w| w.budget_planes),
+        work.as_ref().map(|w| (w.budget_planes, w.held_bytes)),
         options,
     )?;
     let (threads, depth) = (workers.threads, plan.depth);
@@ -313,14 +316,14 @@ pub(crate) fn run_pass(
 /// The workers of a pass over a source of `dims` (padded with `--close`
 /// already) whose planes are held as `planes` says, at `threads` (0: one
 /// per core), and the budget's plan for them: slab depth and slabs in
-/// flight. `work_planes` is a [`SlabWork`]'s `budget_planes`. Reads
-/// nothing: an error here comes before any sample is read.
+/// flight. `work` is a [`SlabWork`]'s `budget_planes` and `held_bytes`.
+/// Reads nothing: an error here comes before any sample is read.
 fn plan_pass(
     dims: [usize; 3],
     planes: PlaneMemory,
     threads: usize,
     normals: bool,
-    work_planes: Option<usize>,
+    work: Option<(usize, u64)>,
     options: &PipelineOptions,
 ) -> Result<(budget::Workers, budget::Plan)> {
     let plane_len = dims[0] * dims[1];
@@ -337,13 +340,14 @@ fn plan_pass(
     // counts each plane three times, which covers both.
     let workers = budget::Workers {
         plane_len,
-        work_planes: match work_planes {
-            Some(planes) => planes,
+        work_planes: match work {
+            Some((planes, _)) => planes,
             None if normals => 3,
             None => 1,
         },
         threads,
         planes,
+        held: work.map_or(0, |(_, held)| held),
     };
     let plan = budget::plan(&workers, depth, options.max_memory)?;
     Ok((workers, plan))
@@ -358,11 +362,21 @@ pub fn check_budget(
     params: &ExtractParams,
     options: &PipelineOptions,
 ) -> Result<()> {
-    // `--close` pads the grid by a sample on every side (`Padded`).
+    plan_source(source, params, None, options).map(|_| ())
+}
+
+/// [`plan_pass`] for `source` as the pass sees it (`--close` pads the grid
+/// by a sample on every side, see `Padded`).
+pub(super) fn plan_source(
+    source: &dyn SampleSource,
+    params: &ExtractParams,
+    work: Option<(usize, u64)>,
+    options: &PipelineOptions,
+) -> Result<(budget::Workers, budget::Plan)> {
     let pad = if params.close { 2 } else { 0 };
     let dims = source.grid().dims.map(|d| d + pad);
     let planes = source.plane_memory();
-    plan_pass(dims, planes, params.threads, params.normals, None, options).map(|_| ())
+    plan_pass(dims, planes, params.threads, params.normals, work, options)
 }
 
 /// Encodes the chunks of each output whose sink has an encoder

@@ -89,16 +89,17 @@ impl LabelCounts {
 /// [`scan_labels_on`]), first refusing a DICOM Segmentation whose segments
 /// overlap: its label map gives a shared sample to one segment only, so
 /// the meshes would not be the segments'. Errors name `input`. Also gives
-/// the planes' runs, as many as [`MapRuns::cap`] allows and at most a
-/// quarter of `max_memory` (the pass's budget, which they count against),
-/// for the pass ([`crate::stream::extract_labels_with_runs_to`]) to code
-/// its slabs from.
+/// the planes' runs, as many as [`MapRuns::cap`] allows and at most
+/// `runs_room` bytes (what a budget leaves them:
+/// [`crate::stream::label_runs_room`]), for the pass
+/// ([`crate::stream::extract_labels_with_runs_to`]) to code its slabs
+/// from.
 pub fn scan_label_map(
     input: &Path,
     source: &dyn SampleSource,
     cancel: Option<&AtomicBool>,
     threads: usize,
-    max_memory: Option<u64>,
+    runs_room: Option<u64>,
 ) -> Result<(LabelCounts, MapRuns)> {
     let pairs = &source.notes().overlapping_segments;
     if !pairs.is_empty() {
@@ -111,8 +112,10 @@ pub fn scan_label_map(
     }
     let [nx, ny, nz] = source.grid().dims;
     let samples = (nx as u64) * (ny as u64) * (nz as u64);
-    let quarter = max_memory.map_or(usize::MAX, |max| (max / 4) as usize);
-    let cap = MapRuns::cap(samples, source.sample_bytes()).min(quarter);
+    let room = runs_room.map_or(usize::MAX, |room| {
+        usize::try_from(room).unwrap_or(usize::MAX)
+    });
+    let cap = MapRuns::cap(samples, source.sample_bytes()).min(room);
     scan(source, cancel, threads, cap).map_err(|e| match e {
         Error::Invalid(m) => Error::Invalid(format!("{}: {m}", input.display())),
         other => other,

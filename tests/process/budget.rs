@@ -248,3 +248,57 @@ fn a_part_beyond_the_budget_is_refused_before_reading() {
     let line = part(&[]);
     assert!(line.contains("chunk"), "{line}");
 }
+
+/// A label map whose runs (about 2 MiB) are kept by the scan: labels
+/// change every 100 samples along x. The pass holds the runs besides the
+/// workers' buffers; the refusal named the workers' need alone, and the
+/// pass had the budget less the runs, so that a run at the size the
+/// refusal named was refused again ("--max-memory of 71.7 MiB is too
+/// small ... need about 74.0 MiB" at `--max-memory 74M`).
+#[test]
+fn a_label_pass_at_the_size_its_refusal_names_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let [nx, ny, nz] = [512usize, 512, 48];
+    let mut bytes = format!(
+        "NRRD0004\ntype: uint16\ndimension: 3\nsizes: {nx} {ny} {nz}\nencoding: raw\nendian: little\n\n"
+    )
+    .into_bytes();
+    for z in 0..nz {
+        for y in 0..ny {
+            for x in 0..nx {
+                let label = (x / 100 + 3 * (y / 64) + z / 8) % 40 + 1;
+                bytes.extend_from_slice(&(label as u16).to_le_bytes());
+            }
+        }
+    }
+    let map = dir.path().join("seg.nrrd");
+    fs::write(&map, bytes).unwrap();
+    let out = dir.path().join("out");
+    fs::create_dir(&out).unwrap();
+    let pattern = out.join("{label}.tmesh");
+    let run = |max: &str| {
+        tmc(&[
+            "extract",
+            s(&map),
+            "--labels",
+            "all",
+            "-o",
+            s(&pattern),
+            "--threads",
+            "2",
+            "--max-memory",
+            max,
+            "-q",
+        ])
+    };
+    let line = assert_one_line(&run("8M"), 1);
+    assert!(line.contains("--max-memory of 8388608 bytes"), "{line}");
+    assert!(names(&out).is_empty(), "{:?}", names(&out));
+    let needed = needed_mib(&line);
+    let done = run(&format!("{}M", needed.ceil()));
+    assert!(
+        done.status.success(),
+        "at the size named, {needed} MiB: {done:?}"
+    );
+    assert_eq!(names(&out).len(), 32);
+}

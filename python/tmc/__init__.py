@@ -350,7 +350,10 @@ def extract(
     volume : ndarray or path
         A 3-D array indexed ``[z][y][x]`` (u8, i8, u16, i16, u32, i32, f32 or
         f64; any order, any strides, a ``numpy.memmap``: read in place, not
-        copied), or the path of any volume file ``tmc extract`` reads.
+        copied), or the path of any volume file ``tmc extract`` reads,
+        streamed plane by plane. Other array-likes (``zarr.Array``,
+        ``h5py.Dataset``) are read whole through ``numpy.asarray``: give
+        their path (with ``array=`` or ``dataset=``) to stream them.
     iso : float
         The isovalue (finite). A sample is inside iff its value is above it.
     spacing, origin : 3 floats, optional

@@ -431,7 +431,8 @@ def extract_to(
     directory is missing raises ``FileNotFoundError`` before the volume is
     read (``NotADirectoryError``, ``IsADirectoryError``, ``PermissionError``
     for the other output paths that cannot be written), as
-    :meth:`Mesh.write` does.
+    :meth:`Mesh.write` does. No placeholder of ``output`` is filled in: a
+    ``{NAME}`` (``{stem}``, ``{iso}``) raises ``ValueError`` naming it.
     """
     array, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)

@@ -323,6 +323,7 @@ pub(crate) fn extract_to(
     // The name's form first: no placeholder is filled in ('{stem}' and
     // '{iso}', which the CLI's -o fills in, would stay in the name).
     refuse_placeholders(&output, &[]).map_err(crate::errors::to_py)?;
+    tmc::export::check_normals_output(&output, normals).map_err(crate::errors::to_py)?;
     let params = params(iso, method, inside, close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select(series, segment, at))?;
     input.run(py, |source, path, cancel| {

@@ -143,6 +143,7 @@ pub(crate) fn extract_labels_to(
         // The name's form first, before the volume is read; `{label}` is
         // the one placeholder filled in ('{stem}' would stay in the name).
         crate::extract::refuse_placeholders(&output, &["{label}"])?;
+        tmc::export::check_normals_output(&output, normals)?;
         tmc::export::check_label_template(&output, labels.as_deref().unwrap_or_default())?;
         let options = preflight(source, path, &params, None, cancel)?;
         let (labels, counts, runs) =

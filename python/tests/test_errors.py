@@ -339,3 +339,20 @@ def test_extract_to_refuses_a_placeholder_it_does_not_fill_in(tmp_path):
     assert list(tmp_path.iterdir()) == []
     tmc.extract_to(volume, 0.5, tmp_path / "{}{a b}.ply")
     assert [p.name for p in tmp_path.iterdir()] == ["{}{a b}.ply"]
+
+
+def test_normals_into_a_format_without_them_are_refused(tmp_path):
+    # normals=True into .off or .stl, which hold no vertex normals, computed
+    # them and wrote a file without them; tmc extract --normals refuses
+    # such an output with the same words, before the volume is read.
+    volume = np.random.default_rng(4).random((4, 5, 6))
+    labels = (volume > 0.5).astype(np.uint8)
+    for suffix in (".off", ".stl", ".OFF"):
+        with pytest.raises(ValueError, match=r"needs an output that holds vertex normals \(\.ply, \.obj or \.tmesh\)"):
+            tmc.extract_to(volume, 0.5, tmp_path / f"m{suffix}", normals=True)
+        with pytest.raises(ValueError, match=r"needs an output that holds vertex normals"):
+            tmc.extract_labels_to(labels, tmp_path / f"{{label}}{suffix}", normals=True)
+    assert list(tmp_path.iterdir()) == []
+    tmc.extract_to(volume, 0.5, tmp_path / "m.off")
+    tmc.extract_labels_to(labels, tmp_path / "{label}.stl")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["1.stl", "m.off"]

@@ -336,6 +336,10 @@ pub(crate) fn extract_to(
     normals: bool,
     select: Select,
 ) -> PyResult<String> {
+    // The name's form first: no placeholder is filled in ('{stem}' and
+    // '{iso}', which the CLI's -o fills in, would stay in the name).
+    refuse_placeholders(&output, &[]).map_err(crate::errors::to_py)?;
+    tmc::export::check_normals_output(&output, normals).map_err(crate::errors::to_py)?;
     let params = params(iso, method, inside, close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select.into())?;
     input.run(py, |source, path, cancel| {
@@ -344,6 +348,24 @@ pub(crate) fn extract_to(
         let stats = tmc::extract_to(source, &params, &options, sink.as_mut())?;
         report(path, Some(&output), source, &params, &stats)
     })
+}
+
+/// Fails when the output name `output` holds a `{NAME}` placeholder that
+/// is none of `known`, the ones the call fills in: it would stay in the
+/// file's name.
+pub(crate) fn refuse_placeholders(output: &Path, known: &[&str]) -> tmc::Result<()> {
+    match tmc::files::unknown_placeholder(output, known) {
+        None => Ok(()),
+        Some(p) => Err(tmc::Error::Invalid(format!(
+            "{}: unknown placeholder {p} in output; it may use {}",
+            output.display(),
+            if known.is_empty() {
+                "none".to_string()
+            } else {
+                known.join(", ")
+            }
+        ))),
+    }
 }
 
 /// The worker threads `threads` means (0: one per core), as reported.

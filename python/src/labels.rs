@@ -138,12 +138,8 @@ pub(crate) fn extract_labels_to(
         let started = Instant::now();
         // The name's form first, before the volume is read; `{label}` is
         // the one placeholder filled in ('{stem}' would stay in the name).
-        if let Some(p) = tmc::files::unknown_placeholder(&output, &["{label}"]) {
-            return Err(tmc::Error::Invalid(format!(
-                "{}: unknown placeholder {p} in output; it may use {{label}}",
-                output.display()
-            )));
-        }
+        crate::extract::refuse_placeholders(&output, &["{label}"])?;
+        tmc::export::check_normals_output(&output, normals)?;
         tmc::export::check_label_template(&output, labels.as_deref().unwrap_or_default())?;
         let options = preflight(source, path, &params, None, cancel)?;
         let (labels, counts, runs) =

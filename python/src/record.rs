@@ -8,7 +8,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::Path;
 use tmc::mesh::{Chunk, Collector, MeshInfo, MeshSink, Totals, Vertex};
-use tmc::Mesh;
+use tmc::{Grid, Inside, Mesh, Method};
 
 /// The record of one extraction, kept by the Python `Mesh` (opaque there).
 #[pyclass(frozen, module = "tmc._tmc")]
@@ -16,6 +16,73 @@ pub(crate) struct Record {
     info: MeshInfo,
     /// Per chunk: grid plane, vertices, triangles.
     chunks: Vec<[u64; 3]>,
+}
+
+/// A [`Record`] as plain values, what it pickles as: the grid (dims,
+/// spacing, origin, direction), the isovalue, whether the method is MC,
+/// the inside low, the surface closed, with normals, with labels, and the
+/// chunks' (plane, vertices, triangles).
+type State = (
+    [usize; 3],
+    [f64; 3],
+    [f64; 3],
+    [[f64; 3]; 3],
+    f64,
+    [bool; 5],
+    Vec<[u64; 3]>,
+);
+
+#[pymethods]
+impl Record {
+    /// Pickles (and copies) as `Record._restore(state)`, so that a `Mesh`
+    /// sent to another process, or deep-copied, still writes its `.tmesh`.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, (State,))> {
+        let record = slf.get();
+        let (info, grid) = (&record.info, &record.info.grid);
+        let flags = [
+            info.method == Method::Mc,
+            info.inside == Inside::Low,
+            info.close,
+            info.normals,
+            info.labels,
+        ];
+        let state = (
+            grid.dims,
+            grid.spacing,
+            grid.origin,
+            grid.direction,
+            info.iso,
+            flags,
+            record.chunks.clone(),
+        );
+        let restore = slf.py().import("tmc._tmc")?.getattr("_restore_record")?;
+        Ok((restore, (state,)))
+    }
+}
+
+/// The record [`Record::__reduce__`] describes (a function of the module,
+/// where pickle finds it by name; private: the `tmc` package never calls it).
+#[pyfunction]
+pub(crate) fn _restore_record(state: State) -> Record {
+    let (dims, spacing, origin, direction, iso, flags, chunks) = state;
+    let [mc, low, close, normals, labels] = flags;
+    Record {
+        info: MeshInfo {
+            grid: Grid {
+                dims,
+                spacing,
+                origin,
+                direction,
+            },
+            iso,
+            method: if mc { Method::Mc } else { Method::Tmc },
+            inside: if low { Inside::Low } else { Inside::High },
+            close,
+            normals,
+            labels,
+        },
+        chunks,
+    }
 }
 
 /// A [`Collector`] (vertices as `V`) that also records the [`Record`].

@@ -322,3 +322,37 @@ def test_output_directory_errors_are_one_class_before_the_run_and_at_the_write(t
             assert str(out) in str(caught.value), (name, caught.value)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["dir.ply", "file"]
     assert list((tmp_path / "dir.ply").iterdir()) == []
+
+
+def test_extract_to_refuses_a_placeholder_it_does_not_fill_in(tmp_path):
+    # tmc.extract_to fills in no placeholder: '{stem}' and '{iso}', which
+    # the CLI's -o fills in, stayed in the file's name ('{stem}_{iso}.ply'
+    # was written as such), as any '{NAME}' did. Refused before the volume
+    # is read, naming it, as extract_labels_to refuses those it does not
+    # fill in; other braces are text.
+    volume = np.random.default_rng(3).random((4, 5, 6))
+    for template in ("{stem}_{iso}.ply", "{iso}.tmesh", "{part}.ply", "{label}.obj"):
+        with pytest.raises(ValueError, match=r"unknown placeholder \{\w+\} in output; it may use none"):
+            tmc.extract_to(volume, 0.5, tmp_path / template)
+        with pytest.raises(ValueError, match=r"unknown placeholder \{\w+\} in output; it may use none"):
+            tmc.extract_to(tmp_path / "missing.npy", 0.5, tmp_path / template)
+    assert list(tmp_path.iterdir()) == []
+    tmc.extract_to(volume, 0.5, tmp_path / "{}{a b}.ply")
+    assert [p.name for p in tmp_path.iterdir()] == ["{}{a b}.ply"]
+
+
+def test_normals_into_a_format_without_them_are_refused(tmp_path):
+    # normals=True into .off or .stl, which hold no vertex normals, computed
+    # them and wrote a file without them; tmc extract --normals refuses
+    # such an output with the same words, before the volume is read.
+    volume = np.random.default_rng(4).random((4, 5, 6))
+    labels = (volume > 0.5).astype(np.uint8)
+    for suffix in (".off", ".stl", ".OFF"):
+        with pytest.raises(ValueError, match=r"needs an output that holds vertex normals \(\.ply, \.obj or \.tmesh\)"):
+            tmc.extract_to(volume, 0.5, tmp_path / f"m{suffix}", normals=True)
+        with pytest.raises(ValueError, match=r"needs an output that holds vertex normals"):
+            tmc.extract_labels_to(labels, tmp_path / f"{{label}}{suffix}", normals=True)
+    assert list(tmp_path.iterdir()) == []
+    tmc.extract_to(volume, 0.5, tmp_path / "m.off")
+    tmc.extract_labels_to(labels, tmp_path / "{label}.stl")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["1.stl", "m.off"]

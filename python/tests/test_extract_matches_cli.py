@@ -179,6 +179,38 @@ def test_write_read_and_check_round_trip(tmp_path):
     assert report["boundary_edges"] == 0 and report["non_manifold_edges"] == 0
 
 
+@pytest.mark.parametrize("normals", [False, True])
+def test_a_mesh_pickles_and_copies_with_its_record(tmp_path, normals):
+    # A Mesh of tmc.extract sent to or from another process (pickle, as
+    # multiprocessing does) or copied with copy.deepcopy keeps its arrays,
+    # stats and the record that writes its .tmesh file; it raised
+    # TypeError: cannot pickle 'tmc._tmc.Record' object.
+    import copy
+    import pickle
+
+    volume = noise_volume("u2")
+    mesh = tmc.extract(volume, 3.0, close=True, normals=normals, spacing=(0.5, 2.0, 1.5),
+                       origin=(1.0, -2.0, 3.0), inside="low", method="mc")
+    mesh.write(tmp_path / "m.tmesh")
+    for protocol in range(2, pickle.HIGHEST_PROTOCOL + 1):
+        for other in (pickle.loads(pickle.dumps(mesh, protocol)), copy.deepcopy(mesh), copy.copy(mesh)):
+            np.testing.assert_array_equal(other.vertices, mesh.vertices)
+            np.testing.assert_array_equal(other.triangles, mesh.triangles)
+            if normals:
+                np.testing.assert_array_equal(other.normals, mesh.normals)
+            else:
+                assert other.normals is None
+            assert other.stats == mesh.stats
+            other.write(tmp_path / "o.tmesh")
+            assert (tmp_path / "o.tmesh").read_bytes() == (tmp_path / "m.tmesh").read_bytes()
+    # A mesh read from a file (no record) pickles too, and still refuses .tmesh.
+    mesh.write(tmp_path / "m.ply")
+    back = pickle.loads(pickle.dumps(tmc.read_mesh(tmp_path / "m.ply")))
+    np.testing.assert_array_equal(back.triangles, mesh.triangles)
+    with pytest.raises(ValueError, match="extract_to"):
+        back.write(tmp_path / "again.tmesh")
+
+
 def test_info_is_the_cli_info(tmp_path):
     npy = tmp_path / "v.npy"
     np.save(npy, noise_volume("f4"))

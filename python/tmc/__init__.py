@@ -445,13 +445,15 @@ def extract_to(
     error or Ctrl-C leaves nothing at ``output``). With ``normals=True`` the
     unit outward vertex normals from the field's gradient are written too,
     the bytes ``tmc extract --normals`` writes: PLY ``nx ny nz``, OBJ ``vn``,
-    the ``.tmesh`` normals attribute (OFF and STL carry none). The other
+    the ``.tmesh`` normals attribute (OFF and STL hold none: with them
+    ``normals=True`` raises ``ValueError``, as the CLI refuses). The other
     arguments are those of :func:`extract`. Returns the run's report
     (``tmc extract --json``'s keys that describe the run). An output whose
     directory is missing raises ``FileNotFoundError`` before the volume is
     read (``NotADirectoryError``, ``IsADirectoryError``, ``PermissionError``
     for the other output paths that cannot be written), as
-    :meth:`Mesh.write` does.
+    :meth:`Mesh.write` does. No placeholder of ``output`` is filled in: a
+    ``{NAME}`` (``{stem}``, ``{iso}``) raises ``ValueError`` naming it.
     """
     samples, *rest = _source_args(volume, iso, spacing, origin)
     options = _options(method, inside, close, threads)

@@ -8,6 +8,7 @@ import numpy as np
 __version__: str
 __all__ = [
     "__version__",
+    "_restore_record",
     "check_mesh",
     "extract",
     "extract_labels",
@@ -130,3 +131,7 @@ def info(
 
 def worker_threads(threads: int) -> int:
     """The worker threads that `threads` means (0: one per core)."""
+
+def _restore_record(state: Tuple[Any, ...]) -> Any:
+    """The record of an extraction (opaque) from what it pickled as: how a
+    Mesh of tmc.extract pickles and copies with its .tmesh record."""

@@ -35,6 +35,8 @@ pub(crate) struct ConvertArgs {
 /// Runs `tmc convert`; setting `cancel` (SIGINT, SIGTERM) stops it before
 /// the next chunk with [`tmc::Error::Interrupted`], leaving no output.
 pub(crate) fn run(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    // No placeholder is filled in: a `{NAME}` would stay in the name.
+    super::placeholders::check(&args.output, "-o", &[])?;
     tmc::files::check_distinct(&args.input, &args.output)?;
     refuse_other_mesh(&args.input)?;
     tmc::part::PartRecord::refuse_part(&args.input)?;

@@ -82,8 +82,10 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let mut sink: Box<dyn tmc::MeshSink> = match args.part {
         Some(spec) => {
             let reading = raw.as_ref().map(|r| format!("{r:?}"));
-            let record =
-                tmc::part::PartRecord::new(spec, input, source.as_ref(), args.close, reading)?;
+            let record = tmc::part::PartRecord {
+                selection: args.raw.selection(input),
+                ..tmc::part::PartRecord::new(spec, input, source.as_ref(), args.close, reading)?
+            };
             Box::new(tmc::part::PartWriter::create(output, record)?)
         }
         None => tmc::export::create_sink(output)?,

@@ -237,13 +237,7 @@ impl ExtractArgs {
     /// normals (OFF and STL do not: the run would compute them for
     /// nothing).
     pub(super) fn check_normals_output(&self, output: &std::path::Path) -> tmc::Result<()> {
-        if self.normals && !tmc::export::Format::from_path(output)?.holds_normals() {
-            return Err(tmc::Error::Invalid(format!(
-                "{}: --normals needs an output that holds vertex normals (.ply, .obj or .tmesh)",
-                output.display()
-            )));
-        }
-        Ok(())
+        tmc::export::check_normals_output(output, self.normals)
     }
 
     /// How the pipeline runs for these arguments.

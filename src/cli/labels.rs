@@ -144,9 +144,10 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         Some(spec) => {
             let reading = args.raw.options().map(|r| format!("{r:?}"));
             let source = source.as_ref();
-            Some(tmc::part::PartRecord::new(
-                spec, input, source, args.close, reading,
-            )?)
+            Some(tmc::part::PartRecord {
+                selection: args.raw.selection(input),
+                ..tmc::part::PartRecord::new(spec, input, source, args.close, reading)?
+            })
         }
         None => None,
     };

@@ -50,6 +50,8 @@ pub(crate) struct PreviewArgs {
 /// Runs `tmc preview`; setting `cancel` stops it before the next chunk with
 /// [`tmc::Error::Interrupted`], leaving no picture.
 pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    // No placeholder is filled in: a `{NAME}` would stay in the name.
+    super::placeholders::check(&args.output, "-o", &[])?;
     tmc::files::check_input_kind(&args.input)?;
     tmc::preview::check_png_path(&args.output)?;
     tmc::files::check_distinct(&args.input, &args.output)?;

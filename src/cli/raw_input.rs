@@ -124,6 +124,41 @@ impl RawArgs {
             origin: [0.0; 3],
         })
     }
+
+    /// What a run reads of `input` beyond the file or directory itself, as
+    /// the options that choose it, spelled one way (the HDF5 dataset of
+    /// `FILE:/dataset` or `--dataset`, `--array`, `--level`, `--at`,
+    /// `--series`, `--segment`); `None` when nothing is chosen. A part
+    /// file records it, so that `tmc merge` refuses parts that read other
+    /// things of one input (`PartRecord::selection`).
+    pub(crate) fn selection(&self, input: &Path) -> Option<String> {
+        let dataset = tmc::volume::hdf5::split_path(input)
+            .map(|(_, dataset)| dataset)
+            .or_else(|| self.dataset.clone());
+        let mut chosen = Vec::new();
+        if let Some(dataset) = dataset {
+            chosen.push(format!("--dataset /{}", dataset.trim_start_matches('/')));
+        }
+        if let Some(array) = &self.array {
+            chosen.push(format!("--array {}", array.trim_matches('/')));
+        }
+        if let Some(level) = self.level.filter(|&level| level > 0) {
+            chosen.push(format!("--level {level}"));
+        }
+        if !self.at.is_empty() {
+            let mut at = self.at.clone();
+            at.sort();
+            let picks: Vec<String> = at.iter().map(|(axis, i)| format!("{axis}={i}")).collect();
+            chosen.push(format!("--at {}", picks.join(",")));
+        }
+        if let Some(series) = &self.series {
+            chosen.push(format!("--series {series}"));
+        }
+        if let Some(segment) = self.segment {
+            chosen.push(format!("--segment {segment}"));
+        }
+        (!chosen.is_empty()).then(|| chosen.join(" "))
+    }
 }
 
 /// Opens `input` as the command line describes it, on the grid that

@@ -48,6 +48,20 @@ impl Format {
     }
 }
 
+/// With `normals`, fails unless `output`'s format holds vertex normals
+/// (OFF and STL do not: the run would compute them for nothing), in the
+/// words of `tmc extract --normals`; the CLI and the Python package ask
+/// before the volume is read.
+pub fn check_normals_output(output: &Path, normals: bool) -> Result<()> {
+    if normals && !Format::from_path(output)?.holds_normals() {
+        return Err(Error::Invalid(format!(
+            "{}: --normals needs an output that holds vertex normals (.ply, .obj or .tmesh)",
+            output.display()
+        )));
+    }
+    Ok(())
+}
+
 /// A streaming writer for `path`, in the format named by its extension:
 /// [`PlySink`], [`ObjSink`], [`OffSink`], [`StlSink`] or [`TmeshWriter`].
 ///

@@ -32,7 +32,9 @@ mod stl;
 // Their home is `crate::files`; these paths are kept for the callers that
 // used them when they lived here.
 pub use crate::files::{check_output_file, fatal_cleanup, write_atomically, AtomicFile};
-pub use by_extension::{check_output_path, check_output_paths, create_sink, write_mesh, Format};
+pub use by_extension::{
+    check_normals_output, check_output_path, check_output_paths, create_sink, write_mesh, Format,
+};
 pub use label_files::{
     check_label_outputs, check_label_template, label_outputs, open_files_per_label, LabelFile,
     LabelFiles, LabelSink, FINISHING_THREADS,

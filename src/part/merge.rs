@@ -163,7 +163,8 @@ pub(super) fn order(mut parts: Vec<Part>) -> Result<Vec<Part>> {
 }
 
 /// Checks that `p` is a part of the same run as `first`: same tmc version,
-/// part count, options, grid, isovalue, input and label.
+/// part count, options, grid, isovalue, input, what was read of it and
+/// label.
 pub(super) fn same_run(first: &Part, p: &Part) -> Result<()> {
     let (a, b) = (&first.record, &p.record);
     let name = |q: &Part| q.path.display().to_string();
@@ -201,6 +202,14 @@ pub(super) fn same_run(first: &Part, p: &Part) -> Result<()> {
     }
     if a.input != b.input || a.total_layers != b.total_layers {
         return differ(&format!("inputs ({} vs {})", a.input_name, b.input_name));
+    }
+    if a.selection != b.selection {
+        let chosen = |s: &Option<String>| s.clone().unwrap_or_else(|| "none".to_string());
+        return differ(&format!(
+            "selections of the input ({} vs {})",
+            chosen(&a.selection),
+            chosen(&b.selection)
+        ));
     }
     if a.label_count != b.label_count {
         let count = |n: Option<usize>| n.map_or("none".to_string(), |n| n.to_string());

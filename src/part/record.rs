@@ -38,6 +38,14 @@ pub struct PartRecord {
     /// How headerless samples were read (`--dtype`, `--dims`, `--endian`,
     /// `--header-bytes`, ...), `None` for inputs with a header.
     pub reading: Option<String>,
+    /// What the run read of the input beyond the file or directory itself
+    /// (an HDF5 dataset; a Zarr array, level or entry; a DICOM series or
+    /// segment), as the options that choose it (`--dataset /scans --at
+    /// 0=2`); `None` when nothing is chosen (and absent from its JSON). Two
+    /// datasets of one file, or two channels of one image, have the input's
+    /// identity and may agree at a seam.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub selection: Option<String>,
     /// CRC-32 of the samples of the part's first and last planes, which it
     /// shares with the parts before and after it (see [`seam_checksums`]).
     pub seam_crc: [u32; 2],
@@ -75,6 +83,7 @@ impl PartRecord {
             total_layers: total,
             input: identify(input, &source.data_files())?,
             reading,
+            selection: None,
             seam_crc: seam_checksums(source, close, range)?,
             input_name: input.display().to_string(),
             label: None,

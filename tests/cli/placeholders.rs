@@ -271,3 +271,40 @@ fn a_compare_preview_takes_stem_and_iso() {
     assert!(result.status.success(), "{result:?}");
     assert_eq!(names(&out), ["ball_0.5.png"]);
 }
+
+/// `tmc convert -o` and `tmc preview -o` fill in no placeholder: a
+/// `{NAME}` (`{stem}`, which extract's -o fills in, or a typo) is refused
+/// before the mesh is read, naming it; it was written into the file's
+/// name (`{stem}.ply`) without a word. Other braces stay literal.
+#[test]
+fn convert_and_preview_outputs_take_no_placeholder() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, out) = (dir.path().join("m.tmesh"), dir.path().join("out"));
+    let ball = sphere_npy(dir.path(), "ball.npy", [8, 8, 8]);
+    ok(&["extract", s(&ball), "--iso", "0.5", "-o", s(&mesh), "-q"]);
+    fs::create_dir(&out).unwrap();
+    for (command, name) in [
+        ("convert", "{stem}.ply"),
+        ("convert", "{iso}.obj"),
+        ("preview", "{stem}.png"),
+        ("preview", "{nonsense}.png"),
+    ] {
+        let target = out.join(name);
+        let err = assert_one_line(&tmc(&[command, s(&mesh), "-o", s(&target)]), 1);
+        let placeholder = &name[..name.find('}').unwrap() + 1];
+        assert!(
+            err.contains(&format!(
+                "unknown placeholder {placeholder} in -o; it may use none"
+            )),
+            "{command} {name}: {err}"
+        );
+        assert!(
+            names(&out).is_empty(),
+            "{command} {name}: {:?}",
+            names(&out)
+        );
+    }
+    ok(&["convert", s(&mesh), "-o", s(&out.join("{}.ply")), "-q"]);
+    ok(&["preview", s(&mesh), "-o", s(&out.join("{a b}.png")), "-q"]);
+    assert_eq!(names(&out).len(), 2, "{:?}", names(&out));
+}

@@ -281,6 +281,111 @@ fn merge_refuses_parts_read_with_other_raw_options() {
     refused(&[&p1, &p2], "--endian");
 }
 
+/// A Zarr v2 group store (uncompressed, written here) holding a 4-D array
+/// `v` of two volumes (2 x 12 x 9 x 9 u8, a chunk per volume) and 3-D
+/// arrays `a` and `b` holding those two volumes: the second volume differs
+/// from the first only in its first three planes, so a part of the upper
+/// layers cannot tell them apart by its seam.
+fn two_volume_store(dir: &Path) -> PathBuf {
+    let store = dir.join("two.zarr");
+    let volume = |k: usize| -> Vec<u8> {
+        (0..12 * 81)
+            .map(|i| {
+                let v = ((i * 37 + i / 81 * 11) % 251) as u8;
+                if k == 1 && i < 3 * 81 {
+                    255 - v
+                } else {
+                    v
+                }
+            })
+            .collect()
+    };
+    let array = |path: &Path, shape: &str, chunks: &str, chunk_files: &[(&str, Vec<u8>)]| {
+        std::fs::create_dir_all(path).unwrap();
+        let meta = format!(
+            r#"{{"zarr_format": 2, "shape": {shape}, "chunks": {chunks}, "dtype": "|u1", "compressor": null, "fill_value": 0, "order": "C", "filters": null}}"#
+        );
+        std::fs::write(path.join(".zarray"), meta).unwrap();
+        for (name, bytes) in chunk_files {
+            std::fs::write(path.join(name), bytes).unwrap();
+        }
+    };
+    std::fs::create_dir_all(&store).unwrap();
+    std::fs::write(store.join(".zgroup"), r#"{"zarr_format": 2}"#).unwrap();
+    let (v0, v1) = (volume(0), volume(1));
+    let four = [("0.0.0.0", v0.clone()), ("1.0.0.0", v1.clone())];
+    array(&store.join("v"), "[2, 12, 9, 9]", "[1, 12, 9, 9]", &four);
+    array(
+        &store.join("a"),
+        "[12, 9, 9]",
+        "[12, 9, 9]",
+        &[("0.0.0", v0)],
+    );
+    array(
+        &store.join("b"),
+        "[12, 9, 9]",
+        "[12, 9, 9]",
+        &[("0.0.0", v1)],
+    );
+    store
+}
+
+/// Parts that read different things of one input (two entries of a 4-D
+/// array with `--at`, two arrays of a store with `--array`, two datasets
+/// of an HDF5 file) are refused, naming what each read: the input's
+/// identity is the same file or store, and the seam's samples agree, so
+/// they were merged into a mesh of neither, without a word. Parts that
+/// read the same thing still merge into the single run's bytes.
+#[test]
+fn merge_refuses_parts_that_read_other_things_of_one_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let store = two_volume_store(dir.path());
+    let part = |name: &str, opts: &[&str], i: usize| {
+        let p = dir.path().join(name);
+        let mut all = vec!["--iso", "100"];
+        all.extend_from_slice(opts);
+        extract(&store, &p, &all, Some(format!("{i}/2")));
+        p
+    };
+    let first0 = part("at0-1.tmesh", &["--array", "v", "--at", "0=0"], 1);
+    let second0 = part("at0-2.tmesh", &["--array", "v", "--at", "0=0"], 2);
+    let first1 = part("at1-1.tmesh", &["--array", "v", "--at", "0=1"], 1);
+    refused(
+        &[&first1, &second0],
+        "(--array v --at 0=1 vs --array v --at 0=0)",
+    );
+    let a2 = part("a-2.tmesh", &["--array", "a"], 2);
+    let b1 = part("b-1.tmesh", &["--array", "b"], 1);
+    refused(&[&b1, &a2], "(--array b vs --array a)");
+    let merged = dir.path().join("m.ply");
+    merge(&[first0, second0], &merged);
+    let whole = dir.path().join("w.ply");
+    let opts = ["--iso", "100", "--array", "v", "--at", "0=0"];
+    extract(&store, &whole, &opts, None);
+    assert_eq!(
+        std::fs::read(&merged).unwrap(),
+        std::fs::read(&whole).unwrap()
+    );
+    // Two datasets of one HDF5 file (twins: the same samples), named in
+    // the path and with --dataset.
+    let file = common::formats::data_dir().join("h5_latest.h5");
+    let fixed = PathBuf::from(format!("{}:/fixed", file.display()));
+    let btree = PathBuf::from(format!("{}:/btree2", file.display()));
+    let f1 = dir.path().join("f1.tmesh");
+    let t2 = dir.path().join("t2.tmesh");
+    extract(&fixed, &f1, &["--iso", "41"], Some("1/2".into()));
+    extract(&btree, &t2, &["--iso", "41"], Some("2/2".into()));
+    refused(&[&f1, &t2], "(--dataset /fixed vs --dataset /btree2)");
+    let d2 = dir.path().join("d2.tmesh");
+    extract(
+        &file,
+        &d2,
+        &["--iso", "41", "--dataset", "fixed"],
+        Some("2/2".into()),
+    );
+    merge(&[f1, d2], &dir.path().join("f.ply"));
+}
+
 /// Misleading messages of the QA pass: a truncated part says so; a part
 /// given to check or convert says to merge it; --report with --part says
 /// why; isovalues 0 and -0 are the same.

@@ -176,6 +176,7 @@ pub fn label_runs_room(
         (max.saturating_sub(buffers) / 2).min(max / 4)
     }))
 }
+
 /// The last plane whose chunk may hold part of each of `labels`' meshes,
 /// from the last plane holding each label (`counts`, the scan's); `None`
 /// for a label the map does not hold. A chunk of plane `z` holds the

@@ -10,13 +10,16 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use tmc::volume::zarr::ZarrSelect;
 
-/// Reads a `.tmesh`, PLY, OBJ or OFF mesh: `(vertices, triangles)` in
-/// tmc's layout (float64, uint32).
+/// Reads a `.tmesh`, PLY, OBJ or OFF mesh: `(vertices, triangles,
+/// normals, labels)` in tmc's layout (float64, uint32, float32 or `None`,
+/// uint32 or `None`).
 #[pyfunction]
 pub(crate) fn read_mesh(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyAny>> {
     let mesh = py.detach(|| tmc::check::read_mesh(&path)).or_py()?;
-    let (v, t, _) = mesh_arrays(py, mesh)?;
-    (v, t).into_pyobject(py).map(|t| t.into_any())
+    let ((v, t, normals), labels) = mesh_arrays(py, mesh)?;
+    (v, t, normals, labels)
+        .into_pyobject(py)
+        .map(|t| t.into_any())
 }
 
 /// A mesh from `(N, 3)` float64 vertices and `(M, 3)` uint32 triangles.
@@ -25,17 +28,17 @@ fn mesh_from(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyRes
     Ok(tmc::Mesh {
         vertices: vertices.iter().map(|v| v.map(|c| c as f32)).collect(),
         triangles: rows_from(triangles, "triangles")?,
-        normals: Vec::new(),
+        ..tmc::Mesh::default()
     })
 }
 
 /// Writes a mesh to `path` in the format its extension names (`.ply`,
 /// `.obj`, `.off`, `.stl`, and `.tmesh` given the `record` of the
 /// extraction that made the mesh), with its `normals` ((N, 3) float32, one
-/// per vertex) where the format holds them; the file appears whole or not
-/// at all.
+/// per vertex) where the format holds them and its `labels` ((M,) uint32,
+/// one per triangle) into PLY; the file appears whole or not at all.
 #[pyfunction]
-#[pyo3(signature = (path, vertices, triangles, record = None, normals = None))]
+#[pyo3(signature = (path, vertices, triangles, record = None, normals = None, labels = None))]
 pub(crate) fn write_mesh(
     py: Python<'_>,
     path: PathBuf,
@@ -43,6 +46,7 @@ pub(crate) fn write_mesh(
     triangles: &Bound<'_, PyAny>,
     record: Option<PyRef<'_, Record>>,
     normals: Option<&Bound<'_, PyAny>>,
+    labels: Option<Vec<u32>>,
 ) -> PyResult<()> {
     let mut mesh = mesh_from(vertices, triangles)?;
     if let Some(normals) = normals {
@@ -54,6 +58,16 @@ pub(crate) fn write_mesh(
                 mesh.vertices.len()
             )));
         }
+    }
+    if let Some(labels) = labels {
+        if labels.len() != mesh.triangles.len() {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} labels for {} triangles",
+                labels.len(),
+                mesh.triangles.len()
+            )));
+        }
+        mesh.labels = labels;
     }
     let tmesh = path
         .extension()

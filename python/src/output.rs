@@ -24,17 +24,24 @@ type MeshArrays<'py> = (
     Option<Bound<'py, PyAny>>,
 );
 
-/// Vertices (widened to float64) and triangles of `mesh` as numpy arrays,
-/// in tmc's layout (its normals are left out).
-pub(crate) fn mesh_arrays<'py>(py: Python<'py>, mesh: Mesh) -> PyResult<MeshArrays<'py>> {
+/// Vertices (widened to float64), triangles, normals and per-triangle
+/// labels of `mesh` as numpy arrays, in tmc's layout: the normals `(N, 3)`
+/// float32 and the labels `(M,)` uint32, or `None` where the mesh has none.
+pub(crate) fn mesh_arrays<'py>(
+    py: Python<'py>,
+    mesh: Mesh,
+) -> PyResult<(MeshArrays<'py>, Option<Bound<'py, PyAny>>)> {
     let Mesh {
         vertices,
         triangles,
-        ..
+        normals,
+        labels,
     } = mesh;
     let wide: Vec<[f64; 3]> = vertices.iter().map(|v| v.map(f64::from)).collect();
     drop(vertices);
-    arrays(py, wide, triangles, None)
+    let normals = (!normals.is_empty()).then_some(normals);
+    let labels = (!labels.is_empty()).then(|| PyArray1::from_vec(py, labels).into_any());
+    Ok((arrays(py, wide, triangles, normals)?, labels))
 }
 
 /// tmc's layout: vertices `[x, y, z]` as float64, triangles as uint32,

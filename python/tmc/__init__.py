@@ -69,14 +69,21 @@ class Mesh:
         normal points out of the object).
     normals : (N, 3) float32 ndarray or None
         Unit outward normals from the field's gradient (``extract(...,
-        normals=True)``), else ``None``.
+        normals=True)``), or those a file read by :func:`read_mesh` gives
+        one per vertex; else ``None``.
     stats : dict
         What ``tmc extract --json`` reports: the parameters, the grid, the
         paper's Table 1 counts, sizes and timings; empty for a mesh read
         from a file.
+    labels : (M,) uint32 ndarray or None
+        The label of each triangle, for the surfaces of a label map in one
+        file (``tmc extract SEG --labels all -o all.ply``, or
+        :func:`extract_labels_to` into one ``.ply`` or ``.tmesh``) read by
+        :func:`read_mesh`; else ``None``. ``mesh.triangles[mesh.labels ==
+        L]`` is label ``L``'s surface.
     """
 
-    __slots__ = ("vertices", "triangles", "normals", "stats", "_record")
+    __slots__ = ("vertices", "triangles", "normals", "stats", "labels", "_record")
 
     def __init__(
         self,
@@ -84,19 +91,23 @@ class Mesh:
         triangles: np.ndarray,
         normals: Optional[np.ndarray] = None,
         stats: Optional[Dict[str, Any]] = None,
+        labels: Optional[np.ndarray] = None,
     ) -> None:
-        """Wraps vertex and triangle arrays (and optional normals and stats)."""
+        """Wraps vertex and triangle arrays (and optional normals, stats and
+        per-triangle labels)."""
         self.vertices = vertices
         self.triangles = triangles
         self.normals = normals
         self.stats = {} if stats is None else stats
+        self.labels = labels
         # The extraction's grid and chunks (opaque), for writing .tmesh.
         self._record: Any = None
 
     def __repr__(self) -> str:
         return (
             f"Mesh({len(self.vertices)} vertices, {len(self.triangles)} triangles"
-            f"{', normals' if self.normals is not None else ''})"
+            f"{', normals' if self.normals is not None else ''}"
+            f"{', labels' if self.labels is not None else ''})"
         )
 
     def write(self, path: PathLike) -> None:
@@ -107,7 +118,9 @@ class Mesh:
         ``path``. The normals, when the mesh has them, go into PLY
         (``nx ny nz``), OBJ (``vn``, faces ``v//vn``) and ``.tmesh`` (its
         normals attribute), as the CLI's ``--normals`` writes them; OFF and
-        STL hold none. A ``.tmesh`` file records the
+        STL hold none. The labels, when the mesh has them, go into PLY (a
+        ``uint label`` per face, as ``--labels`` writes one file); the other
+        formats hold none. A ``.tmesh`` file records the
         extraction that made the mesh (its grid, a chunk per plane): a mesh
         from :func:`extract` writes the bytes :func:`extract_to` would have
         written; a mesh read from a file, or one whose sizes changed, cannot.
@@ -137,13 +150,29 @@ class Mesh:
         normals = None
         if self.normals is not None:
             normals = np.ascontiguousarray(self.normals, dtype=np.float32)
-        _tmc.write_mesh(os.fsdecode(path), vertices, triangles, self._record, normals)
+        labels = None
+        if self.labels is not None:
+            labels = _labels_of_triangles(self.labels)
+        _tmc.write_mesh(os.fsdecode(path), vertices, triangles, self._record, normals, labels)
 
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``: manifoldness, orientation,
         boundary, components and genus, computed from the indices alone."""
         vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
         return json.loads(_tmc.check_mesh(vertices, _indices(self.triangles)))
+
+
+def _labels_of_triangles(labels: Any) -> np.ndarray:
+    """``labels`` as a uint32 array, one per triangle: ``TypeError`` for
+    other than integers, ``ValueError`` for one below 0 or of 2**32 or more
+    (a cast would wrap it to another label)."""
+    array = np.asarray(labels)
+    if array.size and array.dtype.kind not in "iu":
+        raise TypeError(f"labels must be integers, not {array.dtype}")
+    if array.size and (array.min() < 0 or array.max() > np.iinfo(np.uint32).max):
+        bad = int(np.argwhere((array < 0) | (array > np.iinfo(np.uint32).max)).flat[0])
+        raise ValueError(f"label {array.flat[bad]} of triangle {bad} is not a uint32")
+    return np.ascontiguousarray(array.reshape(-1), dtype=np.uint32)
 
 
 def _indices(triangles: Any) -> np.ndarray:
@@ -656,9 +685,19 @@ def extract_labels_to(
 
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a ``.tmesh``, PLY, OBJ or OFF file into a :class:`Mesh`
-    (vertices float64, triangles uint32; polygons are refused)."""
-    vertices, triangles = _tmc.read_mesh(os.fsdecode(path))
-    return Mesh(vertices, triangles)
+    (vertices float64, triangles uint32; a polygon becomes a fan of
+    triangles).
+
+    ``normals`` holds the file's vertex normals where it gives one per
+    vertex: a ``.tmesh`` written with normals, PLY ``nx ny nz``, an
+    ``NOFF`` file, OBJ ``vn`` where every face corner names one and the
+    corners of each vertex name the same; else ``None`` (OBJ normals given
+    per corner, a vertex's faces shaded apart, are not per-vertex).
+    ``labels`` holds the label of each triangle of a labelled ``.tmesh`` or
+    a PLY whose faces have an integer ``label`` property (as ``tmc extract
+    SEG --labels all -o all.ply`` writes them); else ``None``."""
+    vertices, triangles, normals, labels = _tmc.read_mesh(os.fsdecode(path))
+    return Mesh(vertices, triangles, normals, labels=labels)
 
 
 def info(

@@ -29,14 +29,17 @@ class Mesh:
     triangles: npt.NDArray[np.uint32]
     normals: Optional[npt.NDArray[np.float32]]
     stats: Dict[str, Any]
+    labels: Optional[npt.NDArray[np.uint32]]
     def __init__(
         self,
         vertices: np.ndarray,
         triangles: np.ndarray,
         normals: Optional[np.ndarray] = ...,
         stats: Optional[Dict[str, Any]] = ...,
+        labels: Optional[np.ndarray] = ...,
     ) -> None:
-        """Wraps vertex and triangle arrays (and optional normals and stats)."""
+        """Wraps vertex and triangle arrays (and optional normals, stats and
+        per-triangle labels)."""
     def write(self, path: PathLike) -> None:
         """Writes the mesh as PLY, OBJ, OFF, STL or .tmesh (by extension),
         atomically (a missing directory: ``FileNotFoundError``)."""
@@ -133,7 +136,8 @@ def extract_labels_to(
     for a closed surface, enclosed_volume, as ``--json`` gives them)."""
 
 def read_mesh(path: PathLike) -> Mesh:
-    """Reads a .tmesh, PLY, OBJ or OFF file."""
+    """Reads a .tmesh, PLY, OBJ or OFF file, with its vertex normals and
+    per-triangle labels where it has them."""
 
 def info(
     path: PathLike,

@@ -1,7 +1,7 @@
 """Type stubs of the extension module tmc._tmc (the Rust side; use the
 functions of the tmc package instead)."""
 
-from typing import Any, List, Optional, Tuple
+from typing import Any, List, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -105,8 +105,11 @@ def extract_labels_to(
     and, for a closed surface, enclosed_volume, counted as its chunks
     stream)."""
 
-def read_mesh(path: str) -> Tuple[np.ndarray, np.ndarray]:
-    """Reads a mesh file: (vertices float64, triangles uint32)."""
+def read_mesh(
+    path: str,
+) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], Optional[np.ndarray]]:
+    """Reads a mesh file: (vertices float64, triangles uint32, normals
+    float32 or None, per-triangle labels uint32 or None)."""
 
 def write_mesh(
     path: str,
@@ -114,9 +117,10 @@ def write_mesh(
     triangles: np.ndarray,
     record: Any = ...,
     normals: Optional[np.ndarray] = ...,
+    labels: Optional[Sequence[int]] = ...,
 ) -> None:
     """Writes a mesh file, atomically (.tmesh needs the extraction's record),
-    with the normals where the format holds them."""
+    with the normals and labels where the format holds them."""
 
 def check_mesh(vertices: np.ndarray, triangles: np.ndarray) -> str:
     """The report of tmc check as JSON text."""

@@ -214,7 +214,7 @@ mod tests {
         Mesh {
             vertices: vec![[0.0; 3]; nv],
             triangles: triangles.to_vec(),
-            normals: Vec::new(),
+            ..Mesh::default()
         }
     }
 

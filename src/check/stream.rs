@@ -633,7 +633,7 @@ mod full_tests {
             let mesh = Mesh {
                 vertices: vec![[0.0; 3]; (rows * ring) as usize],
                 triangles: chunks.concat(),
-                normals: Vec::new(),
+                ..Mesh::default()
             };
             let report = check_mesh(&mesh);
             let (mut check, mut scratch) = (StreamCheck::full(), Scratch::default());
@@ -719,7 +719,7 @@ mod full_tests {
             let mesh = Mesh {
                 vertices: vec![[0.0; 3]; (2 * rows * ring) as usize],
                 triangles: chunks.concat(),
-                normals: Vec::new(),
+                ..Mesh::default()
             };
             let mut report = check_mesh(&mesh);
             let (mut check, mut scratch) = (StreamCheck::per_component(), Scratch::default());

@@ -179,7 +179,7 @@ mod tests {
         let whole = check_geometry(&Mesh {
             vertices,
             triangles,
-            normals: Vec::new(),
+            ..Mesh::default()
         });
         assert_eq!(whole.zero_area_triangles, 3);
         assert_eq!(whole.shared_position_vertices, 3);

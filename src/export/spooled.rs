@@ -82,27 +82,45 @@ pub trait Layout {
 }
 
 /// Writes a whole mesh in layout `L`, with its normals when it has one per
-/// vertex (and some vertices) and `L` holds them.
+/// vertex (and some vertices) and `L` holds them, and its labels when it
+/// has one per triangle (and some triangles) and `L` holds them.
 pub fn write_whole<L: Layout>(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
     let (vertices, faces) = (mesh.vertices.len() as u64, mesh.triangles.len() as u64);
-    if L::NORMALS && !mesh.normals.is_empty() && mesh.normals.len() == mesh.vertices.len() {
-        L::header_with_normals(w, vertices, faces)?;
+    let normals =
+        L::NORMALS && !mesh.normals.is_empty() && mesh.normals.len() == mesh.vertices.len();
+    let labels = L::LABELS && !mesh.labels.is_empty() && mesh.labels.len() == mesh.triangles.len();
+    write_header::<L>(w, vertices, faces, (normals, labels))?;
+    if normals {
         for (v, n) in mesh.vertices.iter().zip(&mesh.normals) {
             L::vertex_with_normal(w, v, n)?;
         }
-        for t in &mesh.triangles {
-            L::face_with_normals(w, t.map(u64::from))?;
+    } else {
+        mesh.vertices.iter().try_for_each(|v| L::vertex(w, v))?;
+    }
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        let t = t.map(u64::from);
+        match (normals, labels) {
+            (_, true) => L::face_with_label(w, t, normals, mesh.labels[k])?,
+            (true, false) => L::face_with_normals(w, t)?,
+            (false, false) => L::face(w, t)?,
         }
-        return Ok(());
-    }
-    L::header(w, vertices, faces)?;
-    for v in &mesh.vertices {
-        L::vertex(w, v)?;
-    }
-    for t in &mesh.triangles {
-        L::face(w, t.map(u64::from))?;
     }
     Ok(())
+}
+
+/// The header of a file in layout `L` of `vertices` and `faces` with the
+/// attributes `(normals, labels)`.
+fn write_header<L: Layout>(
+    w: &mut impl Write,
+    vertices: u64,
+    faces: u64,
+    (normals, labels): (bool, bool),
+) -> io::Result<()> {
+    match (normals, labels) {
+        (_, true) => L::header_with_labels(w, vertices, faces, normals),
+        (true, false) => L::header_with_normals(w, vertices, faces),
+        (false, false) => L::header(w, vertices, faces),
+    }
 }
 
 /// Streams a file in layout `L` from chunks, byte-identical to
@@ -210,11 +228,7 @@ impl<L: Layout> MeshSink for SpooledSink<L> {
         let body = self.body.take().ok_or_else(used_after_finish)?;
         let (normals, labels) = (self.normals, self.labels);
         body.finish(totals, cancel, |w, vertices, faces| {
-            match (normals, labels) {
-                (_, true) => L::header_with_labels(w, vertices, faces, normals),
-                (true, false) => L::header_with_normals(w, vertices, faces),
-                (false, false) => L::header(w, vertices, faces),
-            }
+            write_header::<L>(w, vertices, faces, (normals, labels))
         })
     }
 }

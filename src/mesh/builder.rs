@@ -45,6 +45,8 @@ pub struct Collector<V> {
     triangles: Vec<[u32; 3]>,
     /// The chunks' normals (empty when they carry none).
     normals: Vec<[f32; 3]>,
+    /// The chunks' triangle labels (empty when they carry none).
+    labels: Vec<u32>,
     /// Grid planes, from [`MeshSink::begin`] (0: not known).
     planes: u64,
 }
@@ -58,6 +60,7 @@ impl<V> Default for Collector<V> {
             vertices: Vec::new(),
             triangles: Vec::new(),
             normals: Vec::new(),
+            labels: Vec::new(),
             planes: 0,
         }
     }
@@ -86,13 +89,17 @@ impl<V> Collector<V> {
 }
 
 impl MeshBuilder {
-    /// The mesh built so far.
-    pub fn into_mesh(self) -> Mesh {
+    /// The mesh built so far, with the chunks' labels (every mesh's but a
+    /// label map's one-file output's empty).
+    pub fn into_mesh(mut self) -> Mesh {
+        let mut labels = std::mem::take(&mut self.labels);
+        fit(&mut labels);
         let (vertices, triangles, normals) = self.into_parts();
         Mesh {
             vertices,
             triangles,
             normals,
+            labels,
         }
     }
 }
@@ -123,6 +130,11 @@ impl<V: Vertex> MeshSink for Collector<V> {
             let what = "the mesh's normals";
             reserve_for_planes(&mut self.normals, chunk.normals.len(), plane, planes, what)?;
             self.normals.extend_from_slice(&chunk.normals);
+        }
+        if !chunk.labels.is_empty() {
+            let what = "the mesh's labels";
+            reserve_for_planes(&mut self.labels, chunk.labels.len(), plane, planes, what)?;
+            self.labels.extend_from_slice(&chunk.labels);
         }
         // May point into the next chunk, whose own check bounds it.
         let base = base as u32;

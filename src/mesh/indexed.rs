@@ -11,4 +11,7 @@ pub struct Mesh {
     /// Unit outward vertex normals, one per vertex, or empty when the mesh
     /// has none.
     pub normals: Vec<[f32; 3]>,
+    /// The label of each triangle (a label map's surfaces written to one
+    /// file, `--labels` without `{label}`), or empty when the mesh has none.
+    pub labels: Vec<u32>,
 }

@@ -307,7 +307,7 @@ fn torus(n: u32, m: u32) -> Mesh {
     Mesh {
         vertices: vec![[0.0; 3]; (n * m) as usize],
         triangles,
-        normals: Vec::new(),
+        ..Mesh::default()
     }
 }
 

@@ -1,5 +1,6 @@
 //! OFF and its `[ST][C][N][4][n]OFF` variants: the columns each vertex and
-//! face line may hold are set by the header keyword.
+//! face line may hold are set by the header keyword; an `NOFF` file's
+//! vertex normals are kept as the mesh's normals.
 
 use super::source::{finite, parse, point, push_fan, Source, MAX_RESERVE, MAX_TRIANGLES};
 use crate::mesh::Mesh;
@@ -161,14 +162,21 @@ pub(super) fn read_off(src: &mut Source) -> Result<Mesh> {
     let mut mesh = Mesh {
         vertices: Vec::with_capacity(nv.min(MAX_RESERVE)),
         triangles: Vec::with_capacity(nf.min(MAX_RESERVE)),
-        normals: Vec::new(),
+        ..Mesh::default()
     };
+    if layout.normal {
+        mesh.normals.reserve(nv.min(MAX_RESERVE));
+    }
     for i in 0..nv {
         if !src.next_content_line()? {
             return Err(src.err(format!("truncated OFF file: {i} of {nv} vertices")));
         }
         layout.check(src, &keyword)?;
         mesh.vertices.push(point(src, 0)?);
+        if layout.normal {
+            // The three columns after x y z (`check` found them finite).
+            mesh.normals.push(point(src, 3)?);
+        }
     }
     let mut polygon: Vec<u32> = Vec::new();
     for i in 0..nf {

@@ -1,5 +1,7 @@
 //! PLY, ASCII and binary (either byte order): the `vertex` element's
-//! `x y z` and the `face` element's vertex index list; other elements and
+//! `x y z` (and `nx ny nz`, when it has all three, as the mesh's normals)
+//! and the `face` element's vertex index list (and an integer `label`, as
+//! tmc writes a label map's surfaces into one file); other elements and
 //! properties are read past.
 
 use super::source::{parse, push_fan, Source, MAX_RESERVE, MAX_TRIANGLES};
@@ -86,11 +88,19 @@ enum PropKind {
 #[derive(Clone, Copy, PartialEq)]
 enum Role {
     Skip,
-    /// Vertex coordinate 0, 1 or 2.
-    Coord(usize),
+    /// A number kept in slot `0..VALUES` of the record's values: a vertex's
+    /// coordinates (0, 1, 2) and normal (3, 4, 5), a face's label (6).
+    Value(usize),
     /// The face's vertex index list.
     Indices,
 }
+
+/// The slots of a record's kept numbers ([`Role::Value`]).
+const VALUES: usize = 7;
+/// The slot of a vertex's first normal component.
+const NORMAL: usize = 3;
+/// The slot of a face's label.
+const LABEL: usize = 6;
 
 struct Property {
     name: String,
@@ -121,8 +131,7 @@ pub(super) fn read_ply(src: &mut Source) -> Result<Mesh> {
     }
     let mut mesh = Mesh {
         vertices: Vec::with_capacity((vertex_count as usize).min(MAX_RESERVE)),
-        triangles: Vec::new(),
-        normals: Vec::new(),
+        ..Mesh::default()
     };
     let mut scratch = Vec::new();
     let mut polygon: Vec<u32> = Vec::new();
@@ -133,22 +142,27 @@ pub(super) fn read_ply(src: &mut Source) -> Result<Mesh> {
             continue;
         }
         let is_face = roles.contains(&Role::Indices);
+        let normals = roles.contains(&Role::Value(NORMAL));
+        let labels = is_face && roles.contains(&Role::Value(LABEL));
+        if elem.name == "vertex" && normals {
+            mesh.normals.reserve((elem.count as usize).min(MAX_RESERVE));
+        }
         if is_face {
             mesh.triangles
                 .reserve((elem.count as usize).min(MAX_RESERVE));
         }
         for record in 0..elem.count {
-            let mut coords = [0.0f64; 3];
+            let mut values = [0.0f64; VALUES];
             let mut indices: Vec<f64> = std::mem::take(&mut scratch);
             indices.clear();
             let result = match encoding {
-                Encoding::Ascii => read_ascii_record(src, elem, &roles, &mut coords, &mut indices),
+                Encoding::Ascii => read_ascii_record(src, elem, &roles, &mut values, &mut indices),
                 Encoding::Binary { big_endian } => read_binary_record(
                     &mut src.reader,
                     elem,
                     &roles,
                     big_endian,
-                    &mut coords,
+                    &mut values,
                     &mut indices,
                 ),
             };
@@ -170,13 +184,24 @@ pub(super) fn read_ply(src: &mut Source) -> Result<Mesh> {
                 Err(RecordError::Fatal(e)) => return Err(e),
             }
             if elem.name == "vertex" {
+                let coords = &values[..NORMAL];
                 if let Some(c) = coords.iter().find(|&&c| !(c as f32).is_finite()) {
                     return Err(src.err(format!(
                         "PLY vertex {record}: coordinate {c:e} is not a finite \
                          single-precision number"
                     )));
                 }
-                mesh.vertices.push(coords.map(|c| c as f32));
+                mesh.vertices.push([0, 1, 2].map(|i| coords[i] as f32));
+                if normals {
+                    let normal = &values[NORMAL..LABEL];
+                    if let Some(c) = normal.iter().find(|&&c| !(c as f32).is_finite()) {
+                        return Err(src.err(format!(
+                            "PLY vertex {record}: normal component {c:e} is not a finite \
+                             single-precision number"
+                        )));
+                    }
+                    mesh.normals.push([0, 1, 2].map(|i| normal[i] as f32));
+                }
             }
             if is_face {
                 polygon.clear();
@@ -195,7 +220,19 @@ pub(super) fn read_ply(src: &mut Source) -> Result<Mesh> {
                         polygon.len()
                     )));
                 }
+                let before = mesh.triangles.len();
                 push_fan(&mut mesh.triangles, &polygon);
+                if labels {
+                    let label = values[LABEL];
+                    if !(label >= 0.0 && label <= f64::from(u32::MAX)) {
+                        return Err(src.err(format!(
+                            "PLY face {record}: label {label} is not a uint32 (0 to {})",
+                            u32::MAX
+                        )));
+                    }
+                    let added = mesh.triangles.len() - before;
+                    mesh.labels.extend(std::iter::repeat_n(label as u32, added));
+                }
                 if mesh.triangles.len() > MAX_TRIANGLES {
                     return Err(src.err("too many triangles"));
                 }
@@ -310,7 +347,17 @@ fn ply_roles(src: &Source, elem: &Element) -> Result<Vec<Role>> {
                 if !matches!(elem.props[i].kind, PropKind::Scalar(_)) {
                     return Err(src.err(format!("PLY vertex property '{coord}' is a list")));
                 }
-                roles[i] = Role::Coord(axis);
+                roles[i] = Role::Value(axis);
+            }
+            let normal = ["nx", "ny", "nz"].map(|name| {
+                elem.props
+                    .iter()
+                    .position(|p| p.name == name && matches!(p.kind, PropKind::Scalar(_)))
+            });
+            if let [Some(x), Some(y), Some(z)] = normal {
+                for (axis, i) in [x, y, z].into_iter().enumerate() {
+                    roles[i] = Role::Value(NORMAL + axis);
+                }
             }
         }
         "face" => {
@@ -326,6 +373,12 @@ fn ply_roles(src: &Source, elem: &Element) -> Result<Vec<Role>> {
                         src.err("PLY face property 'vertex_indices' must be a list of integers")
                     )
                 }
+            }
+            let label = elem.props.iter().position(|p| {
+                p.name == "label" && matches!(p.kind, PropKind::Scalar(ty) if ty.is_integer())
+            });
+            if let Some(i) = label {
+                roles[i] = Role::Value(LABEL);
             }
         }
         _ => {}
@@ -370,7 +423,7 @@ fn read_binary_record(
     elem: &Element,
     roles: &[Role],
     big_endian: bool,
-    coords: &mut [f64; 3],
+    values: &mut [f64; VALUES],
     indices: &mut Vec<f64>,
 ) -> std::result::Result<(), RecordError> {
     let mut bytes = [0u8; 8];
@@ -378,8 +431,8 @@ fn read_binary_record(
         match prop.kind {
             PropKind::Scalar(ty) => {
                 reader.read_exact(&mut bytes[..ty.size()])?;
-                if let Role::Coord(axis) = role {
-                    coords[*axis] = ty.decode(&bytes, big_endian);
+                if let Role::Value(slot) = role {
+                    values[*slot] = ty.decode(&bytes, big_endian);
                 }
             }
             PropKind::List { count, item } => {
@@ -407,7 +460,7 @@ fn read_ascii_record(
     src: &mut Source,
     elem: &Element,
     roles: &[Role],
-    coords: &mut [f64; 3],
+    values: &mut [f64; VALUES],
     indices: &mut Vec<f64>,
 ) -> std::result::Result<(), RecordError> {
     fn number(src: &mut Source, integer: bool) -> std::result::Result<f64, RecordError> {
@@ -433,8 +486,8 @@ fn read_ascii_record(
         match prop.kind {
             PropKind::Scalar(ty) => {
                 let v = number(src, ty.is_integer())?;
-                if let Role::Coord(axis) = role {
-                    coords[*axis] = v;
+                if let Role::Value(slot) = role {
+                    values[*slot] = v;
                 }
             }
             PropKind::List { item, .. } => {

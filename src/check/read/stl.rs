@@ -29,7 +29,7 @@ impl Welder {
             mesh: Mesh {
                 vertices: Vec::with_capacity((facets / 2).min(MAX_RESERVE)),
                 triangles: Vec::with_capacity(facets.min(MAX_RESERVE)),
-                normals: Vec::new(),
+                ..Mesh::default()
             },
             index: HashMap::new(),
         }

@@ -19,7 +19,7 @@ fn tetrahedron() -> Mesh {
             [0.05, 1.0, 12350.0],
         ],
         triangles: vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [2, 0, 3]],
-        normals: Vec::new(),
+        ..Mesh::default()
     }
 }
 
@@ -151,13 +151,46 @@ fn writers_round_trip() {
     assert!(names(dir.path()).iter().all(|n| !n.contains(".tmc-")));
 }
 
+/// The readers give back the normals and labels the writers put in: PLY
+/// both, OBJ the normals (`vn`, faces `v//vn`), OFF neither.
+#[test]
+fn normals_and_labels_round_trip_through_the_readers() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut mesh = tetrahedron();
+    mesh.normals = vec![
+        [0.6, 0.0, -0.8],
+        [0.0, 1.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    mesh.labels = vec![5, 0, u32::MAX, 5];
+    let read = |ext: &str| {
+        let path = dir.path().join(format!("t.{ext}"));
+        write_mesh(&path, &mesh).unwrap();
+        tmc::check::read_mesh(&path).unwrap()
+    };
+    assert_eq!(read("ply"), mesh);
+    let obj = read("obj");
+    assert_eq!((&obj.normals, &obj.labels), (&mesh.normals, &Vec::new()));
+    let off = read("off");
+    assert_eq!((off.normals.len(), off.labels.len()), (0, 0));
+    assert_eq!(off.triangles, mesh.triangles);
+    // Without labels, the PLY is the bytes it was (no label property).
+    mesh.labels.clear();
+    let path = dir.path().join("n.ply");
+    write_mesh(&path, &mesh).unwrap();
+    let bytes = fs::read(&path).unwrap();
+    assert!(!String::from_utf8_lossy(&bytes).contains("label"));
+    assert_eq!(tmc::check::read_mesh(&path).unwrap(), mesh);
+}
+
 #[test]
 fn degenerate_stl_facets_get_a_zero_normal() {
     let dir = tempfile::tempdir().unwrap();
     let mesh = Mesh {
         vertices: vec![[0.0; 3], [1.0, 1.0, 1.0], [2.0, 2.0, 2.0]],
         triangles: vec![[0, 1, 2]],
-        normals: Vec::new(),
+        ..Mesh::default()
     };
     let path = dir.path().join("d.stl");
     write_mesh(&path, &mesh).unwrap();
@@ -170,7 +203,7 @@ fn failed_writes_leave_nothing_behind() {
     let bad = Mesh {
         vertices: vec![[0.0; 3]],
         triangles: vec![[0, 0, 1]],
-        normals: Vec::new(),
+        ..Mesh::default()
     };
     let path = dir.path().join("bad.ply");
     let err = write_mesh(&path, &bad).unwrap_err().to_string();

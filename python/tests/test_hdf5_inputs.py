@@ -90,3 +90,39 @@ def test_a_damaged_chunk_or_a_missing_dataset_raises(tmp_path):
     path.write_bytes(bytes(raw))
     with pytest.raises(Exception, match="bad.h5"):
         tmc.extract(f"{path}:/data", 500.5)
+
+
+@pytest.mark.parametrize("chunks", [None, (5, 7, 8, 3), (4, 6, 5, 1)])
+def test_a_channel_axis_last_is_picked_with_at(tmp_path, chunks):
+    """A (z, y, x, c) dataset with three channels (ilastik writes zyxc), the
+    channels interleaved, contiguous or chunked with all channels or one a
+    chunk: ``at={3: c}`` gives the mesh of channel c as a numpy array,
+    extract_labels and info too; without a pick the error says how to pick
+    the last axis."""
+    base = volume().clip(0).astype(np.float32)
+    data = np.stack([base, 1500 - base, base[::-1]], axis=-1)
+    path = tmp_path / "zyxc.h5"
+    with h5py.File(path, "w") as f:
+        f.create_dataset("exported_data", data=data, chunks=chunks,
+                         compression="gzip" if chunks else None)
+    for c in range(3):
+        got = tmc.extract(str(path), 700.5, dataset="/exported_data", at={3: c})
+        want = tmc.extract(data[..., c].astype(np.float64), 700.5)
+        assert len(want.triangles) > 0
+        np.testing.assert_array_equal(got.triangles, want.triangles)
+        np.testing.assert_array_equal(got.vertices, want.vertices)
+    facts = tmc.info(f"{path}:/exported_data", at={"3": 1})
+    assert facts["dims"] == [29, 24, 19]
+    assert facts["max"] == float((1500 - base).max())
+    seg = (data[..., 0] > 700).astype(np.uint8) + (data[..., 0] > 900)
+    with h5py.File(tmp_path / "seg.h5", "w") as f:
+        f.create_dataset("s", data=np.stack([seg, seg * 0], axis=-1), chunks=chunks and (5, 7, 8, 2))
+    labelled = tmc.extract_labels(f"{tmp_path / 'seg.h5'}:/s", at={3: 0})
+    want_labels = tmc.extract_labels(seg)
+    assert sorted(labelled) == sorted(want_labels) == [1, 2]
+    for label in want_labels:
+        np.testing.assert_array_equal(labelled[label].triangles, want_labels[label].triangles)
+    with pytest.raises(ValueError, match=r"--at 3=I"):
+        tmc.extract(f"{path}:/exported_data", 700.5)
+    with pytest.raises(ValueError, match=r"axis '3' has 3 entries \(0 to 2\)"):
+        tmc.extract(f"{path}:/exported_data", 700.5, at={3: 3})

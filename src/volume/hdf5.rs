@@ -6,8 +6,10 @@
 //! B-trees), either byte order, and the sample types tmc reads (8-, 16-
 //! and 32-bit integers, 32- and 64-bit floats).
 //!
-//! The last three axes are z, y, x (C order, as h5py writes numpy arrays);
-//! axes before them must have one entry. The spacing comes from one
+//! The last three axes are z, y, x (C order, as h5py writes numpy arrays),
+//! but for axes after them of one entry or picked by `--at` (a channel
+//! axis last, as ilastik writes `zyxc`); of every other axis one entry is
+//! read, the only one or the one `--at` picks. The spacing comes from one
 //! attribute, where the dataset has it: `element_size_um`, three numbers
 //! in micrometres in z, y, x order (the convention of ilastik and Fiji's
 //! HDF5 plugin), converted to millimetres; without it the spacing is 1
@@ -43,10 +45,10 @@ pub struct Hdf5Volume {
     /// Axes of the dataset (3 and more).
     rank: usize,
     /// One past the x axis: `rank`, less the trailing axes of one entry
-    /// (channels last, as ilastik writes `zyxc`).
+    /// or picked by `--at` (channels last, as ilastik writes `zyxc`).
     end: usize,
-    /// The entry read of each axis before z, y, x (`--at`).
-    lead: Vec<u64>,
+    /// The entry read of each axis but z, y, x (`--at`), slowest first.
+    others: Vec<u64>,
     /// Planes per layer: the chunk depth, or 1 for a contiguous dataset.
     depth: usize,
     layers: ChunkLayers,
@@ -178,15 +180,14 @@ pub fn open_at(path: &Path, dataset: Option<&str>, picks: &[(String, u64)]) -> R
     }
     // Trailing axes of one entry (a channel axis last, ilastik's `zyxc`) are
     // dropped: a volume one sample wide in x has no cells, so an axis of one
-    // entry last is never the x of a volume to extract.
-    let mut end = rank;
-    while end > 3 && shape[end - 1] == 1 {
-        end -= 1;
-    }
-    let positions: Vec<String> = (0..end).map(|i| i.to_string()).collect();
-    let lengths: Vec<u64> = shape[..end].iter().map(|&n| n as u64).collect();
-    let lead = super::leading_axes::entries(&lengths, &positions, picks)
+    // entry last is never the x of a volume to extract; so are trailing
+    // axes `--at` picks an entry of.
+    let positions: Vec<String> = (0..rank).map(|i| i.to_string()).collect();
+    let lengths: Vec<u64> = shape.iter().map(|&n| n as u64).collect();
+    let axes = super::leading_axes::volume_axes(&lengths, &positions, picks)
         .map_err(|why| fail(format!("dataset '/{name}': {why}")))?;
+    let end = axes.end;
+    let others = [axes.lead, axes.trail].concat();
     let [nz, ny, nx] = [shape[end - 3], shape[end - 2], shape[end - 1]];
     if [nx, ny, nz].contains(&0) {
         return Err(fail(format!("dataset '/{name}' is empty")));
@@ -260,7 +261,7 @@ pub fn open_at(path: &Path, dataset: Option<&str>, picks: &[(String, u64)]) -> R
         scalar,
         rank,
         end,
-        lead,
+        others,
         depth,
         layers: ChunkLayers::new(),
         read: AtomicU64::new(0),
@@ -296,8 +297,9 @@ impl Hdf5Volume {
         let z0 = k * self.depth;
         let depth = self.depth.min(nz - z0);
         let mut starts = vec![0; self.rank];
-        for (start, &entry) in starts.iter_mut().zip(&self.lead) {
-            *start = entry as usize;
+        let other_axes = (0..self.end - 3).chain(self.end..self.rank);
+        for (axis, &entry) in other_axes.zip(&self.others) {
+            starts[axis] = entry as usize;
         }
         let mut counts = vec![1; self.rank];
         starts[self.end - 3] = z0;

@@ -6,7 +6,83 @@
 //! Axes are named as the file names them (OME-Zarr's `t`, `c`), or by
 //! their position, 0 the slowest (any array): `--at 0=2`. An axis of one
 //! entry needs no pick; an axis of several needs one, and the error says
-//! how to give it.
+//! how to give it. `volume_axes` also lets a pick name an axis after z,
+//! y, x (a channel axis last, as ilastik writes `zyxc`: `--at 3=1`).
+
+/// Where the volume lies in an array's axes ([`volume_axes`]): z, y, x are
+/// axes `end - 3`, `end - 2`, `end - 1`; every other axis is read at one
+/// entry.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct VolumeAxes {
+    /// One past the x axis.
+    pub end: usize,
+    /// The entry read of each axis before z (`end - 3` of them).
+    pub lead: Vec<u64>,
+    /// The entry read of each axis after x (`shape.len() - end` of them).
+    pub trail: Vec<u64>,
+}
+
+/// The volume's axes in an array of `shape` whose axes are `names`, and
+/// the entry of every other axis, from the user's `picks`: axes after the
+/// volume are set aside from the end while they have one entry or a pick
+/// names them (a channel axis last: a `(z, y, x, 3)` dataset read with
+/// `--at 3=1`); the last three left are z, y, x, and the axes before them
+/// take their entries as [`entries`] gives them. Without a pick, a last
+/// axis of several entries is the volume's x, as it always was; the error
+/// for an axis before it then also says how to pick the last axis's entry
+/// instead.
+pub(crate) fn volume_axes(
+    shape: &[u64],
+    names: &[String],
+    picks: &[(String, u64)],
+) -> Result<VolumeAxes, String> {
+    let names_axis =
+        |axis: &str, i: usize| names.get(i).is_some_and(|n| n == axis) || i.to_string() == axis;
+    let picked = |i: usize| picks.iter().find(|(axis, _)| names_axis(axis, i));
+    let mut end = shape.len();
+    while end > 3 && (shape[end - 1] == 1 || picked(end - 1).is_some()) {
+        end -= 1;
+    }
+    if let Some(i) =
+        (end..shape.len()).find(|&i| picks.iter().filter(|(a, _)| names_axis(a, i)).count() > 1)
+    {
+        return Err(format!("--at names axis '{}' twice", names[i]));
+    }
+    let trail = (end..shape.len())
+        .map(|i| match picked(i) {
+            Some((axis, entry)) => checked_entry(axis, *entry, &names[i], shape[i]),
+            None => Ok(0),
+        })
+        .collect::<Result<Vec<u64>, String>>()?;
+    let before: Vec<(String, u64)> = picks
+        .iter()
+        .filter(|(axis, _)| !(end..shape.len()).any(|i| names_axis(axis, i)))
+        .cloned()
+        .collect();
+    let lead = entries(&shape[..end], &names[..end], &before).map_err(|why| {
+        let last = shape.len() - 1;
+        match why.contains("pick one with --at") && end == shape.len() {
+            true => format!(
+                "{why}; or, if the last axis ('{}', {} entries) is a channel after z, y, x (as ilastik writes zyxc), pick its entry with --at {}=I",
+                names[last], shape[last], names[last]
+            ),
+            false => why,
+        }
+    })?;
+    Ok(VolumeAxes { end, lead, trail })
+}
+
+/// `entry` of axis `name` (of `len` entries), picked as `--at AXIS=ENTRY`,
+/// or the error when it lies past the axis.
+fn checked_entry(axis: &str, entry: u64, name: &str, len: u64) -> Result<u64, String> {
+    match entry < len {
+        true => Ok(entry),
+        false => Err(format!(
+            "--at {axis}={entry}: axis '{name}' has {len} entries (0 to {})",
+            len - 1
+        )),
+    }
+}
 
 /// The entry to read of each axis before the last three (z, y, x) of an
 /// array of `shape` whose axes are `names` (one per axis, slowest first),
@@ -43,15 +119,7 @@ pub(crate) fn entries(
         if chosen[i].is_some() {
             return Err(format!("--at names axis '{}' twice", names[i]));
         }
-        if *entry >= shape[i] {
-            return Err(format!(
-                "--at {axis}={entry}: axis '{}' has {} entries (0 to {})",
-                names[i],
-                shape[i],
-                shape[i] - 1
-            ));
-        }
-        chosen[i] = Some(*entry);
+        chosen[i] = Some(checked_entry(axis, *entry, &names[i], shape[i])?);
     }
     (0..lead)
         .map(|i| match chosen[i] {
@@ -133,6 +201,42 @@ mod tests {
         assert_eq!(three, Ok(vec![]));
         let err = entries(&[4, 5, 6], &names(&["0", "1", "2"]), &[("0".into(), 1)]);
         assert!(err.unwrap_err().contains("no axis before z, y, x"));
+    }
+
+    #[test]
+    fn a_pick_sets_an_axis_after_x_aside() {
+        let axes = names(&["0", "1", "2", "3", "4"]);
+        let pick = |shape: &[u64], p: &[(&str, u64)]| {
+            let p: Vec<_> = p.iter().map(|&(a, e)| (a.to_string(), e)).collect();
+            volume_axes(shape, &axes[..shape.len()], &p)
+        };
+        let axes_of = |end, lead: &[u64], trail: &[u64]| VolumeAxes {
+            end,
+            lead: lead.to_vec(),
+            trail: trail.to_vec(),
+        };
+        // zyxc: the channel picked, or of one entry.
+        assert_eq!(pick(&[4, 5, 6, 3], &[("3", 2)]), Ok(axes_of(3, &[], &[2])));
+        assert_eq!(pick(&[4, 5, 6, 1], &[]), Ok(axes_of(3, &[], &[0])));
+        // tzyxc: both sides.
+        assert_eq!(
+            pick(&[2, 4, 5, 6, 3], &[("4", 1), ("0", 1)]),
+            Ok(axes_of(4, &[1], &[1]))
+        );
+        // Without a pick the last axis is x, and the error says how to pick it.
+        let err = pick(&[4, 5, 6, 3], &[]).unwrap_err();
+        assert!(
+            err.contains("--at 0=I") && err.contains("--at 3=I"),
+            "{err}"
+        );
+        assert_eq!(pick(&[4, 5, 6, 3], &[("0", 1)]), Ok(axes_of(4, &[1], &[])));
+        let past = pick(&[4, 5, 6, 3], &[("3", 3)]).unwrap_err();
+        assert!(past.contains("has 3 entries (0 to 2)"), "{past}");
+        let twice = pick(&[4, 5, 6, 3], &[("3", 0), ("3", 1)]).unwrap_err();
+        assert!(twice.contains("twice"), "{twice}");
+        // A 3-D array keeps its three axes: a pick of one is refused.
+        let own = pick(&[4, 5, 6], &[("2", 1)]).unwrap_err();
+        assert!(own.contains("volume's own axes"), "{own}");
     }
 
     #[test]

@@ -204,6 +204,33 @@ fn stem_is_the_files_name_with_or_without_dataset() {
     assert_eq!(names, ["h5_twin.ply", "other.ply"]);
 }
 
+/// Writes `samples` into a new HDF5 file as dataset `/chunked` of
+/// `(shape, chunk)`, deflated, and as `/contiguous` of `contiguous` shape.
+fn write_chunked_and_contiguous(
+    file: &Path,
+    (shape, chunk): ([usize; 4], [usize; 4]),
+    contiguous: &[usize],
+    samples: &[f64],
+) {
+    let h5 = rust_hdf5::H5File::create(file).unwrap();
+    let chunked = h5
+        .new_dataset::<f64>()
+        .shape(shape)
+        .chunk(&chunk)
+        .deflate(4);
+    chunked
+        .create("chunked")
+        .unwrap()
+        .write_raw(samples)
+        .unwrap();
+    let whole = h5.new_dataset::<f64>().shape(contiguous);
+    whole
+        .create("contiguous")
+        .unwrap()
+        .write_raw(samples)
+        .unwrap();
+}
+
 /// A dataset with a channel axis of one entry last (`z, y, x, 1`: ilastik
 /// exports `zyxc`), chunked with odd edge chunks and contiguous, reads as
 /// its volume: it was refused as "13 entries along an axis before z, y,
@@ -215,27 +242,86 @@ fn a_trailing_axis_of_one_entry_is_a_channel() {
     let samples = all_samples(twin.as_ref());
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("zyxc.h5");
-    {
-        let h5 = rust_hdf5::H5File::create(&file).unwrap();
-        h5.new_dataset::<f64>()
-            .shape([nz, ny, nx, 1])
-            .chunk(&[3, 5, 4, 1])
-            .deflate(4)
-            .create("chunked")
-            .unwrap()
-            .write_raw(&samples)
-            .unwrap();
-        h5.new_dataset::<f64>()
-            .shape([1, nz, ny, nx, 1, 1])
-            .create("contiguous")
-            .unwrap()
-            .write_raw(&samples)
-            .unwrap();
-    }
+    let chunked = ([nz, ny, nx, 1], [3, 5, 4, 1]);
+    write_chunked_and_contiguous(&file, chunked, &[1, nz, ny, nx, 1, 1], &samples);
     for name in ["/chunked", "/contiguous"] {
         let path = PathBuf::from(format!("{}:{name}", file.display()));
         let src = volume::open(&path, None).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(src.grid().dims, [nx, ny, nz], "{name}");
         same_mesh(src.as_ref(), twin.as_ref());
     }
+}
+
+/// A dataset with three channels last (`z, y, x, 3`, the channels
+/// interleaved), chunked with all channels a chunk and contiguous: `--at
+/// 3=C` reads channel C as its volume (it could not be read: the last
+/// three axes were taken for z, y, x, with x three samples wide, and the
+/// error named only an axis before them).
+#[test]
+fn a_channel_axis_last_is_picked_with_at() {
+    let twin = volume::open(&data("vt_twin.npy"), None).unwrap();
+    let [nx, ny, nz] = twin.grid().dims;
+    let samples = all_samples(twin.as_ref());
+    // Channel c holds the samples times c + 1.
+    let interleaved: Vec<f64> = samples
+        .iter()
+        .flat_map(|&v| [v, 2.0 * v, 3.0 * v])
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("zyxc.h5");
+    let chunked = ([nz, ny, nx, 3], [3, 5, 4, 3]);
+    write_chunked_and_contiguous(&file, chunked, &[nz, ny, nx, 3], &interleaved);
+    for name in ["/chunked", "/contiguous"] {
+        for c in 0..3u64 {
+            let picks = [("3".to_string(), c)];
+            let src =
+                hdf5::open_at(&file, Some(name), &picks).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(src.grid().dims, [nx, ny, nz], "{name}");
+            let scale = (c + 1) as f64;
+            let got = all_samples(&src);
+            assert!(
+                got.iter().zip(&samples).all(|(g, s)| *g == scale * s),
+                "{name} channel {c}"
+            );
+        }
+        let err = hdf5::open_at(&file, Some(name), &[])
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(err.contains("--at 3=I"), "{err}");
+    }
+    // The CLI: channel 1 gives the mesh of the samples times 2 at twice
+    // the isovalue, which is the mesh of the samples.
+    let out = dir.path().join("c1.off");
+    let twin_out = dir.path().join("twin.off");
+    let input = format!("{}:/chunked", file.display());
+    let run = tmc(&[
+        "extract",
+        &input,
+        "--at",
+        "3=1",
+        "--iso",
+        "120",
+        "-q",
+        "-o",
+        s(&out),
+    ]);
+    assert!(run.status.success(), "{run:?}");
+    let twin_path = data("vt_twin.npy");
+    let run = tmc(&[
+        "extract",
+        s(&twin_path),
+        "--iso",
+        "60",
+        "-q",
+        "-o",
+        s(&twin_out),
+    ]);
+    assert!(run.status.success(), "{run:?}");
+    let (a, b) = (
+        std::fs::read(&out).unwrap(),
+        std::fs::read(&twin_out).unwrap(),
+    );
+    assert!(a.len() > 100);
+    assert_eq!(a, b);
 }

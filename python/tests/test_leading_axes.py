@@ -121,3 +121,30 @@ def test_the_python_functions_take_at(tmp_path):
         tmc.extract(str(path), 500.5, at={0: 1.5, 1: 0})
     with pytest.raises(ValueError, match="0 or more"):
         tmc.extract(str(path), 500.5, at={0: -1, 1: 0})
+
+
+@pytest.mark.parametrize("zarr_format", [2, 3])
+def test_a_zarr_channel_axis_last_is_picked(tmp_path, zarr_format):
+    """A plain Zarr array of (z, y, x, c), channels interleaved, two of the
+    three a chunk (channel 2's chunk a partial one), and its (z, y, x, 1)
+    sibling: `--at 3=C` reads channel C, the sibling reads without a pick,
+    and without one the error says how to pick the last axis."""
+    zarr = pytest.importorskip("zarr", minversion="3")
+    data = np.moveaxis(volumes((3,)), 0, -1)
+    path = tmp_path / f"zyxc_v{zarr_format}.zarr"
+    a = zarr.create_array(str(path), shape=data.shape, dtype=data.dtype, chunks=(5, 6, 8, 2),
+                          zarr_format=zarr_format)
+    a[...] = data
+    for c in range(3):
+        same_as_slice(path, f"3={c}", data[..., c], tmp_path)
+    one = tmp_path / f"zyx1_v{zarr_format}.zarr"
+    b = zarr.create_array(str(one), shape=data.shape[:3] + (1,), dtype=data.dtype,
+                          chunks=(4, 17, 19, 1), zarr_format=zarr_format)
+    b[...] = data[..., 1:2]
+    got = tmc.extract(str(one), 500.5)
+    want = tmc.extract(np.ascontiguousarray(data[..., 1]), 500.5)
+    np.testing.assert_array_equal(got.triangles, want.triangles)
+    np.testing.assert_array_equal(got.vertices, want.vertices)
+    done = cli("extract", str(path), "--iso", "500.5", "-o", str(tmp_path / "x.ply"))
+    assert done.returncode != 0 and "--at 3=I" in done.stderr, done.stderr
+    assert not (tmp_path / "x.ply").exists()

@@ -69,8 +69,8 @@ pub(crate) struct RawArgs {
     /// Zarr and HDF5: the entry to read of each axis before z, y, x, e.g.
     /// --at c=1 for the second channel of an OME-Zarr image (t, c, z, y,
     /// x), or --at 0=3 by position (0 the slowest); axes of one entry need
-    /// none. HDF5 also: a channel axis after x, as ilastik writes zyxc
-    /// (--at 3=1). Only the chunks holding that entry are read.
+    /// none; also a channel axis after x, as ilastik writes zyxc (--at
+    /// 3=1). Only the chunks holding that entry are read.
     #[arg(long, value_name = "AXIS=I,...", value_delimiter = ',', value_parser = tmc::volume::leading_axes::parse_pick, help_heading = "Zarr and HDF5 input")]
     pub at: Vec<(String, u64)>,
 

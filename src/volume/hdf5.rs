@@ -49,6 +49,8 @@ pub struct Hdf5Volume {
     end: usize,
     /// The entry read of each axis but z, y, x (`--at`), slowest first.
     others: Vec<u64>,
+    /// Entries a chunk holds of the axes but z, y, x (1 when contiguous).
+    other_chunk: usize,
     /// Planes per layer: the chunk depth, or 1 for a contiguous dataset.
     depth: usize,
     layers: ChunkLayers,
@@ -194,6 +196,10 @@ pub fn open_at(path: &Path, dataset: Option<&str>, picks: &[(String, u64)]) -> R
     }
     let chunk = dataset.chunk_dims();
     let depth = chunk.as_ref().map_or(1, |c| c[end - 3].max(1));
+    let other_chunk = chunk.as_ref().map_or(1, |c| {
+        let others = c[..end - 3].iter().chain(&c[end..]);
+        others.fold(1usize, |n, &k| n.saturating_mul(k.max(1)))
+    });
     let mut grid = Grid::unit([nx, ny, nz]);
     let mut spacing_from = ValueFrom::Default;
     if let Ok(attribute) = dataset.attr(SPACING_ATTRIBUTE) {
@@ -262,6 +268,7 @@ pub fn open_at(path: &Path, dataset: Option<&str>, picks: &[(String, u64)]) -> R
         rank,
         end,
         others,
+        other_chunk,
         depth,
         layers: ChunkLayers::new(),
         read: AtomicU64::new(0),
@@ -380,12 +387,14 @@ impl SampleSource for Hdf5Volume {
 
     /// Layers of a chunk's depth (a plane when contiguous); a read holds
     /// the layer's samples, their planes, and the library's buffers of a
-    /// chunk (stored and inflated, each at most a layer).
+    /// chunk (stored and inflated, each at most a layer times the entries
+    /// the chunk holds of the axes other than z, y, x: channels in a chunk
+    /// are all inflated).
     fn plane_memory(&self) -> PlaneMemory {
         PlaneMemory::Decoded {
             sample_bytes: self.scalar.size(),
             layer: self.depth,
-            decoding: 4,
+            decoding: 2 + 2 * self.other_chunk,
         }
     }
 

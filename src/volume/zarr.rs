@@ -4,9 +4,10 @@
 //! gzip, bytes of either byte order, transpose, sharding, crc32c), and the
 //! fill value for chunks that are not stored.
 //!
-//! The last three axes are z, y, x (C order, as numpy); of each axis before
-//! them (OME's `t` and `c`) one entry is read: the only one, or the one
-//! `--at` picks (`leading_axes.rs`). A group is read
+//! The last three axes are z, y, x (C order, as numpy), but for axes after
+//! them of one entry or picked by `--at` (a channel axis last); of each
+//! other axis (OME's `t` and `c`) one entry is read: the only one, or the
+//! one `--at` picks (`leading_axes.rs`). A group is read
 //! through the array that `--array PATH` names, or through the level of
 //! its OME-Zarr `multiscales` (`--level N`, 0 by default; a level opened
 //! by its path, `image.zarr/1`, alike), whose `scale` and `translation`
@@ -68,6 +69,11 @@ pub struct ZarrVolume {
     lead: Vec<u64>,
     /// The chunk shape of those axes.
     lead_chunk: Vec<u64>,
+    /// The entry read of each axis after z, y, x (of one entry, or picked
+    /// by `--at`: a channel axis last).
+    trail: Vec<u64>,
+    /// The chunk shape of those axes.
+    trail_chunk: Vec<u64>,
     /// Chunks along z, y, x.
     chunks: [usize; 3],
     layers: ChunkLayers,
@@ -293,27 +299,30 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         Some(l) if l.axes.len() == rank => l.axes.clone(),
         _ => (0..rank).map(|i| format!("{i}")).collect(),
     };
-    let lead = super::leading_axes::entries(&shape, &names, &select.at).map_err(fail)?;
+    let axes = super::leading_axes::volume_axes(&shape, &names, &select.at).map_err(fail)?;
+    // z, y, x are axes end - 3, end - 2, end - 1.
+    let end = axes.end;
     let to_usize = |v: u64| usize::try_from(v).map_err(|_| fail("array too large".into()));
     let [nz, ny, nx] = [
-        to_usize(shape[rank - 3])?,
-        to_usize(shape[rank - 2])?,
-        to_usize(shape[rank - 1])?,
+        to_usize(shape[end - 3])?,
+        to_usize(shape[end - 2])?,
+        to_usize(shape[end - 1])?,
     ];
     let first = array
         .chunk_shape(&vec![0; rank])
         .map_err(|e| fail(e.to_string()))?;
-    let lead_chunk: Vec<u64> = first[..rank - 3].iter().map(|c| c.get()).collect();
+    let lead_chunk: Vec<u64> = first[..end - 3].iter().map(|c| c.get()).collect();
+    let trail_chunk: Vec<u64> = first[end..].iter().map(|c| c.get()).collect();
     let chunk = [
-        to_usize(first[rank - 3].get())?,
-        to_usize(first[rank - 2].get())?,
-        to_usize(first[rank - 1].get())?,
+        to_usize(first[end - 3].get())?,
+        to_usize(first[end - 2].get())?,
+        to_usize(first[end - 1].get())?,
     ];
     let grid_shape = array.chunk_grid_shape();
     let chunks = [
-        to_usize(grid_shape[rank - 3])?,
-        to_usize(grid_shape[rank - 2])?,
-        to_usize(grid_shape[rank - 1])?,
+        to_usize(grid_shape[end - 3])?,
+        to_usize(grid_shape[end - 2])?,
+        to_usize(grid_shape[end - 1])?,
     ];
     if (0..3).any(|i| chunks[i] != [nz, ny, nx][i].div_ceil(chunk[i])) {
         return Err(fail("only regular chunk grids are read".into()));
@@ -324,8 +333,8 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
     }
     let (spacing_from, origin_from) = match &level {
         Some(l) if l.scale.len() == rank => {
-            grid.spacing = [0, 1, 2].map(|i| l.scale[rank - 1 - i]);
-            grid.origin = [0, 1, 2].map(|i| l.translation[rank - 1 - i]);
+            grid.spacing = [0, 1, 2].map(|i| l.scale[end - 1 - i]);
+            grid.origin = [0, 1, 2].map(|i| l.translation[end - 1 - i]);
             if grid.spacing.iter().any(|s| !s.is_finite() || *s <= 0.0) {
                 return Err(fail(format!(
                     "OME-Zarr scale {:?} must be finite and positive",
@@ -360,8 +369,10 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         scalar,
         rank,
         chunk,
-        lead,
+        lead: axes.lead,
         lead_chunk,
+        trail: axes.trail,
+        trail_chunk,
         chunks,
         layers: ChunkLayers::new(),
         decoded: AtomicU64::new(0),
@@ -505,21 +516,28 @@ impl ZarrVolume {
         let options = CodecOptions::default().with_concurrent_target(1);
         // The chunks along the axes before z, y, x that hold the picked
         // entries, and where the picked (z, y, x) block starts in each
-        // (chunks are C order over all axes, so the block is contiguous).
+        // (chunks are C order over all axes, so the block is contiguous
+        // but for the axes after x: a sample every `stride`, from
+        // `trail_offset`).
         let mut lead_index = Vec::with_capacity(self.rank);
         let mut block_start = 0usize;
         for (&entry, &along) in self.lead.iter().zip(&self.lead_chunk) {
             lead_index.push(entry / along);
             block_start = block_start * along as usize + (entry % along) as usize;
         }
-        let block_start = block_start * cz * cy * cx * size;
+        let (mut trail_index, mut trail_offset, mut stride) = (Vec::new(), 0usize, 1usize);
+        for (&entry, &along) in self.trail.iter().zip(&self.trail_chunk) {
+            trail_index.push(entry / along);
+            trail_offset = trail_offset * along as usize + (entry % along) as usize;
+            stride *= along as usize;
+        }
+        let block = cz * cy * cx * stride * size;
+        let block_start = block_start * block;
         let work = |t: usize| -> Result<()> {
             for &(gy, gx) in jobs.iter().skip(t).step_by(threads) {
                 let mut index = lead_index.clone();
-                index.extend([0; 3]);
-                index[self.rank - 3] = k as u64;
-                index[self.rank - 2] = gy as u64;
-                index[self.rank - 1] = gx as u64;
+                index.extend([k as u64, gy as u64, gx as u64]);
+                index.extend_from_slice(&trail_index);
                 let bytes: ArrayBytes<'static> = self
                     .array
                     .retrieve_chunk_opt(&index, &options)
@@ -536,7 +554,7 @@ impl ZarrVolume {
                 let (y0, x0) = (gy * cy, gx * cx);
                 let run = cx.min(nx - x0) * size;
                 let rows = cy.min(ny - y0);
-                let need = block_start + cz * cy * cx * size;
+                let need = block_start + block;
                 if bytes.len() < need {
                     return Err(Error::Format(format!(
                         "{}: chunk {index:?} decodes to {} bytes, need {need}",
@@ -547,9 +565,18 @@ impl ZarrVolume {
                 let mut out = layer.lock().unwrap_or_else(|p| p.into_inner());
                 for (dz, plane) in out.iter_mut().enumerate() {
                     for r in 0..rows {
-                        let from = block_start + ((dz * cy + r) * cx) * size;
+                        let from =
+                            block_start + (((dz * cy + r) * cx) * stride + trail_offset) * size;
                         let to = ((y0 + r) * nx + x0) * size;
-                        plane[to..to + run].copy_from_slice(&bytes[from..from + run]);
+                        let row = &mut plane[to..to + run];
+                        if stride == 1 {
+                            row.copy_from_slice(&bytes[from..from + run]);
+                        } else {
+                            let samples = bytes[from..].chunks(stride * size);
+                            for (out, sample) in row.chunks_exact_mut(size).zip(samples) {
+                                out.copy_from_slice(&sample[..size]);
+                            }
+                        }
                     }
                 }
             }
@@ -604,14 +631,20 @@ impl SampleSource for ZarrVolume {
     /// Layers of a chunk's depth; a decode holds the new layer and, on each
     /// of its threads, a chunk decoded and its stored bytes (a layer's
     /// worth at most in all when the layer has as many chunks as threads,
-    /// two layers' when a chunk spans the plane).
+    /// two layers' when a chunk spans the plane), times the entries a
+    /// chunk holds of the other axes (channels in a chunk are all decoded).
     fn plane_memory(&self) -> PlaneMemory {
         let chunks = (self.chunks[1] * self.chunks[2]).max(1);
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let others: u64 = self.lead_chunk.iter().chain(&self.trail_chunk).product();
+        let others = usize::try_from(others).unwrap_or(usize::MAX);
         PlaneMemory::Decoded {
             sample_bytes: self.scalar.size(),
             layer: self.chunk[0],
-            decoding: 1 + (2 * threads.min(chunks)).div_ceil(chunks),
+            decoding: 1
+                + (2 * threads.min(chunks))
+                    .saturating_mul(others)
+                    .div_ceil(chunks),
         }
     }
 

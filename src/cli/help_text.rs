@@ -23,7 +23,8 @@ Input formats:
   .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types up to
          32 bits, float, double; scl_slope/scl_inter applied (ISO in physical
          units); grid from the sform, else the qform, else pixdim (0 read
-         as 1, with a note)
+         as 1, with a note); lengths in metres or microns (xyzt_units)
+         converted to millimetres
   .mhd   MetaImage, also .mha; ElementDataFile LOCAL, a file or LIST; zlib
          (CompressedData); HeaderSize; TransformMatrix, Offset, ElementSpacing;
          NDims 3, or 4 with a 4th DimSize of 1

@@ -20,6 +20,8 @@ Input formats:
          (not 64-bit integers); 'line skip' and 'byte skip' (-1: data at the
          end) apply to each data file; grid from 'space directions' (rotation
          and mirroring applied) or 'spacings', origin from 'space origin'
+         (or, without 'space directions', 'axis mins' as teem and ITK
+         place it)
   .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types up to
          32 bits, float, double; scl_slope/scl_inter applied (ISO in physical
          units); grid from the sform, else the qform, else pixdim (0 read

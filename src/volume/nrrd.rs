@@ -1,9 +1,9 @@
 //! The NRRD reader: `.nrrd` (attached data) and `.nhdr` (detached data),
 //! dimension 3, or 4 with an axis of size 1.
 //!
-//! Understood fields: `type` (every NRRD name of 8-, 16- and 32-bit
-//! integers, `float`, `double`; 64-bit integers are refused, since samples
-//! become `f64`), `dimension` (3, or 4 when an axis has size 1: that axis
+//! Understood fields: `type` (every NRRD name of 8-, 16-, 32- and 64-bit
+//! integers, `float`, `double`; 64-bit integers are read as `f64`, exact
+//! within ±2^53), `dimension` (3, or 4 when an axis has size 1: that axis
 //! is left out, as the `.npy` and MetaImage readers leave out a unit
 //! axis; see `volume_axes`), `sizes`, `kinds` (an axis of size above 1
 //! whose kind is not spatial, `RGB-color`, `3-vector`, `list` ..., is

@@ -148,6 +148,66 @@ fn synth_help_gives_every_dtype_its_isovalues() {
     }
 }
 
+/// The input formats of `tmc --help` name the 64-bit and half-float types
+/// their readers read: a NRRD and a `.npy` of each (written by `tmc
+/// synth`) read as that type, and the help's paragraph of the format lists
+/// it (it said NRRD reads "not 64-bit integers", NIfTI "integer types up to
+/// 32 bits" and `.npy` only dtypes up to 4 bytes; NIfTI's int64 and uint64
+/// are read by `tests/formats/readers.rs`).
+#[test]
+fn help_names_the_wide_types_the_readers_read() {
+    let help = String::from_utf8_lossy(&tmc(&["--help"]).stdout).into_owned();
+    // A format's lines, up to the next format's (.nhdr shares NRRD's).
+    let next = |ext: &str| match ext {
+        ".npy" => ".nrrd",
+        ".nrrd" => ".nii",
+        _ => ".mhd",
+    };
+    let paragraph = |ext: &str| -> String {
+        let text = help.split(&format!("\n  {ext} ")).nth(1).unwrap();
+        text.split(&format!("\n  {} ", next(ext)))
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // (type, file, what the paragraph must say)
+    for (dtype, file, says) in [
+        ("i64", "v.nrrd", "64-bit integer"),
+        ("u64", "v.nrrd", "64-bit integer"),
+        ("i64", "v.npy", "i8"),
+        ("u64", "v.npy", "u8"),
+        ("f16", "v.npy", "f2"),
+    ] {
+        let path = dir.path().join(file);
+        let out = tmc(&[
+            "synth",
+            "sphere",
+            "--dims",
+            "4,4,4",
+            "--dtype",
+            dtype,
+            "-o",
+            s(&path),
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{dtype} {file}");
+        let info: serde_json::Value =
+            serde_json::from_slice(&tmc(&["info", s(&path), "--json"]).stdout).unwrap();
+        assert_eq!(info["sample_type"], dtype, "{file}");
+        let ext = &file[1..];
+        let text = paragraph(ext);
+        assert!(
+            text.contains(says) && !text.contains("not 64-bit"),
+            "{ext} reads {dtype}, its help says: {text}"
+        );
+    }
+    let nifti = paragraph(".nii");
+    assert!(
+        nifti.contains("64-bit integer") && !nifti.contains("up to"),
+        "{nifti}"
+    );
+}
+
 /// Whether `w` names a sample type of `tmc synth --dtype`.
 fn is_dtype(w: &str) -> bool {
     w.len() >= 2 && matches!(w.as_bytes()[0], b'u' | b'i' | b'f') && w[1..].parse::<u32>().is_ok()

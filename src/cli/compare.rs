@@ -393,7 +393,8 @@ impl Report<'_> {
             "iso": self.args.iso,
             "inside": match self.args.inside { InsideArg::High => "high", InsideArg::Low => "low" },
             "close": self.args.close,
-            "threads": self.args.threads.unwrap_or(0),
+            // The workers the runs used, as 'tmc extract --json' says it.
+            "threads": tmc::stream::threads::worker_threads(self.args.threads.unwrap_or(0)),
             "runs": self.args.runs,
             "tmc": self.tmc.json(),
             "mc": self.mc.json(),

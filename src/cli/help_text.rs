@@ -10,20 +10,24 @@ Sign convention:
 
 Input formats:
   .npy   numpy array of shape (nz, ny, nx) or (1, nz, ny, nx), C or Fortran
-         order, dtype u1 i1 u2 i2 u4 i4 f4 f8 in either byte order; unit spacing
-         (set it with --spacing and --origin)
+         order, dtype u1 i1 u2 i2 u4 i4 f4 f8 (also i8 u8 f2, read as f64, and
+         bool as u1) in either byte order; unit spacing (set it with --spacing
+         and --origin)
   .nrrd  NRRD, dimension 3, attached data or (also .nhdr) 'data file': one
   .nhdr  file, 'LIST [subdim]' (names on the following lines) or a printf
          pattern 'slice%03d.raw MIN MAX STEP [subdim]', one slice (subdim 2)
          or a block of slices (subdim 3) per file; encoding raw (mapped),
          gzip, bzip2 or ascii; any 8/16/32-bit integer type, float or double
-         (not 64-bit integers); 'line skip' and 'byte skip' (-1: data at the
-         end) apply to each data file; grid from 'space directions' (rotation
-         and mirroring applied) or 'spacings', origin from 'space origin'
-  .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types up to
-         32 bits, float, double; scl_slope/scl_inter applied (ISO in physical
-         units); grid from the sform, else the qform, else pixdim (0 read
-         as 1, with a note)
+         (64-bit integer types read as f64: exact within +-2^53); 'line
+         skip' and 'byte skip' (-1: data at the end) apply to each data
+         file; grid from 'space directions' (rotation and mirroring applied)
+         or 'spacings', origin from 'space origin' (or, without 'space
+         directions', 'axis mins' as teem and ITK place it)
+  .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types of 8 to
+         32 bits, float, double (64-bit integer types read as f64);
+         scl_slope/scl_inter applied (ISO in physical units); grid from the
+         sform, else the qform, else pixdim (0 read as 1, with a note);
+         lengths in metres or microns (xyzt_units) converted to millimetres
   .mhd   MetaImage, also .mha; ElementDataFile LOCAL, a file or LIST; zlib
          (CompressedData); HeaderSize; TransformMatrix, Offset, ElementSpacing;
          NDims 3, or 4 with a 4th DimSize of 1

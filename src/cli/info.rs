@@ -45,8 +45,8 @@ JSON keys (--json; one object on one line):
                          (all files of a directory, the files of a glob)
   data_bytes             samples * stored sample size; null if unknown
   dims, samples          samples along x, y, z and their product
-  sample_type            stored type (u8 i8 u16 i16 u32 i32 f32 f64; before
-                         any NIfTI scaling), or null
+  sample_type            stored type (u8 i8 u16 i16 u32 i32 i64 u64 f16 f32
+                         f64; before any NIfTI scaling), or null
   spacing, origin        [x, y, z]
   spacing_from,          where each came from: {\"kind\": \"file\", \"what\":
     origin_from          WHERE} (the header, ImageJ metadata ...), {\"kind\":

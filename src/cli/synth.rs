@@ -23,19 +23,21 @@ The sphere and torus fields are signed distances (positive inside) divided by
 8 samples and clamped to [-1, 1]; gyroid and noise lie in [-1, 1] already.
 
 Stored values of sphere, torus, gyroid, noise (field f in [-1, 1], surface at 0):
-  f32, f64            f                       iso 0
-  i8, i16, i32        round(f * MAX)          iso 0
-  u8, u16, u32        round((f + 1)/2 * MAX)  iso MAX/2: 127.5, 32767.5, 2147483647.5
-  (MAX is the largest value of the type.) Inside is above the isovalue.
+  f16, f32, f64       f                       iso 0
+  i8, i16, i32, i64   round(f * MAX)          iso 0
+  u8, u16, u32, u64   round((f + 1)/2 * MAX)  iso MAX/2: 127.5, 32767.5, 2147483647.5
+  (MAX is the largest value of the type; for i64 and u64 that of i32 and u32,
+  so that every value is exact in the f64 tmc reads: u64's iso is u32's.)
+  Inside is above the isovalue.
 
 The head phantom (HU):
   air -1000; soft tissue (scalp, face) 40; skull 1000 to 1500, 0.04 to 0.12 of
   the half-box thick (thin on top, thick at the base); brain 30; two ventricles
   5; one-sample partial-volume ramps at every boundary; white noise +-15.
-  Stored as:  f32 f64 i16 i32: HU;  u16 u32: HU + 1000 (air 0);
+  Stored as:  f16 f32 f64 i16 i32 i64: HU;  u16 u32 u64: HU + 1000 (air 0);
               u8: (HU + 1000) / 10;  i8: HU / 12.5   (rounded, clamped)
   Suggested isovalues (HU -500 skin, HU 500 skull):
-              f32 f64 i16 i32: -500, 500;  u16 u32: 500, 1500;
+              f16 f32 f64 i16 i32 i64: -500, 500;  u16 u32 u64: 500, 1500;
               u8: 50, 150;  i8: -40, 40
 
 Output formats (chosen by the extension of -o), all little-endian, x fastest:

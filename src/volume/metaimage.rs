@@ -5,8 +5,9 @@
 //! file of one time point: the first three values of `ElementSpacing` and
 //! `Offset` and the 3x3 of `TransformMatrix` on those axes are used),
 //! `DimSize`, `ElementType` (`MET_UCHAR`, `MET_CHAR`, `MET_USHORT`,
-//! `MET_SHORT`, `MET_UINT`, `MET_INT`, `MET_LONG_LONG`, `MET_ULONG_LONG`,
-//! `MET_FLOAT`, `MET_DOUBLE`),
+//! `MET_SHORT`, `MET_UINT`, `MET_INT`, `MET_ULONG`, `MET_LONG` (4 bytes,
+//! as MetaIO sizes them), `MET_LONG_LONG`, `MET_ULONG_LONG`, `MET_FLOAT`,
+//! `MET_DOUBLE`),
 //! `ElementNumberOfChannels` (must be 1), `ElementSpacing` (else
 //! `ElementSize`), `Offset` / `Origin` / `Position`, `TransformMatrix` /
 //! `Rotation` / `Orientation`, `BinaryDataByteOrderMSB` /
@@ -504,12 +505,16 @@ fn parse_line(line: &str, header: &mut Header) -> std::result::Result<(), String
                 "MET_SHORT" => ScalarType::I16,
                 "MET_UINT" => ScalarType::U32,
                 "MET_INT" => ScalarType::I32,
+                // MetaIO's long types have 4 bytes (`MET_ValueTypeSize`),
+                // whatever C's `long` has where the file was written.
+                "MET_LONG" => ScalarType::I32,
+                "MET_ULONG" => ScalarType::U32,
                 "MET_FLOAT" => ScalarType::F32,
                 "MET_DOUBLE" => ScalarType::F64,
                 "MET_LONG_LONG" => ScalarType::I64,
                 "MET_ULONG_LONG" => ScalarType::U64,
                 _ => return Err(format!(
-                    "ElementType '{value}' is not supported (MET_UCHAR, MET_CHAR, MET_USHORT, MET_SHORT, MET_UINT, MET_INT, MET_LONG_LONG, MET_ULONG_LONG, MET_FLOAT, MET_DOUBLE)"
+                    "ElementType '{value}' is not supported (MET_UCHAR, MET_CHAR, MET_USHORT, MET_SHORT, MET_UINT, MET_INT, MET_ULONG, MET_LONG, MET_LONG_LONG, MET_ULONG_LONG, MET_FLOAT, MET_DOUBLE)"
                 )),
             });
         }

@@ -12,7 +12,8 @@
 //! them; it goes into the [`Grid`] whole (spacing, origin and direction
 //! cosines), so vertices are in the NIfTI world frame (RAS+ millimetres),
 //! and a mirrored map (e.g. `qfac = -1`) flips the winding so normals
-//! still point outward.
+//! still point outward. Lengths in metres or microns (`xyzt_units`) are
+//! converted to millimetres, as ITK reads them.
 //!
 //! Uncompressed data is memory-mapped (and its planes lent to the slab
 //! loop, scaled ones as views computing the scaled samples); a `.nii.gz` file is decompressed
@@ -44,6 +45,9 @@ pub struct NiftiVolume {
     /// What was read otherwise than written (a zero `pixdim` as 1), one
     /// line each, for [`SourceNotes::warnings`].
     warnings: Vec<String>,
+    /// The unit of the header's lengths when it is not millimetres
+    /// (`xyzt_units` metre or micron), converted to millimetres.
+    unit: Option<&'static str>,
 }
 
 /// A plane of scaled samples, lent as a [`LentPlane::View`] of the stored
@@ -119,9 +123,18 @@ impl SampleSource for NiftiVolume {
         self.inner.grid()
     }
 
-    /// Spacing and origin from the header; a zero `pixdim` read as 1 said.
+    /// Spacing and origin from the header (converted to millimetres from
+    /// metres or microns, said); a zero `pixdim` read as 1 said.
     fn notes(&self) -> SourceNotes {
+        let from = match self.unit {
+            Some(unit) => super::ValueFrom::File {
+                what: format!("header, xyzt_units {unit}, in mm"),
+            },
+            None => super::ValueFrom::header(),
+        };
         SourceNotes {
+            spacing_from: from.clone(),
+            origin_from: from,
             warnings: self.warnings.clone(),
             ..SourceNotes::default()
         }
@@ -199,6 +212,9 @@ struct Header {
     quatern: [f64; 3],
     qoffset: [f64; 3],
     srow: [[f64; 4]; 3],
+    /// The space unit of `xyzt_units` (its low three bits): 1 metre,
+    /// 2 millimetre, 3 micron, 0 unknown.
+    space_unit: u8,
 }
 
 /// Little helper reading fixed-offset fields of a header.
@@ -328,6 +344,19 @@ pub fn version(path: &Path) -> Option<u8> {
     }
 }
 
+/// Millimetres per unit of the header's lengths, with the unit's name
+/// when it is not millimetres: `xyzt_units` metre or micron are converted,
+/// as ITK's NIfTI reader does and as the TIFF, OME-Zarr and HDF5 readers
+/// convert their voxel sizes; unknown units (0, what most writers leave)
+/// and the codes NIfTI gives no length are read as millimetres.
+fn space_unit(h: &Header) -> (f64, Option<&'static str>) {
+    match h.space_unit {
+        1 => (1e3, Some("metre")),
+        3 => (1e-3, Some("micron")),
+        _ => (1.0, None),
+    }
+}
+
 /// The `.img` file beside a `.hdr` file (same case as the extension).
 fn img_path(hdr: &Path) -> PathBuf {
     let upper = hdr
@@ -354,6 +383,7 @@ fn volume(header: Header, inner: RawVolume) -> NiftiVolume {
         scaling,
         scaled: (0..planes).map(|_| OnceLock::new()).collect(),
         warnings: pixdim_warnings(&header),
+        unit: space_unit(&header).1,
     }
 }
 
@@ -382,6 +412,7 @@ fn layout(header: &Header, offset: f64) -> std::result::Result<Layout, String> {
 /// warning: [`pixdim_warnings`] says it here); a NaN or infinite one is
 /// refused where it would be used (nibabel would make a NaN affine).
 fn grid(h: &Header) -> std::result::Result<Grid, String> {
+    let mm = space_unit(h).0;
     let pixdim = |i: usize| {
         let p = h.pixdim[i];
         if h.sform_code <= 0 && !p.is_finite() {
@@ -389,7 +420,8 @@ fn grid(h: &Header) -> std::result::Result<Grid, String> {
                 "pixdim[{i}] = {p} is not a voxel size (need a finite number; --spacing cannot mend the header, rewrite it)"
             ));
         }
-        Ok(if p == 0.0 { 1.0 } else { p.abs() })
+        // A zero pixdim states no size: the default 1 is not converted.
+        Ok(if p == 0.0 { 1.0 } else { p.abs() * mm })
     };
     let mut grid = Grid {
         dims: h.dims,
@@ -399,11 +431,11 @@ fn grid(h: &Header) -> std::result::Result<Grid, String> {
     };
     if h.sform_code > 0 {
         grid.spacing = [1.0; 3];
-        grid.origin = [h.srow[0][3], h.srow[1][3], h.srow[2][3]];
-        let matrix = [0, 1, 2].map(|r| [h.srow[r][0], h.srow[r][1], h.srow[r][2]]);
+        grid.origin = [0, 1, 2].map(|r| h.srow[r][3] * mm);
+        let matrix = [0, 1, 2].map(|r| [0, 1, 2].map(|c| h.srow[r][c] * mm));
         set_direction(&mut grid, matrix).map_err(|e| format!("sform: {e}"))?;
     } else if h.qform_code > 0 {
-        grid.origin = h.qoffset;
+        grid.origin = h.qoffset.map(|o| o * mm);
         // A rotation: its columns differ from unit length only by rounding,
         // which must not leak into the spacing.
         let spacing = grid.spacing;
@@ -571,5 +603,10 @@ fn parse_header(bytes: &[u8]) -> std::result::Result<Header, String> {
         quatern: [real(256, 352), real(260, 360), real(264, 368)],
         qoffset: [real(268, 376), real(272, 384), real(276, 392)],
         srow,
+        space_unit: (if v1 {
+            i64::from(bytes[123])
+        } else {
+            f.i32(500)
+        } & 0x07) as u8,
     })
 }

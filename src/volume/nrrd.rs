@@ -1,9 +1,9 @@
 //! The NRRD reader: `.nrrd` (attached data) and `.nhdr` (detached data),
 //! dimension 3, or 4 with an axis of size 1.
 //!
-//! Understood fields: `type` (every NRRD name of 8-, 16- and 32-bit
-//! integers, `float`, `double`; 64-bit integers are refused, since samples
-//! become `f64`), `dimension` (3, or 4 when an axis has size 1: that axis
+//! Understood fields: `type` (every NRRD name of 8-, 16-, 32- and 64-bit
+//! integers, `float`, `double`; 64-bit integers are read as `f64`, exact
+//! within ±2^53), `dimension` (3, or 4 when an axis has size 1: that axis
 //! is left out, as the `.npy` and MetaImage readers leave out a unit
 //! axis; see `volume_axes`), `sizes`, `kinds` (an axis of size above 1
 //! whose kind is not spatial, `RGB-color`, `3-vector`, `list` ..., is
@@ -27,7 +27,9 @@
 //! are parallel (a singular matrix) are refused, as in the other readers.
 //! Without `space directions`, `spacings` gives the spacing, and a negative
 //! value mirrors its axis (positions decrease along it), as teem and ITK
-//! read it; a zero or non-finite one is refused.
+//! read it; a zero or non-finite one is refused. There, `axis mins` (with
+//! `spacings` or `axis maxs`, and `centers`) give the origin as teem's
+//! `nrrdOriginCalculate` does and ITK reads it (see `axis_origin`).
 
 use super::nrrd_data::{open_data, DataFormat};
 use super::nrrd_header::{parse_line, DataFile, Encoding, Header};
@@ -180,6 +182,11 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
     }
     if dims.contains(&0) {
         return Err(fail(format!("sizes {} contain a zero", dims_text(dims))));
+    }
+    if header.directions.is_none() && header.origin.is_none() {
+        if let Some(origin) = axis_origin(&header, axes, dims) {
+            grid.origin = origin;
+        }
     }
 
     let format = DataFormat {
@@ -345,6 +352,30 @@ fn data_files(
     }
 }
 
+/// The origin that `axis mins` give a grid without `space directions`, as
+/// teem's `nrrdOriginCalculate` computes it with cell centring by default
+/// (ITK's NRRD reader calls it so): the centre of the first sample, at
+/// `min + spacing / 2` on a cell-centred axis and `min` on a node-centred
+/// one, the spacing from `spacings`, else from `axis maxs` (`(max - min)`
+/// over `size`, or `size - 1` for nodes). `None`, as teem gives no origin,
+/// when an axis lacks its min, or both its spacing and max.
+fn axis_origin(header: &Header, axes: [usize; 3], dims: [usize; 3]) -> Option<[f64; 3]> {
+    let mins = header.axis_mins.as_ref()?;
+    let known = |v: Option<&Vec<f64>>, a: usize| v.map(|v| v[a]).filter(|x| x.is_finite());
+    let mut origin = [0.0; 3];
+    for (j, &a) in axes.iter().enumerate() {
+        let min = known(Some(mins), a)?;
+        let cell = header.centers.as_ref().is_none_or(|c| c[a] != "node");
+        let denom = if cell { dims[j] } else { dims[j] - 1 } as f64;
+        let spacing = match known(header.spacings.as_ref(), a) {
+            Some(s) => s,
+            None => (known(header.axis_maxs.as_ref(), a)? - min) / denom,
+        };
+        origin[j] = min + if cell { spacing / 2.0 } else { 0.0 };
+    }
+    origin.iter().all(|o| o.is_finite()).then_some(origin)
+}
+
 /// The kinds of an axis that holds positions in space (`???` and `none`
 /// say nothing, and are taken as such too); every other NRRD kind
 /// (`RGB-color`, `3-vector`, `list`, `time`, ...) indexes components or
@@ -382,6 +413,17 @@ fn volume_axes(header: &Header) -> std::result::Result<[usize; 3], String> {
     };
     count("spacings", header.spacings.as_ref().map(Vec::len), "values")?;
     count("kinds", header.kinds.as_ref().map(Vec::len), "values")?;
+    count(
+        "axis mins",
+        header.axis_mins.as_ref().map(Vec::len),
+        "values",
+    )?;
+    count(
+        "axis maxs",
+        header.axis_maxs.as_ref().map(Vec::len),
+        "values",
+    )?;
+    count("centers", header.centers.as_ref().map(Vec::len), "values")?;
     match &header.directions {
         Some(Ok(d)) => count("space directions", Some(d.len()), "vectors")?,
         Some(Err(e)) => return Err(e.clone()),

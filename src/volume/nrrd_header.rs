@@ -102,6 +102,14 @@ pub(crate) struct Header {
     /// `RGB-color`, `list`, ...), as written.
     pub kinds: Option<Vec<String>>,
     pub origin: Option<[f64; 3]>,
+    /// From `axis mins` and `axis maxs`: one per axis, NaN where unknown.
+    /// Without `space directions` they place the origin as teem's
+    /// `nrrdOriginCalculate` does (the spacing never comes from them).
+    pub axis_mins: Option<Vec<f64>>,
+    pub axis_maxs: Option<Vec<f64>>,
+    /// From `centers` (or `centerings`): `cell`, `node`, or anything else
+    /// for unknown, one per axis, as written.
+    pub centers: Option<Vec<String>>,
     /// The `space` name (`left-posterior-superior`, ...), recorded only.
     pub space: Option<String>,
     pub line_skip: u64,
@@ -122,6 +130,9 @@ impl Default for Header {
             directions: None,
             kinds: None,
             origin: None,
+            axis_mins: None,
+            axis_maxs: None,
+            centers: None,
             space: None,
             line_skip: 0,
             byte_skip: Some(0),
@@ -225,6 +236,11 @@ pub(crate) fn parse_line(line: &str, header: &mut Header) -> Result<(), String> 
             )
         }
         "kinds" => header.kinds = Some(value.split_whitespace().map(String::from).collect()),
+        "axis mins" | "axismins" => header.axis_mins = Some(per_axis_numbers(name, value)?),
+        "axis maxs" | "axismaxs" => header.axis_maxs = Some(per_axis_numbers(name, value)?),
+        "centers" | "centerings" => {
+            header.centers = Some(value.split_whitespace().map(String::from).collect())
+        }
         "space origin" => {
             header.origin = Some(match vectors(value).as_deref() {
                 Some([Some(v)]) if v.len() == 3 => [v[0], v[1], v[2]],
@@ -248,6 +264,18 @@ pub(crate) fn parse_line(line: &str, header: &mut Header) -> Result<(), String> 
         _ => {}
     }
     Ok(())
+}
+
+/// The numbers of a per-axis field (`axis mins`, `axis maxs`): separated
+/// by whitespace or commas (as CMTK writes them, and teem's `%lf` reads
+/// past), `nan` for an unknown one.
+fn per_axis_numbers(name: &str, value: &str) -> Result<Vec<f64>, String> {
+    value
+        .split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|w| !w.is_empty())
+        .map(|w| w.parse::<f64>())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|_| format!("bad '{name}' value '{value}'"))
 }
 
 /// Maps a NRRD type name to a scalar type.

@@ -198,6 +198,22 @@ fn a_tunnel_changes_the_topology_and_tmc_agrees_with_the_oracle() {
     assert_eq!(json["differing_cells"]["cells"], 1);
 }
 
+/// Without `--threads`, `threads` in the JSON is the number of workers the
+/// runs used, as in `tmc extract --json` (it said 0, the option's
+/// default, which no run used).
+#[test]
+fn the_json_gives_the_threads_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = synth(dir.path(), "sphere", "9,9,9", "f32", "ball.npy");
+    let json = compare_json(&[s(&input), "--iso", "0"]);
+    let mesh = dir.path().join("b.ply");
+    let mut args = vec!["extract", s(&input), "-o", s(&mesh)];
+    args.extend(["--iso=0", "--json", "-q"]);
+    let extract: Value = serde_json::from_slice(&tmc(&args).stdout).unwrap();
+    assert!(extract["threads"].as_u64().unwrap() >= 1, "{extract}");
+    assert_eq!(json["threads"], extract["threads"], "{json}");
+}
+
 #[test]
 fn the_json_holds_every_field() {
     let dir = tempfile::tempdir().unwrap();
@@ -227,6 +243,7 @@ fn the_json_holds_every_field() {
             assert!(!o[key].is_null(), "{side}.{key} missing: {o}");
         }
     }
+    assert_eq!(json["threads"], 2, "the threads asked for");
     // The counts are those of 'tmc extract --json' of each method.
     for side in ["tmc", "mc"] {
         let mesh = dir.path().join(format!("{side}.tmesh"));

@@ -73,6 +73,146 @@ fn help_states_the_convention_formats_and_exit_codes() {
     }
 }
 
+/// `tmc synth --help` gives every `--dtype` its stored values and
+/// isovalues, and those synth prints after writing: each type is in a row
+/// of the unit fields' table and of the head phantom's lists, and the
+/// row holds the isovalues synth suggests for it (i64, u64 and f16 were
+/// in none, and "MAX is the largest value of the type" sent a u64 user to
+/// an isovalue outside the data).
+#[test]
+fn synth_help_gives_every_dtype_its_isovalues() {
+    let help = String::from_utf8_lossy(&tmc(&["synth", "--help"]).stdout).into_owned();
+    let section = |start: &str, end: &str| {
+        let after = help
+            .split(start)
+            .nth(1)
+            .unwrap_or_else(|| panic!("no '{start}'"));
+        after.split(end).next().unwrap().to_string()
+    };
+    // Entries: a line of the table, a ';'-separated group of the lists.
+    let unit_rows = section("Stored values of sphere", "Inside is above");
+    let head_stored = section("Stored as:", "Suggested isovalues");
+    let head_isos = section("Suggested isovalues", "Output formats");
+    let words = |entry: &str| -> Vec<String> {
+        entry
+            .split_whitespace()
+            .map(|w| {
+                w.trim_matches(|c| c == ',' || c == ':' || c == '(' || c == ')')
+                    .to_string()
+            })
+            .collect()
+    };
+    let entry_of = |text: &str, dtype: &str| -> Option<Vec<String>> {
+        text.split(['\n', ';'])
+            .map(words)
+            .find(|w| w.iter().take_while(|w| is_dtype(w)).any(|w| w == dtype))
+    };
+    let dtypes = [
+        "u8", "i8", "u16", "i16", "u32", "i32", "i64", "u64", "f16", "f32", "f64",
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("v.npy");
+    for dtype in dtypes {
+        assert!(
+            entry_of(&head_stored, dtype).is_some(),
+            "head 'Stored as' names no {dtype}: {head_stored}"
+        );
+        for (kind, rows) in [("sphere", &unit_rows), ("head", &head_isos)] {
+            let out = tmc(&[
+                "synth",
+                kind,
+                "--dims",
+                "4,4,4",
+                "--dtype",
+                dtype,
+                "-o",
+                path.to_str().unwrap(),
+            ]);
+            assert_eq!(out.status.code(), Some(0), "{kind} {dtype}");
+            let said = String::from_utf8_lossy(&out.stderr).into_owned();
+            let isos: Vec<&str> = said
+                .split("--iso ")
+                .skip(1)
+                .map(|r| r.split([' ', ')']).next().unwrap())
+                .collect();
+            assert!(!isos.is_empty(), "{kind} {dtype}: {said}");
+            let entry = entry_of(rows, dtype)
+                .unwrap_or_else(|| panic!("{kind}: no row of the help names {dtype}: {rows}"));
+            for iso in isos {
+                assert!(
+                    entry.iter().any(|w| w == iso),
+                    "{kind} {dtype}: synth suggests --iso {iso}, its row of the help says {entry:?}"
+                );
+            }
+        }
+    }
+}
+
+/// The input formats of `tmc --help` name the 64-bit and half-float types
+/// their readers read: a NRRD and a `.npy` of each (written by `tmc
+/// synth`) read as that type, and the help's paragraph of the format lists
+/// it (it said NRRD reads "not 64-bit integers", NIfTI "integer types up to
+/// 32 bits" and `.npy` only dtypes up to 4 bytes; NIfTI's int64 and uint64
+/// are read by `tests/formats/readers.rs`).
+#[test]
+fn help_names_the_wide_types_the_readers_read() {
+    let help = String::from_utf8_lossy(&tmc(&["--help"]).stdout).into_owned();
+    // A format's lines, up to the next format's (.nhdr shares NRRD's).
+    let next = |ext: &str| match ext {
+        ".npy" => ".nrrd",
+        ".nrrd" => ".nii",
+        _ => ".mhd",
+    };
+    let paragraph = |ext: &str| -> String {
+        let text = help.split(&format!("\n  {ext} ")).nth(1).unwrap();
+        text.split(&format!("\n  {} ", next(ext)))
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // (type, file, what the paragraph must say)
+    for (dtype, file, says) in [
+        ("i64", "v.nrrd", "64-bit integer"),
+        ("u64", "v.nrrd", "64-bit integer"),
+        ("i64", "v.npy", "i8"),
+        ("u64", "v.npy", "u8"),
+        ("f16", "v.npy", "f2"),
+    ] {
+        let path = dir.path().join(file);
+        let out = tmc(&[
+            "synth",
+            "sphere",
+            "--dims",
+            "4,4,4",
+            "--dtype",
+            dtype,
+            "-o",
+            s(&path),
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{dtype} {file}");
+        let info: serde_json::Value =
+            serde_json::from_slice(&tmc(&["info", s(&path), "--json"]).stdout).unwrap();
+        assert_eq!(info["sample_type"], dtype, "{file}");
+        let ext = &file[1..];
+        let text = paragraph(ext);
+        assert!(
+            text.contains(says) && !text.contains("not 64-bit"),
+            "{ext} reads {dtype}, its help says: {text}"
+        );
+    }
+    let nifti = paragraph(".nii");
+    assert!(
+        nifti.contains("64-bit integer") && !nifti.contains("up to"),
+        "{nifti}"
+    );
+}
+
+/// Whether `w` names a sample type of `tmc synth --dtype`.
+fn is_dtype(w: &str) -> bool {
+    w.len() >= 2 && matches!(w.as_bytes()[0], b'u' | b'i' | b'f') && w[1..].parse::<u32>().is_ok()
+}
+
 #[test]
 fn help_that_cannot_be_written_is_a_failure() {
     let Ok(full) = fs::OpenOptions::new().write(true).open("/dev/full") else {

@@ -572,3 +572,97 @@ fn bad_ascii_metaimage_data_is_one_error() {
         assert!(e.contains(phrase), "{}: {e}", path.display());
     }
 }
+
+/// MetaIO's `MET_LONG` and `MET_ULONG` are 4-byte integers
+/// (`MET_ValueTypeSize` in MetaIO's metaTypes.h; ITK writes them for
+/// `long` pixels where `long` has 4 bytes): the same bytes read as
+/// `MET_INT` and `MET_UINT` do (they were refused as unsupported).
+#[test]
+fn metaimage_long_is_four_bytes() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let values: Vec<i32> = (0..24).map(|i| (i - 12) * 100_000_000).collect();
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let mha = |element_type: &str| {
+        let mut out = format!(
+            "ObjectType = Image\nNDims = 3\nDimSize = 2 3 4\nElementType = {element_type}\nElementDataFile = LOCAL\n"
+        )
+        .into_bytes();
+        out.extend_from_slice(&bytes);
+        out
+    };
+    for (long, int, scalar) in [
+        ("MET_LONG", "MET_INT", ScalarType::I32),
+        ("MET_ULONG", "MET_UINT", ScalarType::U32),
+    ] {
+        let want = volume::open(&write(d, &format!("{int}.mha"), &mha(int)), None).unwrap();
+        let got = volume::open(&write(d, &format!("{long}.mha"), &mha(long)), None)
+            .unwrap_or_else(|e| panic!("{long}: {e}"));
+        assert_eq!(got.stored_type(), Some(scalar), "{long}");
+        assert_eq!(got.grid(), want.grid(), "{long}");
+        assert_eq!(
+            all_samples(got.as_ref()),
+            all_samples(want.as_ref()),
+            "{long}"
+        );
+    }
+}
+
+/// NIfTI's `xyzt_units` (the space unit in its low three bits: 1 metre,
+/// 2 millimetre, 3 micron) puts the grid in millimetres, as ITK's NIfTI
+/// reader does and as the TIFF, OME-Zarr and HDF5 readers convert their
+/// voxel sizes: a micron file's spacing and origin are a thousandth of
+/// its header's numbers (they were taken as millimetres, so its mesh was
+/// a thousand times too large beside the same samples as OME-TIFF).
+/// Unknown units (0, what most writers leave) stay millimetres.
+#[test]
+fn nifti_xyzt_units_give_millimetres() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // (fixture, offset of xyzt_units, its width): an sform and a qform
+    // NIfTI-1 file, a NIfTI-2 file.
+    for (name, at, width) in [
+        ("nifti1_u8.nii", 123, 1),
+        ("nifti1_i16_qform_flip.nii", 123, 1),
+        ("nifti2_i16_qform.nii", 500, 4),
+    ] {
+        let good = fs::read(data_dir().join(name)).unwrap();
+        let stated = nifti::open(&data_dir().join(name)).unwrap();
+        let stated_grid = *stated.grid();
+        // Time units (bits 3 to 5) change nothing.
+        for (units, mm) in [(2u8 | 8, 1.0), (1 | 16, 1000.0), (3 | 24, 1e-3), (0, 1.0)] {
+            let mut bytes = good.clone();
+            let little = matches!(
+                i32::from_le_bytes([good[0], good[1], good[2], good[3]]),
+                348 | 540
+            );
+            bytes[at..at + width].fill(0);
+            bytes[if little { at } else { at + width - 1 }] = units;
+            let path = write(d, &format!("u{units}_{name}"), &bytes);
+            let vol = nifti::open(&path).unwrap_or_else(|e| panic!("{name} {units}: {e}"));
+            let grid = *vol.grid();
+            assert_eq!(grid.dims, stated_grid.dims, "{name} {units}");
+            for i in 0..3 {
+                for j in 0..3 {
+                    let (a, b) = (grid.direction[i][j], stated_grid.direction[i][j]);
+                    assert!(close(a, b, 1e-12), "{name} {units}: direction {a} vs {b}");
+                }
+                assert!(
+                    close(grid.spacing[i], stated_grid.spacing[i] * mm, 1e-12),
+                    "{name} units {units}: spacing {:?}, header {:?}",
+                    grid.spacing,
+                    stated_grid.spacing
+                );
+                assert!(
+                    close(grid.origin[i], stated_grid.origin[i] * mm, 1e-12),
+                    "{name} units {units}: origin {:?}, header {:?}",
+                    grid.origin,
+                    stated_grid.origin
+                );
+            }
+            assert_eq!(all_samples(&vol), all_samples(&stated));
+            let from = format!("{:?}", vol.notes().spacing_from);
+            assert_eq!(from.contains("in mm"), mm != 1.0, "{name} {units}: {from}");
+        }
+    }
+}

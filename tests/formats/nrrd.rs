@@ -579,3 +579,95 @@ fn non_spatial_axes_are_refused_naming_them() {
     let vol = volume::open(&path, None).unwrap();
     assert_eq!(vol.grid().dims, [4, 16, 1]);
 }
+
+/// Without `space directions`, `axis mins` give the origin as teem's
+/// `nrrdOriginCalculate` computes it and ITK's NRRD reader takes it (with
+/// cell centring where `centers` states none): the first sample's centre
+/// is at `min + spacing / 2` on a cell-centred axis and at `min` on a
+/// node-centred one, the spacing being `spacings` or, failing that,
+/// `(max - min) / size` (cell) or `/ (size - 1)` (node) from `axis maxs`.
+/// Every axis needs its min and a spacing or max, else the origin stays
+/// 0, as in teem. Written so by Fiji's and CMTK's NRRD writers; the origin
+/// was 0 whatever they said.
+#[test]
+fn axis_mins_give_the_origin_as_teem_computes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    copy_set(dir.path(), "nrrd_raw_le_f32");
+    let (d, plain) = (dir.path(), dir.path().join("nrrd_raw_le_f32.nrrd"));
+    let base = volume::open(&plain, None).unwrap();
+    let (spacing, dims) = (base.grid().spacing, base.grid().dims);
+    assert_eq!(base.grid().origin, [0.0; 3]);
+    let mins = [10.0, -5.0, 3.0];
+    let maxs = [20.0, 9.0, 15.0];
+    // (extra fields, whether `spacings` stay, the origin teem computes)
+    let teem = |center: [&str; 3], spacings: bool| -> [f64; 3] {
+        [0, 1, 2].map(|i| {
+            let cell = center[i] != "node";
+            let denom = if cell { dims[i] } else { dims[i] - 1 } as f64;
+            let step = if spacings {
+                spacing[i]
+            } else {
+                (maxs[i] - mins[i]) / denom
+            };
+            mins[i] + if cell { step / 2.0 } else { 0.0 }
+        })
+    };
+    let cases: Vec<(String, bool, [f64; 3])> = vec![
+        (
+            "axis mins: 10 -5 3\n".into(),
+            true,
+            teem(["", "", ""], true),
+        ),
+        (
+            "centers: node node node\naxis mins: 10 -5 3\n".into(),
+            true,
+            teem(["node"; 3], true),
+        ),
+        (
+            "centerings: cell node ???\naxismins: 10, -5, 3\n".into(),
+            true,
+            teem(["cell", "node", ""], true),
+        ),
+        (
+            "centers: node cell node\naxis mins: 10 -5 3\naxis maxs: 20 9 15\n".into(),
+            false,
+            teem(["node", "cell", "node"], false),
+        ),
+        // A min missing, or neither spacing nor max: no origin.
+        ("axis mins: 10 nan 3\n".into(), true, [0.0; 3]),
+        ("axis mins: 10 -5 3\n".into(), false, [0.0; 3]),
+    ];
+    for (i, (fields, keep_spacings, want)) in cases.into_iter().enumerate() {
+        let path = d.join(format!("mins{i}.nrrd"));
+        fs::copy(&plain, &path).unwrap();
+        let spacings = "spacings: 0.5 1 2\n";
+        edit(
+            &path,
+            spacings,
+            &format!("{}{fields}", if keep_spacings { spacings } else { "" }),
+        );
+        let vol = volume::open(&path, None).unwrap_or_else(|e| panic!("{fields}: {e}"));
+        let grid = vol.grid();
+        for a in 0..3 {
+            assert!(
+                (grid.origin[a] - want[a]).abs() < 1e-12,
+                "{fields}: origin {:?}, teem's {want:?}",
+                grid.origin
+            );
+        }
+        // The spacing is that of `spacings` (1 without: axis maxs never
+        // set it, as in teem's nrrdSpacingCalculate).
+        let want_spacing = if keep_spacings { spacing } else { [1.0; 3] };
+        assert_eq!(grid.spacing, want_spacing, "{fields}");
+        assert_eq!(all_samples(vol.as_ref()), all_samples(base.as_ref()));
+    }
+
+    // `space directions` place the grid; axis mins change nothing.
+    copy_set(d, "nrrd_detached_rot_f64");
+    let nhdr = d.join("nrrd_detached_rot_f64.nhdr");
+    let before = *volume::open(&nhdr, None).unwrap().grid();
+    let text = fs::read_to_string(&nhdr).unwrap();
+    let sizes = text.lines().find(|l| l.starts_with("sizes")).unwrap();
+    edit(&nhdr, sizes, &format!("{sizes}\naxis mins: 100 100 100"));
+    assert_eq!(*volume::open(&nhdr, None).unwrap().grid(), before);
+}

@@ -36,29 +36,28 @@ pub(crate) fn volume_axes(
     names: &[String],
     picks: &[(String, u64)],
 ) -> Result<VolumeAxes, String> {
-    let names_axis =
-        |axis: &str, i: usize| names.get(i).is_some_and(|n| n == axis) || i.to_string() == axis;
-    let picked = |i: usize| picks.iter().find(|(axis, _)| names_axis(axis, i));
+    let at: Vec<Option<usize>> = picks
+        .iter()
+        .map(|(axis, _)| position(names, shape.len(), axis))
+        .collect();
     let mut end = shape.len();
-    while end > 3 && (shape[end - 1] == 1 || picked(end - 1).is_some()) {
+    while end > 3 && (shape[end - 1] == 1 || at.contains(&Some(end - 1))) {
         end -= 1;
     }
-    if let Some(i) =
-        (end..shape.len()).find(|&i| picks.iter().filter(|(a, _)| names_axis(a, i)).count() > 1)
-    {
-        return Err(format!("--at names axis '{}' twice", names[i]));
+    // Picks of the axes set aside; the others go to `entries`.
+    let mut trail: Vec<Option<u64>> = vec![None; shape.len() - end];
+    let mut before = Vec::new();
+    for ((axis, entry), at) in picks.iter().zip(&at) {
+        match *at {
+            Some(i) if i >= end => {
+                if trail[i - end].is_some() {
+                    return Err(format!("--at names axis '{}' twice", names[i]));
+                }
+                trail[i - end] = Some(checked_entry(axis, *entry, &names[i], shape[i])?);
+            }
+            _ => before.push((axis.clone(), *entry)),
+        }
     }
-    let trail = (end..shape.len())
-        .map(|i| match picked(i) {
-            Some((axis, entry)) => checked_entry(axis, *entry, &names[i], shape[i]),
-            None => Ok(0),
-        })
-        .collect::<Result<Vec<u64>, String>>()?;
-    let before: Vec<(String, u64)> = picks
-        .iter()
-        .filter(|(axis, _)| !(end..shape.len()).any(|i| names_axis(axis, i)))
-        .cloned()
-        .collect();
     let lead = entries(&shape[..end], &names[..end], &before).map_err(|why| {
         let last = shape.len() - 1;
         match why.contains("pick one with --at") && end == shape.len() {
@@ -69,7 +68,15 @@ pub(crate) fn volume_axes(
             false => why,
         }
     })?;
+    // An axis set aside without a pick has one entry.
+    let trail = trail.into_iter().map(|entry| entry.unwrap_or(0)).collect();
     Ok(VolumeAxes { end, lead, trail })
+}
+
+/// The position of the axis a pick names, by its name or its position (0
+/// the slowest), among the first `rank` axes named `names`.
+fn position(names: &[String], rank: usize, axis: &str) -> Option<usize> {
+    (0..rank).find(|&i| names.get(i).is_some_and(|n| n == axis) || i.to_string() == axis)
 }
 
 /// `entry` of axis `name` (of `len` entries), picked as `--at AXIS=ENTRY`,
@@ -95,13 +102,10 @@ pub(crate) fn entries(
     picks: &[(String, u64)],
 ) -> Result<Vec<u64>, String> {
     let lead = shape.len().saturating_sub(3);
-    let position = |axis: &str| {
-        (0..shape.len()).find(|&i| names.get(i).is_some_and(|n| n == axis) || i.to_string() == axis)
-    };
     let leading: Vec<String> = (0..lead).map(|i| names[i].clone()).collect();
     let mut chosen: Vec<Option<u64>> = vec![None; lead];
     for (axis, entry) in picks {
-        let i = match position(axis) {
+        let i = match position(names, shape.len(), axis) {
             Some(i) if i < lead => i,
             Some(_) => {
                 return Err(format!(

@@ -61,8 +61,6 @@ pub struct ZarrVolume {
     array: Array<FilesystemStore>,
     grid: Grid,
     scalar: ScalarType,
-    /// Axes of the array (3 and more).
-    rank: usize,
     /// Chunk shape along z, y, x.
     chunk: [usize; 3],
     /// The entry read of each axis before z, y, x.
@@ -367,7 +365,6 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
         array,
         grid,
         scalar,
-        rank,
         chunk,
         lead: axes.lead,
         lead_chunk,
@@ -519,18 +516,8 @@ impl ZarrVolume {
         // (chunks are C order over all axes, so the block is contiguous
         // but for the axes after x: a sample every `stride`, from
         // `trail_offset`).
-        let mut lead_index = Vec::with_capacity(self.rank);
-        let mut block_start = 0usize;
-        for (&entry, &along) in self.lead.iter().zip(&self.lead_chunk) {
-            lead_index.push(entry / along);
-            block_start = block_start * along as usize + (entry % along) as usize;
-        }
-        let (mut trail_index, mut trail_offset, mut stride) = (Vec::new(), 0usize, 1usize);
-        for (&entry, &along) in self.trail.iter().zip(&self.trail_chunk) {
-            trail_index.push(entry / along);
-            trail_offset = trail_offset * along as usize + (entry % along) as usize;
-            stride *= along as usize;
-        }
+        let (lead_index, block_start, _) = within_chunks(&self.lead, &self.lead_chunk);
+        let (trail_index, trail_offset, stride) = within_chunks(&self.trail, &self.trail_chunk);
         let block = cz * cy * cx * stride * size;
         let block_start = block_start * block;
         let work = |t: usize| -> Result<()> {
@@ -595,6 +582,20 @@ impl ZarrVolume {
         }
         Ok(layer.into_inner().unwrap_or_else(|p| p.into_inner()))
     }
+}
+
+/// Where the `entries` of some axes whose chunks are `chunk` entries long
+/// lie: the chunk index along each axis, the entries' flat offset inside
+/// their chunk (C order over those axes) and the number of flat places
+/// (the product of `chunk`).
+fn within_chunks(entries: &[u64], chunk: &[u64]) -> (Vec<u64>, usize, usize) {
+    let (mut index, mut offset, mut places) = (Vec::with_capacity(entries.len()), 0, 1);
+    for (&entry, &along) in entries.iter().zip(chunk) {
+        index.push(entry / along);
+        offset = offset * along as usize + (entry % along) as usize;
+        places *= along as usize;
+    }
+    (index, offset, places)
 }
 
 impl SampleSource for ZarrVolume {

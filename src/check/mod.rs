@@ -78,6 +78,7 @@ pub use geometry::check_geometry;
 pub use measure::{measure_reports, Measured, Measurement};
 pub use read::{is_tmesh, read_mesh, read_mesh_to_draw};
 pub use report::{ComponentReport, Geometry, MeshReport};
+pub(crate) use stream::plural;
 pub use stream::{Scratch, StreamCheck, Verdict};
 pub use stream_file::check_tmesh;
 pub use stream_links::{Checked, Links};

@@ -120,18 +120,27 @@ impl Verdict {
         if self.triangles == 0 {
             return "empty: no surface".into();
         }
-        let parts = format!(
-            "{} component{}",
-            self.components,
-            if self.components == 1 { "" } else { "s" }
-        );
+        let parts = format!("{} component{}", self.components, plural(self.components));
         match self.genus() {
             Some(g) => format!("closed, genus {g}, {parts}"),
             None if self.nonmanifold_edges > 0 => {
-                format!("NOT MANIFOLD ({} edges), {parts}", self.nonmanifold_edges)
+                let n = self.nonmanifold_edges;
+                format!("NOT MANIFOLD ({n} edge{}), {parts}", plural(n))
             }
-            None => format!("open ({} boundary edges), {parts}", self.boundary_edges),
+            None => {
+                let n = self.boundary_edges;
+                format!("open ({n} boundary edge{}), {parts}", plural(n))
+            }
         }
+    }
+}
+
+/// The plural ending of a count's noun: "" for one, "s" for any other.
+pub(crate) fn plural(n: impl Into<u64>) -> &'static str {
+    if n.into() == 1 {
+        ""
+    } else {
+        "s"
     }
 }
 

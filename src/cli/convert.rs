@@ -1,5 +1,6 @@
 //! `tmc convert`: a `.tmesh` file to PLY, OBJ, OFF, STL (or `.tmesh`),
-//! chunk by chunk.
+//! chunk by chunk; a PLY, OBJ, OFF or STL file, read whole, to another of
+//! those formats.
 
 use clap::Args;
 use std::path::PathBuf;
@@ -7,16 +8,23 @@ use std::sync::atomic::AtomicBool;
 use tmc::meshfile::TmeshReader;
 use tmc::Result;
 
-/// Convert a .tmesh file to .ply, .obj, .off, .stl (or .tmesh).
+/// Convert a mesh file: .tmesh to .ply, .obj, .off, .stl (or .tmesh), and
+/// .ply, .obj, .off or .stl to .ply, .obj, .off or .stl.
 ///
-/// Reads one chunk at a time, so memory stays small whatever the mesh size.
-/// The result is byte-identical to what 'tmc extract' writes in that format
-/// directly. Every chunk's checksum is verified; a damaged file stops the
-/// conversion with a message naming the chunk, and nothing is left at the
-/// output path.
+/// A .tmesh file is read one chunk at a time, so memory stays small
+/// whatever the mesh size, and the result is byte-identical to what 'tmc
+/// extract' writes in that format directly. Every chunk's checksum is
+/// verified; a damaged file stops the conversion with a message naming the
+/// chunk, and nothing is left at the output path.
+///
+/// Other mesh files are read whole (memory grows with the mesh). PLY keeps
+/// vertex normals (nx ny nz) and a face 'label'; OBJ keeps one normal per
+/// vertex; STL's facet corners at one position become one vertex. A .tmesh
+/// file cannot be made from them: it records the extraction that made it.
 #[derive(Debug, Args)]
 pub(crate) struct ConvertArgs {
-    /// The .tmesh file, as written by 'tmc extract -o MESH.tmesh'.
+    /// The mesh file: a .tmesh file, as written by 'tmc extract -o
+    /// MESH.tmesh', or a .ply, .obj, .off or .stl file.
     #[arg(value_name = "INPUT")]
     pub input: PathBuf,
 
@@ -38,28 +46,57 @@ pub(crate) fn run(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()>
     // No placeholder is filled in: a `{NAME}` would stay in the name.
     super::placeholders::check(&args.output, "-o", &[])?;
     tmc::files::check_distinct(&args.input, &args.output)?;
-    refuse_other_mesh(&args.input)?;
+    if is_other_mesh(&args.input) {
+        return convert_whole(args, cancel);
+    }
     tmc::part::PartRecord::refuse_part(&args.input)?;
     let mut reader = TmeshReader::open(&args.input)?;
     tmc::export::check_output_path(&args.output)?;
-    if !args.quiet {
-        if let Some(lost) = left_out(reader.info(), &args.output) {
-            say!("tmc: note: {}: {lost}", args.output.display());
-        }
-    }
+    let info = reader.info();
+    note_left_out(args, info.labels, info.normals);
     let mut sink = tmc::export::create_sink(&args.output)?;
     let never = AtomicBool::new(false);
     tmc::export::replay_cancellable(&mut reader, sink.as_mut(), cancel.unwrap_or(&never))?;
     Ok(())
 }
 
-/// What an output format cannot hold of a mesh with `info`'s attributes:
-/// per-face labels live only in PLY and `.tmesh`, vertex normals in PLY,
+/// Converts a PLY, OBJ, OFF or STL file, read whole, into the output's
+/// format (not `.tmesh`, which records an extraction).
+fn convert_whole(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()> {
+    if tmc::export::Format::from_path(&args.output)? == tmc::export::Format::Tmesh {
+        return Err(tmc::Error::Invalid(format!(
+            "{}: a .tmesh file records the extraction that made it, and {} is \
+             another mesh format: write .ply, .obj, .off or .stl (or extract \
+             the volume again with -o MESH.tmesh)",
+            args.output.display(),
+            args.input.display()
+        )));
+    }
+    tmc::export::check_output_path(&args.output)?;
+    let mesh = tmc::check::read_mesh_to_draw(&args.input)?;
+    if cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
+        return Err(tmc::Error::Interrupted);
+    }
+    note_left_out(args, !mesh.labels.is_empty(), !mesh.normals.is_empty());
+    tmc::export::write_mesh(&args.output, &mesh)
+}
+
+/// Says on stderr (unless `-q`) what the output format leaves out.
+fn note_left_out(args: &ConvertArgs, labels: bool, normals: bool) {
+    if !args.quiet {
+        if let Some(lost) = left_out(labels, normals, &args.output) {
+            say!("tmc: note: {}: {lost}", args.output.display());
+        }
+    }
+}
+
+/// What an output format cannot hold of a mesh with per-face `labels` or
+/// vertex `normals`: labels live only in PLY and `.tmesh`, normals in PLY,
 /// OBJ and `.tmesh`.
-fn left_out(info: &tmc::MeshInfo, output: &std::path::Path) -> Option<String> {
+fn left_out(labels: bool, normals: bool, output: &std::path::Path) -> Option<String> {
     let ext = tmc::files::lowercase_extension(output);
-    let labels = info.labels && !matches!(ext.as_str(), "ply" | "tmesh");
-    let normals = info.normals && !matches!(ext.as_str(), "ply" | "obj" | "tmesh");
+    let labels = labels && !matches!(ext.as_str(), "ply" | "tmesh");
+    let normals = normals && !matches!(ext.as_str(), "ply" | "obj" | "tmesh");
     let (what, keep) = match (labels, normals) {
         (true, true) => (
             "per-face labels and vertex normals",
@@ -74,32 +111,19 @@ fn left_out(info: &tmc::MeshInfo, output: &std::path::Path) -> Option<String> {
     ))
 }
 
-/// Refuses, saying what convert reads, an input that is another mesh
-/// format by its extension and not a `.tmesh` by its first bytes (the
-/// reader's 'wrong magic bytes' did not say that a PLY is not read).
-fn refuse_other_mesh(input: &std::path::Path) -> Result<()> {
+/// Whether `input` is a PLY, OBJ, OFF or STL file by its extension and
+/// not a `.tmesh` file by its first bytes (a `.tmesh` file renamed `.ply`
+/// is still streamed). An unreadable file goes to the `.tmesh` reader,
+/// which names the I/O error.
+fn is_other_mesh(input: &std::path::Path) -> bool {
     let ext = tmc::files::lowercase_extension(input);
     if !matches!(ext.as_str(), "ply" | "obj" | "off" | "stl") {
-        return Ok(());
+        return false;
     }
     let mut head = Vec::with_capacity(8);
     let read = std::fs::File::open(input).and_then(|f| {
         use std::io::Read;
         f.take(8).read_to_end(&mut head)
     });
-    let readers = if ext == "stl" {
-        "tmc preview reads .stl"
-    } else {
-        "tmc check and tmc preview read it"
-    };
-    match read {
-        Ok(8) if head == tmc::meshfile::MAGIC => Ok(()),
-        Ok(_) => Err(tmc::Error::Format(format!(
-            "{}: a .{ext} file: tmc convert reads the .tmesh files that \
-             'tmc extract -o MESH.tmesh' writes ({readers})",
-            input.display()
-        ))),
-        // The reader names the I/O error.
-        Err(_) => Ok(()),
-    }
+    matches!(read, Ok(n) if n < 8 || head != tmc::meshfile::MAGIC)
 }

@@ -472,13 +472,14 @@ impl MeshSink for PreviewSink {
         let caption = [
             self.title.clone(),
             format!(
-                "{}{} triangles   {}",
+                "{}{} triangle{}   {}",
                 if self.iso.is_nan() {
                     String::new()
                 } else {
                     format!("iso {}   ", self.iso)
                 },
                 thousands(totals.triangles),
+                crate::check::plural(totals.triangles),
                 verdict.describe()
             ),
         ];

@@ -627,39 +627,75 @@ fn earlier_versions_read_to_the_meshes_they_hold() {
     }
 }
 
-/// `tmc convert` of a PLY, OBJ, OFF or STL file says that it reads `.tmesh`
-/// files and what reads the others (it said "not a valid .tmesh file:
-/// wrong magic bytes"); one line, no output.
+/// `tmc convert` reads PLY, OBJ, OFF and STL files whole (it refused
+/// them: "tmc convert reads the .tmesh files ..."). A labelled `.tmesh`
+/// with normals, streamed to PLY, converts from that PLY to each format
+/// byte for byte as from the `.tmesh` itself (the PLY keeps the labels and
+/// normals); its OBJ to OFF too; its STL (corners welded) gives the same
+/// triangles as sets of corner positions. A `.tmesh` output, a truncated
+/// PLY and a non-mesh are refused in one line with nothing written; a
+/// `.tmesh` file named `.ply` is still streamed.
 #[test]
-fn convert_of_another_mesh_format_says_what_it_reads() {
+fn convert_reads_ply_obj_off_and_stl_whole() {
     use common::cli::{assert_one_line, s, tmc};
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let tmesh = data.join("tmesh_v2.tmesh");
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = dir.path().join("out.obj");
-    for (name, text) in [
-        (
-            "m.ply",
-            "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n",
-        ),
-        ("m.obj", "v 0 0 0\n"),
-        ("m.off", "OFF\n0 0 0\n"),
-        ("m.stl", "solid x\nendsolid x\n"),
-    ] {
-        let input = dir.path().join(name);
-        std::fs::write(&input, text).expect("write");
-        let line = assert_one_line(&tmc(&["convert", s(&input), "-o", s(&out)]), 1);
-        assert!(
-            line.contains(name) && line.contains("tmc convert reads the .tmesh files"),
-            "{line}"
-        );
-        assert!(!out.exists());
+    let at = |name: &str| dir.path().join(name);
+    let convert = |input: &std::path::Path, output: &std::path::Path| {
+        let run = tmc(&["convert", s(input), "-o", s(output), "-q"]);
+        assert!(run.status.success(), "{input:?} -> {output:?}: {run:?}");
+        std::fs::read(output).expect("read")
+    };
+    let mesh = tmc::check::read_mesh(&tmesh).expect("read");
+    assert!(!mesh.labels.is_empty() && !mesh.normals.is_empty());
+    convert(&tmesh, &at("a.ply"));
+    for ext in ["ply", "obj", "off", "stl"] {
+        let direct = convert(&tmesh, &at(&format!("direct.{ext}")));
+        let via_ply = convert(&at("a.ply"), &at(&format!("via_ply.{ext}")));
+        assert!(direct == via_ply, "{ext}: from the PLY");
     }
-    // A .tmesh file named .ply is converted all the same.
-    let tmesh = dir.path().join("m.tmesh");
-    write(&tmesh, 1, 0);
-    let named = dir.path().join("really_tmesh.ply");
+    let via_obj = convert(&at("direct.obj"), &at("via_obj.off"));
+    assert!(
+        via_obj == std::fs::read(at("direct.off")).unwrap(),
+        "OBJ to OFF"
+    );
+    convert(&at("direct.stl"), &at("via_stl.ply"));
+    let corners = |m: &tmc::Mesh| {
+        let mut all: Vec<[[u32; 3]; 3]> = m
+            .triangles
+            .iter()
+            .map(|t| t.map(|v| m.vertices[v as usize].map(f32::to_bits)))
+            .collect();
+        all.sort_unstable();
+        all
+    };
+    let welded = tmc::check::read_mesh(&at("via_stl.ply")).expect("read");
+    assert_eq!(corners(&welded), corners(&mesh), "STL");
+    // The note names what the output leaves out, as for a .tmesh input.
+    let run = tmc(&["convert", s(&at("a.ply")), "-o", s(&at("n.obj"))]);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        run.status.success() && err.contains("no place for the input's per-face labels:"),
+        "{err}"
+    );
+    // Refusals: one line, nothing written.
+    let refused = [
+        (at("a.ply"), at("x.tmesh"), "records the extraction"),
+        (at("short.ply"), at("x.obj"), "short.ply"),
+        (data.join("../../Cargo.toml"), at("x.obj"), "Cargo.toml"),
+    ];
+    let whole = std::fs::read(at("a.ply")).unwrap();
+    std::fs::write(at("short.ply"), &whole[..whole.len() - 5]).unwrap();
+    for (input, output, words) in refused {
+        let line = assert_one_line(&tmc(&["convert", s(&input), "-o", s(&output)]), 1);
+        assert!(line.contains(words), "{input:?}: {line}");
+        assert!(!output.exists(), "{output:?}");
+    }
+    // A .tmesh file named .ply is streamed all the same.
+    let named = at("really_tmesh.ply");
     std::fs::copy(&tmesh, &named).expect("copy");
-    let done = tmc(&["convert", s(&named), "-o", s(&out)]);
-    assert!(done.status.success(), "{done:?}");
+    assert!(convert(&named, &at("renamed.ply")) == std::fs::read(at("a.ply")).unwrap());
 }
 
 /// `tmc convert` says in one note what the output format leaves out of

@@ -484,6 +484,33 @@ fn trim<T>(v: &mut Vec<T>) {
 mod tests {
     use super::*;
 
+    /// The verdict's words take the singular for a count of one (it said
+    /// "1 boundary edges", "1 edges"), the plural for every other count.
+    #[test]
+    fn the_verdict_says_one_component_and_one_edge() {
+        let one = Verdict {
+            components: 1,
+            edges: 3,
+            boundary_edges: 1,
+            vertices: 3,
+            triangles: 1,
+            ..Verdict::default()
+        };
+        assert_eq!(one.describe(), "open (1 boundary edge), 1 component");
+        let many = Verdict {
+            components: 2,
+            boundary_edges: 6,
+            ..one
+        };
+        assert_eq!(many.describe(), "open (6 boundary edges), 2 components");
+        let bad = Verdict {
+            nonmanifold_edges: 1,
+            ..one
+        };
+        assert_eq!(bad.describe(), "NOT MANIFOLD (1 edge), 1 component");
+        assert_eq!(plural(0u64), "s");
+    }
+
     /// An octahedron: 6 vertices, 8 triangles, split over two "chunks".
     #[test]
     fn an_octahedron_split_in_two_chunks_is_closed_with_genus_zero() {

@@ -18,10 +18,12 @@ use tmc::volume::zarr::ZarrSelect;
 use tmc::{ExtractParams, Inside, Method, PipelineOptions, SampleSource};
 
 /// The volume argument: an array (with its grid) or a path to open, with
-/// what to read of it (a DICOM series or segment).
+/// what to read of it (a DICOM series or segment), and for the store of a
+/// `zarr.Array` or `h5py.Dataset` the array's grid (`[spacing, origin]`),
+/// which replaces the file's (see [`Select`]).
 pub(crate) enum Input<'a> {
     Array(Box<tmc::volume::StridedVolume<'a>>),
-    Path(PathBuf, ZarrSelect),
+    Path(PathBuf, ZarrSelect, Option<[[f64; 3]; 2]>),
 }
 
 impl<'a> Input<'a> {
@@ -30,8 +32,10 @@ impl<'a> Input<'a> {
         spacing: [f64; 3],
         origin: [f64; 3],
         mapped: MappedAt,
-        select: ZarrSelect,
+        select: Select,
     ) -> PyResult<Self> {
+        let array_grid = (select.6 == Some(true)).then_some([spacing, origin]);
+        let select = ZarrSelect::from(select);
         match input.cast::<PyUntypedArray>() {
             Ok(_) if select != ZarrSelect::default() => Err(PyValueError::new_err(
                 "series, segment, at, array, level and dataset choose what to read of a path (a DICOM series, a Zarr array or HDF5 dataset and its entry), not of an array",
@@ -39,7 +43,7 @@ impl<'a> Input<'a> {
             Ok(array) => Ok(Input::Array(Box::new(array::volume(
                 array, spacing, origin, mapped,
             )?))),
-            Err(_) => Ok(Input::Path(input.extract::<PathBuf>()?, select)),
+            Err(_) => Ok(Input::Path(input.extract::<PathBuf>()?, select, array_grid)),
         }
     }
 
@@ -56,9 +60,15 @@ impl<'a> Input<'a> {
         let notes = Mutex::new(Vec::new());
         let result = interrupt::run(py, |cancel| match self {
             Input::Array(volume) => work(volume.as_ref(), None, cancel),
-            Input::Path(path, select) => {
+            Input::Path(path, select, array_grid) => {
                 tmc::files::check_input_kind(path)?;
-                let source = tmc::volume::open_selected(path, None, select, cancel)?;
+                let mut source = tmc::volume::open_selected(path, None, select, cancel)?;
+                if let Some([spacing, origin]) = *array_grid {
+                    // The caller passed an array object: its grid is the
+                    // call's, as for a numpy array, and not the file's (the
+                    // notes that the file's was replaced are not for them).
+                    source = tmc::volume::regrid(source, Some(spacing), Some(origin))?.0;
+                }
                 *notes.lock().unwrap_or_else(PoisonError::into_inner) = source.notes().warnings;
                 work(source.as_ref(), Some(path), cancel)
             }
@@ -79,7 +89,10 @@ impl<'a> Input<'a> {
 /// DICOM series (number or UID), the Segmentation segment, the entry of a
 /// Zarr array's or HDF5 dataset's axes before z, y, x (`--at`), the Zarr
 /// array inside its store (`--array`), the OME-Zarr level (`--level`) and
-/// the HDF5 dataset (`--dataset`), each `None` when not given.
+/// the HDF5 dataset (`--dataset`), each `None` when not given; and
+/// `Some(true)` when the path is the store of a `zarr.Array` or
+/// `h5py.Dataset` the caller passed, streamed on the call's grid (spacing
+/// and origin) as a numpy array would be.
 #[derive(FromPyObject)]
 pub(crate) struct Select(
     Option<String>,
@@ -88,9 +101,15 @@ pub(crate) struct Select(
     Option<String>,
     Option<usize>,
     Option<String>,
+    Option<bool>,
 );
 
 impl Select {
+    /// Nothing chosen: what a numpy array takes.
+    pub(crate) fn none() -> Select {
+        Select(None, None, None, None, None, None, None)
+    }
+
     /// Whether a DICOM series or segment was chosen (`info` lists a DICOM
     /// directory's series when neither was).
     pub(crate) fn names_dicom_part(&self) -> bool {
@@ -99,7 +118,7 @@ impl Select {
 }
 
 impl From<Select> for ZarrSelect {
-    fn from(Select(series, segment, at, array, level, dataset): Select) -> Self {
+    fn from(Select(series, segment, at, array, level, dataset, _): Select) -> Self {
         ZarrSelect {
             array,
             level,
@@ -237,7 +256,7 @@ pub(crate) fn extract<'py>(
     select: Select,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select.into())?;
+    let input = Input::new(input, spacing, origin, mapped, select)?;
     let (vertices, triangles, n, report, record): Collected =
         input.run(py, |source, path, cancel| {
             let options = preflight(source, path, &params, None, cancel)?;
@@ -274,8 +293,7 @@ pub(crate) fn marching_cubes<'py>(
     threads: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, false, threads, true)?;
-    let Input::Array(volume) = Input::new(input, spacing, [0.0; 3], mapped, ZarrSelect::default())?
-    else {
+    let Input::Array(volume) = Input::new(input, spacing, [0.0; 3], mapped, Select::none())? else {
         return Err(PyValueError::new_err(
             "marching_cubes takes a numpy array, not a path",
         ));
@@ -341,7 +359,7 @@ pub(crate) fn extract_to(
     refuse_placeholders(&output, &[]).map_err(crate::errors::to_py)?;
     tmc::export::check_normals_output(&output, normals).map_err(crate::errors::to_py)?;
     let params = params(iso, method, inside, close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select.into())?;
+    let input = Input::new(input, spacing, origin, mapped, select)?;
     input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, Some(&output), cancel)?;
         let mut sink = tmc::export::create_sink(&output)?;
@@ -372,4 +390,22 @@ pub(crate) fn refuse_placeholders(output: &Path, known: &[&str]) -> tmc::Result<
 #[pyfunction]
 pub(crate) fn worker_threads(threads: usize) -> usize {
     tmc::stream::threads::worker_threads(threads)
+}
+
+/// The shape `[nz, ny, nx]` in which tmc's readers open the Zarr array or
+/// HDF5 dataset that `select` names in the store at `path`, or `None` when
+/// they do not open it (a codec or filter they do not read, a store that
+/// is not there): the package then streams a `zarr.Array` or
+/// `h5py.Dataset` from its store only when this agrees with the object's
+/// shape, and reads it through numpy otherwise. Opening reads metadata
+/// only.
+#[pyfunction]
+pub(crate) fn stored_shape(py: Python<'_>, path: PathBuf, select: Select) -> Option<[usize; 3]> {
+    let select = ZarrSelect::from(select);
+    py.detach(|| {
+        let never = AtomicBool::new(false);
+        let source = tmc::volume::open_selected(&path, None, &select, &never).ok()?;
+        let [nx, ny, nz] = source.grid().dims;
+        Some([nz, ny, nx])
+    })
 }

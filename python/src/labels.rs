@@ -72,7 +72,7 @@ pub(crate) fn extract_labels<'py>(
     select: Select,
 ) -> PyResult<Vec<LabelMesh<'py>>> {
     let params = label_params(close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select.into())?;
+    let input = Input::new(input, spacing, origin, mapped, select)?;
     let collected: Vec<(i64, Collected)> = input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, None, cancel)?;
         let (labels, _, runs) =
@@ -133,7 +133,7 @@ pub(crate) fn extract_labels_to(
     stats: bool,
 ) -> PyResult<String> {
     let params = label_params(close, threads, normals)?;
-    let input = Input::new(input, spacing, origin, mapped, select.into())?;
+    let input = Input::new(input, spacing, origin, mapped, select)?;
     input.run(py, |source, path, cancel| {
         let started = Instant::now();
         // The name's form first, before the volume is read; `{label}` is

@@ -37,6 +37,7 @@ fn _tmc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mesh_io::check_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::info, m)?)?;
     m.add_function(wrap_pyfunction!(extract::worker_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(extract::stored_shape, m)?)?;
     m.add_function(wrap_pyfunction!(record::_restore_record, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -252,20 +252,100 @@ def _number(value: Any, name: str) -> float:
         raise TypeError(f"{name} must be a number, not {value!r}") from None
 
 
-def _source_args(volume: Any, iso: float, spacing: Any, origin: Any) -> Tuple[Any, ...]:
-    """The input, isovalue, spacing, origin and mapped-file arguments of
-    the library's calls, for an array or a path."""
+def _source_args(
+    volume: Any, iso: float, spacing: Any, origin: Any, select: Tuple[Any, ...]
+) -> Tuple[Any, ...]:
+    """The input, isovalue, spacing, origin, mapped-file and selection
+    arguments of the library's calls, for an array, an array object kept
+    in a Zarr store or HDF5 file (streamed from there, see
+    :func:`_stored_array`) or a path."""
     if isinstance(volume, (str, bytes, os.PathLike)):
         if spacing is not None or origin is not None:
             raise ValueError(
                 "spacing and origin of a volume file come from its header; "
                 "pass them only with an array"
             )
-        return os.fsdecode(volume), _number(iso, "iso"), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0), None
+        return (os.fsdecode(volume), _number(iso, "iso"), (1.0, 1.0, 1.0), (0.0, 0.0, 0.0),
+                None, select)
+    iso = _number(iso, "iso")
+    stored = _stored_array(volume, select)
+    if stored is not None:
+        path, chosen = stored
+        spacing = _triple(spacing, "spacing", 1.0)
+        origin = _triple(origin, "origin", 0.0)
+        return path, iso, spacing, origin, None, chosen
     array = _volume_3d(_as_samples(volume))
     spacing = _triple(spacing, "spacing", 1.0)
     origin = _triple(origin, "origin", 0.0)
-    return array, _number(iso, "iso"), spacing, origin, _mapped_file(array)
+    return array, iso, spacing, origin, _mapped_file(array), select
+
+
+def _stored_array(volume: Any, select: Tuple[Any, ...]) -> Optional[Tuple[str, Tuple[Any, ...]]]:
+    """``(store path, selection)`` to stream a ``zarr.Array`` (in a local
+    directory store) or an ``h5py.Dataset`` (in a file on disk) from its
+    store, plane by plane, instead of reading it whole through
+    ``numpy.asarray``: when nothing else was chosen with ``series`` ...
+    ``dataset``, the object's shape is ``(nz, ny, nx)`` (after axes of
+    size 1) of a dtype tmc reads, and tmc's readers open the same shape
+    there (not a codec or filter they do not read). The selection's last
+    entry makes the library read it on the call's grid (spacing 1 and
+    origin 0 unless given), as a numpy array, not on the file's. ``None``
+    otherwise: the object is then read through numpy, as before. An
+    ``h5py`` file open for writing is flushed first, so that the file
+    holds what the object shows."""
+    if isinstance(volume, np.ndarray) or any(part is not None for part in select):
+        return None
+    module = type(volume).__module__ or ""
+    located = None
+    if module.startswith("h5py"):
+        located = _h5py_location(volume)
+    elif module.startswith("zarr"):
+        located = _zarr_location(volume)
+    if located is None:
+        return None
+    try:
+        shape = tuple(int(n) for n in volume.shape)
+        dtype = np.dtype(volume.dtype)
+    except (AttributeError, TypeError, ValueError):
+        return None
+    if (len(shape) < 3 or any(n != 1 for n in shape[:-3])
+            or not (dtype.str[1:] in _READ_IN_PLACE or dtype.kind == "b")):
+        return None
+    path, array, dataset = located
+    chosen = (None, None, None, array, None, dataset, True)
+    if _tmc.stored_shape(path, chosen) != list(shape[-3:]):
+        return None
+    return path, chosen
+
+
+def _h5py_location(dataset: Any) -> Optional[Tuple[str, None, str]]:
+    """``(file, None, dataset path)`` of an ``h5py.Dataset`` in a file on
+    disk (not an in-memory or other-driver file); flushes a writable file."""
+    file = getattr(dataset, "file", None)
+    name = getattr(dataset, "name", None)
+    if file is None or not isinstance(name, str) or getattr(file, "driver", None) != "sec2":
+        return None
+    if getattr(file, "mode", "r") != "r":
+        file.flush()
+    return os.path.abspath(os.fsdecode(file.filename)), None, name
+
+
+def _zarr_location(array: Any) -> Optional[Tuple[str, Optional[str], None]]:
+    """``(store directory, array path or None, None)`` of a ``zarr.Array``
+    in a local directory store (zarr-python 3's ``LocalStore``, 2's
+    ``DirectoryStore``); ``None`` for other stores (memory, zip, remote)."""
+    store = getattr(array, "store", None)
+    kind = type(store).__name__
+    if kind == "LocalStore":
+        root = getattr(store, "root", None)
+    elif kind in ("DirectoryStore", "NestedDirectoryStore"):
+        root = getattr(store, "path", None)
+    else:
+        return None
+    if root is None:
+        return None
+    inside = str(getattr(array, "path", "") or "").strip("/")
+    return os.path.abspath(os.fspath(root)), (inside or None), None
 
 
 def _volume_3d(array: np.ndarray) -> np.ndarray:
@@ -380,9 +460,12 @@ def extract(
         A 3-D array indexed ``[z][y][x]`` (u8, i8, u16, i16, u32, i32, f32 or
         f64; any order, any strides, a ``numpy.memmap``: read in place, not
         copied), or the path of any volume file ``tmc extract`` reads,
-        streamed plane by plane. Other array-likes (``zarr.Array``,
-        ``h5py.Dataset``) are read whole through ``numpy.asarray``: give
-        their path (with ``array=`` or ``dataset=``) to stream them.
+        streamed plane by plane. A ``zarr.Array`` in a local directory
+        store and an ``h5py.Dataset`` of a file on disk opened for reading
+        are streamed from there too, with an array's grid (``spacing`` and
+        ``origin`` as given, not the file's); other array-likes (dask, a
+        store in memory, a filter tmc does not read) are read whole
+        through ``numpy.asarray``.
     iso : float
         The isovalue (finite). A sample is inside iff its value is above it.
     spacing, origin : 3 floats, optional
@@ -435,11 +518,11 @@ def extract(
         Bad input or arguments, with the CLI's words. ``OSError`` for a file
         that cannot be read; ``KeyboardInterrupt`` on Ctrl-C.
     """
-    source = _source_args(volume, iso, spacing, origin)
+    *source, chosen = _source_args(volume, iso, spacing, origin,
+                                   _select(series, segment, at, array, level, dataset))
     options = _options(method, inside, close, threads)
     vertices, triangles, vertex_normals, report, record = _tmc.extract(
-        *source, *options, _flag(normals, "normals"),
-        _select(series, segment, at, array, level, dataset),
+        *source, *options, _flag(normals, "normals"), chosen,
     )
     mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
     mesh._record = record
@@ -484,11 +567,11 @@ def extract_to(
     :meth:`Mesh.write` does. No placeholder of ``output`` is filled in: a
     ``{NAME}`` (``{stem}``, ``{iso}``) raises ``ValueError`` naming it.
     """
-    samples, *rest = _source_args(volume, iso, spacing, origin)
+    samples, *rest, chosen = _source_args(volume, iso, spacing, origin,
+                                          _select(series, segment, at, array, level, dataset))
     options = _options(method, inside, close, threads)
     report = _tmc.extract_to(
-        samples, os.fsdecode(output), *rest, *options, _flag(normals, "normals"),
-        _select(series, segment, at, array, level, dataset)
+        samples, os.fsdecode(output), *rest, *options, _flag(normals, "normals"), chosen
     )
     return json.loads(report)
 
@@ -536,10 +619,10 @@ def _label_args(
     labels in place; the library refuses a 64-bit label at or beyond
     ±2**53: read as a float64, 2**53 + 1 would be 2**53)."""
     chosen = _label_list(labels)
-    array, _, spacing3, origin3, mapped = _source_args(volume, 0.5, spacing, origin)
+    array, _, spacing3, origin3, mapped, select = _source_args(
+        volume, 0.5, spacing, origin, _select(series, segment, at, zarr_array, level, dataset))
     rest = (chosen, _integer(background, "background"), spacing3, origin3, mapped,
-            _flag(close, "close"), _threads(threads), _flag(normals, "normals"),
-            _select(series, segment, at, zarr_array, level, dataset))
+            _flag(close, "close"), _threads(threads), _flag(normals, "normals"), select)
     return array, rest
 
 
@@ -743,10 +826,11 @@ def _select(
     series: Any, segment: Any, at: Any, array: Any = None, level: Any = None,
     dataset: Any = None,
 ) -> Tuple[Optional[str], Optional[int], Optional[List[Tuple[str, int]]], Optional[str],
-           Optional[int], Optional[str]]:
+           Optional[int], Optional[str], Optional[bool]]:
     """What to read of a path, as one tuple for the library: the series
     (as text: a number or a UID), segment, at, array, level and dataset
-    arguments. ``TypeError`` for a series that is neither (a bool was the
+    arguments, and ``None`` (:func:`_stored_array` sets it to ``True`` for
+    the store of an array object, read on the call's grid). ``TypeError`` for a series that is neither (a bool was the
     series "True"), for a segment or level that is no whole number (1.5
     was segment 1, "a" a ``ValueError`` of ``int``), for an ``at`` that is
     not a mapping of axis names or positions to entries, and for an array
@@ -780,7 +864,7 @@ def _select(
             raise ValueError(f"{name} must not hold a NUL character")
     if level is not None:
         level = _count(level, "level")
-    return ((None if series is None else str(series)), segment, picks, array, level, dataset)
+    return ((None if series is None else str(series)), segment, picks, array, level, dataset, None)
 
 
 def marching_cubes(

@@ -17,14 +17,16 @@ __all__ = [
     "info",
     "marching_cubes",
     "read_mesh",
+    "stored_shape",
     "worker_threads",
     "write_mesh",
 ]
 
-# What to read of a path: series, segment, at, array, level, dataset.
+# What to read of a path: series, segment, at, array, level, dataset, and
+# True when the path is an array object's store, read on the call's grid.
 _Select = Tuple[
     Optional[str], Optional[int], Optional[List[Tuple[str, int]]], Optional[str],
-    Optional[int], Optional[str],
+    Optional[int], Optional[str], Optional[bool],
 ]
 
 def extract(
@@ -135,6 +137,10 @@ def info(
 
 def worker_threads(threads: int) -> int:
     """The worker threads that `threads` means (0: one per core)."""
+
+def stored_shape(path: str, select: _Select) -> Optional[List[int]]:
+    """[nz, ny, nx] as tmc's readers open the array `select` names in the
+    store at `path`, or None where they do not open it."""
 
 def _restore_record(state: Tuple[Any, ...]) -> Any:
     """The record of an extraction (opaque) from what it pickled as: how a

@@ -335,9 +335,12 @@ pub(crate) fn marching_cubes<'py>(
 /// `output`, whose extension chooses the format, without holding the mesh;
 /// the file appears whole or not at all; with `normals`, the vertex
 /// normals go into it too (formats that carry them), as `tmc extract
-/// --normals` writes them. Returns the report JSON.
+/// --normals` writes them; with `preview`, its picture into that PNG, as
+/// `tmc extract --preview` draws it (titled with the input file's name, or
+/// the output's for an array; the mesh is taken back if the picture
+/// fails). Returns the report JSON.
 #[pyfunction]
-#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, select))]
+#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, select, preview = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_to(
     py: Python<'_>,
@@ -353,16 +356,29 @@ pub(crate) fn extract_to(
     threads: usize,
     normals: bool,
     select: Select,
+    preview: Option<PathBuf>,
 ) -> PyResult<String> {
     // The name's form first: no placeholder is filled in ('{stem}' and
     // '{iso}', which the CLI's -o fills in, would stay in the name).
-    refuse_placeholders(&output, &[]).map_err(crate::errors::to_py)?;
+    for name in std::iter::once(&output).chain(&preview) {
+        refuse_placeholders(name, &[]).map_err(crate::errors::to_py)?;
+    }
     tmc::export::check_normals_output(&output, normals).map_err(crate::errors::to_py)?;
     let params = params(iso, method, inside, close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select)?;
     input.run(py, |source, path, cancel| {
         let options = preflight(source, path, &params, Some(&output), cancel)?;
+        if let Some(picture) = &preview {
+            tmc::preview::check_picture(picture, path, &[output.as_path()])?;
+            for data in source.data_files() {
+                tmc::files::check_distinct(data, picture)?;
+            }
+        }
         let mut sink = tmc::export::create_sink(&output)?;
+        if let Some(picture) = &preview {
+            let title = tmc::preview::title_of(path.unwrap_or(&output));
+            sink = tmc::preview::WithPreview::wrap(sink, &output, picture, title, threads);
+        }
         let stats = tmc::extract_to(source, &params, &options, sink.as_mut())?;
         report(path, Some(&output), source, &params, &stats)
     })

@@ -34,6 +34,7 @@ fn _tmc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(labels::extract_labels_to, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::write_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_io::preview_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::check_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_io::info, m)?)?;
     m.add_function(wrap_pyfunction!(extract::worker_threads, m)?)?;

@@ -32,6 +32,27 @@ fn mesh_from(vertices: &Bound<'_, PyAny>, triangles: &Bound<'_, PyAny>) -> PyRes
     })
 }
 
+/// Draws a mesh into the PNG `path` as `tmc preview` draws a PLY of it:
+/// four shaded views framed by its vertices' box, captioned `title` and
+/// the closed/genus verdict, by `threads` workers (0: one per core); the
+/// file appears whole or not at all.
+#[pyfunction]
+pub(crate) fn preview_mesh(
+    py: Python<'_>,
+    path: PathBuf,
+    vertices: &Bound<'_, PyAny>,
+    triangles: &Bound<'_, PyAny>,
+    title: String,
+    threads: usize,
+) -> PyResult<()> {
+    let mesh = mesh_from(vertices, triangles)?;
+    crate::extract::refuse_placeholders(&path, &[]).or_py()?;
+    interrupt::run(py, |cancel| {
+        tmc::preview::check_png_path(&path)?;
+        tmc::preview::draw_mesh(mesh, &path, title, threads, cancel)
+    })
+}
+
 /// Writes a mesh to `path` in the format its extension names (`.ply`,
 /// `.obj`, `.off`, `.stl`, and `.tmesh` given the `record` of the
 /// extraction that made the mesh), with its `normals` ((N, 3) float32, one

@@ -155,6 +155,28 @@ class Mesh:
             labels = _labels_of_triangles(self.labels)
         _tmc.write_mesh(os.fsdecode(path), vertices, triangles, self._record, normals, labels)
 
+    def preview(self, path: PathLike, *, title: Optional[str] = None, threads: int = 0) -> None:
+        """Draws the mesh into the PNG picture ``path``: three orthogonal
+        views and one oblique, shaded, with a caption (``title``, the
+        triangles, and whether the mesh is closed, its genus and
+        components), 1024 pixels wide, as ``tmc
+        preview`` draws the mesh written as PLY (framed by its vertices'
+        box; the same bytes for the same title). ``title`` defaults to the
+        name of the input file the mesh was extracted from, else the
+        picture's file name. The file appears whole or not at all; a name
+        that does not end in ``.png`` or whose directory is missing raises
+        ``ValueError`` / ``FileNotFoundError`` with nothing written.
+        ``threads`` draw it (0: one per core); the bytes do not depend on
+        them."""
+        if title is None:
+            source = self.stats.get("input") if isinstance(self.stats, dict) else None
+            title = os.path.basename(source if isinstance(source, str) else os.fsdecode(path))
+        if not isinstance(title, str):
+            raise TypeError(f"title must be a str, not {title!r}")
+        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        _tmc.preview_mesh(os.fsdecode(path), vertices, _indices(self.triangles), title,
+                          _threads(threads))
+
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``: manifoldness, orientation,
         boundary, components and genus, computed from the indices alone."""
@@ -547,6 +569,7 @@ def extract_to(
     array: Optional[str] = None,
     level: Optional[int] = None,
     dataset: Optional[str] = None,
+    preview: Optional[PathLike] = None,
 ) -> Dict[str, Any]:
     """Streams the isosurface at ``iso`` into the file ``output`` without
     holding the mesh in memory (the CLI's memory bound, for volumes of any
@@ -566,12 +589,17 @@ def extract_to(
     for the other output paths that cannot be written), as
     :meth:`Mesh.write` does. No placeholder of ``output`` is filled in: a
     ``{NAME}`` (``{stem}``, ``{iso}``) raises ``ValueError`` naming it.
+    With ``preview="FILE.png"`` the picture ``tmc extract --preview``
+    draws is made from the same stream of chunks (titled with the input
+    file's name, or ``output``'s for an array): the same bytes as the CLI's
+    for the same file; if the picture fails, the mesh is removed too.
     """
+    picture = None if preview is None else os.fsdecode(preview)
     samples, *rest, chosen = _source_args(volume, iso, spacing, origin,
                                           _select(series, segment, at, array, level, dataset))
     options = _options(method, inside, close, threads)
     report = _tmc.extract_to(
-        samples, os.fsdecode(output), *rest, *options, _flag(normals, "normals"), chosen
+        samples, os.fsdecode(output), *rest, *options, _flag(normals, "normals"), chosen, picture
     )
     return json.loads(report)
 

@@ -43,6 +43,11 @@ class Mesh:
     def write(self, path: PathLike) -> None:
         """Writes the mesh as PLY, OBJ, OFF, STL or .tmesh (by extension),
         atomically (a missing directory: ``FileNotFoundError``)."""
+    def preview(
+        self, path: PathLike, *, title: Optional[str] = ..., threads: int = ...
+    ) -> None:
+        """Draws the mesh into a PNG picture (four shaded views and a
+        caption), as ``tmc preview`` draws it."""
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``."""
 
@@ -84,10 +89,12 @@ def extract_to(
     array: Optional[str] = ...,
     level: Optional[int] = ...,
     dataset: Optional[str] = ...,
+    preview: Optional[PathLike] = ...,
 ) -> Dict[str, Any]:
     """Streams the isosurface into a mesh file without holding the mesh
-    (with ``normals``, the vertex normals too, as ``tmc extract --normals``);
-    a missing output directory raises ``FileNotFoundError`` before the run."""
+    (with ``normals``, the vertex normals too, as ``tmc extract --normals``;
+    with ``preview``, its picture, as ``tmc extract --preview``); a missing
+    output directory raises ``FileNotFoundError`` before the run."""
 
 def extract_labels(
     volume: _ArrayOrPath,

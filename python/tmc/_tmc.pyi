@@ -16,6 +16,7 @@ __all__ = [
     "extract_to",
     "info",
     "marching_cubes",
+    "preview_mesh",
     "read_mesh",
     "stored_shape",
     "worker_threads",
@@ -70,8 +71,10 @@ def extract_to(
     threads: int,
     normals: bool,
     select: _Select,
+    preview: Optional[str] = ...,
 ) -> str:
-    """Streams into a file (with vertex normals if ``normals``); returns the report JSON."""
+    """Streams into a file (with vertex normals if ``normals``, and the
+    picture at ``preview``); returns the report JSON."""
 
 def extract_labels(
     input: Any,
@@ -123,6 +126,11 @@ def write_mesh(
 ) -> None:
     """Writes a mesh file, atomically (.tmesh needs the extraction's record),
     with the normals and labels where the format holds them."""
+
+def preview_mesh(
+    path: str, vertices: np.ndarray, triangles: np.ndarray, title: str, threads: int
+) -> None:
+    """Draws a mesh into a PNG picture, atomically."""
 
 def check_mesh(vertices: np.ndarray, triangles: np.ndarray) -> str:
     """The report of tmc check as JSON text."""

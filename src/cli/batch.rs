@@ -272,7 +272,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
             let pictures = super::manifest::outputs(template, &item.input, &item.isos);
             let meshes: Vec<&Path> = item.outputs.iter().map(PathBuf::as_path).collect();
             for picture in &pictures {
-                super::with_preview::check_picture(picture, &item.input, &meshes)?;
+                tmc::preview::check_picture(picture, Some(&item.input), &meshes)?;
             }
             pictures
         }
@@ -296,9 +296,9 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
             let sink = tmc::export::create_sink(o)?;
             Ok(match pictures.get(i) {
                 Some(picture) => {
-                    let title = super::with_preview::title_of(&item.input);
+                    let title = tmc::preview::title_of(&item.input);
                     let threads = args.threads.unwrap_or(0);
-                    super::with_preview::WithPreview::wrap(sink, o, picture, title, threads)
+                    tmc::preview::WithPreview::wrap(sink, o, picture, title, threads)
                 }
                 None => sink,
             })

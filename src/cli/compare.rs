@@ -179,7 +179,7 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
             let known = super::placeholders::isosurface(None);
             super::placeholders::check(template, "--preview", &known)?;
             let picture = super::manifest::outputs(template, &args.input, &[args.iso]).remove(0);
-            super::with_preview::check_picture(&picture, &args.input, &[])?;
+            tmc::preview::check_picture(&picture, Some(&args.input), &[])?;
             Some(picture)
         }
         None => None,
@@ -310,7 +310,7 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
 
     // 4. The picture.
     if let (Some(picture), Some(marks)) = (&preview, &marks) {
-        let name = super::with_preview::title_of(&args.input);
+        let name = tmc::preview::title_of(&args.input);
         let caption = |method: &str| {
             format!(
                 "{method}   {name}   {} differing cells in red",

@@ -56,7 +56,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         }
         Some(template) => {
             let picture = super::manifest::outputs(template, input, &[iso]).remove(0);
-            super::with_preview::check_picture(&picture, input, &[output.as_path()])?;
+            tmc::preview::check_picture(&picture, Some(input), &[output.as_path()])?;
             Some(picture)
         }
         None => None,
@@ -91,9 +91,9 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         None => tmc::export::create_sink(output)?,
     };
     if let Some(picture) = &preview {
-        let title = super::with_preview::title_of(input);
+        let title = tmc::preview::title_of(input);
         let threads = args.threads.unwrap_or(0);
-        sink = super::with_preview::WithPreview::wrap(sink, output, picture, title, threads);
+        sink = tmc::preview::WithPreview::wrap(sink, output, picture, title, threads);
     }
     let part = args.part.map(|p| (p.index, p.count));
     let no_surface = format!(

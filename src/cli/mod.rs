@@ -32,7 +32,6 @@ mod require_surface;
 mod signals;
 mod synth;
 mod values;
-mod with_preview;
 
 use help_text::CONVENTIONS;
 use output::one_line;

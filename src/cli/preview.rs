@@ -6,8 +6,8 @@ use clap::Args;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use tmc::meshfile::TmeshReader;
-use tmc::preview::{Bounds, PreviewSink};
-use tmc::{MeshInfo, MeshSink, Result, Totals};
+use tmc::preview::PreviewSink;
+use tmc::Result;
 
 /// Draw a mesh into a PNG picture: three orthogonal views and one oblique.
 ///
@@ -58,7 +58,7 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let title = args
         .title
         .clone()
-        .unwrap_or_else(|| super::with_preview::title_of(&args.input));
+        .unwrap_or_else(|| tmc::preview::title_of(&args.input));
     let threads = args.threads.unwrap_or(0);
     let never = AtomicBool::new(false);
     let cancel = cancel.unwrap_or(&never);
@@ -83,41 +83,5 @@ pub(crate) fn run(args: &PreviewArgs, cancel: Option<&AtomicBool>) -> Result<()>
         return Ok(());
     }
     let mesh = tmc::check::read_mesh_to_draw(&args.input)?;
-    // The readers refuse coordinates that are not finite, so there is no
-    // box only when there are no vertices: an empty mesh (what `tmc
-    // extract` writes for an isovalue that meets nothing), drawn in any
-    // frame as `extract --preview` draws it, "empty: no surface".
-    let bounds =
-        Bounds::of_points(mesh.vertices.iter().map(|v| v.map(f64::from))).unwrap_or(Bounds {
-            min: [0.0; 3],
-            max: [1.0; 3],
-        });
-    let mut sink =
-        PreviewSink::new(args.output.clone(), title, Some(bounds), threads).without_grid();
-    let info = MeshInfo {
-        grid: tmc::Grid::unit([1, 1, 1]),
-        iso: f64::NAN,
-        method: tmc::Method::Tmc,
-        inside: tmc::Inside::High,
-        close: false,
-        normals: false,
-        labels: false,
-    };
-    sink.begin(&info)?;
-    let chunk = tmc::Chunk {
-        plane: 0,
-        vertices: mesh.vertices,
-        triangles: mesh.triangles,
-        normals: Vec::new(),
-        labels: Vec::new(),
-        values: Vec::new(),
-        encoded: Vec::new(),
-    };
-    sink.chunk_cancellable(0, &chunk, cancel)?;
-    let totals = Totals {
-        vertices: chunk.vertices.len() as u64,
-        triangles: chunk.triangles.len() as u64,
-        chunks: 1,
-    };
-    sink.finish_cancellable(&totals, cancel)
+    tmc::preview::draw_mesh(mesh, &args.output, title, threads, cancel)
 }

@@ -18,6 +18,9 @@
 //! drawn: a `.tmesh` extracted on a rotated or mirrored grid (whose
 //! direction the format does not keep) may leave the box its views were
 //! fitted to, and is then drawn again, framed by its own box.
+//! [`with_mesh`] pairs the sink with a mesh's own sink (`--preview`) and
+//! draws a mesh held whole (`tmc preview` of a PLY, Python's
+//! `Mesh.preview`).
 
 pub mod font;
 pub mod frame;
@@ -28,9 +31,11 @@ pub mod png_out;
 pub mod raster;
 pub mod sink;
 pub mod views;
+pub mod with_mesh;
 
 pub use crate::check::Verdict;
 pub use pair::{side_by_side, Marks, MARK, PAIR_DIMENSIONS};
 pub use png_out::{check_png_path, write_png};
 pub use sink::PreviewSink;
 pub use views::Bounds;
+pub use with_mesh::{check_picture, draw_mesh, title_of, WithPreview};

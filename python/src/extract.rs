@@ -2,7 +2,7 @@
 //! file of any output format (`extract_to`), from an array or a path.
 
 use crate::array::{self, MappedAt};
-use crate::interrupt;
+use crate::interrupt::{self, Watch};
 use crate::output::{arrays, rows};
 use crate::record::{Record, Recorder};
 use crate::skimage::SkimageArrays;
@@ -55,14 +55,15 @@ impl<'a> Input<'a> {
     pub(crate) fn run<T: Send>(
         &self,
         py: Python<'_>,
-        work: impl FnOnce(&dyn SampleSource, Option<&Path>, &AtomicBool) -> tmc::Result<T> + Send,
+        progress: Option<&Bound<'_, PyAny>>,
+        work: impl FnOnce(&dyn SampleSource, Option<&Path>, &Watch) -> tmc::Result<T> + Send,
     ) -> PyResult<T> {
         let notes = Mutex::new(Vec::new());
-        let result = interrupt::run(py, |cancel| match self {
-            Input::Array(volume) => work(volume.as_ref(), None, cancel),
+        let result = interrupt::run_watched(py, progress, |watch| match self {
+            Input::Array(volume) => work(volume.as_ref(), None, watch),
             Input::Path(path, select, array_grid) => {
                 tmc::files::check_input_kind(path)?;
-                let mut source = tmc::volume::open_selected(path, None, select, cancel)?;
+                let mut source = tmc::volume::open_selected(path, None, select, &watch.cancel)?;
                 if let Some([spacing, origin]) = *array_grid {
                     // The caller passed an array object: its grid is the
                     // call's, as for a numpy array, and not the file's (the
@@ -70,7 +71,7 @@ impl<'a> Input<'a> {
                     source = tmc::volume::regrid(source, Some(spacing), Some(origin))?.0;
                 }
                 *notes.lock().unwrap_or_else(PoisonError::into_inner) = source.notes().warnings;
-                work(source.as_ref(), Some(path), cancel)
+                work(source.as_ref(), Some(path), watch)
             }
         });
         let user_warning = py.get_type::<PyUserWarning>();
@@ -170,13 +171,13 @@ pub(crate) fn params(
 /// The checks the CLI makes before it extracts (a grid with cells, unless
 /// closed, inside the range of f32 coordinates; an output that is neither
 /// the input nor a file the input reads), then the pipeline options of a
-/// run that `cancel` stops.
+/// run that `watch` stops and hears the progress of.
 pub(crate) fn preflight<'a>(
     source: &dyn SampleSource,
     input: Option<&Path>,
     params: &ExtractParams,
     output: Option<&Path>,
-    cancel: &'a AtomicBool,
+    watch: &'a Watch,
 ) -> tmc::Result<PipelineOptions<'a>> {
     let name = input.unwrap_or(Path::new("array"));
     tmc::stream::check_grid(name, source.grid(), params.close)?;
@@ -187,7 +188,8 @@ pub(crate) fn preflight<'a>(
         tmc::export::check_output_path(output)?;
     }
     Ok(PipelineOptions {
-        cancel: Some(cancel),
+        cancel: Some(&watch.cancel),
+        progress: Some(watch.progress()),
         ..Default::default()
     })
 }
@@ -239,7 +241,7 @@ pub(crate) type Collected = (
 /// `record.rs`). The vertices are widened to f64 as the chunks come (on
 /// the writing thread, while the workers triangulate).
 #[pyfunction]
-#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, select))]
+#[pyo3(signature = (input, iso, spacing, origin, mapped, method, inside, close, threads, normals, select, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract<'py>(
     py: Python<'py>,
@@ -254,12 +256,13 @@ pub(crate) fn extract<'py>(
     threads: usize,
     normals: bool,
     select: Select,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let params = params(iso, method, inside, close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select)?;
     let (vertices, triangles, n, report, record): Collected =
-        input.run(py, |source, path, cancel| {
-            let options = preflight(source, path, &params, None, cancel)?;
+        input.run(py, progress, |source, path, watch| {
+            let options = preflight(source, path, &params, None, watch)?;
             let mut recorder = Recorder::<[f64; 3]>::default();
             let stats = tmc::extract_to(source, &params, &options, &mut recorder)?;
             let report = report(path, None, source, &params, &stats)?;
@@ -300,7 +303,7 @@ pub(crate) fn marching_cubes<'py>(
     };
     let flip = params.inside == Inside::Low;
     let volume = volume.as_ref();
-    let arrays = interrupt::run(py, |cancel| {
+    let arrays = interrupt::run_watched(py, None, |watch| {
         // The per-vertex values are read from the array by the workers,
         // chunk by chunk, beside the extraction (not by the sink on the
         // one writing thread, which would then bound the speed-up).
@@ -308,7 +311,7 @@ pub(crate) fn marching_cubes<'py>(
             |vertices: &[[f32; 3]], out: &mut Vec<f32>| values::push_maxima(volume, vertices, out);
         let options = PipelineOptions {
             vertex_values: Some(&values),
-            ..preflight(volume, None, &params, None, cancel)?
+            ..preflight(volume, None, &params, None, watch)?
         };
         let mut sink = SkimageArrays::new(flip);
         tmc::extract_to(volume, &params, &options, &mut sink)?;
@@ -340,7 +343,7 @@ pub(crate) fn marching_cubes<'py>(
 /// the output's for an array; the mesh is taken back if the picture
 /// fails). Returns the report JSON.
 #[pyfunction]
-#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, select, preview = None))]
+#[pyo3(signature = (input, output, iso, spacing, origin, mapped, method, inside, close, threads, normals, select, preview = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_to(
     py: Python<'_>,
@@ -357,6 +360,7 @@ pub(crate) fn extract_to(
     normals: bool,
     select: Select,
     preview: Option<PathBuf>,
+    progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     // The name's form first: no placeholder is filled in ('{stem}' and
     // '{iso}', which the CLI's -o fills in, would stay in the name).
@@ -366,8 +370,8 @@ pub(crate) fn extract_to(
     tmc::export::check_normals_output(&output, normals).map_err(crate::errors::to_py)?;
     let params = params(iso, method, inside, close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select)?;
-    input.run(py, |source, path, cancel| {
-        let options = preflight(source, path, &params, Some(&output), cancel)?;
+    input.run(py, progress, |source, path, watch| {
+        let options = preflight(source, path, &params, Some(&output), watch)?;
         if let Some(picture) = &preview {
             tmc::preview::check_picture(picture, path, &[output.as_path()])?;
             for data in source.data_files() {

@@ -56,7 +56,7 @@ type LabelMesh<'py> = (i64, Bound<'py, PyAny>);
 /// record))`, each tuple what `extract` gives for that label's 0/1
 /// indicator at 0.5.
 #[pyfunction]
-#[pyo3(signature = (input, labels, background, spacing, origin, mapped, close, threads, normals, select))]
+#[pyo3(signature = (input, labels, background, spacing, origin, mapped, close, threads, normals, select, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_labels<'py>(
     py: Python<'py>,
@@ -70,13 +70,20 @@ pub(crate) fn extract_labels<'py>(
     threads: usize,
     normals: bool,
     select: Select,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Vec<LabelMesh<'py>>> {
     let params = label_params(close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select)?;
-    let collected: Vec<(i64, Collected)> = input.run(py, |source, path, cancel| {
-        let options = preflight(source, path, &params, None, cancel)?;
-        let (labels, _, runs) =
-            choose(source, path, labels.as_deref(), background, &params, cancel)?;
+    let collected: Vec<(i64, Collected)> = input.run(py, progress, |source, path, watch| {
+        let options = preflight(source, path, &params, None, watch)?;
+        let (labels, _, runs) = choose(
+            source,
+            path,
+            labels.as_deref(),
+            background,
+            &params,
+            &watch.cancel,
+        )?;
         // One collector per label: the meshes asked for, nothing more.
         let mut recorders: Vec<Recorder<[f64; 3]>> =
             labels.iter().map(|_| Recorder::default()).collect();
@@ -115,7 +122,7 @@ pub(crate) fn extract_labels<'py>(
 /// volume counted while its chunks stream ([`tmc::check::Measured`], as
 /// the CLI counts them), else without them.
 #[pyfunction]
-#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, select, stats = false))]
+#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, select, stats = false, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_labels_to(
     py: Python<'_>,
@@ -131,17 +138,19 @@ pub(crate) fn extract_labels_to(
     normals: bool,
     select: Select,
     stats: bool,
+    progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let params = label_params(close, threads, normals)?;
     let input = Input::new(input, spacing, origin, mapped, select)?;
-    input.run(py, |source, path, cancel| {
+    input.run(py, progress, |source, path, watch| {
+        let cancel = &watch.cancel;
         let started = Instant::now();
         // The name's form first, before the volume is read; `{label}` is
         // the one placeholder filled in ('{stem}' would stay in the name).
         crate::extract::refuse_placeholders(&output, &["{label}"])?;
         tmc::export::check_normals_output(&output, normals)?;
         tmc::export::check_label_template(&output, labels.as_deref().unwrap_or_default())?;
-        let options = preflight(source, path, &params, None, cancel)?;
+        let options = preflight(source, path, &params, None, watch)?;
         let (labels, counts, runs) =
             choose(source, path, labels.as_deref(), background, &params, cancel)?;
         let scan_seconds = started.elapsed().as_secs_f64();

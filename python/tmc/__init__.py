@@ -25,7 +25,7 @@ import mmap
 import operator
 import os
 import warnings
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -387,6 +387,14 @@ def _volume_3d(array: np.ndarray) -> np.ndarray:
     return array[(0,) * len(extra)] if extra else array
 
 
+def _callback(progress: Any) -> Any:
+    """``progress`` when it is ``None`` or callable; ``TypeError`` otherwise
+    (it would fail only at the first report, in the middle of the run)."""
+    if progress is None or callable(progress):
+        return progress
+    raise TypeError(f"progress must be a callable progress(done, total) or None, not {progress!r}")
+
+
 def _flag(value: Any, name: str) -> bool:
     """A boolean option: ``True``/``False`` or a numpy bool; anything
     else (``"no"``, 1, None) is a ``TypeError`` naming ``name``, since a
@@ -472,6 +480,7 @@ def extract(
     array: Optional[str] = None,
     level: Optional[int] = None,
     dataset: Optional[str] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Mesh:
     """Extracts the isosurface at ``iso`` into a :class:`Mesh`, with the
     ``tmc extract`` conventions.
@@ -527,6 +536,14 @@ def extract(
     dataset : str, optional
         The dataset of an HDF5 file (``"/scan/ct"``), as ``--dataset``: the
         same as the path ``"file.h5:/scan/ct"``.
+    progress : callable, optional
+        Called as ``progress(done, total)`` (cell layers written, cell
+        layers in all) on the calling thread while the run goes, when the
+        counts change (at most every 50 ms), and with ``done == total`` at
+        the end of a run that succeeded: for a progress bar
+        (``tqdm``'s ``bar.update``). An exception it raises stops the run,
+        as Ctrl-C does, and is raised (by the last call, after the run, the
+        outputs are already written).
 
     Returns
     -------
@@ -544,7 +561,7 @@ def extract(
                                    _select(series, segment, at, array, level, dataset))
     options = _options(method, inside, close, threads)
     vertices, triangles, vertex_normals, report, record = _tmc.extract(
-        *source, *options, _flag(normals, "normals"), chosen,
+        *source, *options, _flag(normals, "normals"), chosen, progress=_callback(progress),
     )
     mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
     mesh._record = record
@@ -570,6 +587,7 @@ def extract_to(
     level: Optional[int] = None,
     dataset: Optional[str] = None,
     preview: Optional[PathLike] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Dict[str, Any]:
     """Streams the isosurface at ``iso`` into the file ``output`` without
     holding the mesh in memory (the CLI's memory bound, for volumes of any
@@ -599,7 +617,8 @@ def extract_to(
                                           _select(series, segment, at, array, level, dataset))
     options = _options(method, inside, close, threads)
     report = _tmc.extract_to(
-        samples, os.fsdecode(output), *rest, *options, _flag(normals, "normals"), chosen, picture
+        samples, os.fsdecode(output), *rest, *options, _flag(normals, "normals"), chosen, picture,
+        progress=_callback(progress),
     )
     return json.loads(report)
 
@@ -670,6 +689,7 @@ def extract_labels(
     array: Optional[str] = None,
     level: Optional[int] = None,
     dataset: Optional[str] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Dict[int, Mesh]:
     """The surface of every label of a segmentation label map, in one pass
     over the volume, as ``tmc extract --labels`` extracts them.
@@ -709,6 +729,9 @@ def extract_labels(
     series, segment, at, array, level, dataset : optional
         What to read of a path (a DICOM series or segment, a Zarr array,
         level or entry, an HDF5 dataset), as in :func:`extract`.
+    progress : callable, optional
+        ``progress(done, total)`` in cell layers of the pass, as in
+        :func:`extract`.
 
     Returns
     -------
@@ -728,7 +751,7 @@ def extract_labels(
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment, at, array, level, dataset)
-    meshes = _tmc.extract_labels(array, *rest)
+    meshes = _tmc.extract_labels(array, *rest, progress=_callback(progress))
     result: Dict[int, Mesh] = {}
     for label, (vertices, triangles, vertex_normals, report, record) in meshes:
         mesh = Mesh(vertices, triangles, vertex_normals, json.loads(report))
@@ -755,6 +778,7 @@ def extract_labels_to(
     array: Optional[str] = None,
     level: Optional[int] = None,
     dataset: Optional[str] = None,
+    progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Dict[str, Any]:
     """Streams the surface of every label into files in one pass, the
     bytes ``tmc extract --labels`` writes, without holding the meshes.
@@ -790,7 +814,8 @@ def extract_labels_to(
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment, at, array, level, dataset)
-    report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=_flag(stats, "stats"))
+    report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=_flag(stats, "stats"),
+                                    progress=_callback(progress))
     return json.loads(report)
 
 

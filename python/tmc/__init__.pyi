@@ -1,7 +1,7 @@
 """Type stubs of the tmc package (see tmc/__init__.py for the docs)."""
 
 import os
-from typing import Any, Dict, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -68,6 +68,7 @@ def extract(
     array: Optional[str] = ...,
     level: Optional[int] = ...,
     dataset: Optional[str] = ...,
+    progress: Optional[Callable[[int, int], Any]] = ...,
 ) -> Mesh:
     """Extracts the isosurface at ``iso`` into a Mesh (tmc's conventions)."""
 
@@ -90,6 +91,7 @@ def extract_to(
     level: Optional[int] = ...,
     dataset: Optional[str] = ...,
     preview: Optional[PathLike] = ...,
+    progress: Optional[Callable[[int, int], Any]] = ...,
 ) -> Dict[str, Any]:
     """Streams the isosurface into a mesh file without holding the mesh
     (with ``normals``, the vertex normals too, as ``tmc extract --normals``;
@@ -112,6 +114,7 @@ def extract_labels(
     array: Optional[str] = ...,
     level: Optional[int] = ...,
     dataset: Optional[str] = ...,
+    progress: Optional[Callable[[int, int], Any]] = ...,
 ) -> Dict[int, Mesh]:
     """Every label's surface of a label map in one pass, keyed by label:
     each the extraction of the label's 0/1 indicator at 0.5."""
@@ -134,6 +137,7 @@ def extract_labels_to(
     array: Optional[str] = ...,
     level: Optional[int] = ...,
     dataset: Optional[str] = ...,
+    progress: Optional[Callable[[int, int], Any]] = ...,
 ) -> Dict[str, Any]:
     """Streams every label's surface into files in one pass (``{label}`` in
     ``output`` for a file per label, the one placeholder, else one .ply or

@@ -42,6 +42,7 @@ def extract(
     threads: int,
     normals: bool,
     select: _Select,
+    progress: Any = ...,
 ) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]:
     """Extracts into arrays in tmc's layout: (vertices float64, triangles
     uint32, normals float32 or None, report JSON, record)."""
@@ -72,6 +73,7 @@ def extract_to(
     normals: bool,
     select: _Select,
     preview: Optional[str] = ...,
+    progress: Any = ...,
 ) -> str:
     """Streams into a file (with vertex normals if ``normals``, and the
     picture at ``preview``); returns the report JSON."""
@@ -87,6 +89,7 @@ def extract_labels(
     threads: int,
     normals: bool,
     select: _Select,
+    progress: Any = ...,
 ) -> List[Tuple[int, Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]]]:
     """Every label's mesh in one pass (None: every value present but
     background): (label, extract's tuple for its indicator) per label."""
@@ -104,6 +107,7 @@ def extract_labels_to(
     normals: bool,
     select: _Select,
     stats: bool = ...,
+    progress: Any = ...,
 ) -> str:
     """Streams every label's mesh into the files output names; returns the
     report JSON (with stats, each label's components, genus, closed, area

@@ -12,6 +12,7 @@
 #![deny(clippy::undocumented_unsafe_blocks)]
 
 mod array;
+mod compare;
 mod errors;
 mod extract;
 mod interrupt;
@@ -28,6 +29,7 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _tmc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(extract::extract, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(extract::extract_to, m)?)?;
     m.add_function(wrap_pyfunction!(extract::marching_cubes, m)?)?;
     m.add_function(wrap_pyfunction!(labels::extract_labels, m)?)?;

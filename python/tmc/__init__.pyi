@@ -17,6 +17,7 @@ __all__ = [
     "extract_to",
     "extract_labels",
     "extract_labels_to",
+    "compare",
     "read_mesh",
     "info",
     "__version__",
@@ -145,6 +146,26 @@ def extract_labels_to(
     output directory raises ``FileNotFoundError``; returns its report
     (with ``stats``, each label's components, genus, closed, area and,
     for a closed surface, enclosed_volume, as ``--json`` gives them)."""
+
+def compare(
+    volume: _ArrayOrPath,
+    iso: float,
+    *,
+    runs: int = ...,
+    spacing: Optional[Sequence[float]] = ...,
+    origin: Optional[Sequence[float]] = ...,
+    inside: str = ...,
+    close: bool = ...,
+    threads: int = ...,
+    topology_memory: Optional[int] = ...,
+    series: Optional[Union[int, str]] = ...,
+    segment: Optional[int] = ...,
+    at: Optional[Mapping[Union[str, int], int]] = ...,
+    array: Optional[str] = ...,
+    level: Optional[int] = ...,
+    dataset: Optional[str] = ...,
+) -> Dict[str, Any]:
+    """TMC against standard MC on one volume, as ``tmc compare --json``."""
 
 def read_mesh(path: PathLike) -> Mesh:
     """Reads a .tmesh, PLY, OBJ or OFF file, with its vertex normals and

@@ -10,6 +10,7 @@ __all__ = [
     "__version__",
     "_restore_record",
     "check_mesh",
+    "compare",
     "extract",
     "extract_labels",
     "extract_labels_to",
@@ -46,6 +47,21 @@ def extract(
 ) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], str, Any]:
     """Extracts into arrays in tmc's layout: (vertices float64, triangles
     uint32, normals float32 or None, report JSON, record)."""
+
+def compare(
+    input: Any,
+    iso: float,
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    mapped: Optional[Tuple[str, int]],
+    inside: str,
+    close: bool,
+    threads: int,
+    select: _Select,
+    runs: int,
+    topology_memory: Optional[int] = ...,
+) -> str:
+    """The figures of tmc compare --json as JSON text."""
 
 def marching_cubes(
     input: np.ndarray,

@@ -1,16 +1,9 @@
 //! `tmc compare`: TMC against standard marching cubes on one volume, as
 //! the paper's question is asked: how much slower, and what is different.
 //!
-//! The steps, each a pass of the ordinary pipeline or of the library:
-//! 1. **time**: a warm-up of each method, then `--runs` pairs, interleaved
-//!    (the order alternating from pair to pair), each an extraction into a
-//!    sink that only counts: memory as in `tmc extract`, nothing written;
-//! 2. **survey**: every ambiguous cell through the kernel, to count the
-//!    cells TMC triangulates differently from MC, by kind
-//!    ([`tmc::compare::survey`]); two planes per thread;
-//! 3. **topology**: each method once more into memory and through the
-//!    checker (components, Euler characteristic, genus), unless the meshes
-//!    would not fit `--topology-memory`, in which case the table says so;
+//! Steps 1 to 3 (time, survey, topology) are the library's
+//! [`tmc::compare::compare`], which the Python package's `tmc.compare`
+//! shares; the CLI adds:
 //! 4. with `--preview`: each method once more into a preview drawn in
 //!    memory (streaming, as `tmc extract --preview`), the two side by side
 //!    with the cells the survey found differing marked in red
@@ -24,28 +17,14 @@ use super::output::to_stdout;
 use super::raw_input::RawArgs;
 use super::values;
 use clap::Args;
-use serde::Serialize;
 use serde_json::json;
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
-use tmc::compare::{
-    median, ratio_interval, survey_marking, DifferingCells, OnDiffering, RatioInterval,
-};
+use tmc::compare::{Comparison, OnDiffering, TOPOLOGY_MEMORY};
 use tmc::preview::{side_by_side, write_png, Bounds, Marks, PreviewSink, PAIR_DIMENSIONS};
 use tmc::stream::check_grid;
-use tmc::{
-    Chunk, ExtractParams, Inside, MeshInfo, MeshSink, Method, PipelineOptions, Stats, Totals,
-};
-
-/// Memory the topology step may use by default (2 GiB).
-const TOPOLOGY_MEMORY: u64 = 2 << 30;
-
-/// Bytes per vertex and per triangle the topology step needs: the mesh in
-/// memory (`f32` positions, `u32` indices) and the checker's incidence
-/// lists and union-finds (a few words each, see [`tmc::check`]).
-const TOPOLOGY_BYTES: (u64, u64) = (12 + 40, 12 + 60);
+use tmc::{ExtractParams, Inside, Method, PipelineOptions};
 
 /// Times `--method tmc` against `--method mc` on one volume and reports
 /// what their meshes differ in.
@@ -116,60 +95,6 @@ pub(crate) struct CompareArgs {
     pub raw: RawArgs,
 }
 
-/// A sink that takes every chunk and keeps nothing: the timed runs write
-/// no mesh.
-struct Discard;
-
-impl MeshSink for Discard {
-    fn begin(&mut self, _: &MeshInfo) -> tmc::Result<()> {
-        Ok(())
-    }
-    fn chunk(&mut self, _: u64, _: &Chunk) -> tmc::Result<()> {
-        Ok(())
-    }
-    fn finish(&mut self, _: &Totals) -> tmc::Result<()> {
-        Ok(())
-    }
-}
-
-/// The topology of one method's mesh, or why it was left out.
-#[derive(Debug, Clone, Serialize)]
-struct Topology {
-    components: Option<usize>,
-    euler: Option<i64>,
-    genus: Option<i64>,
-}
-
-/// What one method gave: its timings, its last run's statistics, its
-/// topology.
-struct Side {
-    seconds: Vec<f64>,
-    stats: Stats,
-    topology: Topology,
-}
-
-impl Side {
-    fn json(&self) -> serde_json::Value {
-        let s = &self.stats;
-        json!({
-            "seconds": self.seconds,
-            "median_seconds": median(&self.seconds),
-            "min_seconds": self.seconds.iter().copied().fold(f64::INFINITY, f64::min),
-            "max_seconds": self.seconds.iter().copied().fold(0.0, f64::max),
-            "triangles": s.triangles,
-            "vertices": s.vertices,
-            "components": self.topology.components,
-            "euler": self.topology.euler,
-            "genus": self.topology.genus,
-            "ambiguous_cells": s.ambiguous_cells,
-            "contours": s.contours,
-            "ambiguous_contours": s.ambiguous_contours,
-            "tunnels": s.tunnels,
-            "contours_12": s.contours_12,
-        })
-    }
-}
-
 /// Runs `tmc compare`; setting `cancel` stops it with [`tmc::Error::Interrupted`].
 pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Result<()> {
     // {stem} and {iso} as in 'tmc extract --preview' (they were written
@@ -199,9 +124,9 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
         }
         (None, _) => None,
     };
-    let params = |method| ExtractParams {
+    let params = ExtractParams {
         iso: args.iso,
-        method,
+        method: Method::Tmc,
         inside: match args.inside {
             InsideArg::High => Inside::High,
             InsideArg::Low => Inside::Low,
@@ -210,9 +135,9 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
         threads: args.threads.unwrap_or(0),
         normals: false,
     };
-    let (tmc_params, mc_params) = (params(Method::Tmc), params(Method::Mc));
     // The peak of the streaming steps (time, survey), before the topology
-    // step holds meshes.
+    // step holds meshes: sampled by the slabs of the timed runs and once
+    // the survey is done.
     let peak = super::memory::PeakAnon::default();
     let on_slab = |_: &tmc::Progress| peak.sample_soon();
     let options = PipelineOptions {
@@ -221,40 +146,30 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
         max_memory: args.max_memory,
         ..Default::default()
     };
-    let timed = |p: &ExtractParams| -> tmc::Result<(f64, Stats)> {
-        let start = Instant::now();
-        let stats = tmc::extract_to(source.as_ref(), p, &options, &mut Discard)?;
-        Ok((start.elapsed().as_secs_f64(), stats))
-    };
-
-    // 1. Time: a warm-up of each, then the pairs, the order alternating.
-    timed(&tmc_params)?;
-    timed(&mc_params)?;
     let runs = usize::from(args.runs);
-    let (mut tmc_seconds, mut mc_seconds) = (Vec::new(), Vec::new());
-    let (mut tmc_stats, mut mc_stats) = (Stats::default(), Stats::default());
-    for i in 0..runs {
-        let (t, m) = if i % 2 == 0 {
-            let t = timed(&tmc_params)?;
-            (t, timed(&mc_params)?)
-        } else {
-            let m = timed(&mc_params)?;
-            (timed(&tmc_params)?, m)
-        };
+    let mut on_run = |i: usize, t: f64, m: f64| {
         if !args.quiet {
             say!(
-                "tmc: compare: run {} of {runs}: tmc {:.4} s, mc {:.4} s",
-                i + 1,
-                t.0,
-                m.0
+                "tmc: compare: run {} of {runs}: tmc {t:.4} s, mc {m:.4} s",
+                i + 1
             );
         }
-        tmc_seconds.push(t.0);
-        mc_seconds.push(m.0);
-        (tmc_stats, mc_stats) = (t.1, m.1);
-    }
-    let ratio = ratio_interval(&tmc_seconds, &mc_seconds);
-    if tmc_stats.triangles == 0 && mc_stats.triangles == 0 && !args.quiet {
+    };
+    let mark = |p: [f64; 3]| {
+        if let Some(m) = &marks {
+            m.mark(p);
+        }
+    };
+    let mut after_survey = || peak.sample();
+    let hooks = tmc::compare::Hooks {
+        on_run: Some(&mut on_run),
+        on_differing: marks.as_ref().map(|_| &mark as OnDiffering<'_>),
+        after_survey: Some(&mut after_survey),
+    };
+    let limit = args.topology_memory.unwrap_or(TOPOLOGY_MEMORY);
+    let found = tmc::compare::compare(source.as_ref(), &params, runs, limit, &options, hooks)?;
+    let peak_rss_anon_bytes = peak.peak();
+    if found.tmc.stats.triangles == 0 && found.mc.stats.triangles == 0 && !args.quiet {
         // As 'tmc extract' says it: the table's zeros and times are of
         // extractions that found nothing, most likely an isovalue outside
         // the data range.
@@ -265,48 +180,13 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
             args.input.display()
         );
     }
-
-    // 2. The cells that differ (the survey reads two planes per thread).
-    let mark = |p: [f64; 3]| {
-        if let Some(m) = &marks {
-            m.mark(p);
-        }
-    };
-    let on_differing: Option<OnDiffering<'_>> = marks.as_ref().map(|_| &mark as OnDiffering<'_>);
-    let (differing, surveyed) = survey_marking(
-        source.as_ref(),
-        &tmc_params,
-        tmc_params.threads,
-        cancel,
-        on_differing,
-    )?;
-    debug_assert_eq!(surveyed.tunnels, tmc_stats.tunnels);
-    peak.sample();
-    let peak_rss_anon_bytes = peak.peak();
-
-    // 3. Topology, within its memory.
-    let limit = args.topology_memory.unwrap_or(TOPOLOGY_MEMORY);
-    let need = |s: &Stats| s.vertices * TOPOLOGY_BYTES.0 + s.triangles * TOPOLOGY_BYTES.1;
-    let most = need(&tmc_stats).max(need(&mc_stats));
-    let (tmc_topology, mc_topology, topology_note) = if most <= limit {
-        (
-            topology(source.as_ref(), &tmc_params, &options)?,
-            topology(source.as_ref(), &mc_params, &options)?,
-            None,
-        )
-    } else {
-        let none = Topology {
-            components: None,
-            euler: None,
-            genus: None,
-        };
-        let note = format!(
+    let topology_note = found.topology_left_out.map(|most| {
+        format!(
             "components, Euler characteristic and genus left out: they hold the mesh in memory, about {}, over --topology-memory {}",
             super::report::human_bytes(most),
             super::report::human_bytes(limit)
-        );
-        (none.clone(), none, Some(note))
-    };
+        )
+    });
 
     // 4. The picture.
     if let (Some(picture), Some(marks)) = (&preview, &marks) {
@@ -314,36 +194,24 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
         let caption = |method: &str| {
             format!(
                 "{method}   {name}   {} differing cells in red",
-                differing.cells
+                found.differing.cells
             )
         };
-        let draw = |p: &ExtractParams, method: &str| -> tmc::Result<Vec<u8>> {
-            let mut sink = PreviewSink::in_memory(caption(method), bounds, p.threads);
-            tmc::extract_to(source.as_ref(), p, &options, &mut sink)?;
+        let draw = |method: Method, label: &str| -> tmc::Result<Vec<u8>> {
+            let p = ExtractParams { method, ..params };
+            let mut sink = PreviewSink::in_memory(caption(label), bounds, p.threads);
+            tmc::extract_to(source.as_ref(), &p, &options, &mut sink)?;
             sink.take_picture()
                 .ok_or_else(|| tmc::Error::Invalid("preview: no picture".into()))
         };
-        let (left, right) = (draw(&tmc_params, "TMC")?, draw(&mc_params, "MC")?);
+        let (left, right) = (draw(Method::Tmc, "TMC")?, draw(Method::Mc, "MC")?);
         let (w, h) = PAIR_DIMENSIONS;
         write_png(picture, w, h, &side_by_side(&left, &right, marks))?;
     }
 
-    let tmc_side = Side {
-        seconds: tmc_seconds,
-        stats: tmc_stats,
-        topology: tmc_topology,
-    };
-    let mc_side = Side {
-        seconds: mc_seconds,
-        stats: mc_stats,
-        topology: mc_topology,
-    };
     let report = Report {
         args,
-        tmc: &tmc_side,
-        mc: &mc_side,
-        ratio,
-        differing,
+        found: &found,
         topology_note: topology_note.as_deref(),
         peak_rss_anon_bytes,
     };
@@ -357,30 +225,10 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
     }
 }
 
-/// Components, Euler characteristic and genus of `params`' mesh, from an
-/// extraction into memory and the checker.
-fn topology(
-    source: &dyn tmc::SampleSource,
-    params: &ExtractParams,
-    options: &PipelineOptions,
-) -> tmc::Result<Topology> {
-    let mut builder = tmc::MeshBuilder::default();
-    tmc::extract_to(source, params, options, &mut builder)?;
-    let report = tmc::check::check_mesh(&builder.into_mesh());
-    Ok(Topology {
-        components: Some(report.components),
-        euler: Some(report.euler),
-        genus: report.total_genus(),
-    })
-}
-
 /// Everything `tmc compare` prints.
 struct Report<'a> {
     args: &'a CompareArgs,
-    tmc: &'a Side,
-    mc: &'a Side,
-    ratio: RatioInterval,
-    differing: DifferingCells,
+    found: &'a Comparison,
     topology_note: Option<&'a str>,
     /// The peak anonymous memory of the timed runs and the survey.
     peak_rss_anon_bytes: Option<u64>,
@@ -388,7 +236,8 @@ struct Report<'a> {
 
 impl Report<'_> {
     fn json(&self) -> serde_json::Value {
-        json!({
+        let mut map = self.found.json();
+        let run = json!({
             "input": self.args.input,
             "iso": self.args.iso,
             "inside": match self.args.inside { InsideArg::High => "high", InsideArg::Low => "low" },
@@ -396,17 +245,17 @@ impl Report<'_> {
             // The workers the runs used, as 'tmc extract --json' says it.
             "threads": tmc::stream::threads::worker_threads(self.args.threads.unwrap_or(0)),
             "runs": self.args.runs,
-            "tmc": self.tmc.json(),
-            "mc": self.mc.json(),
-            "ratio": self.ratio,
-            "differing_cells": self.differing,
             "topology_note": self.topology_note,
             "peak_rss_anon_bytes": self.peak_rss_anon_bytes,
-        })
+        });
+        if let serde_json::Value::Object(run) = run {
+            map.extend(run);
+        }
+        serde_json::Value::Object(map)
     }
 
     fn write_table(&self, out: &mut impl Write) -> std::io::Result<()> {
-        let (t, m) = (self.tmc.json(), self.mc.json());
+        let (t, m) = (self.found.tmc.json(), self.found.mc.json());
         writeln!(
             out,
             "tmc compare {}, iso {}: {} timed pairs after a warm-up, no mesh written",
@@ -456,17 +305,17 @@ impl Report<'_> {
                 plain(&m[key])
             )?;
         }
-        let r = self.ratio;
+        let r = self.found.ratio;
         writeln!(
             out,
             "time TMC/MC: {:.3} (95% interval {:.3} to {:.3}, bootstrap of {} paired runs)",
             r.median, r.low, r.high, self.args.runs
         )?;
-        let d = self.differing;
+        let d = self.found.differing;
         writeln!(
             out,
             "cells TMC triangulates differently from MC: {} of {} ambiguous (face decisions {}, tunnels {}, 12-vertex contours {}, interior vertices {}; a cell may be of several kinds)",
-            d.cells, self.tmc.stats.ambiguous_cells, d.face_decisions, d.tunnels, d.contours_12, d.interior_vertices
+            d.cells, self.found.tmc.stats.ambiguous_cells, d.face_decisions, d.tunnels, d.contours_12, d.interior_vertices
         )?;
         if let Some(note) = self.topology_note {
             writeln!(out, "note: {note}")?;

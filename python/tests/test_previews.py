@@ -93,4 +93,10 @@ def test_bad_picture_paths_raise_and_write_nothing(tmp_path):
         tmc.extract_to(HEAD, 500, tmp_path / "m.ply", preview=tmp_path / "{stem}.png")
     with pytest.raises(TypeError):
         mesh.preview(tmp_path / "x.png", title=3)
+    corners = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    with pytest.raises(ValueError, match="triangle 0 .* past the 3 vertices"):
+        tmc.Mesh(corners, np.array([[0, 1, 5]], np.uint32)).preview(tmp_path / "x.png")
+    corners[0, 2] = np.nan
+    with pytest.raises(ValueError, match="vertex 0 .* not finite"):
+        tmc.Mesh(corners, np.array([[0, 1, 2]], np.uint32)).preview(tmp_path / "x.png")
     assert sorted(p.name for p in tmp_path.iterdir()) == []

@@ -91,7 +91,7 @@ pub fn write_mesh(path: &Path, mesh: &Mesh) -> Result<()> {
             path.display()
         )));
     }
-    check_mesh_indices(path, mesh)?;
+    mesh.check_indices(path)?;
     write_atomically(path, |w| match format {
         Format::Ply => write_ply(w, mesh),
         Format::Obj => write_obj(w, mesh),
@@ -116,30 +116,4 @@ pub fn check_output_paths<'p>(paths: impl IntoIterator<Item = &'p Path> + Clone)
         Format::from_path(path)?;
     }
     crate::files::check_output_files(paths)
-}
-
-/// Rejects triangles that name a vertex the mesh does not have.
-fn check_mesh_indices(path: &Path, mesh: &Mesh) -> Result<()> {
-    let n = mesh.vertices.len();
-    if u32::try_from(n).is_err() || u32::try_from(mesh.triangles.len()).is_err() {
-        return Err(Error::Invalid(format!(
-            "{}: mesh too large ({} vertices, {} triangles; at most {} each)",
-            path.display(),
-            n,
-            mesh.triangles.len(),
-            u32::MAX
-        )));
-    }
-    if let Some((i, t)) = mesh
-        .triangles
-        .iter()
-        .enumerate()
-        .find(|(_, t)| t.iter().any(|&v| v as usize >= n))
-    {
-        return Err(Error::Invalid(format!(
-            "{}: triangle {i} {t:?} refers to a vertex past the {n} vertices",
-            path.display()
-        )));
-    }
-    Ok(())
 }

@@ -105,6 +105,8 @@ pub fn check_picture(picture: &Path, input: Option<&Path>, meshes: &[&Path]) -> 
 
 /// Draws `mesh`, held whole, into the PNG `picture`, captioned `title`,
 /// framed by its vertices' box, by `threads` workers (0: one per core);
+/// a triangle naming a vertex the mesh does not have, or a vertex that is
+/// not finite, is an error before anything is drawn;
 /// setting `cancel` stops it with [`Error::Interrupted`](crate::Error),
 /// leaving no picture. A mesh without vertices is drawn as `tmc extract
 /// --preview` draws an isovalue that meets nothing ("empty: no surface").
@@ -115,8 +117,19 @@ pub fn draw_mesh(
     threads: usize,
     cancel: &AtomicBool,
 ) -> Result<()> {
-    // The readers refuse coordinates that are not finite, so there is no
-    // box only when there are no vertices.
+    mesh.check_indices(picture)?;
+    if let Some((i, v)) = mesh
+        .vertices
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.iter().all(|c| c.is_finite()))
+    {
+        return Err(crate::Error::Invalid(format!(
+            "{}: vertex {i} {v:?} is not finite",
+            picture.display()
+        )));
+    }
+    // With finite vertices there is no box only when there are none.
     let bounds =
         Bounds::of_points(mesh.vertices.iter().map(|v| v.map(f64::from))).unwrap_or(Bounds {
             min: [0.0; 3],

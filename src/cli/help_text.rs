@@ -22,7 +22,9 @@ Input formats:
          skip' and 'byte skip' (-1: data at the end) apply to each data
          file; grid from 'space directions' (rotation and mirroring applied)
          or 'spacings', origin from 'space origin' (or, without 'space
-         directions', 'axis mins' as teem and ITK place it)
+         directions', 'axis mins' as teem and ITK place it); lengths in
+         'space units' or 'units' of metres, microns, nm ... ('microns'
+         as Fiji writes them) converted to millimetres
   .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types of 8 to
          32 bits, float, double (64-bit integer types read as f64);
          scl_slope/scl_inter applied (ISO in physical units); grid from the

@@ -1,7 +1,7 @@
-//! Lengths in metadata (ImageJ, OME-TIFF, OME-Zarr) converted to
-//! millimetres, the unit of the medical formats tmc reads (NRRD, NIfTI
-//! and DICOM volumes are in millimetres), so that meshes of different
-//! inputs line up.
+//! Lengths in metadata (ImageJ, OME-TIFF, OME-Zarr, NRRD `space units`)
+//! converted to millimetres, the unit of the medical formats tmc reads
+//! (NRRD, NIfTI and DICOM volumes are in millimetres unless they say
+//! otherwise), so that meshes of different inputs line up.
 
 /// Millimetres per unit `name`, for the unit names ImageJ, OME and
 /// tifffile write; `None` if unknown.

@@ -21,7 +21,13 @@ const MM: [f64; 3] = [0.5, 1.0, 2.0];
 #[test]
 fn imagej_and_ome_metadata_give_the_spacing_in_millimetres() {
     let twin = volume::open(&data("vt_twin.npy"), None).unwrap();
-    for name in ["tv_imagej_mm.tif", "tv_imagej_micron.tif", "tv_ome.ome.tif"] {
+    for name in [
+        "tv_imagej_mm.tif",
+        "tv_imagej_micron.tif",
+        "tv_ome.ome.tif",
+        "tv_ome_angstrom.ome.tif",
+        "tv_imagej_angstrom.tif",
+    ] {
         let src = volume::open(&data(name), None).unwrap();
         let g = src.grid();
         for (got, want) in g.spacing.iter().zip(MM) {

@@ -17,9 +17,9 @@ Input formats:
   .nhdr  file, 'LIST [subdim]' (names on the following lines) or a printf
          pattern 'slice%03d.raw MIN MAX STEP [subdim]', one slice (subdim 2)
          or a block of slices (subdim 3) per file; encoding raw (mapped),
-         gzip, bzip2 or ascii; any 8/16/32-bit integer type, float or double
-         (64-bit integer types read as f64: exact within +-2^53); 'line
-         skip' and 'byte skip' (-1: data at the end) apply to each data
+         gzip, bzip2, ascii or hex; any 8/16/32-bit integer type, float or
+         double (64-bit integer types read as f64: exact within +-2^53);
+         'line skip' and 'byte skip' (-1: data at the end) apply to each data
          file; grid from 'space directions' (rotation and mirroring applied)
          or 'spacings', origin from 'space origin' (or, without 'space
          directions', 'axis mins' as teem and ITK place it); lengths in

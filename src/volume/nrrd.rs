@@ -9,8 +9,8 @@
 //! whose kind is not spatial, `RGB-color`, `3-vector`, `list` ..., is
 //! refused: it would be read as x), `endian`, `encoding`
 //! (`raw`, memory-mapped; `gzip`/`gz` and `bzip2`/`bz2`, decompressed once
-//! into a mapped temporary file, see `spill`; `ascii`/`text`/`txt`, parsed
-//! into memory), `spacings` or `space directions`, `space
+//! into a mapped temporary file, see `spill`; `hex`, decoded so too;
+//! `ascii`/`text`/`txt`, parsed into memory), `spacings` or `space directions`, `space
 //! origin`, `space` (recorded, see [`NrrdVolume::space`]), `line skip` and
 //! `byte skip` (`-1` for raw data at the end of the file), and `data file`
 //! (or `datafile`): one file name (relative to the header's directory, or

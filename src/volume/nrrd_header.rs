@@ -25,6 +25,9 @@ pub(crate) enum Encoding {
     Bzip2,
     /// Numbers written as text, separated by whitespace.
     Ascii,
+    /// The raw bytes written as pairs of hex digits, whitespace between
+    /// them ignored.
+    Hex,
 }
 
 impl Encoding {
@@ -35,6 +38,7 @@ impl Encoding {
             Encoding::Gzip => "gzip",
             Encoding::Bzip2 => "bzip2",
             Encoding::Ascii => "ascii",
+            Encoding::Hex => "hex",
         }
     }
 }
@@ -219,9 +223,10 @@ pub(crate) fn parse_line(line: &str, header: &mut Header) -> Result<(), String> 
                 "gzip" | "gz" => Encoding::Gzip,
                 "bzip2" | "bz2" => Encoding::Bzip2,
                 "ascii" | "text" | "txt" => Encoding::Ascii,
+                "hex" => Encoding::Hex,
                 _ => {
                     return Err(format!(
-                        "encoding '{value}' is not supported (raw, gzip, bzip2 or ascii)"
+                        "encoding '{value}' is not supported (raw, gzip, bzip2, ascii or hex)"
                     ))
                 }
             });

@@ -165,8 +165,8 @@ fn bad_headers_and_data_give_one_line_errors() {
             "nrrd_raw_le_f32",
             "nrrd_raw_le_f32.nrrd",
             "encoding: raw",
-            "encoding: hex",
-            &["encoding 'hex' is not supported"],
+            "encoding: zrl",
+            &["encoding 'zrl' is not supported (raw, gzip, bzip2, ascii or hex)"],
         ),
         (
             "nrrd_raw_le_f32",
@@ -829,5 +829,68 @@ fn space_units_give_millimetres() {
                 assert_eq!(text, "file (header)", "{field}");
             }
         }
+    }
+}
+
+/// `encoding: hex` (teem writes it: the raw bytes as hex digits, any case,
+/// whitespace between them ignored; `byte skip` skips the file's bytes, as
+/// for ascii) reads the samples of the raw file, attached or detached. It
+/// was refused ("encoding 'hex' is not supported"). Bad digits, an odd
+/// digit count and short data are one line each.
+#[test]
+fn hex_encoding_reads_as_raw() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let raw = data_dir().join("nrrd_raw_le_f32.nrrd");
+    let want = all_samples(volume::open(&raw, None).unwrap().as_ref());
+    let bytes = fs::read(&raw).unwrap();
+    let end = bytes.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+    let header = std::str::from_utf8(&bytes[..end])
+        .unwrap()
+        .replace("encoding: raw", "encoding: hex");
+    // Lines of 15 bytes (so that samples straddle lines), upper case on odd lines.
+    let hex: String = bytes[end..]
+        .chunks(15)
+        .enumerate()
+        .map(|(i, line)| {
+            let text: String = line.iter().map(|b| format!("{b:02x} ")).collect();
+            let text = if i % 2 == 1 {
+                text.to_uppercase()
+            } else {
+                text
+            };
+            format!("{text}\r\n")
+        })
+        .collect();
+    let attached = d.join("hex.nrrd");
+    fs::write(&attached, format!("{header}{hex}")).unwrap();
+    let detached = d.join("hex.nhdr");
+    let data = d.join("hex.txt");
+    fs::write(&data, format!("skip me\n{hex}")).unwrap();
+    let head = header.trim_end().replace(
+        "encoding: hex",
+        "encoding: hex\nbyte skip: 8\ndata file: hex.txt",
+    );
+    fs::write(&detached, format!("{head}\n")).unwrap();
+    for path in [&attached, &detached] {
+        let vol = volume::open(path, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(vol.grid().dims, [9, 7, 6]);
+        assert_eq!(all_samples(vol.as_ref()), want, "{}", path.display());
+    }
+    let digits: String = hex.chars().filter(|c| c.is_ascii_hexdigit()).collect();
+    for (text, phrase) in [
+        (format!("{}zz", &digits[..10]), "'z' is not a hex digit"),
+        (
+            digits[..digits.len() - 1].to_string(),
+            "odd number of hex digits",
+        ),
+        (
+            digits[..digits.len() - 8].to_string(),
+            "hex data holds 1508 bytes",
+        ),
+    ] {
+        fs::write(&attached, format!("{header}{text}")).unwrap();
+        let e = open_err(&attached);
+        assert!(e.contains(phrase), "{phrase}: {e}");
     }
 }

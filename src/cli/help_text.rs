@@ -38,8 +38,9 @@ Input formats:
          Origin, Spacing, Direction
   .tif   a multi-page TIFF (or BigTIFF), or a directory or glob ('dir/*.tif')
          of single-page TIFFs in natural name order; 8/16/32-bit; spacing
-         from ImageJ (unit=, spacing=, X/YResolution) or OME-XML
-         (PhysicalSizeX/Y/Z) metadata in millimetres, else unit spacing
+         from ImageJ (unit=, spacing=, X/YResolution; origin from
+         xorigin= ...) or OME-XML (PhysicalSizeX/Y/Z) metadata in
+         millimetres, else unit spacing
   DICOM  a directory of slice files (DICM magic or .dcm; other files skipped),
          one slice file (its series in its directory) or a multi-frame .dcm;
          slices sorted by position along the normal, RescaleSlope/Intercept

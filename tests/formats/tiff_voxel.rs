@@ -47,6 +47,30 @@ fn imagej_and_ome_metadata_give_the_spacing_in_millimetres() {
     assert_eq!(plain.notes().spacing_from, ValueFrom::Default);
 }
 
+/// ImageJ's `xorigin=`, `yorigin=`, `zorigin=` (the pixel where the
+/// coordinates' zero lies, as ImageJ's Calibration writes it) place the
+/// first voxel at `-origin * spacing`; the origin was 0 and `tmc info` said
+/// the file states none.
+#[test]
+fn imagej_origin_places_the_first_voxel() {
+    let src = volume::open(&data("tv_imagej_origin.tif"), None).unwrap();
+    let plain = volume::open(&data("tv_imagej_mm.tif"), None).unwrap();
+    let (g, p) = (src.grid(), plain.grid());
+    assert_eq!(g.spacing, p.spacing);
+    let pixels = [3.0, -4.0, 1.5];
+    for ((origin, pixel), spacing) in g.origin.iter().zip(pixels).zip(g.spacing) {
+        assert!((origin + pixel * spacing).abs() < 1e-12, "{:?}", g.origin);
+    }
+    assert_eq!(all_samples(&*src), all_samples(&*plain));
+    assert!(
+        matches!(&src.notes().origin_from, ValueFrom::File { what } if what.contains("ImageJ")),
+        "{:?}",
+        src.notes().origin_from
+    );
+    assert_eq!(plain.grid().origin, [0.0; 3]);
+    assert_eq!(plain.notes().origin_from, ValueFrom::Default);
+}
+
 /// Runs `tmc extract` and returns the PLY bytes.
 fn mesh(input: &str, extra: &[&str], dir: &std::path::Path, name: &str) -> (Vec<u8>, String) {
     let out = dir.join(name);

@@ -17,12 +17,14 @@ Input formats:
   .nhdr  file, 'LIST [subdim]' (names on the following lines) or a printf
          pattern 'slice%03d.raw MIN MAX STEP [subdim]', one slice (subdim 2)
          or a block of slices (subdim 3) per file; encoding raw (mapped),
-         gzip, bzip2 or ascii; any 8/16/32-bit integer type, float or double
-         (64-bit integer types read as f64: exact within +-2^53); 'line
-         skip' and 'byte skip' (-1: data at the end) apply to each data
+         gzip, bzip2, ascii or hex; any 8/16/32-bit integer type, float or
+         double (64-bit integer types read as f64: exact within +-2^53);
+         'line skip' and 'byte skip' (-1: data at the end) apply to each data
          file; grid from 'space directions' (rotation and mirroring applied)
          or 'spacings', origin from 'space origin' (or, without 'space
-         directions', 'axis mins' as teem and ITK place it)
+         directions', 'axis mins' as teem and ITK place it); lengths in
+         'space units' or 'units' of metres, microns, nm ... ('microns'
+         as Fiji writes them) converted to millimetres
   .nii   NIfTI-1/2, also .nii.gz and .hdr + .img; all integer types of 8 to
          32 bits, float, double (64-bit integer types read as f64);
          scl_slope/scl_inter applied (ISO in physical units); grid from the
@@ -36,8 +38,9 @@ Input formats:
          Origin, Spacing, Direction
   .tif   a multi-page TIFF (or BigTIFF), or a directory or glob ('dir/*.tif')
          of single-page TIFFs in natural name order; 8/16/32-bit; spacing
-         from ImageJ (unit=, spacing=, X/YResolution) or OME-XML
-         (PhysicalSizeX/Y/Z) metadata in millimetres, else unit spacing
+         from ImageJ (unit=, spacing=, X/YResolution; origin from
+         xorigin= ...) or OME-XML (PhysicalSizeX/Y/Z) metadata in
+         millimetres, else unit spacing
   DICOM  a directory of slice files (DICM magic or .dcm; other files skipped),
          one slice file (its series in its directory) or a multi-frame .dcm;
          slices sorted by position along the normal, RescaleSlope/Intercept

@@ -9,8 +9,8 @@
 //! whose kind is not spatial, `RGB-color`, `3-vector`, `list` ..., is
 //! refused: it would be read as x), `endian`, `encoding`
 //! (`raw`, memory-mapped; `gzip`/`gz` and `bzip2`/`bz2`, decompressed once
-//! into a mapped temporary file, see `spill`; `ascii`/`text`/`txt`, parsed
-//! into memory), `spacings` or `space directions`, `space
+//! into a mapped temporary file, see `spill`; `hex`, decoded so too;
+//! `ascii`/`text`/`txt`, parsed into memory), `spacings` or `space directions`, `space
 //! origin`, `space` (recorded, see [`NrrdVolume::space`]), `line skip` and
 //! `byte skip` (`-1` for raw data at the end of the file), and `data file`
 //! (or `datafile`): one file name (relative to the header's directory, or
@@ -30,6 +30,9 @@
 //! read it; a zero or non-finite one is refused. There, `axis mins` (with
 //! `spacings` or `axis maxs`, and `centers`) give the origin as teem's
 //! `nrrdOriginCalculate` does and ITK reads it (see `axis_origin`).
+//! Lengths in another unit than millimetres (`space units`, or `units`
+//! without `space directions`) are converted to millimetres (see
+//! `lengths`).
 
 use super::nrrd_data::{open_data, DataFormat};
 use super::nrrd_header::{parse_line, DataFile, Encoding, Header};
@@ -37,6 +40,7 @@ pub(crate) use super::nrrd_header::{read_line, MAX_HEADER};
 use super::nrrd_pattern::format_number;
 use super::raw::dims_text;
 use super::slab_stack::SlabStack;
+use super::units::millimetres_per;
 use super::{set_direction, Access, Endian, Grid, LentPlane, SampleSource, ScalarType};
 use crate::{Error, Result};
 use std::fs::File;
@@ -52,6 +56,9 @@ pub struct NrrdVolume {
     scalar: ScalarType,
     endian: Endian,
     space: Option<String>,
+    /// Where the grid's lengths came from when the header's units are not
+    /// millimetres (`space units` or `units`, converted or not known).
+    unit: Option<String>,
     data: SlabStack,
 }
 
@@ -116,6 +123,21 @@ impl SampleSource for NrrdVolume {
     fn stored_type(&self) -> Option<ScalarType> {
         Some(self.scalar)
     }
+
+    /// Spacing and origin from the header, converted to millimetres from
+    /// the units it states (said), or left as stated in a unit tmc does
+    /// not know (said too).
+    fn notes(&self) -> super::SourceNotes {
+        let from = match &self.unit {
+            Some(what) => super::ValueFrom::File { what: what.clone() },
+            None => super::ValueFrom::header(),
+        };
+        super::SourceNotes {
+            spacing_from: from.clone(),
+            origin_from: from,
+            ..super::SourceNotes::default()
+        }
+    }
 }
 
 /// Opens a 3-D NRRD file (`.nrrd` or `.nhdr`).
@@ -134,6 +156,7 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
         .ok_or_else(|| fail("missing 'type' field".into()))?;
     let axes = volume_axes(&header).map_err(&fail)?;
     let dims = axes.map(|a| header.sizes.as_deref().unwrap_or_default()[a]);
+    let lengths = lengths(&header, axes).map_err(&fail)?;
     let encoding = header
         .encoding
         .ok_or_else(|| fail("missing 'encoding' field".into()))?;
@@ -158,7 +181,7 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
                 )));
             };
             for (i, row) in matrix.iter_mut().enumerate() {
-                row[j] = v[i];
+                row[j] = v[i] * lengths.mm[i];
             }
         }
         // The vectors' lengths are the spacing.
@@ -168,8 +191,15 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
         if spacings.iter().all(|s| s.is_finite() && *s != 0.0) {
             // Axis j points along +e_j or, for a negative spacing, along
             // -e_j (a mirrored grid): the diagonal of the signed spacings.
-            let matrix =
-                [0, 1, 2].map(|r| [0, 1, 2].map(|c| if r == c { spacings[c] } else { 0.0 }));
+            let matrix = [0, 1, 2].map(|r| {
+                [0, 1, 2].map(|c| {
+                    if r == c {
+                        spacings[c] * lengths.mm[c]
+                    } else {
+                        0.0
+                    }
+                })
+            });
             set_direction(&mut grid, matrix).map_err(|e| fail(format!("'spacings': {e}")))?;
         } else {
             // Here, naming the header: the data file's reader would name
@@ -187,6 +217,9 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
         if let Some(origin) = axis_origin(&header, axes, dims) {
             grid.origin = origin;
         }
+    }
+    for (o, mm) in grid.origin.iter_mut().zip(lengths.mm) {
+        *o *= mm;
     }
 
     let format = DataFormat {
@@ -219,6 +252,7 @@ pub fn open_cancellable(path: &Path, cancel: &AtomicBool) -> Result<NrrdVolume> 
         scalar,
         endian,
         space: header.space,
+        unit: lengths.what,
         data: SlabStack::new(grid, slabs),
     })
 }
@@ -376,6 +410,100 @@ fn axis_origin(header: &Header, axes: [usize; 3], dims: [usize; 3]) -> Option<[f
     origin.iter().all(|o| o.is_finite()).then_some(origin)
 }
 
+/// Millimetres per unit of the grid's lengths along each space axis, and
+/// where they came from when not millimetres.
+struct Lengths {
+    /// Millimetres per stated unit, per space axis (1 for millimetres, no
+    /// unit or one tmc does not know).
+    mm: [f64; 3],
+    /// For `tmc info`: the fields and units converted, or the unknown
+    /// units left as stated; `None` for millimetres or no unit.
+    what: Option<String>,
+}
+
+/// The units of the header's lengths: `space units` (one per space axis,
+/// the unit of `space directions` and `space origin`, as Fiji's NRRD writer
+/// gives `"microns"`) or, without `space directions`, `units` (one per
+/// axis, the unit of `spacings` and `axis mins`/`axis maxs`; taken before
+/// `space units`). With `space directions`, `units` that name one unit for
+/// every axis are that of the space (teem allows no per-axis units there;
+/// different ones are refused). Metres, microns, nanometres and the other
+/// lengths [`millimetres_per`] knows are converted to millimetres, as
+/// NIfTI's `xyzt_units` and the TIFF, OME-Zarr and HDF5 voxel sizes are;
+/// an empty unit or `???` states none.
+fn lengths(header: &Header, axes: [usize; 3]) -> std::result::Result<Lengths, String> {
+    let stated = |u: &&String| !u.is_empty() && u.as_str() != "???";
+    if let Some(space) = &header.space_units {
+        if space.len() != 3 {
+            return Err(format!(
+                "'space units' has {} values, need 3 (one per space axis)",
+                space.len()
+            ));
+        }
+    }
+    let space = |i: usize| header.space_units.as_ref().map(|s| &s[i]).filter(stated);
+    let axis = |i: usize| header.units.as_ref().map(|u| &u[axes[i]]).filter(stated);
+    let mut names: [Option<(&str, &String)>; 3] = [None; 3];
+    for (i, name) in names.iter_mut().enumerate() {
+        *name = if header.directions.is_some() {
+            space(i).map(|u| ("space units", u))
+        } else {
+            axis(i)
+                .map(|u| ("units", u))
+                .or_else(|| space(i).map(|u| ("space units", u)))
+        };
+    }
+    if header.directions.is_some() && header.space_units.is_none() {
+        let given: Vec<&String> = (0..3).filter_map(axis).collect();
+        if let Some(first) = given.first() {
+            if given.len() < 3 || given.iter().any(|u| u != first) {
+                let all = header.units.as_deref().unwrap_or_default().join("\" \"");
+                return Err(format!(
+                    "'units' \"{all}\" with 'space directions' must name one unit for every axis (or give 'space units', one per space axis)"
+                ));
+            }
+            names = [Some(("units", *first)); 3];
+        }
+    }
+    let mut mm = [1.0; 3];
+    let (mut fields, mut known, mut unknown) = (Vec::new(), Vec::new(), Vec::new());
+    for (i, (field, unit)) in names
+        .iter()
+        .enumerate()
+        .filter_map(|(i, n)| Some((i, (*n)?)))
+    {
+        if !fields.contains(&field) {
+            fields.push(field);
+        }
+        match millimetres_per(unit) {
+            Some(f) => {
+                mm[i] = f;
+                if !known.contains(&unit.as_str()) {
+                    known.push(unit.as_str());
+                }
+            }
+            None => {
+                let quoted = format!("'{unit}'");
+                if !unknown.contains(&quoted) {
+                    unknown.push(quoted);
+                }
+            }
+        }
+    }
+    let fields = fields.join(", ");
+    let what = if !unknown.is_empty() {
+        Some(format!(
+            "header, {fields} {} not known: values as stated",
+            unknown.join(", ")
+        ))
+    } else if mm.iter().any(|&f| f != 1.0) {
+        Some(format!("header, {fields} {}, in mm", known.join(", ")))
+    } else {
+        None
+    };
+    Ok(Lengths { mm, what })
+}
+
 /// The kinds of an axis that holds positions in space (`???` and `none`
 /// say nothing, and are taken as such too); every other NRRD kind
 /// (`RGB-color`, `3-vector`, `list`, `time`, ...) indexes components or
@@ -424,6 +552,7 @@ fn volume_axes(header: &Header) -> std::result::Result<[usize; 3], String> {
         "values",
     )?;
     count("centers", header.centers.as_ref().map(Vec::len), "values")?;
+    count("units", header.units.as_ref().map(Vec::len), "values")?;
     match &header.directions {
         Some(Ok(d)) => count("space directions", Some(d.len()), "vectors")?,
         Some(Err(e)) => return Err(e.clone()),

@@ -1,6 +1,7 @@
 //! Opening the samples of one NRRD data file (or the data attached to a
 //! `.nrrd` header) as a [`RawVolume`]: `line skip` and `byte skip` applied,
-//! then raw data memory-mapped, compressed data decompressed, text parsed.
+//! then raw data memory-mapped, compressed and hex data decoded into a
+//! mapped temporary file, ascii text parsed.
 //!
 //! Every data file of a multi-file NRRD goes through [`open_data`] on its
 //! own, so the skips apply to each file, as the format says.
@@ -95,8 +96,72 @@ pub(crate) fn open_data(
         }
         Encoding::Ascii => {
             let skip = skip()?;
-            ascii(path, reader, skip, layout(0))
+            skip_text(path, &mut reader, skip)?;
+            read_ascii(path, reader, layout(0), false)
         }
+        Encoding::Hex => {
+            let skip = skip()?;
+            skip_text(path, &mut reader, skip)?;
+            let bad = |got: u64| {
+                fail(format!(
+                    "hex data holds {got} bytes, sizes {} {scalar} need {data_len}",
+                    dims_text(grid.dims)
+                ))
+            };
+            let hex = HexBytes { inner: reader };
+            let (samples, got) = super::spill::spill(path, "hex", &[], hex, data_len, cancel)?;
+            if got < data_len {
+                return Err(bad(got));
+            }
+            RawVolume::map_file(path, &samples, layout(0))
+        }
+    }
+}
+
+/// The bytes that `hex` data spells: two hex digits a byte, either case,
+/// whitespace anywhere between digits ignored (as teem reads it); another
+/// character, or a lone last digit, is an error.
+struct HexBytes<R> {
+    inner: R,
+}
+
+impl<R: BufRead> HexBytes<R> {
+    /// The next hex digit's value, `None` at the end of the data.
+    fn digit(&mut self) -> io::Result<Option<u8>> {
+        loop {
+            let Some(&c) = self.inner.fill_buf()?.first() else {
+                return Ok(None);
+            };
+            self.inner.consume(1);
+            if c.is_ascii_whitespace() {
+                continue;
+            }
+            return match (c as char).to_digit(16) {
+                Some(d) => Ok(Some(d as u8)),
+                None => Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    format!("'{}' is not a hex digit", c.escape_ascii()),
+                )),
+            };
+        }
+    }
+}
+
+impl<R: BufRead> Read for HexBytes<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        for (n, byte) in buf.iter_mut().enumerate() {
+            let Some(high) = self.digit()? else {
+                return Ok(n);
+            };
+            let Some(low) = self.digit()? else {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    "the data ends in the middle of a byte (an odd number of hex digits)",
+                ));
+            };
+            *byte = high << 4 | low;
+        }
+        Ok(buf.len())
     }
 }
 
@@ -146,9 +211,9 @@ pub(crate) fn decompressed(
     RawVolume::map_file(path, &samples, layout)
 }
 
-/// Parses the `ascii` data after `skip` bytes into the samples of
-/// `layout` (see [`read_ascii`]).
-fn ascii(path: &Path, mut reader: impl BufRead, skip: u64, layout: Layout) -> Result<RawVolume> {
+/// Skips the first `skip` bytes of text data (`ascii` or `hex`: the file's
+/// bytes, not decoded ones, as teem skips them).
+fn skip_text(path: &Path, reader: &mut impl BufRead, skip: u64) -> Result<()> {
     let skipped = io::copy(&mut reader.by_ref().take(skip), &mut io::sink())
         .map_err(|e| Error::io(path, e))?;
     if skipped < skip {
@@ -157,5 +222,5 @@ fn ascii(path: &Path, mut reader: impl BufRead, skip: u64, layout: Layout) -> Re
             path.display()
         )));
     }
-    read_ascii(path, reader, layout, false)
+    Ok(())
 }

@@ -25,6 +25,9 @@ pub(crate) enum Encoding {
     Bzip2,
     /// Numbers written as text, separated by whitespace.
     Ascii,
+    /// The raw bytes written as pairs of hex digits, whitespace between
+    /// them ignored.
+    Hex,
 }
 
 impl Encoding {
@@ -35,6 +38,7 @@ impl Encoding {
             Encoding::Gzip => "gzip",
             Encoding::Bzip2 => "bzip2",
             Encoding::Ascii => "ascii",
+            Encoding::Hex => "hex",
         }
     }
 }
@@ -112,6 +116,12 @@ pub(crate) struct Header {
     pub centers: Option<Vec<String>>,
     /// The `space` name (`left-posterior-superior`, ...), recorded only.
     pub space: Option<String>,
+    /// From `space units`: the unit of each space axis (of `space
+    /// directions` and `space origin`), as written (`microns`, `mm`, ...).
+    pub space_units: Option<Vec<String>>,
+    /// From `units`: the unit of each axis (of `spacings`, `axis mins` and
+    /// `axis maxs`), as written.
+    pub units: Option<Vec<String>>,
     pub line_skip: u64,
     /// `None` for `byte skip: -1` (raw data ends the file).
     pub byte_skip: Option<u64>,
@@ -134,6 +144,8 @@ impl Default for Header {
             axis_maxs: None,
             centers: None,
             space: None,
+            space_units: None,
+            units: None,
             line_skip: 0,
             byte_skip: Some(0),
             data_file: None,
@@ -211,9 +223,10 @@ pub(crate) fn parse_line(line: &str, header: &mut Header) -> Result<(), String> 
                 "gzip" | "gz" => Encoding::Gzip,
                 "bzip2" | "bz2" => Encoding::Bzip2,
                 "ascii" | "text" | "txt" => Encoding::Ascii,
+                "hex" => Encoding::Hex,
                 _ => {
                     return Err(format!(
-                        "encoding '{value}' is not supported (raw, gzip, bzip2 or ascii)"
+                        "encoding '{value}' is not supported (raw, gzip, bzip2, ascii or hex)"
                     ))
                 }
             });
@@ -248,6 +261,8 @@ pub(crate) fn parse_line(line: &str, header: &mut Header) -> Result<(), String> 
             });
         }
         "space" => header.space = Some(value.to_string()),
+        "space units" => header.space_units = Some(quoted_strings(name, value)?),
+        "units" => header.units = Some(quoted_strings(name, value)?),
         "byte skip" | "byteskip" => {
             header.byte_skip = match value.parse::<i64>() {
                 Ok(-1) => None,
@@ -276,6 +291,30 @@ fn per_axis_numbers(name: &str, value: &str) -> Result<Vec<f64>, String> {
         .map(|w| w.parse::<f64>())
         .collect::<Result<Vec<_>, _>>()
         .map_err(|_| format!("bad '{name}' value '{value}'"))
+}
+
+/// The strings of a field such as `space units: "mm" "mm" "mm"`, each in
+/// double quotes as the format writes them (`""` for none); words
+/// without quotes are taken too, one string each.
+fn quoted_strings(name: &str, value: &str) -> Result<Vec<String>, String> {
+    if !value.contains('"') {
+        return Ok(value.split_whitespace().map(String::from).collect());
+    }
+    let mut out = Vec::new();
+    let mut rest = value.trim();
+    while !rest.is_empty() {
+        let inner = rest
+            .strip_prefix('"')
+            .and_then(|r| r.find('"').map(|end| (&r[..end], &r[end + 1..])));
+        let Some((text, after)) = inner else {
+            return Err(format!(
+                "bad '{name}' value '{value}' (need strings in double quotes)"
+            ));
+        };
+        out.push(text.to_string());
+        rest = after.trim_start();
+    }
+    Ok(out)
 }
 
 /// Maps a NRRD type name to a scalar type.

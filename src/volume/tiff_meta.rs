@@ -3,6 +3,8 @@
 //! for z) with the XResolution and YResolution tags (pixels per unit) for
 //! x and y, or the OME-XML `Pixels` element's `PhysicalSizeX/Y/Z` and their
 //! `PhysicalSize*Unit` (micrometres when no unit is given, as OME says).
+//! ImageJ's `xorigin=`, `yorigin=`, `zorigin=` (in pixels) place the first
+//! voxel.
 //!
 //! Lengths are converted to millimetres, the unit of the medical formats
 //! tmc reads (NRRD, NIfTI and DICOM volumes are in millimetres), so that
@@ -19,6 +21,9 @@ pub(crate) struct VoxelSize {
     /// Spacing along x, y, z in millimetres (or the stated unit, if
     /// unknown); 1 along an axis the metadata does not give.
     pub spacing: [f64; 3],
+    /// The position of the first voxel in the same unit, where the
+    /// metadata states one (ImageJ's `xorigin=`, `yorigin=`, `zorigin=`).
+    pub origin: Option<[f64; 3]>,
     /// Where it came from and in which unit, for reports.
     pub what: String,
 }
@@ -128,7 +133,21 @@ fn imagej(text: &str, resolution: Option<(f64, f64)>) -> Option<VoxelSize> {
     }
     let (x, y) = xy.unwrap_or((1.0, 1.0));
     let stated = [x, y, z.filter(|z| z.is_finite() && *z > 0.0).unwrap_or(1.0)];
-    Some(convert(stated, unit.as_deref(), "ImageJ metadata"))
+    let mut size = convert(stated, unit.as_deref(), "ImageJ metadata");
+    // ImageJ's origin is where the coordinates' zero lies, in pixels
+    // (Calibration: position = (pixel - xOrigin) * pixelWidth); it writes
+    // each only when not zero.
+    let pixels = ["xorigin", "yorigin", "zorigin"].map(|key| {
+        value(key)
+            .and_then(|v| v.parse::<f64>().ok())
+            .filter(|o| o.is_finite())
+    });
+    if pixels.iter().any(Option::is_some) {
+        let [x, y, z] = [0, 1, 2].map(|i| -pixels[i].unwrap_or(0.0) * size.spacing[i]);
+        // `-0.0` for a zero origin would print as such.
+        size.origin = Some([x, y, z].map(|o| o + 0.0));
+    }
+    Some(size)
 }
 
 /// From OME-XML: the first `Pixels` element's physical sizes.
@@ -175,7 +194,11 @@ fn ome(text: &str) -> Option<VoxelSize> {
             units.join(", ")
         )
     };
-    Some(VoxelSize { spacing, what })
+    Some(VoxelSize {
+        spacing,
+        origin: None,
+        what,
+    })
 }
 
 /// `stated` lengths in `unit`, in millimetres when the unit is known.
@@ -183,15 +206,18 @@ fn convert(stated: [f64; 3], unit: Option<&str>, source: &str) -> VoxelSize {
     match unit {
         None => VoxelSize {
             spacing: stated,
+            origin: None,
             what: format!("{source}, no unit: values as stated"),
         },
         Some(u) => match millimetres_per(u) {
             Some(f) => VoxelSize {
                 spacing: stated.map(|v| v * f),
+                origin: None,
                 what: format!("{source}, {u} in mm"),
             },
             None => VoxelSize {
                 spacing: stated,
+                origin: None,
                 what: format!("{source}, unit '{u}' not known: values as stated"),
             },
         },

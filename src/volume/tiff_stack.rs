@@ -19,7 +19,8 @@
 //! found in one walk of its page list, not one walk each (4,096 pages of
 //! 64x64 took 20.7 s that way). The spacing is the voxel size of the
 //! first page's ImageJ or OME metadata, in millimetres (see
-//! `tiff_meta.rs`), or unit spacing without it; the origin is zero.
+//! `tiff_meta.rs`), or unit spacing without it; the origin is zero unless
+//! ImageJ's `xorigin=` ... place it.
 //!
 //! Pages stored as plain samples (uncompressed strips in the machine's byte
 //! order, the usual micro-CT slice) are not decoded at all: they are lent
@@ -58,6 +59,9 @@ pub struct TiffStack {
     cache: Mutex<Cache>,
     /// Where the spacing came from: the metadata, or `None` (unit spacing).
     spacing_from: Option<String>,
+    /// Where the origin came from: ImageJ's `xorigin=` ..., or `None`
+    /// (zero).
+    origin_from: Option<String>,
     /// The pages stored as plain samples, lent from maps of their files.
     mapped: MappedPages,
 }
@@ -304,8 +308,13 @@ pub fn open(path: &Path) -> Result<TiffStack> {
     if grid.dims.contains(&0) {
         return Err(fail("empty pages".into()));
     }
+    let mut origin_from = None;
     if let Some(v) = &voxel {
         grid.spacing = v.spacing;
+        if let Some(origin) = v.origin {
+            grid.origin = origin;
+            origin_from = Some(v.what.clone());
+        }
     }
     Ok(TiffStack {
         grid,
@@ -313,6 +322,7 @@ pub fn open(path: &Path) -> Result<TiffStack> {
         pages,
         cache: Mutex::new(Cache::default()),
         spacing_from: voxel.map(|v| v.what),
+        origin_from,
         mapped,
     })
 }
@@ -456,7 +466,10 @@ impl SampleSource for TiffStack {
                 Some(what) => ValueFrom::File { what: what.clone() },
                 None => ValueFrom::Default,
             },
-            origin_from: ValueFrom::Default,
+            origin_from: match &self.origin_from {
+                Some(what) => ValueFrom::File { what: what.clone() },
+                None => ValueFrom::Default,
+            },
             chunks: None,
             units: None,
             skipped: Vec::new(),

@@ -7,7 +7,8 @@
 //! a `scale` and optionally a `translation`, one value per axis, applied
 //! after any transformations of the whole multiscale. Axes have a name, a
 //! type (`space`, `time`, `channel`) and, for space, a unit; lengths in a
-//! known unit become millimetres (see `units.rs`).
+//! known unit become millimetres (see `units.rs`), also on an axis that
+//! states no type (the spec says it SHOULD, not MUST).
 
 use super::units::millimetres_per;
 use serde_json::Value;
@@ -159,8 +160,12 @@ pub(crate) fn level(attributes: &Value, level: usize) -> Result<OmeLevel, String
         let Some(unit) = a.get("unit").and_then(Value::as_str) else {
             continue;
         };
-        if a.get("type").and_then(Value::as_str) != Some("space") {
-            continue;
+        // An axis SHOULD state its type: one without is a space axis when
+        // its unit is a length (a time axis has seconds).
+        match a.get("type").and_then(Value::as_str) {
+            Some("space") => {}
+            None if millimetres_per(unit).is_some() => {}
+            _ => continue,
         }
         if let Some(f) = millimetres_per(unit) {
             scale[i] *= f;

@@ -165,8 +165,8 @@ fn bad_headers_and_data_give_one_line_errors() {
             "nrrd_raw_le_f32",
             "nrrd_raw_le_f32.nrrd",
             "encoding: raw",
-            "encoding: hex",
-            &["encoding 'hex' is not supported"],
+            "encoding: zrl",
+            &["encoding 'zrl' is not supported (raw, gzip, bzip2, ascii or hex)"],
         ),
         (
             "nrrd_raw_le_f32",
@@ -292,6 +292,34 @@ fn bad_headers_and_data_give_one_line_errors() {
             "%03d.raw 7 2 -1 2",
             "%03d.raw 7 2 0 2",
             &["zero step"],
+        ),
+        (
+            "nrrd_detached_rot_f64",
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "sizes: 9 7 6\nspace units: \"mm\" \"mm\"",
+            &["'space units' has 2 values, need 3"],
+        ),
+        (
+            "nrrd_detached_rot_f64",
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "sizes: 9 7 6\nspace units: \"mm\" \"mm\" \"mm",
+            &["bad 'space units' value", "double quotes"],
+        ),
+        (
+            "nrrd_detached_rot_f64",
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "sizes: 9 7 6\nunits: \"microns\" \"microns\" \"mm\"",
+            &["'units' \"microns\" \"microns\" \"mm\" with 'space directions' must name one unit"],
+        ),
+        (
+            "nrrd_raw_le_f32",
+            "nrrd_raw_le_f32.nrrd",
+            "spacings: 0.5 1 2",
+            "spacings: 0.5 1 2\nunits: \"mm\" \"mm\"",
+            &["'units' has 2 values, need 3"],
         ),
     ];
     for (set, header, from, to, phrases) in cases {
@@ -670,4 +698,199 @@ fn axis_mins_give_the_origin_as_teem_computes_it() {
     let sizes = text.lines().find(|l| l.starts_with("sizes")).unwrap();
     edit(&nhdr, sizes, &format!("{sizes}\naxis mins: 100 100 100"));
     assert_eq!(*volume::open(&nhdr, None).unwrap().grid(), before);
+}
+
+/// `space units` (per space axis, with `space directions` and `space
+/// origin`, as Fiji's NRRD writer writes `"microns"`) and `units` (per
+/// axis, with `spacings` and `axis mins`) in metres or microns convert
+/// the grid to millimetres, as the NIfTI, TIFF, OME-Zarr and HDF5 readers
+/// do; `tmc info` says so. A unit tmc does not know (`pixel`) leaves the
+/// values as stated and is named; `mm`, `???` and `""` change nothing.
+/// The grid was that of the numbers as written, a micron file's mesh
+/// 1000 times too large beside the same samples as an OME-TIFF.
+#[test]
+fn space_units_give_millimetres() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    copy_set(d, "nrrd_detached_rot_f64");
+    copy_set(d, "nrrd_raw_le_f32");
+    // (fixture, line after which the field goes, the field, the factor
+    // per world axis, what `spacing_from` must contain)
+    let cases: [(&str, &str, &str, [f64; 3], &str); 10] = [
+        (
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "space units: \"microns\" \"microns\" \"microns\"",
+            [1e-3; 3],
+            "space units microns, in mm",
+        ),
+        (
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "space units: \"m\" \"m\" \"m\"",
+            [1e3; 3],
+            "space units m, in mm",
+        ),
+        (
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "space units: \"µm\" \"µm\" \"mm\"",
+            [1e-3, 1e-3, 1.0],
+            "space units µm, mm, in mm",
+        ),
+        (
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "space units: \"mm\" \"mm\" \"mm\"",
+            [1.0; 3],
+            "header",
+        ),
+        (
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "space units: \"pixel\" \"pixel\" \"pixel\"",
+            [1.0; 3],
+            "'pixel' not known: values as stated",
+        ),
+        (
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "space units: \"???\" \"\" \"???\"",
+            [1.0; 3],
+            "header",
+        ),
+        // Per-axis units of one unit with `space directions`: the space's.
+        (
+            "nrrd_detached_rot_f64.nhdr",
+            "sizes: 9 7 6",
+            "units: \"um\" \"um\" \"um\"",
+            [1e-3; 3],
+            "header, units um, in mm",
+        ),
+        (
+            "nrrd_raw_le_f32.nrrd",
+            "spacings: 0.5 1 2",
+            "units: \"microns\" \"microns\" \"microns\"\naxis mins: 10 -5 3",
+            [1e-3; 3],
+            "units microns, in mm",
+        ),
+        (
+            "nrrd_raw_le_f32.nrrd",
+            "spacings: 0.5 1 2",
+            "units: \"nm\" \"nm\" \"nm\"\nspace origin: (1,2,3)",
+            [1e-6; 3],
+            "units nm, in mm",
+        ),
+        (
+            "nrrd_raw_le_f32.nrrd",
+            "spacings: 0.5 1 2",
+            "units: mm mm cm\naxis mins: 10 -5 3",
+            [1.0, 1.0, 10.0],
+            "units mm, cm, in mm",
+        ),
+    ];
+    for (i, (name, after, field, mm, from)) in cases.into_iter().enumerate() {
+        // The header of the numbers as written, and the same with its
+        // unit field (each its own file: an attached header's data moves).
+        let (unit_line, extra) = field.split_once('\n').unwrap_or((field, ""));
+        let [stated_path, path] =
+            ["stated", "units"].map(|what| d.join(format!("{what}{i}_{name}")));
+        fs::copy(d.join(name), &stated_path).unwrap();
+        if !extra.is_empty() {
+            edit(&stated_path, after, &format!("{after}\n{extra}"));
+        }
+        fs::copy(&stated_path, &path).unwrap();
+        edit(&path, after, &format!("{after}\n{unit_line}"));
+        let stated = volume::open(&stated_path, None).unwrap();
+        let vol = volume::open(&path, None).unwrap_or_else(|e| panic!("{field}: {e}"));
+        let (g, s) = (vol.grid(), stated.grid());
+        assert_eq!(g.dims, s.dims, "{field}");
+        for p in [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [8.0, 6.0, 5.0],
+        ] {
+            let (got, want) = (g.world(p), s.world(p));
+            for a in 0..3 {
+                assert!(
+                    close(got[a], want[a] * mm[a], 1e-12),
+                    "{field}: index {p:?} at {got:?}, stated {want:?} times {mm:?}"
+                );
+            }
+        }
+        assert_eq!(all_samples(vol.as_ref()), all_samples(stated.as_ref()));
+        let notes = vol.notes();
+        for what in [&notes.spacing_from, &notes.origin_from] {
+            let text = format!("{what}");
+            assert!(text.contains(from), "case {i} {field}: '{text}'");
+            if from == "header" {
+                assert_eq!(text, "file (header)", "{field}");
+            }
+        }
+    }
+}
+
+/// `encoding: hex` (teem writes it: the raw bytes as hex digits, any case,
+/// whitespace between them ignored; `byte skip` skips the file's bytes, as
+/// for ascii) reads the samples of the raw file, attached or detached. It
+/// was refused ("encoding 'hex' is not supported"). Bad digits, an odd
+/// digit count and short data are one line each.
+#[test]
+fn hex_encoding_reads_as_raw() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let raw = data_dir().join("nrrd_raw_le_f32.nrrd");
+    let want = all_samples(volume::open(&raw, None).unwrap().as_ref());
+    let bytes = fs::read(&raw).unwrap();
+    let end = bytes.windows(2).position(|w| w == b"\n\n").unwrap() + 2;
+    let header = std::str::from_utf8(&bytes[..end])
+        .unwrap()
+        .replace("encoding: raw", "encoding: hex");
+    // Lines of 15 bytes (so that samples straddle lines), upper case on odd lines.
+    let hex: String = bytes[end..]
+        .chunks(15)
+        .enumerate()
+        .map(|(i, line)| {
+            let text: String = line.iter().map(|b| format!("{b:02x} ")).collect();
+            let text = if i % 2 == 1 {
+                text.to_uppercase()
+            } else {
+                text
+            };
+            format!("{text}\r\n")
+        })
+        .collect();
+    let attached = d.join("hex.nrrd");
+    fs::write(&attached, format!("{header}{hex}")).unwrap();
+    let detached = d.join("hex.nhdr");
+    let data = d.join("hex.txt");
+    fs::write(&data, format!("skip me\n{hex}")).unwrap();
+    let head = header.trim_end().replace(
+        "encoding: hex",
+        "encoding: hex\nbyte skip: 8\ndata file: hex.txt",
+    );
+    fs::write(&detached, format!("{head}\n")).unwrap();
+    for path in [&attached, &detached] {
+        let vol = volume::open(path, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(vol.grid().dims, [9, 7, 6]);
+        assert_eq!(all_samples(vol.as_ref()), want, "{}", path.display());
+    }
+    let digits: String = hex.chars().filter(|c| c.is_ascii_hexdigit()).collect();
+    for (text, phrase) in [
+        (format!("{}zz", &digits[..10]), "'z' is not a hex digit"),
+        (
+            digits[..digits.len() - 1].to_string(),
+            "odd number of hex digits",
+        ),
+        (
+            digits[..digits.len() - 8].to_string(),
+            "hex data holds 1508 bytes",
+        ),
+    ] {
+        fs::write(&attached, format!("{header}{text}")).unwrap();
+        let e = open_err(&attached);
+        assert!(e.contains(phrase), "{phrase}: {e}");
+    }
 }

@@ -683,7 +683,7 @@ fn nrrd_bad_files_give_errors() {
         (
             "hex",
             with("encoding", Some("encoding: hex")),
-            "encoding 'hex' is not supported",
+            "bad hex data: '\\x00' is not a hex digit",
         ),
         ("no encoding", with("encoding", None), "missing 'encoding'"),
         ("no endian", with("endian", None), "missing 'endian'"),

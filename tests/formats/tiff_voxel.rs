@@ -21,7 +21,13 @@ const MM: [f64; 3] = [0.5, 1.0, 2.0];
 #[test]
 fn imagej_and_ome_metadata_give_the_spacing_in_millimetres() {
     let twin = volume::open(&data("vt_twin.npy"), None).unwrap();
-    for name in ["tv_imagej_mm.tif", "tv_imagej_micron.tif", "tv_ome.ome.tif"] {
+    for name in [
+        "tv_imagej_mm.tif",
+        "tv_imagej_micron.tif",
+        "tv_ome.ome.tif",
+        "tv_ome_angstrom.ome.tif",
+        "tv_imagej_angstrom.tif",
+    ] {
         let src = volume::open(&data(name), None).unwrap();
         let g = src.grid();
         for (got, want) in g.spacing.iter().zip(MM) {
@@ -39,6 +45,30 @@ fn imagej_and_ome_metadata_give_the_spacing_in_millimetres() {
     let plain = volume::open(&data("tv_imagej_plain.tif"), None).unwrap();
     assert_eq!(plain.grid().spacing, [1.0; 3]);
     assert_eq!(plain.notes().spacing_from, ValueFrom::Default);
+}
+
+/// ImageJ's `xorigin=`, `yorigin=`, `zorigin=` (the pixel where the
+/// coordinates' zero lies, as ImageJ's Calibration writes it) place the
+/// first voxel at `-origin * spacing`; the origin was 0 and `tmc info` said
+/// the file states none.
+#[test]
+fn imagej_origin_places_the_first_voxel() {
+    let src = volume::open(&data("tv_imagej_origin.tif"), None).unwrap();
+    let plain = volume::open(&data("tv_imagej_mm.tif"), None).unwrap();
+    let (g, p) = (src.grid(), plain.grid());
+    assert_eq!(g.spacing, p.spacing);
+    let pixels = [3.0, -4.0, 1.5];
+    for ((origin, pixel), spacing) in g.origin.iter().zip(pixels).zip(g.spacing) {
+        assert!((origin + pixel * spacing).abs() < 1e-12, "{:?}", g.origin);
+    }
+    assert_eq!(all_samples(&*src), all_samples(&*plain));
+    assert!(
+        matches!(&src.notes().origin_from, ValueFrom::File { what } if what.contains("ImageJ")),
+        "{:?}",
+        src.notes().origin_from
+    );
+    assert_eq!(plain.grid().origin, [0.0; 3]);
+    assert_eq!(plain.notes().origin_from, ValueFrom::Default);
 }
 
 /// Runs `tmc extract` and returns the PLY bytes.

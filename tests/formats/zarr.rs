@@ -125,6 +125,75 @@ fn an_ome_level_opened_by_its_path_keeps_the_image_grid() {
     assert_eq!(plain.grid().spacing, [1.0; 3]);
 }
 
+/// A space axis's `unit` converts its scale and translation to
+/// millimetres whether or not the axis states its `type` (NGFF 0.4 and
+/// 0.5: an axis MUST have a name and SHOULD have a type): `micrometer` on
+/// axes `{"name": "z", "unit": "micrometer"}` read as micrometres. They
+/// were read as millimetres, the mesh 1000 times too large. An axis
+/// without a type whose unit is no length (a time axis in seconds) is
+/// not a space axis and changes nothing.
+#[test]
+fn ome_axes_without_a_type_keep_their_unit() {
+    let dir = tempfile::tempdir().unwrap();
+    let stated = volume::open(&data("zr_ome_04.zarr"), None).unwrap();
+    for (axes, mm, said) in [
+        (
+            r#"[{"name": "c", "type": "channel"},
+                {"name": "z", "type": "space", "unit": "micrometer"},
+                {"name": "y", "type": "space", "unit": "micrometer"},
+                {"name": "x", "type": "space", "unit": "micrometer"}]"#,
+            1e-3,
+            "micrometer in mm",
+        ),
+        (
+            r#"[{"name": "c", "unit": "second"},
+                {"name": "z", "unit": "micrometer"},
+                {"name": "y", "unit": "micrometer"},
+                {"name": "x", "unit": "micrometer"}]"#,
+            1e-3,
+            "micrometer in mm",
+        ),
+        (
+            r#"[{"name": "c"}, {"name": "z", "unit": "nanometer"},
+                {"name": "y", "unit": "nanometer"}, {"name": "x", "unit": "nanometer"}]"#,
+            1e-6,
+            "nanometer in mm",
+        ),
+        (
+            r#"[{"name": "c"}, {"name": "z"}, {"name": "y"}, {"name": "x"}]"#,
+            1.0,
+            "no unit: values as stated",
+        ),
+    ] {
+        let store = copy("zr_ome_04.zarr", dir.path());
+        let attrs_path = store.join(".zattrs");
+        let mut attrs: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&attrs_path).unwrap()).unwrap();
+        attrs["multiscales"][0]["axes"] = serde_json::from_str(axes).unwrap();
+        std::fs::write(&attrs_path, serde_json::to_vec(&attrs).unwrap()).unwrap();
+        let src = volume::open(&store, None).unwrap_or_else(|e| panic!("{axes}: {e}"));
+        let (g, s) = (src.grid(), stated.grid());
+        for a in 0..3 {
+            assert!(
+                (g.spacing[a] - s.spacing[a] * mm).abs() < 1e-15,
+                "{axes}: spacing {:?}, stated {:?}",
+                g.spacing,
+                s.spacing
+            );
+            assert!(
+                (g.origin[a] - s.origin[a] * mm).abs() < 1e-12,
+                "{axes}: origin {:?}, stated {:?}",
+                g.origin,
+                s.origin
+            );
+        }
+        let from = format!("{}", src.notes().spacing_from);
+        assert!(from.contains(said), "{axes}: {from}");
+        assert_eq!(all_samples(&*src), all_samples(&*stated));
+        std::fs::remove_dir_all(&store).unwrap();
+    }
+}
+
 #[test]
 fn each_chunk_is_decompressed_once_per_pass() {
     let twin = volume::open(&data("zr_count.npy"), None).unwrap();

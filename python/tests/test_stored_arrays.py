@@ -66,7 +66,7 @@ def stored(tmp_path, data):
 def test_an_array_object_is_streamed_with_the_numpy_arrays_mesh(tmp_path):
     data = volume()
     for name, obj in stored(tmp_path, data):
-        path, chosen = tmc._stored_array(obj, (None,) * 7)
+        path, chosen = tmc._stored.stored_array(obj, (None,) * 7)
         assert _tmc.stored_shape(path, chosen) == list(data.shape), name
         with warnings.catch_warnings():
             warnings.simplefilter("error")
@@ -114,7 +114,7 @@ def test_streaming_does_not_read_the_array_whole(tmp_path, monkeypatch):
         used, mesh = peak(obj)
         assert_same(mesh, want)
         assert used < data.nbytes / 8, (type(obj), used, data.nbytes)
-    monkeypatch.setattr(tmc, "_stored_array", lambda volume, select: None)
+    monkeypatch.setattr(tmc._stored, "stored_array", lambda volume, select: None)
     for obj in objects:
         used, mesh = peak(obj)
         assert_same(mesh, want)
@@ -138,12 +138,12 @@ def test_objects_tmc_cannot_open_are_read_through_numpy(tmp_path):
     unclosed = writing.create_dataset("v", data=data, chunks=(8, 8, 8))
     # Stores in memory have no path; the delta filter and the lock are
     # found by tmc's readers refusing them.
-    assert tmc._zarr_location(memory) is None and tmc._h5py_location(in_memory) is None
-    for obj, (path, array, dataset) in ((delta, tmc._zarr_location(delta)),
-                                        (unclosed, tmc._h5py_location(unclosed))):
+    assert tmc._stored.zarr_location(memory) is None and tmc._stored.h5py_location(in_memory) is None
+    for obj, (path, array, dataset) in ((delta, tmc._stored.zarr_location(delta)),
+                                        (unclosed, tmc._stored.h5py_location(unclosed))):
         assert _tmc.stored_shape(path, (None, None, None, array, None, dataset, True)) is None
     for obj in (delta, memory, in_memory, unclosed):
-        assert tmc._stored_array(obj, (None,) * 7) is None
+        assert tmc._stored.stored_array(obj, (None,) * 7) is None
         assert_same(tmc.extract(obj, 500.5), tmc.extract(data, 500.5))
     core.close()
     writing.close()
@@ -164,7 +164,7 @@ def test_an_ome_image_level_passed_as_an_array_keeps_an_arrays_grid(tmp_path):
             {"type": "scale", "scale": [4.0, 2.0, 1.5]},
             {"type": "translation", "translation": [10.0, 20.0, 30.0]}]}]}]}
     level = zarr.open_group(str(path), mode="r")["0"]
-    assert tmc._stored_array(level, (None,) * 7) is not None
+    assert tmc._stored.stored_array(level, (None,) * 7) is not None
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert_same(tmc.extract(level, 500.5), tmc.extract(data, 500.5))

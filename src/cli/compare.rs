@@ -237,20 +237,12 @@ struct Report<'a> {
 impl Report<'_> {
     fn json(&self) -> serde_json::Value {
         let mut map = self.found.json();
-        let run = json!({
-            "input": self.args.input,
-            "iso": self.args.iso,
-            "inside": match self.args.inside { InsideArg::High => "high", InsideArg::Low => "low" },
-            "close": self.args.close,
-            // The workers the runs used, as 'tmc extract --json' says it.
-            "threads": tmc::stream::threads::worker_threads(self.args.threads.unwrap_or(0)),
-            "runs": self.args.runs,
-            "topology_note": self.topology_note,
-            "peak_rss_anon_bytes": self.peak_rss_anon_bytes,
-        });
-        if let serde_json::Value::Object(run) = run {
-            map.extend(run);
-        }
+        map.insert("input".into(), json!(self.args.input));
+        map.insert("topology_note".into(), json!(self.topology_note));
+        map.insert(
+            "peak_rss_anon_bytes".into(),
+            json!(self.peak_rss_anon_bytes),
+        );
         serde_json::Value::Object(map)
     }
 

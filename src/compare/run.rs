@@ -106,19 +106,35 @@ pub struct Comparison {
     /// The bytes the topology step would have held, where that was over
     /// the limit and the step was left out.
     pub topology_left_out: Option<u64>,
+    /// The parameters both methods ran with (the method TMC's).
+    pub params: ExtractParams,
+    /// The timed pairs.
+    pub runs: usize,
 }
 
 impl Comparison {
-    /// The figures as `tmc compare --json` gives them: `tmc`, `mc`
-    /// ([`Side::json`]), `ratio` and `differing_cells`; the front ends add
-    /// what they know of the run (input, options, notes).
+    /// The figures as `tmc compare --json` gives them: the run's `iso`,
+    /// `inside`, `close`, `threads` (the workers used, as `tmc extract
+    /// --json` says it) and `runs`, then `tmc`, `mc` ([`Side::json`]),
+    /// `ratio` and `differing_cells`; the front ends add the input and
+    /// their notes.
     pub fn json(&self) -> serde_json::Map<String, serde_json::Value> {
-        let mut map = serde_json::Map::new();
-        map.insert("tmc".into(), self.tmc.json());
-        map.insert("mc".into(), self.mc.json());
-        map.insert("ratio".into(), json!(self.ratio));
-        map.insert("differing_cells".into(), json!(self.differing));
-        map
+        let p = &self.params;
+        let value = json!({
+            "iso": p.iso,
+            "inside": p.inside.name(),
+            "close": p.close,
+            "threads": crate::stream::threads::worker_threads(p.threads),
+            "runs": self.runs,
+            "tmc": self.tmc.json(),
+            "mc": self.mc.json(),
+            "ratio": self.ratio,
+            "differing_cells": self.differing,
+        });
+        match value {
+            serde_json::Value::Object(map) => map,
+            _ => unreachable!("json! of braces is an object"),
+        }
     }
 }
 
@@ -225,6 +241,8 @@ pub fn compare(
         ratio,
         differing,
         topology_left_out,
+        params: tmc_params,
+        runs,
     })
 }
 

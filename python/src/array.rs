@@ -21,7 +21,7 @@ pub(crate) type MappedAt = Option<(PathBuf, u64)>;
 
 /// The grid of `array` (x = last axis) with `spacing` and `origin` given
 /// in x, y, z order, checked as the CLI checks a header's.
-fn grid_of(shape: &[usize], spacing: [f64; 3], origin: [f64; 3]) -> PyResult<Grid> {
+pub(crate) fn grid_of(shape: &[usize], spacing: [f64; 3], origin: [f64; 3]) -> PyResult<Grid> {
     let [nz, ny, nx] = match *shape {
         [a, b, c] => [a, b, c],
         _ => {
@@ -53,12 +53,10 @@ fn grid_of(shape: &[usize], spacing: [f64; 3], origin: [f64; 3]) -> PyResult<Gri
     })
 }
 
-/// The stored type and byte order of `array`'s dtype, or a `TypeError`
-/// naming the dtypes tmc reads (the CLI's words for a `.npy` file).
-fn scalar_of(array: &Bound<'_, PyUntypedArray>) -> PyResult<(ScalarType, Endian)> {
-    let dtype = array.dtype();
-    let (kind, size) = (dtype.kind(), dtype.itemsize());
-    let scalar = match (kind, size) {
+/// The type of numpy's dtype kind (`b'u'`, ...; `b'b'` is bool) and item
+/// size, if tmc reads it.
+pub(crate) fn scalar_of_kind(kind: u8, size: usize) -> Option<ScalarType> {
+    match (kind, size) {
         (b'u' | b'b', 1) => Some(ScalarType::U8),
         (b'i', 1) => Some(ScalarType::I8),
         (b'u', 2) => Some(ScalarType::U16),
@@ -71,7 +69,14 @@ fn scalar_of(array: &Bound<'_, PyUntypedArray>) -> PyResult<(ScalarType, Endian)
         (b'u', 8) => Some(ScalarType::U64),
         (b'f', 2) => Some(ScalarType::F16),
         _ => None,
-    };
+    }
+}
+
+/// The stored type and byte order of `array`'s dtype, or a `TypeError`
+/// naming the dtypes tmc reads (the CLI's words for a `.npy` file).
+fn scalar_of(array: &Bound<'_, PyUntypedArray>) -> PyResult<(ScalarType, Endian)> {
+    let dtype = array.dtype();
+    let scalar = scalar_of_kind(dtype.kind(), dtype.itemsize());
     let endian = match dtype.byteorder() {
         b'<' => Some(Endian::Little),
         b'>' => Some(Endian::Big),

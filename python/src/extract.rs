@@ -6,6 +6,7 @@ use crate::interrupt::{self, Watch};
 use crate::output::{arrays, rows};
 use crate::record::{Record, Recorder};
 use crate::skimage::SkimageArrays;
+use crate::sliced::{self, PySlices, SlicedArray};
 use crate::values;
 use numpy::PyUntypedArray;
 use pyo3::exceptions::{PyUserWarning, PyValueError};
@@ -17,12 +18,14 @@ use std::sync::{Mutex, PoisonError};
 use tmc::volume::zarr::ZarrSelect;
 use tmc::{ExtractParams, Inside, Method, PipelineOptions, SampleSource};
 
-/// The volume argument: an array (with its grid) or a path to open, with
-/// what to read of it (a DICOM series or segment), and for the store of a
+/// The volume argument: an array (with its grid), a lazy array read a
+/// slice of planes at a time (`sliced.rs`), or a path to open, with what
+/// to read of it (a DICOM series or segment), and for the store of a
 /// `zarr.Array` or `h5py.Dataset` the array's grid (`[spacing, origin]`),
 /// which replaces the file's (see [`Select`]).
 pub(crate) enum Input<'a> {
     Array(Box<tmc::volume::StridedVolume<'a>>),
+    Sliced(Box<tmc::volume::LayeredVolume<PySlices>>),
     Path(PathBuf, ZarrSelect, Option<[[f64; 3]; 2]>),
 }
 
@@ -36,6 +39,10 @@ impl<'a> Input<'a> {
     ) -> PyResult<Self> {
         let array_grid = (select.6 == Some(true)).then_some([spacing, origin]);
         let select = ZarrSelect::from(select);
+        if let Ok(sliced) = input.cast::<SlicedArray>() {
+            let volume = sliced::volume(sliced, spacing, origin)?;
+            return Ok(Input::Sliced(Box::new(volume)));
+        }
         match input.cast::<PyUntypedArray>() {
             Ok(_) if select != ZarrSelect::default() => Err(PyValueError::new_err(
                 "series, segment, at, array, level and dataset choose what to read of a path (a DICOM series, a Zarr array or HDF5 dataset and its entry), not of an array",
@@ -61,6 +68,7 @@ impl<'a> Input<'a> {
         let notes = Mutex::new(Vec::new());
         let result = interrupt::run_watched(py, progress, |watch| match self {
             Input::Array(volume) => work(volume.as_ref(), None, watch),
+            Input::Sliced(volume) => work(volume.as_ref(), None, watch),
             Input::Path(path, select, array_grid) => {
                 tmc::files::check_input_kind(path)?;
                 let mut source = tmc::volume::open_selected(path, None, select, &watch.cancel)?;
@@ -74,6 +82,12 @@ impl<'a> Input<'a> {
                 work(source.as_ref(), Some(path), watch)
             }
         });
+        // An exception the lazy array raised is raised as it is, not as
+        // the library's line about it.
+        let result = match (result, self) {
+            (Err(e), Input::Sliced(volume)) => Err(volume.reader().take_raised().unwrap_or(e)),
+            (result, _) => result,
+        };
         let user_warning = py.get_type::<PyUserWarning>();
         for note in notes.into_inner().unwrap_or_else(PoisonError::into_inner) {
             let message = CString::new(note.replace('\0', "\\0"))

@@ -4,7 +4,8 @@
 //! [`tmc::volume::StridedVolume`]s without a copy (`array.rs`), paths open
 //! with the CLI's readers, every extraction runs with the GIL released and
 //! stops on Ctrl-C (`interrupt.rs`), and meshes go back to numpy without a
-//! copy where the types allow (`output.rs`), or are written in
+//! copy where the types allow (`output.rs`), lazy arrays (dask, ...) a slice
+//! of planes at a time (`sliced.rs`), or are written in
 //! scikit-image's layout by the extraction's sink (`skimage.rs`); a label
 //! map's labels come in one pass (`labels.rs`). The Python API (argument
 //! handling, `Mesh`, `marching_cubes`) is in `python/tmc/__init__.py`.
@@ -21,6 +22,7 @@ mod mesh_io;
 mod output;
 mod record;
 mod skimage;
+mod sliced;
 mod values;
 
 use pyo3::prelude::*;
@@ -42,6 +44,7 @@ fn _tmc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(extract::worker_threads, m)?)?;
     m.add_function(wrap_pyfunction!(extract::stored_shape, m)?)?;
     m.add_function(wrap_pyfunction!(record::_restore_record, m)?)?;
+    m.add_class::<sliced::SlicedArray>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

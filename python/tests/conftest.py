@@ -175,3 +175,16 @@ def _one_sigint_latency(setup: str, call: str, wait: float, timeout: float = 120
     words = out_text.split()
     assert words and words[0] == "interrupted", (out_text, err)
     return float(words[1]) - sent
+
+
+def traced_peak(extract, volume, iso):
+    """``(peak bytes Python allocated, mesh)`` of ``extract(volume, iso)``,
+    measured with tracemalloc (numpy's buffers included)."""
+    import tracemalloc
+
+    tracemalloc.start()
+    try:
+        mesh = extract(volume, iso)
+        return tracemalloc.get_traced_memory()[1], mesh
+    finally:
+        tracemalloc.stop()

@@ -4,11 +4,11 @@ its path would be, instead of being read whole through ``numpy.asarray``
 (which it was: a volume larger than memory could not be passed as the
 object). It keeps an array's meaning: spacing 1 and origin 0 unless given,
 not the file's, and no warning. Objects tmc's readers cannot open (a
-filter they do not read, a store in memory) are still read through numpy.
+filter they do not read, a store in memory) are read a slice at a time
+through their own library (test_lazy_arrays.py).
 Every mesh is compared with the mesh of the numpy array of the same
 samples (written and read by zarr-python and h5py)."""
 
-import tracemalloc
 import warnings
 
 import numpy as np
@@ -16,6 +16,7 @@ import pytest
 
 import tmc
 from tmc import _tmc
+from conftest import traced_peak
 
 zarr = pytest.importorskip("zarr", minversion="3")
 h5py = pytest.importorskip("h5py")
@@ -102,27 +103,22 @@ def test_streaming_does_not_read_the_array_whole(tmp_path, monkeypatch):
     objects = [zarr.open_array(str(tmp_path / "big.zarr"), mode="r"), h5["v"]]
     want = tmc.extract(data, 500.5)
 
-    def peak(obj):
-        tracemalloc.start()
-        try:
-            mesh = tmc.extract(obj, 500.5)
-            return tracemalloc.get_traced_memory()[1], mesh
-        finally:
-            tracemalloc.stop()
-
     for obj in objects:
-        used, mesh = peak(obj)
+        used, mesh = traced_peak(tmc.extract, obj, 500.5)
         assert_same(mesh, want)
         assert used < data.nbytes / 8, (type(obj), used, data.nbytes)
+    # Read whole through numpy when neither streamed nor sliced: the
+    # measure sees a whole read.
     monkeypatch.setattr(tmc._stored, "stored_array", lambda volume, select: None)
+    monkeypatch.setattr(tmc._stored, "sliced_array", lambda volume, select: None)
     for obj in objects:
-        used, mesh = peak(obj)
+        used, mesh = traced_peak(tmc.extract, obj, 500.5)
         assert_same(mesh, want)
         assert used >= data.nbytes, (type(obj), used, data.nbytes)
     h5.close()
 
 
-def test_objects_tmc_cannot_open_are_read_through_numpy(tmp_path):
+def test_objects_tmc_cannot_open_are_read_a_slice_at_a_time(tmp_path):
     data = volume()
     delta = zarr.create_array(store=str(tmp_path / "delta.zarr"), shape=data.shape,
                               dtype=data.dtype, chunks=(8, 8, 8), zarr_format=2,
@@ -144,6 +140,7 @@ def test_objects_tmc_cannot_open_are_read_through_numpy(tmp_path):
         assert _tmc.stored_shape(path, (None, None, None, array, None, dataset, True)) is None
     for obj in (delta, memory, in_memory, unclosed):
         assert tmc._stored.stored_array(obj, (None,) * 7) is None
+        assert tmc._stored.sliced_array(obj, (None,) * 7) is not None
         assert_same(tmc.extract(obj, 500.5), tmc.extract(data, 500.5))
     core.close()
     writing.close()

@@ -216,6 +216,10 @@ def _source_args(
         spacing = _triple(spacing, "spacing", 1.0)
         origin = _triple(origin, "origin", 0.0)
         return path, iso, spacing, origin, None, chosen
+    sliced = _stored.sliced_array(volume, select)
+    if sliced is not None:
+        return (sliced, iso, _triple(spacing, "spacing", 1.0), _triple(origin, "origin", 0.0),
+                None, select)
     array = _volume_3d(_as_samples(volume))
     spacing = _triple(spacing, "spacing", 1.0)
     origin = _triple(origin, "origin", 0.0)
@@ -253,9 +257,11 @@ def extract(
         streamed plane by plane. A ``zarr.Array`` in a local directory
         store and an ``h5py.Dataset`` of a file on disk opened for reading
         are streamed from there too, with an array's grid (``spacing`` and
-        ``origin`` as given, not the file's); other array-likes (dask, a
-        store in memory, a filter tmc does not read) are read whole
-        through ``numpy.asarray``.
+        ``origin`` as given, not the file's). Lazy arrays (a
+        ``dask.array``, an ``xarray.DataArray`` backed by dask, other Zarr
+        arrays and HDF5 datasets) are read a slice of whole chunks at a
+        time, through their own library, never whole; other array-likes
+        are read through ``numpy.asarray``.
     iso : float
         The isovalue (finite). A sample is inside iff its value is above it.
     spacing, origin : 3 floats, optional

@@ -1,6 +1,9 @@
-"""A ``zarr.Array`` or ``h5py.Dataset`` passed as the volume, streamed
-from its store (see :func:`stored_array`) instead of read whole through
-``numpy.asarray``."""
+"""Array objects passed as the volume that tmc reads without holding them
+whole: a ``zarr.Array`` or ``h5py.Dataset`` streamed from its store by
+tmc's own readers (see :func:`stored_array`), and other lazy arrays
+(dask, xarray, Zarr arrays in memory) read a slice of planes at a time
+through their own library (see :func:`sliced_array`), instead of whole
+through ``numpy.asarray``."""
 
 from __future__ import annotations
 
@@ -34,21 +37,29 @@ def stored_array(volume: Any, select: Tuple[Any, ...]) -> Optional[Tuple[str, Tu
         located = h5py_location(volume)
     elif module.startswith("zarr"):
         located = zarr_location(volume)
-    if located is None:
+    if located is None or volume_shape(volume) is None:
         return None
-    try:
-        shape = tuple(int(n) for n in volume.shape)
-        dtype = np.dtype(volume.dtype)
-    except (AttributeError, TypeError, ValueError):
-        return None
-    if (len(shape) < 3 or any(n != 1 for n in shape[:-3])
-            or not (dtype.str[1:] in _READ_IN_PLACE or dtype.kind == "b")):
-        return None
+    shape = tuple(int(n) for n in volume.shape)
     path, array, dataset = located
     chosen = (None, None, None, array, None, dataset, True)
     if _tmc.stored_shape(path, chosen) != list(shape[-3:]):
         return None
     return path, chosen
+
+
+def volume_shape(volume: Any) -> Optional[Tuple[Tuple[int, ...], np.dtype]]:
+    """The shape and dtype of an array object that tmc can read as it is
+    stored: ``(nz, ny, nx)`` after axes of size 1, none of them empty, of
+    a dtype tmc reads (or bool); ``None`` otherwise."""
+    try:
+        shape = tuple(int(n) for n in volume.shape)
+        dtype = np.dtype(volume.dtype)
+    except (AttributeError, TypeError, ValueError):
+        return None
+    if (len(shape) < 3 or any(n != 1 for n in shape[:-3]) or 0 in shape
+            or not (dtype.str[1:] in _READ_IN_PLACE or dtype.kind == "b")):
+        return None
+    return shape, dtype
 
 
 def h5py_location(dataset: Any) -> Optional[Tuple[str, None, str]]:
@@ -79,3 +90,67 @@ def zarr_location(array: Any) -> Optional[Tuple[str, Optional[str], None]]:
         return None
     inside = str(getattr(array, "path", "") or "").strip("/")
     return os.path.abspath(os.fspath(root)), (inside or None), None
+
+
+# The libraries whose arrays are read a slice at a time when tmc's readers
+# cannot stream them from their store (see :func:`sliced_array`).
+_LAZY_MODULES = ("dask", "xarray", "zarr", "h5py")
+
+# The most bytes of samples read in one slice. The library keeps a slice
+# per worker and two more (and one being read), so this bounds the memory a
+# lazy array takes.
+LAYER_BYTES = 32 << 20
+
+
+def sliced_array(volume: Any, select: Tuple[Any, ...]) -> Optional[_tmc.SlicedArray]:
+    """A lazy array (a ``dask.array``, an ``xarray.DataArray`` not in
+    memory, a ``zarr.Array`` or ``h5py.Dataset`` that
+    :func:`stored_array` does not stream) wrapped to be read a slice of
+    planes at a time, ``volume[..., first:last, :, :]`` computed by its own
+    library, so that it is never in memory whole; ``None`` for anything
+    else (it is then read through ``numpy.asarray``): numpy arrays, arrays
+    of other libraries, an ``xarray.DataArray`` already in memory (read in
+    place), a shape other than ``(nz, ny, nx)`` after axes of size 1, a
+    dtype tmc does not read, or a selection (``series`` ... ``dataset``)."""
+    if isinstance(volume, np.ndarray) or any(part is not None for part in select):
+        return None
+    module = (type(volume).__module__ or "").split(".")[0]
+    if module not in _LAZY_MODULES:
+        return None
+    if module == "xarray" and getattr(volume, "_in_memory", True):
+        return None
+    described = volume_shape(volume)
+    if described is None:
+        return None
+    shape, dtype = described
+    native = np.dtype(np.uint8) if dtype.kind == "b" else dtype.newbyteorder("=")
+    lead = (0,) * (len(shape) - 3)
+    plane_bytes = shape[-1] * shape[-2] * native.itemsize
+    depth = layer_depth(volume, shape[-3], plane_bytes)
+
+    def fetch(first: int, last: int) -> np.ndarray:
+        block = np.asarray(volume[lead + (slice(first, last),)])
+        return np.ascontiguousarray(block, dtype=native).reshape(-1).view(np.uint8)
+
+    nz, ny, nx = shape[-3:]
+    return _tmc.SlicedArray(fetch, (nz, ny, nx), native.str[1:], depth)
+
+
+def layer_depth(volume: Any, planes: int, plane_bytes: int) -> int:
+    """Planes to read in one slice: whole chunks (or shards) along z, as
+    many as fit in :data:`LAYER_BYTES`, so that no chunk is computed or
+    decompressed twice in a pass; fewer planes than a chunk when one chunk
+    is larger than that, and as many planes as fit when the array says
+    nothing of its chunks."""
+    most = max(1, LAYER_BYTES // max(1, plane_bytes))
+    chunks = getattr(volume, "shards", None) or getattr(volume, "chunks", None)
+    try:
+        along = chunks[-3] if chunks else None
+        chunk = int(along[0] if isinstance(along, tuple) else along) if along else 0
+    except (TypeError, ValueError, IndexError):
+        chunk = 0
+    if chunk <= 0:
+        return min(planes, most)
+    if chunk > most:
+        return most
+    return min(planes, chunk * (most // chunk))

@@ -1,12 +1,13 @@
 """Type stubs of the extension module tmc._tmc (the Rust side; use the
 functions of the tmc package instead)."""
 
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, Callable, List, Optional, Sequence, Tuple, final
 
 import numpy as np
 
 __version__: str
 __all__ = [
+    "SlicedArray",
     "__version__",
     "_restore_record",
     "check_mesh",
@@ -30,6 +31,20 @@ _Select = Tuple[
     Optional[str], Optional[int], Optional[List[Tuple[str, int]]], Optional[str],
     Optional[int], Optional[str], Optional[bool],
 ]
+
+@final
+class SlicedArray:
+    """A lazy array read a slice of planes at a time: ``fetch(first,
+    last)`` gives planes ``first..last`` as a 1-D uint8 array of their
+    native-order bytes, C order; ``depth`` planes are read at once."""
+
+    def __new__(
+        cls,
+        fetch: Callable[[int, int], np.ndarray],
+        shape: Tuple[int, int, int],
+        dtype: str,
+        depth: int,
+    ) -> SlicedArray: ...
 
 def extract(
     input: Any,

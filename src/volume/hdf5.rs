@@ -15,18 +15,19 @@
 //! HDF5 plugin), converted to millimetres; without it the spacing is 1
 //! and `--spacing` sets it. The origin is always 0 (`--origin` sets it).
 //!
-//! Planes are served from *layers* (`chunk_layers.rs`): a chunked
+//! Planes are served from *layers* (a [`LayeredVolume`], whose cache is
+//! `chunk_layers.rs`'s): a chunked
 //! dataset's layer is one chunk deep, so each chunk is read and inflated
 //! once per pass, and memory holds a few layers, never the volume; a
 //! contiguous dataset's layer is one plane, read where it lies in the
 //! file. The library reads under one lock, so the chunks of a layer are
 //! inflated on one thread.
 
-use super::chunk_layers::ChunkLayers;
-use super::{units, Grid, PlaneMemory, SampleSource, ScalarType};
-use super::{ChunkNotes, SharedPlane, SourceNotes, ValueFrom};
+use super::{units, Grid, LayerReader, LayeredVolume, PlaneMemory, SampleSource, ScalarType};
+use super::{ChunkNotes, SourceNotes, ValueFrom};
 use crate::{Error, Result};
 use rust_hdf5::{DatatypeMessage, H5Dataset, H5File};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -38,9 +39,19 @@ pub const SPACING_ATTRIBUTE: &str = "element_size_um";
 
 /// An HDF5 dataset read plane by plane from its layers.
 pub struct Hdf5Volume {
+    /// The planes, a layer of chunks at a time.
+    inner: LayeredVolume<Hdf5Layers>,
+    /// Entries a chunk holds of the axes but z, y, x (1 when contiguous).
+    other_chunk: usize,
+    notes: SourceNotes,
+}
+
+/// Reads the layers of an HDF5 dataset (see [`LayerReader`]).
+struct Hdf5Layers {
     path: PathBuf,
     dataset: H5Dataset,
-    grid: Grid,
+    /// The volume's `[nx, ny, nz]`.
+    dims: [usize; 3],
     scalar: ScalarType,
     /// Axes of the dataset (3 and more).
     rank: usize,
@@ -49,14 +60,8 @@ pub struct Hdf5Volume {
     end: usize,
     /// The entry read of each axis but z, y, x (`--at`), slowest first.
     others: Vec<u64>,
-    /// Entries a chunk holds of the axes but z, y, x (1 when contiguous).
-    other_chunk: usize,
-    /// Planes per layer: the chunk depth, or 1 for a contiguous dataset.
-    depth: usize,
-    layers: ChunkLayers,
     /// Layers read from the file so far.
     read: AtomicU64,
-    notes: SourceNotes,
 }
 
 /// Whether `path` names an HDF5 file: extension `.h5`, `.hdf5`, `.hdf`,
@@ -260,18 +265,19 @@ pub fn open_at(path: &Path, dataset: Option<&str>, picks: &[(String, u64)]) -> R
             chunks_stored: None,
         }
     });
-    Ok(Hdf5Volume {
+    let layers = Hdf5Layers {
         path: path.to_path_buf(),
         dataset,
-        grid,
+        dims: grid.dims,
         scalar,
         rank,
         end,
         others,
-        other_chunk,
-        depth,
-        layers: ChunkLayers::new(),
         read: AtomicU64::new(0),
+    };
+    Ok(Hdf5Volume {
+        inner: LayeredVolume::new(grid, scalar, depth, layers)?,
+        other_chunk,
         notes: SourceNotes {
             spacing_from,
             origin_from: ValueFrom::Default,
@@ -290,19 +296,20 @@ impl Hdf5Volume {
     /// read and inflated once): once per pass when the pass reads the
     /// planes in order.
     pub fn layers_read(&self) -> u64 {
-        self.read.load(Ordering::Relaxed)
+        self.inner.reader().read.load(Ordering::Relaxed)
     }
 
     /// Planes per layer: the chunk depth, or 1 for a contiguous dataset.
     pub fn layer_depth(&self) -> usize {
-        self.depth
+        self.inner.depth()
     }
+}
 
-    /// Reads layer `k`: its planes, each x fastest, native byte order.
-    fn read_layer(&self, k: usize) -> Result<Vec<Vec<u8>>> {
-        let [nx, ny, nz] = self.grid.dims;
-        let z0 = k * self.depth;
-        let depth = self.depth.min(nz - z0);
+impl LayerReader for Hdf5Layers {
+    /// Reads planes `planes`: each x fastest, native byte order.
+    fn read_layer(&self, planes: Range<usize>) -> Result<Vec<Vec<u8>>> {
+        let [nx, ny, _] = self.dims;
+        let (z0, depth) = (planes.start, planes.len());
         let mut starts = vec![0; self.rank];
         let other_axes = (0..self.end - 3).chain(self.end..self.rank);
         for (axis, &entry) in other_axes.zip(&self.others) {
@@ -356,33 +363,10 @@ impl Hdf5Volume {
 }
 
 impl SampleSource for Hdf5Volume {
-    fn grid(&self) -> &Grid {
-        &self.grid
-    }
-
-    fn read_plane(&self, z: usize, out: &mut [f64]) -> Result<()> {
-        let (grid, scalar) = (&self.grid, self.scalar);
-        self.layers
-            .read(grid, scalar, self.depth, z, out, |k| self.read_layer(k))
-    }
-
-    fn share_plane(&self, z: usize) -> Option<SharedPlane> {
-        let (grid, scalar) = (&self.grid, self.scalar);
-        self.layers
-            .shared(grid, scalar, self.depth, z, |k| self.read_layer(k))
-            .ok()
-    }
+    super::forward_to_inner!(grid, read_plane, share_plane, sample_bytes, stored_type);
 
     fn data_files(&self) -> Vec<&Path> {
-        vec![self.path.as_path()]
-    }
-
-    fn sample_bytes(&self) -> usize {
-        self.scalar.size()
-    }
-
-    fn stored_type(&self) -> Option<ScalarType> {
-        Some(self.scalar)
+        vec![self.inner.reader().path.as_path()]
     }
 
     /// Layers of a chunk's depth (a plane when contiguous); a read holds
@@ -392,8 +376,8 @@ impl SampleSource for Hdf5Volume {
     /// are all inflated).
     fn plane_memory(&self) -> PlaneMemory {
         PlaneMemory::Decoded {
-            sample_bytes: self.scalar.size(),
-            layer: self.depth,
+            sample_bytes: self.inner.sample_bytes(),
+            layer: self.inner.depth(),
             decoding: 2 + 2 * self.other_chunk,
         }
     }

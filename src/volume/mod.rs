@@ -17,6 +17,7 @@ pub mod histogram;
 pub mod info;
 mod label_runs;
 mod labels;
+mod layered;
 pub mod leading_axes;
 mod lent;
 mod mapped;
@@ -65,6 +66,7 @@ pub(crate) use labels::scan as scan_keeping_runs;
 pub use labels::{
     plane_runs, scan_label_map, scan_labels, scan_labels_on, LabelCounts, MOST_LABELS,
 };
+pub use layered::{LayerReader, LayeredVolume};
 pub use lent::{LentPlane, PlaneView};
 pub use notes::{ChunkNotes, SegmentNote, SourceNotes, ValueFrom};
 pub use open::{

@@ -4,11 +4,25 @@
 //! otherwise), so that meshes of different inputs line up.
 
 /// Millimetres per unit `name`, for the unit names ImageJ, OME and
-/// tifffile write; `None` if unknown. Case is ignored, beyond ASCII too:
-/// OME's symbol for the ångström is `Å` (also written as U+212B, the
+/// tifffile write; `None` if unknown. The SI symbols whose case is their
+/// meaning (OME's `Mm`, megametre, against `mm`; `Pm`, petametre, against
+/// `pm`) are matched as written; otherwise case is ignored, beyond ASCII
+/// too: OME's symbol for the ångström is `Å` (also written as U+212B, the
 /// ångström sign), which ImageJ writes `\u00C5` (see [`unescaped`]).
 pub(crate) fn millimetres_per(name: &str) -> Option<f64> {
-    Some(match unescaped(name.trim()).to_lowercase().as_str() {
+    let name = unescaped(name.trim());
+    let large = match name.as_str() {
+        "km" => Some(1e6),
+        "Mm" => Some(1e9),
+        "Gm" => Some(1e12),
+        "Tm" => Some(1e15),
+        "Pm" => Some(1e18),
+        _ => None,
+    };
+    if large.is_some() {
+        return large;
+    }
+    Some(match name.to_lowercase().as_str() {
         "pm" | "picometer" | "picometre" => 1e-9,
         "å" | "angstrom" | "ångström" => 1e-7,
         "nm" | "nanometer" | "nanometre" => 1e-6,
@@ -50,4 +64,22 @@ fn unescaped(text: &str) -> String {
     }
     out.push_str(rest);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::millimetres_per;
+
+    #[test]
+    fn the_case_of_an_si_symbol_is_its_meaning() {
+        assert_eq!(millimetres_per("mm"), Some(1.0));
+        assert_eq!(millimetres_per("MM"), Some(1.0));
+        assert_eq!(millimetres_per("Millimeter"), Some(1.0));
+        assert_eq!(millimetres_per("Mm"), Some(1e9));
+        assert_eq!(millimetres_per("pm"), Some(1e-9));
+        assert_eq!(millimetres_per("Pm"), Some(1e18));
+        assert_eq!(millimetres_per("km"), Some(1e6));
+        assert_eq!(millimetres_per(" \\u00B5m "), Some(1e-3));
+        assert_eq!(millimetres_per("parsec"), None);
+    }
 }

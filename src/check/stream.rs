@@ -62,6 +62,23 @@ pub struct Verdict {
 }
 
 impl Verdict {
+    /// The counts of two meshes taken as one (components, edges and
+    /// vertices add up, so the Euler characteristic and the genus do),
+    /// without the links ([`StreamCheck::default`]'s counts, which the
+    /// preview's verdict is).
+    pub fn with(self, other: Verdict) -> Verdict {
+        Verdict {
+            components: self.components + other.components,
+            edges: self.edges + other.edges,
+            boundary_edges: self.boundary_edges + other.boundary_edges,
+            nonmanifold_edges: self.nonmanifold_edges + other.nonmanifold_edges,
+            vertices: self.vertices + other.vertices,
+            triangles: self.triangles + other.triangles,
+            invalid_triangles: self.invalid_triangles + other.invalid_triangles,
+            links: None,
+        }
+    }
+
     /// Euler characteristic `V - E + F`.
     pub fn euler(&self) -> i64 {
         self.vertices as i64 - self.edges as i64 + self.triangles as i64

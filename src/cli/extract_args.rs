@@ -51,10 +51,10 @@ pub(crate) struct ExtractArgs {
     /// (--inside low is refused). Float inputs must hold whole numbers (the first
     /// sample that does not is an error). --stats/--json give per label
     /// triangles, components, genus, area and (closed surfaces) enclosed volume beside the
-    /// label's voxel count times the voxel volume. Not with --preview (draw
-    /// a label's file with 'tmc preview').
+    /// label's voxel count times the voxel volume. --preview draws every
+    /// label's surface into one picture.
     #[arg(long, value_name = "all|L1,L2,...", allow_hyphen_values = true,
-          conflicts_with_all = ["iso", "manifest", "require_surface", "preview"],
+          conflicts_with_all = ["iso", "manifest", "require_surface"],
           value_parser = values::label_spec)]
     pub labels: Option<values::LabelSpec>,
 
@@ -94,7 +94,9 @@ pub(crate) struct ExtractArgs {
     /// isovalue, the triangle count and closed/genus), rendered while the
     /// mesh streams; written atomically. {stem} and {iso} as in -o. The
     /// same bytes for any --threads and --slab-depth, and those of 'tmc
-    /// preview MESH.tmesh --title INPUT-NAME'.
+    /// preview MESH.tmesh --title INPUT-NAME'. With --labels, one picture of
+    /// every label's surface, captioned with the number of labels and the
+    /// verdict of all the surfaces together ({stem} as in -o).
     #[arg(long, value_name = "FILE.png")]
     pub preview: Option<PathBuf>,
 

@@ -26,6 +26,7 @@ use std::time::Instant;
 use tmc::check::{measure_reports, Measured};
 use tmc::export::{LabelFiles, LabelSink};
 use tmc::part::PartSpec;
+use tmc::preview::{LabelPicture, ToLabelPicture};
 use tmc::stream::label_report::label_reports;
 use tmc::stream::{check_grid, LabelReport, LabelRun};
 use tmc::{Error, MeshSink, Result};
@@ -45,6 +46,15 @@ fn expand_template(template: &Path, input: &Path, part: Option<PartSpec>) -> Res
     let template = placeholders::fill_part(template, part);
     let stem = super::manifest::stem(input);
     Ok(tmc::files::fill_placeholder(&template, "{stem}", &stem))
+}
+
+/// The picture's name `template` with `{stem}` replaced by the name of
+/// `input`; any other placeholder is refused (one picture of all labels:
+/// no `{label}`, no `{iso}`).
+fn expand_picture(template: &Path, input: &Path) -> Result<PathBuf> {
+    placeholders::check(template, "--preview", &["{stem}"])?;
+    let stem = super::manifest::stem(input);
+    Ok(tmc::files::fill_placeholder(template, "{stem}", &stem))
 }
 
 /// Runs `tmc extract --labels`.
@@ -99,6 +109,15 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         ));
     }
     args.check_normals_output(template)?;
+    let picture = match &args.preview {
+        Some(_) if args.part.is_some() => {
+            return Err(Error::Invalid(
+                "--preview draws every label's whole surface, part files hold pieces of them: merge the parts and run 'tmc preview' on a merged .tmesh".into(),
+            ))
+        }
+        Some(picture) => Some(expand_picture(picture, input)?),
+        None => None,
+    };
     let source = super::raw_input::open_input(input, &args.raw, cancel, args.quiet)?;
     let grid = *source.grid();
     check_grid(input, &grid, args.close)?;
@@ -138,6 +157,15 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         .chain(source.data_files())
         .collect();
     tmc::export::check_label_outputs(&outputs, &inputs)?;
+    if let Some(picture) = &picture {
+        let outputs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+        tmc::preview::check_picture(picture, Some(input), &outputs)?;
+    }
+    let picture_path = picture.clone();
+    let picture = picture.map(|path| {
+        let title = tmc::preview::title_of(input);
+        LabelPicture::new(&path, title, args.threads.unwrap_or(0))
+    });
     let measure = args.stats || args.json;
     // With --part, one part file per label, recording its label.
     let record = match args.part {
@@ -176,8 +204,16 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         files.sinks().iter_mut().map(|f| f as &mut dyn MeshSink),
         measure,
     );
-    let mut dyn_sinks: Vec<&mut dyn MeshSink> =
-        sinks.iter_mut().map(|s| s as &mut dyn MeshSink).collect();
+    // With --preview, each label's sink paired with the picture.
+    let mut paired: Vec<ToLabelPicture> = Vec::new();
+    let mut dyn_sinks: Vec<&mut dyn MeshSink> = match &picture {
+        Some(picture) => {
+            let each = sinks.iter_mut().enumerate();
+            paired.extend(each.map(|(i, s)| picture.pair(i, s as &mut dyn MeshSink)));
+            paired.iter_mut().map(|s| s as &mut dyn MeshSink).collect()
+        }
+        None => sinks.iter_mut().map(|s| s as &mut dyn MeshSink).collect(),
+    };
     let mut monitor = Monitor::new(&grid, args, input);
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
     let options = args.pipeline_options(&on_progress, cancel);
@@ -193,10 +229,19 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         &mut dyn_sinks,
     )?;
     drop(dyn_sinks);
+    drop(paired);
     let mut reports = label_reports(&labels, &outputs, &stats, &counts, &grid);
     // Each label's last chunk counted before any file is put in place.
     measure_reports(sinks, &mut reports)?;
-    files.finish(cancel)?;
+    // The picture before the files are settled: if it fails, the files
+    // are taken back (and earlier runs' put back) as after a failed pass;
+    // if settling them fails, the picture is removed.
+    if let Some(picture) = &picture {
+        picture.finish()?;
+    }
+    files
+        .finish(cancel)
+        .map_err(|e| withdraw(picture_path.as_deref(), e))?;
     monitor.finish();
     let pass_seconds = pass_start.elapsed().as_secs_f64();
     if !measure {

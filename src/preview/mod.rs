@@ -18,12 +18,15 @@
 //! drawn: a `.tmesh` extracted on a rotated or mirrored grid (whose
 //! direction the format does not keep) may leave the box its views were
 //! fitted to, and is then drawn again, framed by its own box.
+//! [`labels`] draws every label of a label map's pass into one picture
+//! (`--labels ... --preview`).
 //! [`with_mesh`] pairs the sink with a mesh's own sink (`--preview`) and
 //! draws a mesh held whole (`tmc preview` of a PLY, Python's
 //! `Mesh.preview`).
 
 pub mod font;
 pub mod frame;
+pub mod labels;
 pub mod lines;
 pub mod pair;
 pub mod picture;
@@ -34,8 +37,9 @@ pub mod views;
 pub mod with_mesh;
 
 pub use crate::check::Verdict;
+pub use labels::{LabelPicture, ToLabelPicture};
 pub use pair::{side_by_side, Marks, MARK, PAIR_DIMENSIONS};
 pub use png_out::{check_png_path, write_png};
 pub use sink::PreviewSink;
 pub use views::Bounds;
-pub use with_mesh::{check_picture, draw_mesh, title_of, WithPreview};
+pub use with_mesh::{check_picture, draw_mesh, title_of, BesideMesh, WithPreview};

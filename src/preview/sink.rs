@@ -26,6 +26,7 @@ use super::views::{Bounds, View};
 use crate::check::{Scratch, StreamCheck, Verdict};
 use crate::{Chunk, Error, MeshInfo, MeshSink, Result, Totals};
 use crossbeam::channel::{bounded, Sender};
+use std::collections::BTreeSet;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -35,6 +36,9 @@ const MAX_WORKERS: usize = 8;
 
 /// A chunk with the next chunk's vertices its triangles use.
 struct Job {
+    /// The mesh it belongs to: 0, or a label's number in a picture of
+    /// several meshes ([`PreviewSink::chunk_of`]).
+    stream: u32,
     /// The chunk's own vertices, then the next chunk's first `next`.
     vertices: Vec<[f32; 3]>,
     /// How many of `vertices` are the chunk's own.
@@ -129,12 +133,19 @@ impl Workers {
             None => {
                 let (tx, rx) = bounded::<Arc<Job>>(2 * threads + 2);
                 let topology = std::thread::spawn(move || {
-                    let (mut count, mut scratch) = (StreamCheck::default(), Scratch::default());
+                    // One count per mesh, each fed its chunks in plane order.
+                    let mut counts = vec![StreamCheck::default()];
+                    let mut scratch = Scratch::default();
                     for job in rx {
+                        let stream = job.stream as usize;
+                        if counts.len() <= stream {
+                            counts.resize_with(stream + 1, StreamCheck::default);
+                        }
                         let next = job.vertices.len() as u32 - job.own;
-                        count.chunk(&mut scratch, job.own, next, &job.triangles);
+                        counts[stream].chunk(&mut scratch, job.own, next, &job.triangles);
                     }
-                    count.finish()
+                    let verdicts = counts.into_iter().map(StreamCheck::finish);
+                    verdicts.reduce(Verdict::with).unwrap_or_default()
                 });
                 (Some(tx), Some(topology))
             }
@@ -249,9 +260,9 @@ pub struct PreviewSink {
     threads: usize,
     iso: f64,
     workers: Option<Workers>,
-    /// The chunk waiting for the next one's vertices, and how many of those
-    /// its triangles use.
-    pending: Option<(Job, u32)>,
+    /// Per mesh ([`PreviewSink::chunk_of`]), the chunk waiting for the
+    /// next one's vertices, and how many of those its triangles use.
+    pending: Vec<Option<(Job, u32)>>,
     /// What the finished picture showed: covered pixels and the verdict.
     summary: Option<(usize, Verdict)>,
     /// The finished picture's RGB bytes, kept by a sink without a path.
@@ -259,6 +270,11 @@ pub struct PreviewSink {
     /// For the second pass over a mesh ([`PreviewSink::reframed`]): the
     /// first pass's verdict and totals.
     known: Option<(Verdict, Totals)>,
+    /// The labels with a triangle: the meshes of [`PreviewSink::chunk_of`]
+    /// that have one, or the triangles' labels of a labelled mesh (a
+    /// `.tmesh` of every label of a map). Named in the caption, which then
+    /// gives no isovalue (a label's surface is at 0.5 of its indicator).
+    labels: BTreeSet<u32>,
     /// After a first pass whose mesh left the frame: the vertices' box,
     /// the verdict and the totals ([`PreviewSink::reframed`]).
     again: Option<(Bounds, Verdict, Totals)>,
@@ -305,11 +321,12 @@ impl PreviewSink {
             threads: threads.clamp(1, MAX_WORKERS),
             iso: f64::NAN,
             workers: None,
-            pending: None,
+            pending: vec![None],
             summary: None,
             picture: None,
             known: None,
             again: None,
+            labels: BTreeSet::new(),
         }
     }
 
@@ -381,9 +398,10 @@ impl PreviewSink {
         self.summary
     }
 
-    /// Sends the pending chunk with the first `next` vertices of `after`.
-    fn flush(&mut self, after: &[[f32; 3]]) -> Result<()> {
-        let Some((mut job, next)) = self.pending.take() else {
+    /// Sends mesh `stream`'s pending chunk with the first `next` vertices
+    /// of `after`.
+    fn flush(&mut self, stream: usize, after: &[[f32; 3]]) -> Result<()> {
+        let Some((mut job, next)) = self.pending.get_mut(stream).and_then(Option::take) else {
             return Ok(());
         };
         let next = next as usize;
@@ -424,7 +442,47 @@ impl MeshSink for PreviewSink {
     }
 
     fn chunk(&mut self, _base: u64, chunk: &Chunk) -> Result<()> {
-        self.flush(&chunk.vertices)?;
+        let mut last = None;
+        for &label in &chunk.labels {
+            if last != Some(label) {
+                self.labels.insert(label);
+                last = Some(label);
+            }
+        }
+        self.hand_over(0, chunk)
+    }
+
+    fn finish(&mut self, totals: &Totals) -> Result<()> {
+        for stream in 0..self.pending.len() {
+            self.flush(stream, &[])?;
+        }
+        self.draw(totals)
+    }
+}
+
+impl PreviewSink {
+    /// [`MeshSink::chunk`] of one of several meshes drawn into one picture
+    /// (the labels of a label map): `stream` numbers the mesh, whose chunks
+    /// come in plane order, each mesh's vertices numbered from 0. The
+    /// verdict sums the meshes' counts (components, edges, genus).
+    pub fn chunk_of(&mut self, stream: usize, chunk: &Chunk) -> Result<()> {
+        if !chunk.triangles.is_empty() {
+            let label = u32::try_from(stream).unwrap_or(u32::MAX);
+            self.labels.insert(label);
+        }
+        self.hand_over(stream, chunk)
+    }
+
+    /// Hands `chunk` of mesh `stream` over: the chunk before it, now that
+    /// its next vertices are known, to the workers; this one kept.
+    fn hand_over(&mut self, stream: usize, chunk: &Chunk) -> Result<()> {
+        let Ok(stream32) = u32::try_from(stream) else {
+            return Err(Error::Invalid("preview: too many meshes".into()));
+        };
+        if self.pending.len() <= stream {
+            self.pending.resize_with(stream + 1, || None);
+        }
+        self.flush(stream, &chunk.vertices)?;
         let own = chunk.vertices.len();
         let Ok(own32) = u32::try_from(own) else {
             return Err(Error::Invalid("preview: chunk too large".into()));
@@ -437,16 +495,23 @@ impl MeshSink for PreviewSink {
         let mut vertices = Vec::with_capacity(own + past as usize);
         vertices.extend_from_slice(&chunk.vertices);
         let job = Job {
+            stream: stream32,
             vertices,
             own: own32,
             triangles: chunk.triangles.clone(),
         };
-        self.pending = Some((job, past));
+        self.pending[stream] = Some((job, past));
         Ok(())
     }
 
-    fn finish(&mut self, totals: &Totals) -> Result<()> {
-        self.flush(&[])?;
+    /// Ends mesh `stream` of several ([`PreviewSink::chunk_of`]): its last
+    /// chunk is drawn.
+    pub fn end_of(&mut self, stream: usize) -> Result<()> {
+        self.flush(stream, &[])
+    }
+
+    /// Draws the picture, all chunks handed over.
+    fn draw(&mut self, totals: &Totals) -> Result<()> {
         let mut workers = self
             .workers
             .take()
@@ -469,11 +534,15 @@ impl MeshSink for PreviewSink {
                 return Ok(());
             }
         };
+        let labels = self.labels.len() as u64;
         let caption = [
-            self.title.clone(),
+            match labels {
+                0 => self.title.clone(),
+                n => format!("{}   {n} label{}", self.title, crate::check::plural(n)),
+            },
             format!(
                 "{}{} triangle{}   {}",
-                if self.iso.is_nan() {
+                if self.iso.is_nan() || labels > 0 {
                     String::new()
                 } else {
                     format!("iso {}   ", self.iso)

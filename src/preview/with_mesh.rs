@@ -37,6 +37,24 @@ impl WithPreview {
             output: output.to_path_buf(),
         })
     }
+}
+
+impl BesideMesh for WithPreview {
+    fn mesh(&mut self) -> &mut dyn MeshSink {
+        &mut *self.inner
+    }
+
+    fn mesh_ref(&self) -> &dyn MeshSink {
+        &*self.inner
+    }
+
+    fn begin_picture(&mut self, info: &MeshInfo) -> Result<()> {
+        self.preview.begin(info)
+    }
+
+    fn draw(&mut self, chunk: &Chunk) -> Result<()> {
+        self.preview.chunk(0, chunk)
+    }
 
     /// Finishes the picture after the mesh; removes the mesh if it fails.
     fn after_mesh(&mut self, totals: &Totals) -> Result<()> {
@@ -46,34 +64,53 @@ impl WithPreview {
     }
 }
 
-impl MeshSink for WithPreview {
+/// A mesh's own sink with a picture drawn beside it from the same chunks
+/// ([`WithPreview`], and each label's sink with its
+/// [`LabelPicture`](super::LabelPicture)): every such pair is a
+/// [`MeshSink`] that begins the mesh, then the picture; draws each chunk,
+/// then hands it to the mesh; finishes the mesh, then
+/// [`BesideMesh::after_mesh`].
+pub trait BesideMesh {
+    /// The mesh's own sink.
+    fn mesh(&mut self) -> &mut dyn MeshSink;
+    /// The mesh's own sink, to ask.
+    fn mesh_ref(&self) -> &dyn MeshSink;
+    /// Begins the picture, after the mesh.
+    fn begin_picture(&mut self, info: &MeshInfo) -> Result<()>;
+    /// Draws a chunk, before the mesh takes it.
+    fn draw(&mut self, chunk: &Chunk) -> Result<()>;
+    /// What follows the mesh's finish.
+    fn after_mesh(&mut self, totals: &Totals) -> Result<()>;
+}
+
+impl<T: BesideMesh> MeshSink for T {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
-        self.inner.begin(info)?;
-        self.preview.begin(info)
+        self.mesh().begin(info)?;
+        self.begin_picture(info)
     }
 
     fn chunk(&mut self, base: u64, chunk: &Chunk) -> Result<()> {
-        self.preview.chunk(base, chunk)?;
-        self.inner.chunk(base, chunk)
+        self.draw(chunk)?;
+        self.mesh().chunk(base, chunk)
     }
 
     fn chunk_cancellable(&mut self, base: u64, chunk: &Chunk, cancel: &AtomicBool) -> Result<()> {
-        self.preview.chunk(base, chunk)?;
-        self.inner.chunk_cancellable(base, chunk, cancel)
+        self.draw(chunk)?;
+        self.mesh().chunk_cancellable(base, chunk, cancel)
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
-        self.inner.finish(totals)?;
+        self.mesh().finish(totals)?;
         self.after_mesh(totals)
     }
 
     fn finish_cancellable(&mut self, totals: &Totals, cancel: &AtomicBool) -> Result<()> {
-        self.inner.finish_cancellable(totals, cancel)?;
+        self.mesh().finish_cancellable(totals, cancel)?;
         self.after_mesh(totals)
     }
 
     fn encoder(&self) -> Option<ChunkEncoder> {
-        self.inner.encoder()
+        self.mesh_ref().encoder()
     }
 }
 

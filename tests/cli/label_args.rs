@@ -165,19 +165,6 @@ fn background_written_as_a_whole_float_is_that_label() {
 }
 
 #[test]
-fn preview_with_labels_is_refused() {
-    let dir = tempfile::tempdir().unwrap();
-    let input = negative_map(dir.path());
-    // --preview draws one mesh; --labels writes one per label.
-    for extra in [
-        &["--labels", "all", "-o", "{label}.ply", "--preview", "p.png"][..],
-        &["--preview", "p.png", "--labels", "7", "-o", "all.ply"],
-    ] {
-        refused(dir.path(), &input, extra, "--preview");
-    }
-}
-
-#[test]
 fn a_whole_float_beyond_2_53_is_not_called_a_fraction() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -21,6 +21,7 @@ mod normals;
 mod placeholders;
 mod preview;
 mod preview_frame;
+mod preview_labels;
 mod quiet;
 mod scripts;
 mod split_merge;

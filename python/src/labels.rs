@@ -15,6 +15,7 @@ use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use tmc::check::{measure_reports, Measured};
 use tmc::export::{LabelFiles, LabelSink};
+use tmc::preview::LabelPicture;
 use tmc::stream::label_report::label_reports;
 use tmc::stream::LabelRun;
 use tmc::volume::{LabelCounts, MapRuns};
@@ -122,7 +123,7 @@ pub(crate) fn extract_labels<'py>(
 /// volume counted while its chunks stream ([`tmc::check::Measured`], as
 /// the CLI counts them), else without them.
 #[pyfunction]
-#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, select, stats = false, progress = None))]
+#[pyo3(signature = (input, output, labels, background, spacing, origin, mapped, close, threads, normals, select, stats = false, preview = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn extract_labels_to(
     py: Python<'_>,
@@ -138,6 +139,7 @@ pub(crate) fn extract_labels_to(
     normals: bool,
     select: Select,
     stats: bool,
+    preview: Option<PathBuf>,
     progress: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<String> {
     let params = label_params(close, threads, normals)?;
@@ -148,6 +150,9 @@ pub(crate) fn extract_labels_to(
         // The name's form first, before the volume is read; `{label}` is
         // the one placeholder filled in ('{stem}' would stay in the name).
         crate::extract::refuse_placeholders(&output, &["{label}"])?;
+        if let Some(picture) = &preview {
+            crate::extract::refuse_placeholders(picture, &[])?;
+        }
         tmc::export::check_normals_output(&output, normals)?;
         tmc::export::check_label_template(&output, labels.as_deref().unwrap_or_default())?;
         let options = preflight(source, path, &params, None, watch)?;
@@ -157,6 +162,14 @@ pub(crate) fn extract_labels_to(
         let outputs = tmc::export::label_outputs(&output, &labels)?;
         let inputs: Vec<&Path> = path.into_iter().chain(source.data_files()).collect();
         tmc::export::check_label_outputs(&outputs, &inputs)?;
+        if let Some(picture) = &preview {
+            let outputs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+            tmc::preview::check_picture(picture, path, &outputs)?;
+        }
+        let picture = preview.as_ref().map(|picture| {
+            let title = tmc::preview::title_of(path.unwrap_or(&output));
+            LabelPicture::new(picture, title, params.threads)
+        });
         // Every label's file stays open until all are committed.
         tmc::files::raise_open_file_limit();
         tmc::files::check_open_files(labels.len(), tmc::export::open_files_per_label(&output))?;
@@ -173,10 +186,8 @@ pub(crate) fn extract_labels_to(
             files.sinks().iter_mut().map(|f| f as &mut dyn MeshSink),
             stats,
         );
-        let mut sinks: Vec<&mut dyn MeshSink> = measured
-            .iter_mut()
-            .map(|m| m as &mut dyn MeshSink)
-            .collect();
+        let mut paired = Vec::new();
+        let mut sinks = LabelPicture::sinks(picture.as_ref(), &mut measured, &mut paired);
         let label_stats = tmc::stream::extract_labels_with_runs_to(
             source, &runs, &labels, &params, &options, None, &mut sinks,
         )?;
@@ -185,7 +196,13 @@ pub(crate) fn extract_labels_to(
         let mut reports = label_reports(&labels, &outputs, &label_stats, &counts, grid);
         // Each label's last chunk counted before any file is put in place.
         measure_reports(measured, &mut reports)?;
-        files.finish(Some(cancel))?;
+        // The picture before the files are settled, as the CLI does.
+        if let Some(picture) = &picture {
+            picture.finish()?;
+        }
+        files
+            .finish(Some(cancel))
+            .map_err(|e| tmc::files::withdraw(preview.as_deref(), e))?;
         let pass_seconds = pass_start.elapsed().as_secs_f64();
         let run = LabelRun {
             input: path.unwrap_or(Path::new("array")).display().to_string(),

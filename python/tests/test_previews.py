@@ -100,3 +100,37 @@ def test_bad_picture_paths_raise_and_write_nothing(tmp_path):
     with pytest.raises(ValueError, match="vertex 0 .* not finite"):
         tmc.Mesh(corners, np.array([[0, 1, 2]], np.uint32)).preview(tmp_path / "x.png")
     assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_extract_labels_to_with_a_preview_writes_the_clis_picture(tmp_path):
+    """A label map's picture: the CLI's bytes for the same file, the same
+    from an array (titled with the output's name, as ``tmc preview`` of the
+    one ``.tmesh`` titled so) and for one or two threads; a bad picture
+    path raises with nothing written."""
+    z, y, x = np.mgrid[0:24, 0:22, 0:26]
+    seg = ((x // 9) + 3 * (y // 8) + 1).astype(np.uint16)
+    seg[(x - 13) ** 2 + (y - 11) ** 2 + (z - 12) ** 2 < 30] = 40
+    path = tmp_path / "seg.npy"
+    np.save(path, seg)
+    out = tmp_path / "py"
+    out.mkdir()
+    report = tmc.extract_labels_to(path, out / "{label}.ply", close=True,
+                                   preview=tmp_path / "py.png", threads=1)
+    assert len(report["labels"]) == 10
+    run_cli("extract", str(path), "--labels", "all", "--close", "-o",
+            str(tmp_path / "{label}.tmesh"), "--preview", str(tmp_path / "cli.png"), "-q")
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    tmc.extract_labels_to(seg, tmp_path / "all.tmesh", close=True,
+                          preview=tmp_path / "array.png", threads=2)
+    run_cli("preview", str(tmp_path / "all.tmesh"), "-o", str(tmp_path / "again.png"),
+            "--title", "all.tmesh")
+    assert (tmp_path / "array.png").read_bytes() == (tmp_path / "again.png").read_bytes()
+    rgb = decoded(tmp_path / "array.png")
+    assert drawn(rgb) > 0.05 * rgb.shape[0] * rgb.shape[1]
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    for picture, error in ((bad / "p.jpg", ValueError), (bad / "no" / "p.png", OSError),
+                           (bad / "{label}.png", ValueError)):
+        with pytest.raises(error):
+            tmc.extract_labels_to(seg, bad / "{label}.ply", preview=picture)
+        assert list(bad.iterdir()) == []

@@ -575,6 +575,7 @@ def extract_labels_to(
     array: Optional[str] = None,
     level: Optional[int] = None,
     dataset: Optional[str] = None,
+    preview: Optional[PathLike] = None,
     progress: Optional[Callable[[int, int], Any]] = None,
 ) -> Dict[str, Any]:
     """Streams the surface of every label into files in one pass, the
@@ -598,6 +599,13 @@ def extract_labels_to(
         last bit), in memory that does not grow with the meshes. Off by
         default: the counting runs on the one thread that writes the
         files, and about doubles the time of a pass (docs/python.md).
+    preview : path, optional
+        Also draw every label's surface into this PNG while the pass
+        streams, as ``tmc extract --labels ... --preview`` does (titled
+        with the input file's name, or the output's for an array; the
+        number of labels with a surface and the verdict of all the
+        surfaces together in the caption). The files are taken back if the
+        picture fails.
 
     Returns the report of ``tmc extract --labels --json``: ``input``
     (``"array"`` for an array), ``close``, ``method``, ``background``,
@@ -611,8 +619,9 @@ def extract_labels_to(
     """
     array, rest = _label_args(volume, labels, background, spacing, origin, close, threads,
                               normals, series, segment, at, array, level, dataset)
+    picture = None if preview is None else os.fsdecode(preview)
     report = _tmc.extract_labels_to(array, os.fsdecode(output), *rest, stats=_flag(stats, "stats"),
-                                    progress=_callback(progress))
+                                    preview=picture, progress=_callback(progress))
     return json.loads(report)
 
 

@@ -138,6 +138,7 @@ def extract_labels_to(
     array: Optional[str] = ...,
     level: Optional[int] = ...,
     dataset: Optional[str] = ...,
+    preview: Optional[PathLike] = ...,
     progress: Optional[Callable[[int, int], Any]] = ...,
 ) -> Dict[str, Any]:
     """Streams every label's surface into files in one pass (``{label}`` in

@@ -138,6 +138,7 @@ def extract_labels_to(
     normals: bool,
     select: _Select,
     stats: bool = ...,
+    preview: Optional[str] = ...,
     progress: Any = ...,
 ) -> str:
     """Streams every label's mesh into the files output names; returns the

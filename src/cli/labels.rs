@@ -26,7 +26,7 @@ use std::time::Instant;
 use tmc::check::{measure_reports, Measured};
 use tmc::export::{LabelFiles, LabelSink};
 use tmc::part::PartSpec;
-use tmc::preview::{LabelPicture, ToLabelPicture};
+use tmc::preview::LabelPicture;
 use tmc::stream::label_report::label_reports;
 use tmc::stream::{check_grid, LabelReport, LabelRun};
 use tmc::{Error, MeshSink, Result};
@@ -205,15 +205,8 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         measure,
     );
     // With --preview, each label's sink paired with the picture.
-    let mut paired: Vec<ToLabelPicture> = Vec::new();
-    let mut dyn_sinks: Vec<&mut dyn MeshSink> = match &picture {
-        Some(picture) => {
-            let each = sinks.iter_mut().enumerate();
-            paired.extend(each.map(|(i, s)| picture.pair(i, s as &mut dyn MeshSink)));
-            paired.iter_mut().map(|s| s as &mut dyn MeshSink).collect()
-        }
-        None => sinks.iter_mut().map(|s| s as &mut dyn MeshSink).collect(),
-    };
+    let mut paired = Vec::new();
+    let mut dyn_sinks = LabelPicture::sinks(picture.as_ref(), &mut sinks, &mut paired);
     let mut monitor = Monitor::new(&grid, args, input);
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);
     let options = args.pipeline_options(&on_progress, cancel);
@@ -229,7 +222,6 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         &mut dyn_sinks,
     )?;
     drop(dyn_sinks);
-    drop(paired);
     let mut reports = label_reports(&labels, &outputs, &stats, &counts, &grid);
     // Each label's last chunk counted before any file is put in place.
     measure_reports(sinks, &mut reports)?;

@@ -47,6 +47,24 @@ impl LabelPicture {
         }
     }
 
+    /// The pass's sinks, `sinks[i]` label `i`'s: each paired with
+    /// `picture` (the pairs kept in `paired`) when there is one, else as
+    /// they are.
+    pub fn sinks<'a, S: MeshSink>(
+        picture: Option<&'a LabelPicture>,
+        sinks: &'a mut [S],
+        paired: &'a mut Vec<ToLabelPicture<'a>>,
+    ) -> Vec<&'a mut dyn MeshSink> {
+        match picture {
+            Some(picture) => {
+                let each = sinks.iter_mut().enumerate();
+                paired.extend(each.map(|(i, s)| picture.pair(i, s as &mut dyn MeshSink)));
+                paired.iter_mut().map(|s| s as &mut dyn MeshSink).collect()
+            }
+            None => sinks.iter_mut().map(|s| s as &mut dyn MeshSink).collect(),
+        }
+    }
+
     /// Writes the picture, once every label's mesh is finished.
     pub fn finish(&self) -> Result<()> {
         let totals = *self.totals.borrow();

@@ -147,6 +147,30 @@ fn is_group(dir: &Path) -> bool {
     node_is(dir, ".zgroup", "group")
 }
 
+/// The images of a bioformats2raw store (its root's attributes say
+/// `bioformats2raw.layout`): the series its `OME` group lists, else the
+/// groups `0`, `1`, ... there are; none for any other group.
+fn bioformats2raw_images(root: &Path, attributes: &Value) -> Vec<String> {
+    let layout = |a: &Value| a.get("bioformats2raw.layout").is_some();
+    if !layout(attributes) && !attributes.get("ome").is_some_and(layout) {
+        return Vec::new();
+    }
+    let listed = root_attributes(&root.join("OME"))
+        .ok()
+        .flatten()
+        .and_then(|a| {
+            let series = a.get("series").or_else(|| a.get("ome")?.get("series"))?;
+            let names = series.as_array()?.iter().filter_map(Value::as_str);
+            Some(names.map(str::to_string).collect::<Vec<_>>())
+        });
+    listed.unwrap_or_else(|| {
+        (0..)
+            .map(|i: usize| i.to_string())
+            .take_while(|n| is_group(&root.join(n)))
+            .collect()
+    })
+}
+
 /// Whether the store's root is itself an array.
 fn root_is_array(root: &Path) -> bool {
     node_is(root, ".zarray", "array")
@@ -257,12 +281,16 @@ pub fn open(path: &Path, select: &ZarrSelect) -> Result<ZarrVolume> {
             p
         }
         (None, false) => {
-            // An OME-Zarr `labels` group lists its label images.
-            let names = zarr_ome::label_images(&attributes);
+            // An OME-Zarr `labels` group lists its label images, a
+            // bioformats2raw store its images.
+            let (what, names) = match zarr_ome::label_images(&attributes) {
+                names if names.is_empty() => ("images", bioformats2raw_images(path, &attributes)),
+                names => ("label images", names),
+            };
             let hint = match names.is_empty() {
                 true => String::new(),
                 false => format!(
-                    " (its label images: {})",
+                    " (its {what}: {})",
                     names
                         .iter()
                         .map(|n| path.join(n).display().to_string())

@@ -400,3 +400,46 @@ fn an_ome_label_image_opens_by_path_or_array_and_its_group_lists_them() {
         refused(&labels, &[], &format!("its label images: {wanted}"));
     }
 }
+
+/// The root of a bioformats2raw store (a group of OME-Zarr images, `0`,
+/// `1`, ..., listed in its `OME` group's `series`) is refused with its
+/// images named, as a `labels` group is with its label images; without the
+/// `OME` list, the numbered groups there are. NGFF 0.4 (v2) and 0.5 (v3).
+#[test]
+fn a_bioformats2raw_root_lists_its_images() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |path: &Path, text: &str| {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
+    };
+    for (v3, listed) in [(false, true), (false, false), (true, true), (true, false)] {
+        let root = dir.path().join(format!("b2r-{v3}-{listed}.zarr"));
+        let groups: &[&str] = if listed {
+            &["", "OME", "0", "1", "2"]
+        } else {
+            &["", "0", "1", "3"]
+        };
+        for g in groups {
+            let at = root.join(g);
+            let attributes = match *g {
+                "" if v3 => r#"{"ome": {"version": "0.5", "bioformats2raw.layout": 3}}"#,
+                "" => r#"{"bioformats2raw.layout": 3}"#,
+                "OME" if v3 => r#"{"ome": {"version": "0.5", "series": ["0", "2"]}}"#,
+                "OME" => r#"{"series": ["0", "2"]}"#,
+                _ => "{}",
+            };
+            if v3 {
+                let meta = format!(
+                    r#"{{"zarr_format": 3, "node_type": "group", "attributes": {attributes}}}"#
+                );
+                write(&at.join("zarr.json"), &meta);
+            } else {
+                write(&at.join(".zgroup"), r#"{"zarr_format": 2}"#);
+                write(&at.join(".zattrs"), attributes);
+            }
+        }
+        let images = if listed { ["0", "2"] } else { ["0", "1"] };
+        let [a, b] = images.map(|n| root.join(n).display().to_string());
+        refused(&root, &[], &format!("its images: {a}, {b})"));
+    }
+}

@@ -40,6 +40,7 @@ from ._arguments import (
     _mapped_file,
     _method,
     _number,
+    _ordered,
     _options,
     _select,
     _threads,
@@ -622,7 +623,9 @@ def read_mesh(path: PathLike) -> Mesh:
     per corner, a vertex's faces shaded apart, are not per-vertex).
     ``labels`` holds the label of each triangle of a labelled ``.tmesh`` or
     a PLY whose faces have an integer ``label`` property (as ``tmc extract
-    SEG --labels all -o all.ply`` writes them); else ``None``."""
+    SEG --labels all -o all.ply`` writes them); else ``None``. A file that
+    declares normals or labels but has no vertices or triangles gives
+    empty arrays."""
     vertices, triangles, normals, labels = _tmc.read_mesh(os.fsdecode(path))
     return Mesh(vertices, triangles, normals, labels=labels)
 
@@ -738,7 +741,8 @@ def marching_cubes(
             f"shape {tuple(array.shape)}: marching_cubes needs at least 2 samples "
             "along every axis"
         )
-    if isinstance(spacing, (str, bytes)) or len(spacing) != 3:
+    _ordered(spacing, "spacing", ValueError)
+    if len(spacing) != 3:
         raise ValueError("`spacing` must consist of three floats.")
     spacing = tuple(_number(s, "spacing") for s in spacing)
     if not all(np.isfinite(s) and s > 0 for s in spacing):

@@ -284,7 +284,8 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     let options = args.pipeline_options(&on_progress, cancel);
     let no_surface = |iso: f64| {
         format!(
-            "no surface at isovalue {iso}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
+            "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
+            tmc::stats::number_text(iso),
             item.input.display()
         )
     };

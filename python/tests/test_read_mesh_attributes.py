@@ -268,3 +268,22 @@ def test_an_empty_mesh_keeps_its_normals_and_labels(tmp_path: Path) -> None:
     back = tmc.read_mesh(tmp_path / "labels.ply")
     back.write(tmp_path / "labels-again.ply")
     assert (tmp_path / "labels-again.ply").read_bytes() == (tmp_path / "labels.ply").read_bytes()
+
+
+def test_a_mesh_of_empty_lists_is_an_empty_mesh(tmp_path: Path) -> None:
+    """Mesh([], []) (and normals=[]) is a mesh without vertices or
+    triangles, as the empty mesh of an extraction is: it checks, draws and
+    writes the bytes of that mesh in every format that takes it (numpy
+    makes [] an array of shape (0,), which write, check and preview
+    refused: "vertices must be an (N, 3) array")."""
+    made = tmc.extract(ball(), 5.0, normals=True)
+    given = tmc.Mesh([], [], normals=[])
+    assert given.check() == made.check()
+    given.preview(tmp_path / "given.png", title="t")
+    made.preview(tmp_path / "made.png", title="t")
+    assert (tmp_path / "given.png").read_bytes() == (tmp_path / "made.png").read_bytes()
+    for ext in ["ply", "obj", "off", "stl"]:
+        given.write(tmp_path / f"given.{ext}")
+        made.write(tmp_path / f"made.{ext}")
+        expected = (tmp_path / f"made.{ext}").read_bytes()
+        assert (tmp_path / f"given.{ext}").read_bytes() == expected, ext

@@ -41,6 +41,7 @@ from ._arguments import (
     _method,
     _number,
     _ordered,
+    _rows,
     _options,
     _select,
     _threads,
@@ -146,7 +147,7 @@ class Mesh:
                 "and this mesh was not made by tmc.extract; write it with "
                 "tmc.extract_to(volume, iso, path)"
             )
-        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        vertices = _rows(self.vertices, np.float64)
         # The files hold float32, which tmc's readers (and others) refuse
         # when not finite: a NaN, or a value past float32's range.
         with np.errstate(over="ignore"):
@@ -160,7 +161,7 @@ class Mesh:
         triangles = _indices(self.triangles)
         normals = None
         if self.normals is not None:
-            normals = np.ascontiguousarray(self.normals, dtype=np.float32)
+            normals = _rows(self.normals, np.float32)
         labels = None
         if self.labels is not None:
             labels = _labels_of_triangles(self.labels)
@@ -184,14 +185,14 @@ class Mesh:
             title = os.path.basename(source if isinstance(source, str) else os.fsdecode(path))
         if not isinstance(title, str):
             raise TypeError(f"title must be a str, not {title!r}")
-        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        vertices = _rows(self.vertices, np.float64)
         _tmc.preview_mesh(os.fsdecode(path), vertices, _indices(self.triangles), title,
                           _threads(threads))
 
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``: manifoldness, orientation,
         boundary, components and genus, computed from the indices alone."""
-        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        vertices = _rows(self.vertices, np.float64)
         return json.loads(_tmc.check_mesh(vertices, _indices(self.triangles)))
 
 

@@ -34,6 +34,14 @@ def _labels_of_triangles(labels: Any) -> np.ndarray:
     return np.ascontiguousarray(array.reshape(-1), dtype=np.uint32)
 
 
+def _rows(value: Any, dtype: Any) -> np.ndarray:
+    """``value`` as a C-contiguous array of ``dtype``; an empty one of one
+    axis (``[]``, which numpy makes shape ``(0,)``) as no rows of three,
+    ``(0, 3)``: what a mesh without vertices or triangles holds."""
+    array = np.ascontiguousarray(value, dtype=dtype)
+    return array.reshape(0, 3) if array.size == 0 and array.ndim == 1 else array
+
+
 def _indices(triangles: Any) -> np.ndarray:
     """``triangles`` as uint32 vertex indices: ``TypeError`` for other than
     integers (a cast would truncate 1.5 to 1), ``ValueError`` for a negative
@@ -52,7 +60,7 @@ def _indices(triangles: Any) -> np.ndarray:
             f"triangle {row} {array[row].tolist()} has a vertex index of 2**32 or more "
             "(mesh files hold 32-bit indices)"
         )
-    return np.ascontiguousarray(array, dtype=np.uint32)
+    return _rows(array, np.uint32)
 
 
 def _mapped_file(array: np.ndarray) -> Optional[Tuple[str, int]]:

@@ -194,7 +194,11 @@ fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
     let [x, y, z] = info.dims;
     rows.push((
         "dims",
-        format!("{x} x {y} x {z} ({} samples)", info.samples),
+        format!(
+            "{x} x {y} x {z} ({} sample{})",
+            info.samples,
+            if info.samples == 1 { "" } else { "s" }
+        ),
     ));
     rows.push((
         "sample type",

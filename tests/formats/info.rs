@@ -525,3 +525,15 @@ fn far_numbers_print_with_an_exponent() {
     assert!(err.contains("iso 1e308, method tmc"), "{err}");
     assert!(err.lines().all(|l| l.len() < 300), "{err}");
 }
+
+/// A volume of one sample (which `tmc extract --close` takes) is "1
+/// sample", not "1 samples".
+#[test]
+fn one_sample_is_singular() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("one.npy");
+    write_npy(&path, "<f4", [1, 1, 1], &[3.0]);
+    let out = tmc(&["info", path.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(text.contains("1 x 1 x 1 (1 sample)\n"), "{text}");
+}

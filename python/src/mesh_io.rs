@@ -71,14 +71,15 @@ pub(crate) fn write_mesh(
 ) -> PyResult<()> {
     let mut mesh = mesh_from(vertices, triangles)?;
     if let Some(normals) = normals {
-        mesh.normals = rows_from::<f32>(normals, "normals")?;
-        if mesh.normals.len() != mesh.vertices.len() {
+        let normals = rows_from::<f32>(normals, "normals")?;
+        if normals.len() != mesh.vertices.len() {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
                 "{} normals for {} vertices",
-                mesh.normals.len(),
+                normals.len(),
                 mesh.vertices.len()
             )));
         }
+        mesh.normals = Some(normals);
     }
     if let Some(labels) = labels {
         if labels.len() != mesh.triangles.len() {
@@ -88,7 +89,7 @@ pub(crate) fn write_mesh(
                 mesh.triangles.len()
             )));
         }
-        mesh.labels = labels;
+        mesh.labels = Some(labels);
     }
     let tmesh = path
         .extension()

@@ -26,7 +26,8 @@ type MeshArrays<'py> = (
 
 /// Vertices (widened to float64), triangles, normals and per-triangle
 /// labels of `mesh` as numpy arrays, in tmc's layout: the normals `(N, 3)`
-/// float32 and the labels `(M,)` uint32, or `None` where the mesh has none.
+/// float32 and the labels `(M,)` uint32, or `None` where the mesh has none
+/// (an empty mesh that has them gives empty arrays).
 pub(crate) fn mesh_arrays<'py>(
     py: Python<'py>,
     mesh: Mesh,
@@ -39,8 +40,7 @@ pub(crate) fn mesh_arrays<'py>(
     } = mesh;
     let wide: Vec<[f64; 3]> = vertices.iter().map(|v| v.map(f64::from)).collect();
     drop(vertices);
-    let normals = (!normals.is_empty()).then_some(normals);
-    let labels = (!labels.is_empty()).then(|| PyArray1::from_vec(py, labels).into_any());
+    let labels = labels.map(|labels| PyArray1::from_vec(py, labels).into_any());
     Ok((arrays(py, wide, triangles, normals)?, labels))
 }
 

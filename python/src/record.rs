@@ -147,10 +147,11 @@ pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult
         )));
     }
     // The normals attribute as the mesh has normals (an extraction with
-    // normals whose mesh lost them writes a file without).
-    let with_normals = !mesh.normals.is_empty();
+    // normals whose mesh lost them writes a file without; an empty mesh
+    // with normals, the file with the attribute, as the extraction's).
+    let normals = mesh.normals.as_deref();
     let info = tmc::MeshInfo {
-        normals: with_normals,
+        normals: normals.is_some(),
         ..record.info.clone()
     };
     let replay = || -> tmc::Result<()> {
@@ -178,10 +179,7 @@ pub(crate) fn write_tmesh(path: &Path, mesh: &Mesh, record: &Record) -> PyResult
                     .iter()
                     .map(|tri| tri.map(|i| i.wrapping_sub(base as u32)))
                     .collect(),
-                normals: match with_normals {
-                    true => mesh.normals[base..base + v].to_vec(),
-                    false => Vec::new(),
-                },
+                normals: normals.map_or_else(Vec::new, |n| n[base..base + v].to_vec()),
                 labels: Vec::new(),
                 values: Vec::new(),
                 encoded: Vec::new(),

@@ -356,3 +356,38 @@ def test_normals_into_a_format_without_them_are_refused(tmp_path):
     tmc.extract_to(volume, 0.5, tmp_path / "m.off")
     tmc.extract_labels_to(labels, tmp_path / "{label}.stl")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["1.stl", "m.off"]
+
+
+def test_spacing_and_origin_are_three_numbers_in_order():
+    """spacing and origin are an ordered sequence of three real numbers: a
+    set or a dict (whose order is not the caller's: {3, 1, 2} iterated as
+    1, 2, 3 and was spacing (1, 2, 3); a dict gave its keys) raises
+    ValueError, so does a bool (TypeError in marching_cubes, as iso=True;
+    spacing (True, True, True) was (1, 1, 1)), and an integer past float's
+    range names the argument (was the bare OverflowError "int too large to
+    convert to float"), for extract, the label calls and marching_cubes
+    alike."""
+    box = np.zeros((4, 5, 6), dtype=np.uint8)
+    box[1:3, 1:4, 1:5] = 1
+    calls = {
+        "extract": lambda **kw: tmc.extract(box, 0.5, **kw),
+        "extract_labels": lambda **kw: tmc.extract_labels(box, **kw),
+        "marching_cubes": lambda **kw: tmc.marching_cubes(box, 0.5, **kw),
+    }
+    for name, call in calls.items():
+        arguments = ["spacing"] if name == "marching_cubes" else ["spacing", "origin"]
+        for argument in arguments:
+            for unordered in ({3.0, 1.0, 2.0}, frozenset({3, 1, 2}), {3: 0, 1: 0, 2: 0}):
+                with pytest.raises(ValueError, match=f"{argument}.*three numbers"):
+                    call(**{argument: unordered})
+            with pytest.raises((TypeError, ValueError), match=f"{argument} must be"):
+                call(**{argument: (True, 1.0, 1.0)})
+            with pytest.raises(ValueError, match=f"{argument}.*finite"):
+                call(**{argument: (10**400, 1, 1)})
+        # Ordered sequences of numbers, numpy's included, are taken.
+        call(spacing=np.array([3.0, 1.0, 2.0], dtype=np.float32))
+    for huge in (10**400, -(10**400)):
+        with pytest.raises(ValueError, match="iso must be a finite number"):
+            tmc.extract(box, huge)
+        with pytest.raises(ValueError, match="level must be a finite number"):
+            tmc.marching_cubes(box, huge)

@@ -231,3 +231,59 @@ def test_labels_given_to_a_mesh_are_checked_when_written(tmp_path: Path) -> None
     mesh.labels = np.arange(m, dtype=np.int64)
     mesh.write(tmp_path / "x.ply")
     assert tmc.read_mesh(tmp_path / "x.ply").labels.tolist() == list(range(m))
+
+
+def test_an_empty_mesh_keeps_its_normals_and_labels(tmp_path: Path) -> None:
+    """A mesh with no triangles still has the normals or labels its file
+    declares (PLY's header, the .tmesh attributes): read_mesh gives them as
+    empty arrays, not None, and Mesh.write puts them back, the bytes
+    extract_to and extract_labels_to wrote. They were lost: read_mesh said
+    None, and writing the empty mesh of extract(..., normals=True) left
+    them out of PLY and .tmesh (OBJ cannot say it, and says the same
+    either way)."""
+    empty = tmc.extract(ball(), 5.0, normals=True)
+    assert len(empty.triangles) == 0 and empty.normals is not None
+    for ext in ["ply", "obj", "tmesh"]:
+        streamed, written = tmp_path / f"s.{ext}", tmp_path / f"w.{ext}"
+        tmc.extract_to(ball(), 5.0, streamed, normals=True)
+        empty.write(written)
+        assert written.read_bytes() == streamed.read_bytes(), ext
+        back = tmc.read_mesh(streamed)
+        if ext == "obj":
+            assert back.normals is None
+            continue
+        assert back.normals is not None and back.normals.shape == (0, 3), ext
+        assert back.normals.dtype == np.float32
+    back = tmc.read_mesh(tmp_path / "s.ply")
+    back.write(tmp_path / "again.ply")
+    assert (tmp_path / "again.ply").read_bytes() == (tmp_path / "s.ply").read_bytes()
+    # A label map's one file of labels none of which is present.
+    for ext in ["ply", "tmesh"]:
+        path = tmp_path / f"labels.{ext}"
+        tmc.extract_labels_to(label_map(), path, labels=[7])
+        back = tmc.read_mesh(path)
+        assert back.labels is not None and back.labels.shape == (0,), ext
+        assert back.labels.dtype == np.uint32
+        assert back.normals is None
+    back = tmc.read_mesh(tmp_path / "labels.ply")
+    back.write(tmp_path / "labels-again.ply")
+    assert (tmp_path / "labels-again.ply").read_bytes() == (tmp_path / "labels.ply").read_bytes()
+
+
+def test_a_mesh_of_empty_lists_is_an_empty_mesh(tmp_path: Path) -> None:
+    """Mesh([], []) (and normals=[]) is a mesh without vertices or
+    triangles, as the empty mesh of an extraction is: it checks, draws and
+    writes the bytes of that mesh in every format that takes it (numpy
+    makes [] an array of shape (0,), which write, check and preview
+    refused: "vertices must be an (N, 3) array")."""
+    made = tmc.extract(ball(), 5.0, normals=True)
+    given = tmc.Mesh([], [], normals=[])
+    assert given.check() == made.check()
+    given.preview(tmp_path / "given.png", title="t")
+    made.preview(tmp_path / "made.png", title="t")
+    assert (tmp_path / "given.png").read_bytes() == (tmp_path / "made.png").read_bytes()
+    for ext in ["ply", "obj", "off", "stl"]:
+        given.write(tmp_path / f"given.{ext}")
+        made.write(tmp_path / f"made.{ext}")
+        expected = (tmp_path / f"made.{ext}").read_bytes()
+        assert (tmp_path / f"given.{ext}").read_bytes() == expected, ext

@@ -40,6 +40,8 @@ from ._arguments import (
     _mapped_file,
     _method,
     _number,
+    _ordered,
+    _rows,
     _options,
     _select,
     _threads,
@@ -145,7 +147,7 @@ class Mesh:
                 "and this mesh was not made by tmc.extract; write it with "
                 "tmc.extract_to(volume, iso, path)"
             )
-        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        vertices = _rows(self.vertices, np.float64)
         # The files hold float32, which tmc's readers (and others) refuse
         # when not finite: a NaN, or a value past float32's range.
         with np.errstate(over="ignore"):
@@ -159,7 +161,7 @@ class Mesh:
         triangles = _indices(self.triangles)
         normals = None
         if self.normals is not None:
-            normals = np.ascontiguousarray(self.normals, dtype=np.float32)
+            normals = _rows(self.normals, np.float32)
         labels = None
         if self.labels is not None:
             labels = _labels_of_triangles(self.labels)
@@ -183,14 +185,14 @@ class Mesh:
             title = os.path.basename(source if isinstance(source, str) else os.fsdecode(path))
         if not isinstance(title, str):
             raise TypeError(f"title must be a str, not {title!r}")
-        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        vertices = _rows(self.vertices, np.float64)
         _tmc.preview_mesh(os.fsdecode(path), vertices, _indices(self.triangles), title,
                           _threads(threads))
 
     def check(self) -> Dict[str, Any]:
         """The report of ``tmc check --json``: manifoldness, orientation,
         boundary, components and genus, computed from the indices alone."""
-        vertices = np.ascontiguousarray(self.vertices, dtype=np.float64)
+        vertices = _rows(self.vertices, np.float64)
         return json.loads(_tmc.check_mesh(vertices, _indices(self.triangles)))
 
 
@@ -637,7 +639,9 @@ def read_mesh(path: PathLike) -> Mesh:
     per corner, a vertex's faces shaded apart, are not per-vertex).
     ``labels`` holds the label of each triangle of a labelled ``.tmesh`` or
     a PLY whose faces have an integer ``label`` property (as ``tmc extract
-    SEG --labels all -o all.ply`` writes them); else ``None``."""
+    SEG --labels all -o all.ply`` writes them); else ``None``. A file that
+    declares normals or labels but has no vertices or triangles gives
+    empty arrays."""
     vertices, triangles, normals, labels = _tmc.read_mesh(os.fsdecode(path))
     return Mesh(vertices, triangles, normals, labels=labels)
 
@@ -753,7 +757,8 @@ def marching_cubes(
             f"shape {tuple(array.shape)}: marching_cubes needs at least 2 samples "
             "along every axis"
         )
-    if isinstance(spacing, (str, bytes)) or len(spacing) != 3:
+    _ordered(spacing, "spacing", ValueError)
+    if len(spacing) != 3:
         raise ValueError("`spacing` must consist of three floats.")
     spacing = tuple(_number(s, "spacing") for s in spacing)
     if not all(np.isfinite(s) and s > 0 for s in spacing):

@@ -5,6 +5,7 @@ can read them so."""
 
 from __future__ import annotations
 
+import collections.abc
 import mmap
 import operator
 import os
@@ -33,6 +34,14 @@ def _labels_of_triangles(labels: Any) -> np.ndarray:
     return np.ascontiguousarray(array.reshape(-1), dtype=np.uint32)
 
 
+def _rows(value: Any, dtype: Any) -> np.ndarray:
+    """``value`` as a C-contiguous array of ``dtype``; an empty one of one
+    axis (``[]``, which numpy makes shape ``(0,)``) as no rows of three,
+    ``(0, 3)``: what a mesh without vertices or triangles holds."""
+    array = np.ascontiguousarray(value, dtype=dtype)
+    return array.reshape(0, 3) if array.size == 0 and array.ndim == 1 else array
+
+
 def _indices(triangles: Any) -> np.ndarray:
     """``triangles`` as uint32 vertex indices: ``TypeError`` for other than
     integers (a cast would truncate 1.5 to 1), ``ValueError`` for a negative
@@ -51,7 +60,7 @@ def _indices(triangles: Any) -> np.ndarray:
             f"triangle {row} {array[row].tolist()} has a vertex index of 2**32 or more "
             "(mesh files hold 32-bit indices)"
         )
-    return np.ascontiguousarray(array, dtype=np.uint32)
+    return _rows(array, np.uint32)
 
 
 def _mapped_file(array: np.ndarray) -> Optional[Tuple[str, int]]:
@@ -106,8 +115,29 @@ def _number(value: Any, name: str) -> float:
         raise TypeError(f"{name} must be a number, not {value!r}")
     try:
         return float(value)
+    except OverflowError:
+        # An integer past float's range (10**400): was the bare
+        # "int too large to convert to float", naming no argument.
+        raise ValueError(f"{name} must be a finite number, not {_shown(value)}") from None
     except (TypeError, ValueError):
         raise TypeError(f"{name} must be a number, not {value!r}") from None
+
+
+def _shown(value: Any) -> str:
+    """``repr(value)``, cut to its first 30 characters when longer (an
+    integer of hundreds of digits)."""
+    text = repr(value)
+    return text if len(text) <= 30 else f"{text[:30]}... ({len(text)} characters)"
+
+
+def _ordered(value: Any, name: str, error: type) -> None:
+    """``error`` (``ValueError``, the type each caller raises for other
+    than three numbers) for a ``value`` whose order is not the caller's
+    (a set: ``{3, 1, 2}`` iterates as 1, 2, 3) or that is not a sequence of
+    numbers (a dict iterates its keys; ``"123"`` digit by digit)."""
+    unordered = (str, bytes, collections.abc.Set, collections.abc.Mapping)
+    if isinstance(value, unordered):
+        raise error(f"{name} must be three numbers, not {_shown(value)}")
 
 
 def _volume_3d(array: np.ndarray) -> np.ndarray:
@@ -155,15 +185,22 @@ def _triple(value: Any, name: str, default: float) -> Tuple[float, float, float]
     """Three floats (``[x, y, z]``), or ``ValueError``."""
     if value is None:
         return (default, default, default)
-    if isinstance(value, (str, bytes)):
-        # "123" would be taken digit by digit as (1, 2, 3).
-        raise ValueError(f"{name} must be three numbers, not {value!r}")
+    _ordered(value, name, ValueError)
     try:
-        values = tuple(float(v) for v in value)
+        given = tuple(value)
+    except TypeError:
+        raise ValueError(f"{name} must be three numbers, not {_shown(value)}") from None
+    if len(given) != 3:
+        raise ValueError(f"{name} must be three numbers, not {len(given)}")
+    if any(isinstance(v, (str, bytes, bool, np.bool_)) for v in given):
+        # float("1") and float(True) would take them as numbers.
+        raise ValueError(f"{name} must be three numbers, not {_shown(value)}")
+    try:
+        values = tuple(float(v) for v in given)
+    except OverflowError:
+        raise ValueError(f"{name} must be three finite numbers, not {_shown(value)}") from None
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be three numbers, not {value!r}") from None
-    if len(values) != 3:
-        raise ValueError(f"{name} must be three numbers, not {len(values)}")
+        raise ValueError(f"{name} must be three numbers, not {_shown(value)}") from None
     return values  # type: ignore[return-value]
 
 

@@ -71,7 +71,14 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         check_unique_pictures(template, &items)?;
     }
     if let Some(path) = &args.batch.report {
-        check_report_path(path, args.batch.manifest.as_deref(), &items)?;
+        let pictures = (args.preview.iter())
+            .flat_map(|t| {
+                items
+                    .iter()
+                    .flat_map(|i| manifest::outputs(t, &i.input, &i.isos))
+            })
+            .collect::<Vec<_>>();
+        check_report_path(path, args.batch.manifest.as_deref(), &items, &pictures)?;
     }
     let mut report = match &args.batch.report {
         Some(path) => {
@@ -177,9 +184,15 @@ fn check_unique_pictures(template: &Path, items: &[Item]) -> Result<()> {
     Ok(())
 }
 
-/// Refuses a report path that is the manifest, an input or an output of the
-/// batch: the report is appended to while they are read or replaced.
-fn check_report_path(report: &Path, manifest: Option<&Path>, items: &[Item]) -> Result<()> {
+/// Refuses a report path that is the manifest, an input, an output or a
+/// preview picture (`pictures`) of the batch: the report is appended to
+/// while they are read or replaced (a picture replaced the report's lines).
+fn check_report_path(
+    report: &Path,
+    manifest: Option<&Path>,
+    items: &[Item],
+    pictures: &[PathBuf],
+) -> Result<()> {
     let inputs = items.iter().map(|item| (&item.input, "an input"));
     let outputs = items
         .iter()
@@ -189,6 +202,7 @@ fn check_report_path(report: &Path, manifest: Option<&Path>, items: &[Item]) -> 
         .into_iter()
         .chain(inputs.map(|(p, what)| (p.as_path(), what)))
         .chain(outputs.map(|(p, what)| (p.as_path(), what)))
+        .chain(pictures.iter().map(|p| (p.as_path(), "a preview")))
         .find(|(path, _)| same_path(report, path));
     match clashes {
         Some((path, what)) => Err(Error::Invalid(format!(
@@ -284,7 +298,8 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     let options = args.pipeline_options(&on_progress, cancel);
     let no_surface = |iso: f64| {
         format!(
-            "no surface at isovalue {iso}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
+            "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
+            tmc::stats::number_text(iso),
             item.input.display()
         )
     };

@@ -77,7 +77,7 @@ fn convert_whole(args: &ConvertArgs, cancel: Option<&AtomicBool>) -> Result<()> 
     if cancel.is_some_and(|c| c.load(std::sync::atomic::Ordering::Relaxed)) {
         return Err(tmc::Error::Interrupted);
     }
-    note_left_out(args, !mesh.labels.is_empty(), !mesh.normals.is_empty());
+    note_left_out(args, mesh.labels.is_some(), mesh.normals.is_some());
     tmc::export::write_mesh(&args.output, &mesh)
 }
 

@@ -13,6 +13,7 @@ use clap::Args;
 use std::io::{self, Write};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
+use tmc::stats::number_text;
 use tmc::stream::cancellable::Cancellable;
 use tmc::volume::{volume_info, VolumeInfo, MAX_BINS, MIN_BINS};
 use tmc::Result;
@@ -154,7 +155,7 @@ pub(crate) fn run(args: &InfoArgs, cancel: Option<&AtomicBool>) -> Result<()> {
 fn join(values: &[f64]) -> String {
     values
         .iter()
-        .map(|v| v.to_string())
+        .map(|&v| number_text(v))
         .collect::<Vec<_>>()
         .join("  ")
 }
@@ -163,7 +164,7 @@ fn join(values: &[f64]) -> String {
 fn matrix<const N: usize>(rows: &[[f64; N]]) -> Vec<String> {
     let cells: Vec<Vec<String>> = rows
         .iter()
-        .map(|r| r.iter().map(|v| v.to_string()).collect())
+        .map(|r| r.iter().map(|&v| number_text(v)).collect())
         .collect();
     let width = cells.iter().flatten().map(String::len).max().unwrap_or(0);
     cells
@@ -179,7 +180,7 @@ fn matrix<const N: usize>(rows: &[[f64; N]]) -> Vec<String> {
 
 /// Writes the report as aligned `label  value` lines.
 fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
-    let optional = |v: Option<f64>| v.map_or_else(|| "none".to_string(), |v| v.to_string());
+    let optional = |v: Option<f64>| v.map_or_else(|| "none".to_string(), number_text);
     let mut rows: Vec<(&str, String)> = vec![
         ("input", info.input.clone()),
         ("format", info.format.to_string()),
@@ -193,7 +194,11 @@ fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
     let [x, y, z] = info.dims;
     rows.push((
         "dims",
-        format!("{x} x {y} x {z} ({} samples)", info.samples),
+        format!(
+            "{x} x {y} x {z} ({} sample{})",
+            info.samples,
+            if info.samples == 1 { "" } else { "s" }
+        ),
     ));
     rows.push((
         "sample type",
@@ -273,7 +278,11 @@ fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
     rows.push((
         "suggested iso",
         match info.suggested_iso[..] {
-            [a, b] => format!("{a}  {b}  (two-level Otsu, 3 classes)"),
+            [a, b] => format!(
+                "{}  {}  (two-level Otsu, 3 classes)",
+                number_text(a),
+                number_text(b)
+            ),
             _ if info.suggested_iso_single.is_some() => {
                 "none (the values form only two classes)".to_string()
             }
@@ -281,7 +290,10 @@ fn write_text(w: &mut impl Write, info: &VolumeInfo) -> io::Result<()> {
         },
     ));
     if let Some(t) = info.suggested_iso_single {
-        rows.push(("single iso", format!("{t}  (Otsu, 2 classes)")));
+        rows.push((
+            "single iso",
+            format!("{}  (Otsu, 2 classes)", number_text(t)),
+        ));
     }
     let width = rows.iter().map(|(l, _)| l.len()).max().unwrap_or(0);
     for (label, value) in &rows {

@@ -82,16 +82,18 @@ pub trait Layout {
 }
 
 /// Writes a whole mesh in layout `L`, with its normals when it has one per
-/// vertex (and some vertices) and `L` holds them, and its labels when it
-/// has one per triangle (and some triangles) and `L` holds them.
+/// vertex and `L` holds them, and its labels when it has one per triangle
+/// and `L` holds them (an empty mesh with normals or labels declares them,
+/// as the streamed file of the run that made it does).
 pub fn write_whole<L: Layout>(w: &mut impl Write, mesh: &Mesh) -> io::Result<()> {
     let (vertices, faces) = (mesh.vertices.len() as u64, mesh.triangles.len() as u64);
     let normals =
-        L::NORMALS && !mesh.normals.is_empty() && mesh.normals.len() == mesh.vertices.len();
-    let labels = L::LABELS && !mesh.labels.is_empty() && mesh.labels.len() == mesh.triangles.len();
-    write_header::<L>(w, vertices, faces, (normals, labels))?;
-    if normals {
-        for (v, n) in mesh.vertices.iter().zip(&mesh.normals) {
+        (mesh.normals.as_deref()).filter(|n| L::NORMALS && n.len() == mesh.vertices.len());
+    let labels = (mesh.labels.as_deref()).filter(|l| L::LABELS && l.len() == mesh.triangles.len());
+    let attributes = (normals.is_some(), labels.is_some());
+    write_header::<L>(w, vertices, faces, attributes)?;
+    if let Some(normals) = normals {
+        for (v, n) in mesh.vertices.iter().zip(normals) {
             L::vertex_with_normal(w, v, n)?;
         }
     } else {
@@ -99,10 +101,10 @@ pub fn write_whole<L: Layout>(w: &mut impl Write, mesh: &Mesh) -> io::Result<()>
     }
     for (k, t) in mesh.triangles.iter().enumerate() {
         let t = t.map(u64::from);
-        match (normals, labels) {
-            (_, true) => L::face_with_label(w, t, normals, mesh.labels[k])?,
-            (true, false) => L::face_with_normals(w, t)?,
-            (false, false) => L::face(w, t)?,
+        match (normals.is_some(), labels) {
+            (normals, Some(labels)) => L::face_with_label(w, t, normals, labels[k])?,
+            (true, None) => L::face_with_normals(w, t)?,
+            (false, None) => L::face(w, t)?,
         }
     }
     Ok(())

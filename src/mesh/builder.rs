@@ -49,6 +49,9 @@ pub struct Collector<V> {
     labels: Vec<u32>,
     /// Grid planes, from [`MeshSink::begin`] (0: not known).
     planes: u64,
+    /// Whether the mesh has normals and labels, from [`MeshSink::begin`]:
+    /// an empty mesh has them too when its extraction or file does.
+    attributes: [bool; 2],
 }
 
 /// Builds an in-memory [`Mesh`]: a [`Collector`] of `f32` vertices.
@@ -62,6 +65,7 @@ impl<V> Default for Collector<V> {
             normals: Vec::new(),
             labels: Vec::new(),
             planes: 0,
+            attributes: [false; 2],
         }
     }
 }
@@ -89,17 +93,20 @@ impl<V> Collector<V> {
 }
 
 impl MeshBuilder {
-    /// The mesh built so far, with the chunks' labels (every mesh's but a
-    /// label map's one-file output's empty).
+    /// The mesh built so far, with the chunks' labels (`None` for every
+    /// mesh but a label map's one-file output); normals and labels are
+    /// `Some` when [`MeshSink::begin`] announced them or the chunks carried
+    /// them, so an empty mesh keeps them.
     pub fn into_mesh(mut self) -> Mesh {
         let mut labels = std::mem::take(&mut self.labels);
         fit(&mut labels);
+        let [with_normals, with_labels] = self.attributes;
         let (vertices, triangles, normals) = self.into_parts();
         Mesh {
             vertices,
             triangles,
-            normals,
-            labels,
+            normals: (with_normals || !normals.is_empty()).then_some(normals),
+            labels: (with_labels || !labels.is_empty()).then_some(labels),
         }
     }
 }
@@ -108,6 +115,7 @@ impl<V: Vertex> MeshSink for Collector<V> {
     fn begin(&mut self, info: &MeshInfo) -> Result<()> {
         // Padded by one plane on each side with `--close`.
         self.planes = info.grid.dims[2] as u64 + if info.close { 2 } else { 0 };
+        self.attributes = [info.normals, info.labels];
         Ok(())
     }
 

@@ -11,12 +11,14 @@ pub struct Mesh {
     pub vertices: Vec<[f32; 3]>,
     /// Triangles, indices into `vertices`.
     pub triangles: Vec<[u32; 3]>,
-    /// Unit outward vertex normals, one per vertex, or empty when the mesh
-    /// has none.
-    pub normals: Vec<[f32; 3]>,
+    /// Unit outward vertex normals, one per vertex, or `None` when the
+    /// mesh has none (an empty mesh extracted with normals, or read from a
+    /// file that declares them, has `Some` of none: its file keeps them).
+    pub normals: Option<Vec<[f32; 3]>>,
     /// The label of each triangle (a label map's surfaces written to one
-    /// file, `--labels` without `{label}`), or empty when the mesh has none.
-    pub labels: Vec<u32>,
+    /// file, `--labels` without `{label}`), or `None` when the mesh has
+    /// none (`Some` of none for such a file without triangles).
+    pub labels: Option<Vec<u32>>,
 }
 
 impl Mesh {

@@ -334,7 +334,8 @@ fn a_single_run_names_its_output_from_the_template() {
 }
 
 /// The report is appended to while the batch runs, so it may not be the
-/// manifest or an output of the batch; the manifest is left as it was.
+/// manifest, an output or a preview of the batch; the manifest is left as
+/// it was.
 #[test]
 fn the_report_may_not_be_the_manifest_or_an_output() {
     let dir = tempfile::tempdir().unwrap();
@@ -366,6 +367,31 @@ fn the_report_may_not_be_the_manifest_or_an_output() {
     let line = assert_one_line(&out, 1);
     assert!(line.contains("the report is an output"), "{line}");
     assert!(!ply.exists());
+    // Nor one of its preview pictures: the report's lines were appended,
+    // then the picture replaced them (exit 0, the report lost).
+    let (picture, template) = (
+        dir.path().join("a_0.png"),
+        dir.path().join("{stem}_{iso}.png"),
+    );
+    let ply = dir.path().join("{stem}_{iso}.ply");
+    let (ply, template) = (s(&ply), s(&template));
+    let args = [
+        "extract",
+        s(&a),
+        "--iso",
+        "0,1",
+        "-o",
+        ply,
+        "--preview",
+        template,
+    ];
+    let out = tmc(&[&args[..], &["--report", s(&picture)]].concat());
+    let line = assert_one_line(&out, 1);
+    assert!(
+        line.contains("the report is a preview of the batch"),
+        "{line}"
+    );
+    assert!(!picture.exists() && !dir.path().join("a_0.ply").exists());
 }
 
 /// A report in a missing directory fails before any extraction, naming the

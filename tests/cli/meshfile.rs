@@ -648,7 +648,10 @@ fn convert_reads_ply_obj_off_and_stl_whole() {
         std::fs::read(output).expect("read")
     };
     let mesh = tmc::check::read_mesh(&tmesh).expect("read");
-    assert!(!mesh.labels.is_empty() && !mesh.normals.is_empty());
+    let filled = |n: Option<usize>| n.is_some_and(|n| n > 0);
+    assert!(
+        filled(mesh.labels.as_ref().map(Vec::len)) && filled(mesh.normals.as_ref().map(Vec::len))
+    );
     convert(&tmesh, &at("a.ply"));
     for ext in ["ply", "obj", "off", "stl"] {
         let direct = convert(&tmesh, &at(&format!("direct.{ext}")));
@@ -736,6 +739,58 @@ fn convert_says_what_the_output_format_leaves_out() {
                 "{args:?}: {err}"
             ),
             None => assert!(err.is_empty(), "{args:?}: {err}"),
+        }
+    }
+}
+
+/// An empty mesh keeps its attributes through `tmc convert` of a PLY: a
+/// run with `--normals` that finds no surface, and a label map's one-file
+/// output of a label that is not there, write a PLY whose header declares
+/// `nx ny nz` (the labels' face `label`); converting that PLY to PLY gives
+/// its bytes back, as converting the `.tmesh` of the same run does. The
+/// whole-mesh reader took "no vertices" for "no normals" (and "no
+/// triangles" for "no labels") and dropped them from the header.
+#[test]
+fn convert_keeps_the_attributes_of_an_empty_mesh() {
+    use common::cli::{npy_header, s, tmc};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let at = |name: &str| dir.path().join(name);
+    let mut npy = npy_header("{'descr': '|u1', 'fortran_order': False, 'shape': (3, 3, 3), }");
+    npy.extend((0..27u8).map(|i| u8::from(i == 13) * 9));
+    std::fs::write(at("v.npy"), npy).expect("write");
+    let run = |args: &[&str]| {
+        let out = tmc(args);
+        assert!(out.status.success(), "{args:?}: {out:?}");
+    };
+    let v = at("v.npy");
+    for (name, option) in [
+        ("normals", &["--iso", "20", "--normals"][..]),
+        ("labels", &["--labels", "7"][..]),
+    ] {
+        for ext in ["ply", "tmesh"] {
+            let out = at(&format!("{name}.{ext}"));
+            let mut args = vec!["extract", s(&v), "-o", s(&out), "-q"];
+            args.extend_from_slice(option);
+            run(&args);
+        }
+        let direct = std::fs::read(at(&format!("{name}.ply"))).expect("read");
+        let header = String::from_utf8_lossy(&direct).into_owned();
+        let property = if name == "normals" {
+            "property float nx"
+        } else {
+            "property uint label"
+        };
+        assert!(header.contains(property), "{name}: {header}");
+        for from in ["ply", "tmesh"] {
+            let converted = at(&format!("{name}-from-{from}.ply"));
+            let input = at(&format!("{name}.{from}"));
+            run(&["convert", s(&input), "-o", s(&converted), "-q"]);
+            let bytes = std::fs::read(&converted).expect("read");
+            assert!(
+                bytes == direct,
+                "{name} from .{from}: {}",
+                String::from_utf8_lossy(&bytes)
+            );
         }
     }
 }

@@ -676,3 +676,27 @@ fn tmc_preview_draws_stl_files_as_the_mesh_they_were_written_from() {
         assert!(!picture.exists());
     }
 }
+
+/// The caption names the isovalue with an exponent where its decimal is
+/// long: at 1e-300 and 2e-300 (the same mesh) the pictures differ. The
+/// caption printed the decimal, `iso 0.000...`, cut off at the picture's
+/// edge with the triangle count and verdict, so both were the same bytes.
+#[test]
+fn the_caption_shows_a_tiny_isovalue() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = sphere(dir.path());
+    let picture = |iso: &str| {
+        let (mesh, png) = (
+            dir.path().join(format!("{iso}.ply")),
+            dir.path().join(format!("{iso}.png")),
+        );
+        extract(&input, iso, &mesh, &png, &[]);
+        (std::fs::read(&mesh).unwrap(), std::fs::read(&png).unwrap())
+    };
+    let (a, b) = (picture("1e-300"), picture("2e-300"));
+    assert!(a.0 == b.0, "the meshes differ");
+    assert!(
+        a.1 != b.1,
+        "the captions of 1e-300 and 2e-300 are the same picture"
+    );
+}

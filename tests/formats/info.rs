@@ -39,6 +39,7 @@ fn write_npy(path: &Path, descr: &str, dims: [usize; 3], values: &[f64]) {
         match descr {
             "<f4" => bytes.extend_from_slice(&(v as f32).to_le_bytes()),
             "<u2" => bytes.extend_from_slice(&(v as u16).to_le_bytes()),
+            "<f8" => bytes.extend_from_slice(&v.to_le_bytes()),
             _ => panic!("unsupported descr {descr}"),
         }
     }
@@ -472,4 +473,67 @@ fn a_mask_gets_one_isovalue_not_a_pair() {
     assert!(!line.contains("3 classes"), "{text}");
     let single_line = text.lines().find(|l| l.starts_with("single iso")).unwrap();
     assert!(single_line.contains(&single.to_string()), "{text}");
+}
+
+/// Numbers far from 1 are printed with an exponent where their decimal
+/// would run to hundreds of digits (every finite double's decimal is
+/// exact: 1e300 was a 1 and 300 zeros, 1e-300 a point, 299 zeros and a 1):
+/// the text of `tmc info` (spacing, origin, the affine, min, max, mean,
+/// suggestions), the note of `tmc extract` that finds no surface and its
+/// `--stats` heading, as `{iso}` names a file (`1e-300`). Numbers of up to
+/// 24 characters print as before.
+#[test]
+fn far_numbers_print_with_an_exponent() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("v.npy");
+    let values: Vec<f64> = (0..27)
+        .map(|i| if i == 13 { 1e300 } else { -1e300 })
+        .collect();
+    write_npy(&path, "<f8", [3, 3, 3], &values);
+    let ok = |args: &[&str]| {
+        let out = tmc(args);
+        assert!(out.status.success(), "{args:?}: {out:?}");
+        out
+    };
+    let (v, grid) = (path.to_str().unwrap(), "1e-30,1e30,0.25");
+    let out = ok(&[
+        "info",
+        v,
+        "--spacing",
+        grid,
+        "--origin",
+        "1e-300,5e30,-1600",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let longest = text.lines().map(str::len).max().unwrap_or(0);
+    assert!(longest < 120, "a line of {longest} characters:\n{text}");
+    let lines: Vec<String> = (text.lines())
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    for line in [
+        "spacing 1e-30 1e30 0.25",
+        "origin 1e-300 5e30 -1600",
+        "max 1e300",
+    ] {
+        assert!(lines.iter().any(|l| l == line), "{line:?} in\n{text}");
+    }
+    let mesh = dir.path().join("m.ply");
+    let (mesh, iso) = (mesh.to_str().unwrap(), "1e308");
+    let out = ok(&["extract", v, "--iso", iso, "-o", mesh, "--stats"]);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(err.contains("no surface at isovalue 1e308:"), "{err}");
+    assert!(err.contains("iso 1e308, method tmc"), "{err}");
+    assert!(err.lines().all(|l| l.len() < 300), "{err}");
+}
+
+/// A volume of one sample (which `tmc extract --close` takes) is "1
+/// sample", not "1 samples".
+#[test]
+fn one_sample_is_singular() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("one.npy");
+    write_npy(&path, "<f4", [1, 1, 1], &[3.0]);
+    let out = tmc(&["info", path.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(text.contains("1 x 1 x 1 (1 sample)\n"), "{text}");
 }

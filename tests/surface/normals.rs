@@ -37,7 +37,7 @@ fn params(iso: f64, inside: Inside, close: bool, threads: usize) -> ExtractParam
 fn mesh_and_normals(source: &ArrayVolume, p: &ExtractParams) -> (Mesh, Vec<[f32; 3]>) {
     let (mesh, _) = extract(source, p).unwrap();
     assert!(!mesh.vertices.is_empty());
-    let normals = mesh.normals.clone();
+    let normals = mesh.normals.clone().expect("normals");
     assert_eq!(normals.len(), mesh.vertices.len());
     for n in &normals {
         let len = n.iter().map(|&c| f64::from(c).powi(2)).sum::<f64>().sqrt();
@@ -287,8 +287,9 @@ fn normals_of(
     };
     extract_part_to(source, p, &options, part, &mut builder).unwrap();
     let mesh = builder.into_mesh();
-    assert_eq!(mesh.normals.len(), mesh.vertices.len());
-    mesh.normals
+    let normals = mesh.normals.expect("normals");
+    assert_eq!(normals.len(), mesh.vertices.len());
+    normals
 }
 
 fn bits(n: &[[f32; 3]]) -> Vec<u32> {
@@ -325,7 +326,9 @@ fn where_the_gradient_vanishes_the_triangles_give_the_normal() {
     let p = params(0.5, Inside::High, false, 1);
     let (mesh, _) = extract(&vol, &p).unwrap();
     assert!(!mesh.vertices.is_empty());
-    for (v, n) in mesh.vertices.iter().zip(&mesh.normals) {
+    let normals = mesh.normals.as_deref().expect("normals");
+    assert_eq!(normals.len(), mesh.vertices.len());
+    for (v, n) in mesh.vertices.iter().zip(normals) {
         // Inside (1) at odd x: out is toward the even neighbour.
         let x = v[0].round() as usize;
         let expected = if v[0] > x as f32 { 1.0 } else { -1.0 };
@@ -333,7 +336,7 @@ fn where_the_gradient_vanishes_the_triangles_give_the_normal() {
         assert_eq!(n[0], expected, "{n:?} at {v:?}");
         assert_eq!([n[1], n[2]], [0.0, 0.0], "{n:?} at {v:?}");
     }
-    let whole = bits(&mesh.normals);
+    let whole = bits(normals);
     for depth in [1, 2, 5] {
         let p = params(0.5, Inside::High, false, 2);
         assert_eq!(whole, bits(&normals_of(&vol, &p, depth, None)));
@@ -366,7 +369,7 @@ fn ties_on_a_plateau_point_out_of_the_gap() {
         ..Default::default()
     };
     let (mesh, _) = extract(&vol, &p).unwrap();
-    let normals = mesh.normals.clone();
+    let normals = mesh.normals.clone().expect("normals");
     let reference = triangle_normals(&mesh);
     let mut in_gap = 0;
     for ((v, n), r) in mesh.vertices.iter().zip(&normals).zip(&reference) {
@@ -394,11 +397,12 @@ fn without_normals_the_mesh_has_none_and_is_unchanged() {
     };
     let (a, _) = extract(&vol, &with).unwrap();
     let (b, _) = extract(&vol, &without).unwrap();
-    assert!(b.normals.is_empty());
+    assert!(b.normals.is_none());
     assert_eq!((&a.vertices, &a.triangles), (&b.vertices, &b.triangles));
-    // No surface: no vertices, no normals.
+    // No surface: no vertices, and normals of none (the mesh has them,
+    // as its file declares them).
     let (empty, _) = extract(&vol, &params(100.0, Inside::High, false, 0)).unwrap();
-    assert!(empty.vertices.is_empty() && empty.normals.is_empty());
+    assert!(empty.vertices.is_empty() && empty.normals == Some(Vec::new()));
 }
 
 /// Gradients too small or too large to square in `f64` (the distance

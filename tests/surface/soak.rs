@@ -340,8 +340,10 @@ fn check_labels(seed: u64) -> Result<(), String> {
             ..params.clone()
         };
         let expect = extract(&vol, &p).expect("indicator").0;
-        let normal_bits =
-            |m: &Mesh| -> Vec<[u32; 3]> { m.normals.iter().map(|n| n.map(f32::to_bits)).collect() };
+        let normal_bits = |m: &Mesh| -> Option<Vec<[u32; 3]>> {
+            let bits = |n: &Vec<[f32; 3]>| n.iter().map(|n| n.map(f32::to_bits)).collect();
+            m.normals.as_ref().map(bits)
+        };
         if !same(mesh, &expect) || normal_bits(mesh) != normal_bits(&expect) {
             return Err(fail(format!("label {label} differs from its indicator's")));
         }

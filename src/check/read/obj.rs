@@ -218,7 +218,8 @@ pub(super) fn read_obj(src: &mut Source) -> Result<Mesh> {
             )));
         }
     }
-    mesh.normals = normals.finish(src, mesh.vertices.len())?;
+    let normals = normals.finish(src, mesh.vertices.len())?;
+    mesh.normals = (!normals.is_empty()).then_some(normals);
     Ok(mesh)
 }
 

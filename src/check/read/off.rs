@@ -164,9 +164,12 @@ pub(super) fn read_off(src: &mut Source) -> Result<Mesh> {
         triangles: Vec::with_capacity(nf.min(MAX_RESERVE)),
         ..Mesh::default()
     };
-    if layout.normal {
-        mesh.normals.reserve(nv.min(MAX_RESERVE));
-    }
+    // NOFF declares normals: an empty mesh has them too.
+    let mut normals = Vec::with_capacity(if layout.normal {
+        nv.min(MAX_RESERVE)
+    } else {
+        0
+    });
     for i in 0..nv {
         if !src.next_content_line()? {
             return Err(src.err(format!("truncated OFF file: {i} of {nv} vertices")));
@@ -175,9 +178,10 @@ pub(super) fn read_off(src: &mut Source) -> Result<Mesh> {
         mesh.vertices.push(point(src, 0)?);
         if layout.normal {
             // The three columns after x y z (`check` found them finite).
-            mesh.normals.push(point(src, 3)?);
+            normals.push(point(src, 3)?);
         }
     }
+    mesh.normals = layout.normal.then_some(normals);
     let mut polygon: Vec<u32> = Vec::new();
     for i in 0..nf {
         if !src.next_content_line()? {

@@ -144,8 +144,14 @@ pub(super) fn read_ply(src: &mut Source) -> Result<Mesh> {
         let is_face = roles.contains(&Role::Indices);
         let normals = roles.contains(&Role::Value(NORMAL));
         let labels = is_face && roles.contains(&Role::Value(LABEL));
+        // Declared normals and labels are the mesh's, with or without
+        // records (an empty mesh keeps them).
         if elem.name == "vertex" && normals {
-            mesh.normals.reserve((elem.count as usize).min(MAX_RESERVE));
+            let room = (elem.count as usize).min(MAX_RESERVE);
+            mesh.normals = Some(Vec::with_capacity(room));
+        }
+        if labels {
+            mesh.labels.get_or_insert_with(Vec::new);
         }
         if is_face {
             mesh.triangles
@@ -200,7 +206,8 @@ pub(super) fn read_ply(src: &mut Source) -> Result<Mesh> {
                              single-precision number"
                         )));
                     }
-                    mesh.normals.push([0, 1, 2].map(|i| normal[i] as f32));
+                    let normals = mesh.normals.get_or_insert_with(Vec::new);
+                    normals.push([0, 1, 2].map(|i| normal[i] as f32));
                 }
             }
             if is_face {
@@ -231,7 +238,8 @@ pub(super) fn read_ply(src: &mut Source) -> Result<Mesh> {
                         )));
                     }
                     let added = mesh.triangles.len() - before;
-                    mesh.labels.extend(std::iter::repeat_n(label as u32, added));
+                    let labels = mesh.labels.get_or_insert_with(Vec::new);
+                    labels.extend(std::iter::repeat_n(label as u32, added));
                 }
                 if mesh.triangles.len() > MAX_TRIANGLES {
                     return Err(src.err("too many triangles"));

@@ -152,31 +152,40 @@ fn writers_round_trip() {
 }
 
 /// The readers give back the normals and labels the writers put in: PLY
-/// both, OBJ the normals (`vn`, faces `v//vn`), OFF neither.
+/// both, OBJ the normals (`vn`, faces `v//vn`), OFF neither; PLY also an
+/// empty mesh's (declared in its header), OBJ none for an empty mesh.
 #[test]
 fn normals_and_labels_round_trip_through_the_readers() {
     let dir = tempfile::tempdir().unwrap();
     let mut mesh = tetrahedron();
-    mesh.normals = vec![
+    mesh.normals = Some(vec![
         [0.6, 0.0, -0.8],
         [0.0, 1.0, 0.0],
         [-1.0, 0.0, 0.0],
         [0.0, 0.0, 1.0],
-    ];
-    mesh.labels = vec![5, 0, u32::MAX, 5];
-    let read = |ext: &str| {
+    ]);
+    mesh.labels = Some(vec![5, 0, u32::MAX, 5]);
+    let read = |mesh: &Mesh, ext: &str| {
         let path = dir.path().join(format!("t.{ext}"));
-        write_mesh(&path, &mesh).unwrap();
+        write_mesh(&path, mesh).unwrap();
         tmc::check::read_mesh(&path).unwrap()
     };
-    assert_eq!(read("ply"), mesh);
-    let obj = read("obj");
-    assert_eq!((&obj.normals, &obj.labels), (&mesh.normals, &Vec::new()));
-    let off = read("off");
-    assert_eq!((off.normals.len(), off.labels.len()), (0, 0));
+    assert_eq!(read(&mesh, "ply"), mesh);
+    let obj = read(&mesh, "obj");
+    assert_eq!((&obj.normals, &obj.labels), (&mesh.normals, &None));
+    let off = read(&mesh, "off");
+    assert_eq!((&off.normals, &off.labels), (&None, &None));
     assert_eq!(off.triangles, mesh.triangles);
+    // An empty mesh with both: the PLY declares them, the OBJ cannot.
+    let empty = Mesh {
+        normals: Some(Vec::new()),
+        labels: Some(Vec::new()),
+        ..Mesh::default()
+    };
+    assert_eq!(read(&empty, "ply"), empty);
+    assert_eq!(read(&empty, "obj"), Mesh::default());
     // Without labels, the PLY is the bytes it was (no label property).
-    mesh.labels.clear();
+    mesh.labels = None;
     let path = dir.path().join("n.ply");
     write_mesh(&path, &mesh).unwrap();
     let bytes = fs::read(&path).unwrap();

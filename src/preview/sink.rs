@@ -476,7 +476,7 @@ impl MeshSink for PreviewSink {
                 if self.iso.is_nan() {
                     String::new()
                 } else {
-                    format!("iso {}   ", crate::stats::number_text(self.iso))
+                    format!("iso {}   ", crate::params::number_text(self.iso))
                 },
                 thousands(totals.triangles),
                 crate::check::plural(totals.triangles),

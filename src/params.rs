@@ -126,3 +126,17 @@ pub struct Progress {
     /// Cell layers in all.
     pub layers_total: usize,
 }
+
+/// A number as tmc's text reports, notes and picture captions print it
+/// (and `{iso}` names a file): its shortest decimal (`1600`, `0.25`) where
+/// that has at most 24 characters, else with an exponent (`1e300`,
+/// `1.5e-30`). Every finite double's decimal is exact, up to 309 digits
+/// before the point and 330 after it: `1e-300` printed as a point, 299
+/// zeros and a 1, which a caption cut off as `0.000...`.
+pub fn number_text(x: f64) -> String {
+    let decimal = x.to_string();
+    match decimal.len() > 24 {
+        true => format!("{x:e}"),
+        false => decimal,
+    }
+}

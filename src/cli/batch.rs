@@ -299,7 +299,7 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     let no_surface = |iso: f64| {
         format!(
             "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
-            tmc::stats::number_text(iso),
+            tmc::params::number_text(iso),
             item.input.display()
         )
     };

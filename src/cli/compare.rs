@@ -176,7 +176,7 @@ pub(crate) fn run(args: &CompareArgs, cancel: Option<&AtomicBool>) -> tmc::Resul
         say!(
             "tmc: note: no surface at isovalue {}: every sample of {} is on the same side of it \
              (the isovalue is outside the data range); the times are of extractions that found none",
-            tmc::stats::number_text(args.iso),
+            tmc::params::number_text(args.iso),
             args.input.display()
         );
     }
@@ -252,7 +252,7 @@ impl Report<'_> {
             out,
             "tmc compare {}, iso {}: {} timed pairs after a warm-up, no mesh written",
             self.args.input.display(),
-            tmc::stats::number_text(self.args.iso),
+            tmc::params::number_text(self.args.iso),
             self.args.runs
         )?;
         writeln!(out, "{:<26} {:>18} {:>18}", "", "tmc", "mc")?;

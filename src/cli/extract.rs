@@ -98,7 +98,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let part = args.part.map(|p| (p.index, p.count));
     let no_surface = format!(
         "no surface at isovalue {}: every sample of {} is on the same side of it (the isovalue is outside the data range)",
-        tmc::stats::number_text(iso),
+        tmc::params::number_text(iso),
         input.display()
     );
     let stats = if args.require_surface {

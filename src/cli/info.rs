@@ -13,7 +13,7 @@ use clap::Args;
 use std::io::{self, Write};
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
-use tmc::stats::number_text;
+use tmc::params::number_text;
 use tmc::stream::cancellable::Cancellable;
 use tmc::volume::{volume_info, VolumeInfo, MAX_BINS, MIN_BINS};
 use tmc::Result;

@@ -177,11 +177,11 @@ pub(crate) fn outputs(template: &Path, input: &Path, isos: &[f64]) -> Vec<PathBu
 
 /// `iso` as `{iso}` writes it: as a decimal (`1600`, `0.25`), or with an
 /// exponent (`1e300`, `1.5e-30`) where the decimal would be longer than a
-/// file name should be ([`tmc::stats::number_text`]). Zero is `0` whichever
+/// file name should be ([`tmc::params::number_text`]). Zero is `0` whichever
 /// its sign: `-0` compares equal to `0` and cuts the same surface, so it
 /// gets the same name (and `--iso 0,-0` two outputs of one name, refused).
 fn iso_text(iso: f64) -> String {
-    tmc::stats::number_text(if iso == 0.0 { 0.0 } else { iso })
+    tmc::params::number_text(if iso == 0.0 { 0.0 } else { iso })
 }
 
 /// The input's name without its extension, and without a compression

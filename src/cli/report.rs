@@ -146,7 +146,7 @@ pub(crate) fn write_table(w: &mut impl Write, run: &Run<'_>) -> io::Result<()> {
         "{} ({x}x{y}x{z}) -> {}: iso {}, method {}, inside {}{}, {} threads",
         run.input.display(),
         run.output.display(),
-        tmc::stats::number_text(summary.iso),
+        tmc::params::number_text(summary.iso),
         summary.method,
         summary.inside,
         if summary.close { ", closed" } else { "" },

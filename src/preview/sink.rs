@@ -545,7 +545,7 @@ impl PreviewSink {
                 if self.iso.is_nan() || labels > 0 {
                     String::new()
                 } else {
-                    format!("iso {}   ", crate::stats::number_text(self.iso))
+                    format!("iso {}   ", crate::params::number_text(self.iso))
                 },
                 thousands(totals.triangles),
                 crate::check::plural(totals.triangles),

@@ -17,14 +17,19 @@ use std::path::Path;
 /// onto it, leaving zero-area triangles.
 pub fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
     let pad = if close { 1.0 } else { 0.0 };
-    for corner in 0..8 {
-        let index: [f64; 3] = std::array::from_fn(|a| {
+    // Corner `corner`'s sample index (bit `a` set: the last along axis
+    // `a`), one beyond the samples with `close`.
+    let corner_index = |corner: usize| -> [f64; 3] {
+        std::array::from_fn(|a| {
             if corner >> a & 1 == 1 {
                 grid.dims[a] as f64 - 1.0 + pad
             } else {
                 -pad
             }
-        });
+        })
+    };
+    for corner in 0..8 {
+        let index = corner_index(corner);
         if grid
             .world(index)
             .iter()
@@ -37,13 +42,7 @@ pub fn check_grid(input: &Path, grid: &Grid, close: bool) -> Result<()> {
         }
     }
     for corner in 0..8 {
-        let index: [f64; 3] = std::array::from_fn(|a| {
-            if corner >> a & 1 == 1 {
-                grid.dims[a] as f64 - 1.0 + pad
-            } else {
-                -pad
-            }
-        });
+        let index = corner_index(corner);
         let at = grid.world(index).map(|c| c as f32);
         for (a, axis) in ["x", "y", "z"].into_iter().enumerate() {
             // The neighbour inward along the axis (none along an axis of

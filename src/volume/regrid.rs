@@ -67,8 +67,8 @@ pub fn regrid(
 }
 
 /// `x,y,z` as the options take it.
-fn join([x, y, z]: [f64; 3]) -> String {
-    format!("{x},{y},{z}")
+fn join(triple: [f64; 3]) -> String {
+    triple.map(crate::params::number_text).join(",")
 }
 
 impl SampleSource for Regridded {
@@ -106,6 +106,15 @@ mod tests {
             ..Grid::unit([2, 2, 2])
         };
         Box::new(ArrayVolume::new(grid, (0..8).map(f64::from).collect()).unwrap())
+    }
+
+    #[test]
+    fn a_far_spacing_is_said_with_an_exponent() {
+        let (_, notes) = regrid(source(), Some([1e-300, 1.0, 1e300]), None).unwrap();
+        assert!(
+            notes[0].starts_with("--spacing 1e-300,1,1e300 overrides"),
+            "{notes:?}"
+        );
     }
 
     #[test]

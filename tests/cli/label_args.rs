@@ -94,6 +94,36 @@ fn background_without_labels_is_refused() {
     }
 }
 
+/// A map of nothing but the background has no label to write: exit 1 in
+/// one line, with `{label}` outputs and with one file for all labels, and
+/// nothing written; with `--background` naming another value, that value's
+/// samples are a label again.
+#[test]
+fn a_map_of_only_the_background_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("map.nrrd");
+    write(&input, [4, 3, 5], vec![-2.0; 60], ScalarType::I16);
+    for out in ["{label}.ply", "all.ply", "{label}.tmesh"] {
+        let out = s(&dir.path().join(out)).to_string();
+        let run = tmc(&[
+            "extract",
+            s(&input),
+            "--labels",
+            "all",
+            "--background",
+            "-2",
+            "-o",
+            &out,
+        ]);
+        let err = assert_one_line(&run, 1);
+        assert!(err.contains("no label but the background -2"), "{err}");
+        assert_eq!(names(dir.path()), ["map.nrrd"], "{out}");
+    }
+    let out = s(&dir.path().join("{label}.ply")).to_string();
+    ok(&["extract", s(&input), "--labels", "all", "-o", &out, "-q"]);
+    assert_eq!(names(dir.path()), ["-2.ply", "map.nrrd"]);
+}
+
 /// With a list of labels, `--background` would change nothing: refused in
 /// one line before anything is read or written.
 #[test]

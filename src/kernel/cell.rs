@@ -7,7 +7,7 @@ use super::decider::{inside_joined, residual_det2_sign};
 use super::quadratic::{inner_hexagon, saddle_points, Saddles};
 use super::scale::normalized;
 use super::tables::tables;
-use super::ties::edge_fraction;
+use super::ties::{edge_fraction, TIE_OFFSET};
 use super::triangulate::{costs, fan, fan_around, ring_assignment, strip};
 use super::tunnel::{labelled_joins, small_integer_joins};
 use crate::Stats;
@@ -454,7 +454,7 @@ fn tunnel_contours(set: &ContourSet, a: u8, b: u8) -> Option<(usize, usize)> {
 /// it in opposite directions (so the two strips meet with opposite edge
 /// orientations), each contour assigned to alternate hexagon vertices.
 fn triangulate_tunnel(g: &[f64; 8], c1: &[u8], c2: &[u8], out: &mut CellMesh) {
-    let hex = open_hexagon(g);
+    let hex = open_hexagon(g, out.tie_margin);
     let alternate = |parity: usize| [0, 1, 2].map(|k| hex[2 * k + parity]);
     // The first candidate is taken whatever its cost, so that a cost that
     // is not a number still leaves a valid pair of assignments.
@@ -482,7 +482,7 @@ fn triangulate_tunnel(g: &[f64; 8], c1: &[u8], c2: &[u8], out: &mut CellMesh) {
 
 /// The 12-vertex contour: a strip to the inner triangle, closed by it.
 fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
-    let hex = open_hexagon(g);
+    let hex = open_hexagon(g, out.tie_margin);
     let cost = costs(edge_points(g, contour), |p, k| {
         p.distance_squared(hex[2 * k])
             .min(p.distance_squared(hex[2 * k + 1]))
@@ -510,7 +510,12 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
 /// grid far from the origin: [`CellMesh::tie_margin`]), in a cell with a tie
 /// corner (a value 0), or where the vertex lies on the cell's boundary and
 /// a face of the cell has a saddle tie (`g0 g2 = g1 g3`: its saddle value
-/// is the isovalue). At such ties the level set holds edges of the cell or
+/// is the isovalue). On a grid far from the origin (a margin above
+/// [`TIE_OFFSET`]) every interior vertex of every cell moves, the unit cube
+/// shrunk onto the inner one: there `f32` world coordinates do not resolve
+/// a vertex a little inside a face from the face, where the cell across
+/// may put its own interior vertex (two were seen sharing a position,
+/// `cthead @ 1150` at an origin of `1.6e5`). At such ties the level set holds edges of the cell or
 /// crosses itself on a face, and a saddle point of it can lie on the
 /// cell's boundary, where the cell across that boundary may put its own
 /// interior vertex, or an edge vertex lies; strictly inside, an interior
@@ -519,6 +524,12 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
 #[inline]
 fn interior_clamp(g: &[f64; 8], p: DVec3, margin: f64) -> DVec3 {
     let p = p.clamp(DVec3::ZERO, DVec3::ONE);
+    if margin > TIE_OFFSET {
+        // Far from the origin: every interior vertex, the unit cube mapped
+        // onto the inner one (a clamp would put two vertices near one edge
+        // on one point, and `f32` cannot tell apart what is close).
+        return DVec3::splat(margin) + p * (1.0 - 2.0 * margin);
+    }
     let inner = p.clamp(DVec3::splat(margin), DVec3::splat(1.0 - margin));
     if inner == p {
         // Already inside the inner cube (most vertices): no tie test.
@@ -552,14 +563,24 @@ fn face_saddle_tie(g: &[f64; 8]) -> bool {
 /// vertices are apart: the level set of `{g > ε}` opens there into a
 /// tunnel whose waist is about the square root of that fraction (2^-10 of
 /// the cell at first). Without such a tie the hexagon is `inner_hexagon(g)`.
-fn open_hexagon(g: &[f64; 8]) -> [DVec3; 6] {
-    let closed = |h: &[DVec3; 6]| (0..6).any(|i| h[i] == h[(i + 1) % 6]);
+///
+/// On a grid far from the origin (`margin`, [`CellMesh::tie_margin`], above
+/// [`TIE_OFFSET`]) vertices closer than `margin` on every axis count as
+/// coinciding, and `δ` goes on to 2^-8, 2^-6 and 2^-4: `f32` world
+/// coordinates do not tell apart the vertices of a tunnel that narrow (three
+/// interior vertices of `bonsai @ 40` at an origin of `1.6e5`, 0.004 of the
+/// cell apart, fell on one point). On the usual grid nothing changes.
+fn open_hexagon(g: &[f64; 8], margin: f64) -> [DVec3; 6] {
+    let far = margin > TIE_OFFSET;
+    let apart = |a: DVec3, b: DVec3| a != b && !(far && (a - b).abs().max_element() < margin);
+    let closed = |h: &[DVec3; 6]| (0..6).any(|i| !apart(h[i], h[(i + 1) % 6]));
     let hex = inner_hexagon(g);
     if !closed(&hex) {
         return hex;
     }
     let largest = g.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    for fraction in [2f64.powi(-20), 2f64.powi(-16), 2f64.powi(-12)] {
+    let fractions = [-20, -16, -12, -8, -6, -4].map(|e| 2f64.powi(e));
+    for fraction in &fractions[..if far { 6 } else { 3 }] {
         let shifted = g.map(|v| v - largest * fraction);
         let open = inner_hexagon(&shifted);
         if !closed(&open) {

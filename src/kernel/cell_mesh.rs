@@ -27,7 +27,10 @@ pub struct CellMesh {
     /// [`TIE_OFFSET`] (the default), or more on a grid whose `f32`
     /// coordinates cannot tell that offset from the boundary (far from the
     /// origin; the slab loop's `Placement` chooses it per grid, so every
-    /// slab and part places alike). Between `TIE_OFFSET` and `1/4`.
+    /// slab and part places alike). Between `TIE_OFFSET` and `1/4`. Above
+    /// `TIE_OFFSET`, every interior vertex keeps that margin, tie or not,
+    /// and a tunnel's hexagon opens that wide (`kernel::cell`'s
+    /// `interior_clamp` and `open_hexagon`).
     pub tie_margin: f64,
     /// Per contour set (index into the tables' sets), the cells that took
     /// its table fans and whose flat contours are not yet counted in a

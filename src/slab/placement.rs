@@ -245,8 +245,9 @@ fn exact_f64(i: usize) -> f64 {
     i as i64 as f64
 }
 
-/// The margin an interior vertex of a tie cell keeps from the cell's
-/// boundary, a fraction of the cell per axis: the first of [`TIE_OFFSET`],
+/// The margin an interior vertex of a tie cell (and, where it is above
+/// [`TIE_OFFSET`], of every cell) keeps from the cell's boundary, a
+/// fraction of the cell per axis: the first of [`TIE_OFFSET`],
 /// twice, four times ... it (up to `1/4`) that `f32` world coordinates
 /// resolve everywhere in the grid ([`resolves_offset`]), so that such a
 /// vertex is apart from the points of the boundary (edge vertices, grid

@@ -346,9 +346,11 @@ fn merged_parts_keep_tie_vertices_apart() {
 /// which must not move a vertex that is not at a tie) with `--inside low`.
 /// Far from the origin, `f32` rounded some crossings onto their samples,
 /// where the vertices of the sample's other crossed edges met them
-/// (db9cd6e's file has 18 vertices sharing positions): the vertices at a
-/// sample's position, and only those, now go where a tie's vertex would,
-/// and the mesh passes `tmc check --strict`; the triangles are db9cd6e's.
+/// (db9cd6e's file has 18 vertices sharing positions): the edge vertices at
+/// a sample's position, and no other edge vertex, now go where a tie's
+/// vertex would; the interior vertices move inside their cells, away from
+/// its faces, as on every grid this far (docs/conventions.md#ties); the
+/// mesh passes `tmc check --strict`; the triangles are db9cd6e's.
 #[test]
 fn tie_free_volumes_keep_the_bytes_from_before_ties() {
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
@@ -386,30 +388,123 @@ fn tie_free_volumes_keep_the_bytes_from_before_ties() {
         // The grid of tie_free_far.nhdr: a vertex whose f32 coordinates
         // are those of a sample.
         let (origin, spacing) = ([2e5, -3e5, 1e5], [1.0, 2.0, 1.5]);
-        let at_sample = |v: &[u8; 12]| {
+        let coordinate = |v: &[u8; 12], j: usize| {
+            f64::from(f32::from_le_bytes(v[4 * j..4 * j + 4].try_into().unwrap()))
+        };
+        // The axes on which the vertex is at a grid plane: all three for a
+        // sample, two for an edge vertex, fewer for an interior vertex.
+        let on_planes = |v: &[u8; 12]| {
+            (0..3)
+                .filter(|&j| {
+                    let k = ((coordinate(v, j) - origin[j]) / spacing[j]).round();
+                    (origin[j] + k * spacing[j]) as f32 as f64 == coordinate(v, j)
+                })
+                .count()
+        };
+        let index = |v: &[u8; 12], j: usize| (coordinate(v, j) - origin[j]) / spacing[j];
+        // Whether `old` lies in the closed cell that holds `new` (a vertex
+        // that had rounded onto a face is in the cells on both sides).
+        let in_cell_of = |old: &[u8; 12], new: &[u8; 12]| {
             (0..3).all(|j| {
-                let c = f32::from_le_bytes(v[4 * j..4 * j + 4].try_into().unwrap());
-                let k = ((f64::from(c) - origin[j]) / spacing[j]).round();
-                (origin[j] + k * spacing[j]) as f32 == c
+                let low = index(new, j).floor();
+                (low..=low + 1.0).contains(&index(old, j))
             })
         };
-        let mut moved = 0;
+        let (mut moved, mut interior) = (0, 0);
         for (i, (old, new)) in old_vertices.iter().zip(&new_vertices).enumerate() {
             if seen[old] > 1 {
                 assert_ne!(old, new, "{name}: vertex {i} still shares a position");
             }
-            if old != new {
+            if old == new {
+                continue;
+            }
+            moved += 1;
+            if on_planes(old) < 2 {
+                // An interior vertex: on a grid this far, every one moves
+                // inside its cell, away from the cell's faces.
                 assert!(
-                    at_sample(old),
-                    "{name}: vertex {i} moved, but was not at a sample"
+                    on_planes(new) < 2,
+                    "{name}: vertex {i} moved onto a grid line"
                 );
-                moved += 1;
+                assert!(in_cell_of(old, new), "{name}: vertex {i} left its cell");
+                interior += 1;
+            } else {
+                assert_eq!(
+                    on_planes(old),
+                    3,
+                    "{name}: edge vertex {i} moved, but was not at a sample"
+                );
             }
         }
         let shared: usize = seen.values().filter(|&&n| n > 1).sum();
         assert!(
-            shared >= 18 && moved >= shared,
-            "{name}: {shared} shared, {moved} moved"
+            shared >= 18 && moved - interior >= shared && interior > 0,
+            "{name}: {shared} shared, {moved} moved, {interior} of them interior"
         );
+    }
+}
+
+/// Grids far from the origin keep apart the interior vertices of every
+/// cell, not only of tie cells: on white noise (independent samples, no
+/// ties: nearly every cell ambiguous), an interior vertex a hair inside a
+/// face and the one the cell across puts a hair inside the same face, or
+/// three vertices of a tunnel narrower than `f32` resolves there, fell on
+/// one point (2 to 20 vertices sharing positions, and zero-area triangles,
+/// in each of these volumes before). The surface is that of the same
+/// samples at the origin: vertices, triangles, components and Euler
+/// characteristic.
+#[test]
+fn far_grids_keep_every_interior_vertex_apart() {
+    let dims = [32, 32, 32];
+    let grids = [
+        ([2.0e5, -3.0e5, 1.0e5], [1.0, 1.0, 1.0]),
+        ([2.0e5, -3.0e5, 1.0e5], [1.0, 2.0, 1.5]),
+        ([1.0e5, 1.0e5, 1.0e5], [1.0, 1.0, 1.0]),
+        ([-4.0e5, 0.0, 4.0e5], [0.8, 1.25, 1.0]),
+    ];
+    for seed in 0..3u64 {
+        let mut rng = Pcg64::seed_from_u64(seed);
+        let n = dims.iter().product::<usize>();
+        // Uniform reals, and integers at a half-integer isovalue.
+        let fields: [(Vec<f64>, f64); 2] = [
+            ((0..n).map(|_| rng.gen_range(-1.0..1.0)).collect(), 0.0),
+            (
+                (0..n).map(|_| f64::from(rng.gen_range(0..200u8))).collect(),
+                99.5,
+            ),
+        ];
+        for (field, iso) in fields {
+            for close in [false, true] {
+                let params = ExtractParams {
+                    iso,
+                    close,
+                    ..Default::default()
+                };
+                let near = ArrayVolume::new(Grid::unit(dims), field.clone()).unwrap();
+                let (at_origin, _) = extract(&near, &params).expect("extract");
+                for (origin, spacing) in grids {
+                    let grid = Grid {
+                        dims,
+                        spacing,
+                        origin,
+                        direction: tmc::grid::IDENTITY,
+                    };
+                    let vol = ArrayVolume::new(grid, field.clone()).unwrap();
+                    let (mesh, _) = extract(&vol, &params).expect("extract");
+                    let case =
+                        format!("seed {seed} iso {iso} {origin:?} {spacing:?} close {close}");
+                    assert_sound(&mesh, close, &case);
+                    // The same surface: the cells' decisions do not look at
+                    // positions (a tunnel's strips may pair its vertices
+                    // otherwise, round a wider hexagon).
+                    let (far, here) = (check_mesh(&mesh), check_mesh(&at_origin));
+                    assert_eq!(
+                        (far.vertices, far.triangles, far.components, far.euler),
+                        (here.vertices, here.triangles, here.components, here.euler),
+                        "{case}"
+                    );
+                }
+            }
+        }
     }
 }

@@ -168,7 +168,7 @@ pub(crate) fn extract_labels_to(
         }
         let picture = preview.as_ref().map(|picture| {
             let title = tmc::preview::title_of(path.unwrap_or(&output));
-            LabelPicture::new(picture, title, params.threads)
+            LabelPicture::new(picture, title, params.threads, &labels)
         });
         // Every label's file stays open until all are committed.
         tmc::files::raise_open_file_limit();

@@ -603,7 +603,9 @@ def extract_labels_to(
         files, and about doubles the time of a pass (docs/python.md).
     preview : path, optional
         Also draw every label's surface into this PNG while the pass
-        streams, as ``tmc extract --labels ... --preview`` does (titled
+        streams, each in its label's colour (the label's number modulo
+        16 picks one of sixteen), as ``tmc extract --labels ... --preview``
+        does (titled
         with the input file's name, or the output's for an array; the
         number of labels with a surface and the verdict of all the
         surfaces together in the caption). The files are taken back if the

@@ -95,8 +95,9 @@ pub(crate) struct ExtractArgs {
     /// mesh streams; written atomically. {stem} and {iso} as in -o. The
     /// same bytes for any --threads and --slab-depth, and those of 'tmc
     /// preview MESH.tmesh --title INPUT-NAME'. With --labels, one picture of
-    /// every label's surface, captioned with the number of labels and the
-    /// verdict of all the surfaces together ({stem} as in -o).
+    /// every label's surface, each in its label's colour (its number modulo
+    /// 16), captioned with the number of labels and the verdict of all the
+    /// surfaces together ({stem} as in -o).
     #[arg(long, value_name = "FILE.png")]
     pub preview: Option<PathBuf>,
 

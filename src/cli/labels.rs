@@ -164,7 +164,7 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     let picture_path = picture.clone();
     let picture = picture.map(|path| {
         let title = tmc::preview::title_of(input);
-        LabelPicture::new(&path, title, args.threads.unwrap_or(0))
+        LabelPicture::new(&path, title, args.threads.unwrap_or(0), &labels)
     });
     let measure = args.stats || args.json;
     // With --part, one part file per label, recording its label.

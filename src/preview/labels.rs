@@ -29,10 +29,13 @@ pub struct LabelPicture {
 
 impl LabelPicture {
     /// A picture at `path` titled `title` (and the number of labels with a
-    /// surface), drawn by `threads` workers (0: one per core).
-    pub fn new(path: &Path, title: String, threads: usize) -> LabelPicture {
+    /// surface) of the surfaces of `labels` (the pass's, in its order),
+    /// each in its label's colour, drawn by `threads` workers (0: one per
+    /// core).
+    pub fn new(path: &Path, title: String, threads: usize, labels: &[i64]) -> LabelPicture {
+        let sink = PreviewSink::new(path.to_path_buf(), title, None, threads).of_labels(labels);
         LabelPicture {
-            preview: RefCell::new(PreviewSink::new(path.to_path_buf(), title, None, threads)),
+            preview: RefCell::new(sink),
             begun: RefCell::new(false),
             totals: RefCell::new(Totals::default()),
         }

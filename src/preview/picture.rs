@@ -15,7 +15,7 @@
 //! [`BLOCK`] square of its tile.
 
 use super::font;
-use super::raster::{Raster, BACK, EMPTY};
+use super::raster::{Raster, BACK, EMPTY, LABEL_BITS, LABEL_COLOURS};
 use super::views::{BLOCK, DEPTH, GRID, SIZE, TILE, VIEW_NAMES};
 
 /// Height of the caption band under the tiles, in pixels.
@@ -30,6 +30,29 @@ const BACKGROUND: [u8; 3] = [30, 32, 36];
 const OUTSIDE: [f32; 3] = [232.0, 214.0, 180.0];
 /// Colour of a fully lit face seen from inside (an open surface's back).
 const INSIDE: [f32; 3] = [110.0, 150.0, 215.0];
+/// Colours of the labels' surfaces seen from outside, in a picture of
+/// several labels ([`super::raster::label_mark`]): sixteen hues far apart,
+/// neighbours in the list (labels numbered one after the other) most of
+/// all, light enough to shade.
+const LABEL_PALETTE: [[f32; 3]; LABEL_COLOURS as usize] = [
+    [232.0, 214.0, 180.0],
+    [230.0, 159.0, 0.0],
+    [86.0, 180.0, 233.0],
+    [0.0, 170.0, 120.0],
+    [240.0, 228.0, 66.0],
+    [60.0, 120.0, 220.0],
+    [225.0, 100.0, 40.0],
+    [204.0, 121.0, 167.0],
+    [152.0, 223.0, 138.0],
+    [148.0, 103.0, 189.0],
+    [23.0, 190.0, 207.0],
+    [255.0, 152.0, 150.0],
+    [188.0, 189.0, 34.0],
+    [197.0, 176.0, 213.0],
+    [180.0, 120.0, 90.0],
+    [230.0, 90.0, 140.0],
+];
+
 /// Text and tile border colours.
 const TEXT: [u8; 3] = [240, 240, 240];
 const BORDER: [u8; 3] = [80, 84, 92];
@@ -43,8 +66,10 @@ const FONT_SCALE: usize = 2;
 /// Each row of the tiles is made once, in a row buffer (the background,
 /// then each shaded pixel [`BLOCK`] times along it), and appended
 /// [`BLOCK`] times: the picture is written once, row by row, not filled
-/// with the background and then overwritten.
-pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
+/// with the background and then overwritten. `labelled`: the raster's
+/// keys carry their labels' colours ([`Raster::draw_labelled`]), which
+/// the surfaces seen from outside take.
+pub fn compose(raster: &Raster, caption: &[String], labelled: bool) -> Vec<u8> {
     let (w, h) = DIMENSIONS;
     let mut rgb = Vec::with_capacity(w * h * 3);
     let blank = BACKGROUND.repeat(w);
@@ -55,7 +80,7 @@ pub fn compose(raster: &Raster, caption: &[String]) -> Vec<u8> {
             for column in 0..GRID {
                 let tile = raster.tile(band * GRID + column);
                 let out = &mut row[column * TILE * 3..(column + 1) * TILE * 3];
-                shade_row(tile, y, out);
+                shade_row(tile, y, out, labelled);
             }
             for _ in 0..BLOCK {
                 rgb.extend_from_slice(&row);
@@ -105,10 +130,11 @@ const LIGHT: [f32; 3] = [-0.4 / 1.233_15, 0.6 / 1.233_15, -1.0 / 1.233_15];
 /// surface rather than a smooth peak or pit.
 const LONE_STEP: f32 = 1.0;
 
-/// The depth of a key, `None` for [`EMPTY`].
+/// The depth of a key, `None` for [`EMPTY`]: its bits less those of `mask`
+/// ([`BACK`], and [`LABEL_BITS`] in a picture of labels).
 #[inline]
-fn depth(key: u32) -> Option<f32> {
-    (key != EMPTY).then(|| f32::from_bits(key & !BACK))
+fn depth(key: u32, mask: u32) -> Option<f32> {
+    (key != EMPTY).then(|| f32::from_bits(key & !mask))
 }
 
 /// The slope of the depth at `here` from its neighbours `before` and
@@ -140,7 +166,9 @@ fn slope(before: Option<f32>, here: f32, after: Option<f32>) -> f32 {
 /// Row `y` of a view's keys (`DEPTH` by `DEPTH`, row by row) as RGB bytes
 /// into `out` (`3 * TILE` bytes, the background already there): each
 /// pixel drawn, shaded, [`BLOCK`] times; the others left as they are.
-fn shade_row(tile: &[u32], y: usize, out: &mut [u8]) {
+fn shade_row(tile: &[u32], y: usize, out: &mut [u8], labelled: bool) {
+    let mask = if labelled { BACK | LABEL_BITS } else { BACK };
+    let depth = |key: u32| depth(key, mask);
     let row = &tile[y * DEPTH..(y + 1) * DEPTH];
     let above = y.checked_sub(1).map(|u| &tile[u * DEPTH..(u + 1) * DEPTH]);
     let below = (y + 1 < DEPTH).then(|| &tile[(y + 1) * DEPTH..(y + 2) * DEPTH]);
@@ -162,7 +190,11 @@ fn shade_row(tile: &[u32], y: usize, out: &mut [u8]) {
         // depth away from the viewer.
         let cos = (gx * LIGHT[0] - gy * LIGHT[1] - LIGHT[2]) / (gx * gx + gy * gy + 1.0).sqrt();
         let light = 0.2 + 0.8 * cos.clamp(0.0, 1.0);
-        let base = if key & BACK == 0 { OUTSIDE } else { INSIDE };
+        let base = match (key & BACK == 0, labelled) {
+            (false, _) => INSIDE,
+            (true, false) => OUTSIDE,
+            (true, true) => LABEL_PALETTE[((key & LABEL_BITS) >> 1) as usize],
+        };
         let colour = base.map(|c| (c * light) as u8);
         for o in block.chunks_exact_mut(3) {
             o.copy_from_slice(&colour);
@@ -194,7 +226,7 @@ mod tests {
             tile[2 * DEPTH + x] = key(around);
         }
         let mut out = BACKGROUND.repeat(TILE);
-        shade_row(&tile, 1, &mut out);
+        shade_row(&tile, 1, &mut out, false);
         // Each pixel is there BLOCK times: once is enough.
         out.chunks_exact(3 * BLOCK)
             .flat_map(|p| &p[..3])
@@ -216,8 +248,8 @@ mod tests {
             keys[y * DEPTH + x] = 7.0f32.to_bits() & !BACK;
             raster.set_tile(view, keys);
         }
-        let rgb = compose(&raster, &[]);
-        let plain = compose(&Raster::new(), &[]);
+        let rgb = compose(&raster, &[], false);
+        let plain = compose(&Raster::new(), &[], false);
         let pixel = |img: &[u8], x: usize, y: usize| [0, 1, 2].map(|c| img[(y * w + x) * 3 + c]);
         let mut changed = Vec::new();
         for y in 0..SIZE {

@@ -29,6 +29,23 @@ pub const EMPTY: u32 = u32::MAX;
 /// points away from the viewer: the inside of an open surface).
 pub const BACK: u32 = 1;
 
+/// The bits of a key above [`BACK`] that say, in a picture of several
+/// labels' surfaces, which colour the pixel's label has ([`label_mark`]):
+/// the depth keeps the rest (a relative precision of `2^-18`, about
+/// `0.004` of a pixel at the far end of the views).
+pub const LABEL_BITS: u32 = 0x1e;
+
+/// How many colours [`LABEL_BITS`] tell apart.
+pub const LABEL_COLOURS: u32 = 16;
+
+/// The key bits of label `label` ([`LABEL_BITS`]): its colour's number,
+/// `label` modulo [`LABEL_COLOURS`], so that labels numbered one after the
+/// other (organs of one system, most atlases) differ.
+#[inline]
+pub fn label_mark(label: u32) -> u32 {
+    (label % LABEL_COLOURS) << 1
+}
+
 /// Fixed-point pixel coordinates: 1 / [`SUB`] of a pixel.
 const SUB: i32 = 256;
 
@@ -174,12 +191,40 @@ impl Raster {
     /// Draws `triangles` (indices into `vertices`) in the four `views`.
     /// Triangles with an index past `vertices` are left out.
     pub fn draw(&mut self, views: &[View; 4], vertices: &[[f32; 3]], triangles: &[[u32; 3]]) {
+        self.draw_marked(views, vertices, triangles, BACK, |_| 0);
+    }
+
+    /// [`Raster::draw`] of the surfaces of several labels: triangle `i`'s
+    /// keys carry `marks[i]` ([`label_mark`]) in [`LABEL_BITS`]. Every
+    /// triangle of a picture must be drawn this way or none.
+    pub fn draw_labelled(
+        &mut self,
+        views: &[View; 4],
+        vertices: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        marks: &[u32],
+    ) {
+        let mark = |i: usize| marks.get(i).copied().unwrap_or(0);
+        self.draw_marked(views, vertices, triangles, BACK | LABEL_BITS, mark);
+    }
+
+    /// [`Raster::draw`] with the key bits `mask` below the depth replaced
+    /// by `mark(i)` for triangle `i` (and [`BACK`]).
+    #[inline(always)]
+    fn draw_marked(
+        &mut self,
+        views: &[View; 4],
+        vertices: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        mask: u32,
+        mark: impl Fn(usize) -> u32,
+    ) {
         let rows = View::rows(views).map(|axis| axis.map(Vec4::from_array));
         self.projected.clear();
         self.projected
             .extend(vertices.iter().map(|&p| project(&rows, p)));
         let projected = &self.projected;
-        for t in triangles {
+        for (i, t) in triangles.iter().enumerate() {
             let (Some(a), Some(b), Some(c)) = (
                 projected.get(t[0] as usize),
                 projected.get(t[1] as usize),
@@ -208,7 +253,12 @@ impl Raster {
                 // (Whole numbers below 2^22: the low bits of `c + 2^23`.)
                 let int = |c: f32| ((c + SHIFT).to_bits() & 0x003f_ffff) as usize;
                 let bbox = [first[0][v], last[0][v], first[1][v], last[1][v]].map(int);
-                fill(tile, [corner(a), corner(b), corner(c)], bbox);
+                fill(
+                    tile,
+                    [corner(a), corner(b), corner(c)],
+                    bbox,
+                    (mask, mark(i)),
+                );
             }
         }
     }
@@ -278,7 +328,7 @@ impl Raster {
                 .to_array()
                 .map(|c| (c.to_bits() & 0x003f_ffff) as usize);
             let bbox = [x0, x1, y0, y1];
-            fill(tile, [a.at, b.at, c.at], bbox);
+            fill(tile, [a.at, b.at, c.at], bbox, (BACK, 0));
         }
     }
 }
@@ -304,9 +354,15 @@ fn drawn(tile: &mut Vec<u32>) -> &mut [u32] {
 /// both), and the decision is the same in every run; the depth is the
 /// weighted mean of the corners' by the three edge functions, in `f64`
 /// (the weights are exact there: below `2^53`). Their sum is twice the
-/// triangle's signed area, whose sign says which way it faces.
+/// triangle's signed area, whose sign says which way it faces. The key is
+/// the depth's bits with those of `mask` replaced by `mark` and [`BACK`].
 #[inline(always)]
-fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: [usize; 4]) {
+fn fill(
+    tile: &mut [u32],
+    [p0, p1, p2]: [(i32, i32, f32); 3],
+    [x0, x1, y0, y1]: [usize; 4],
+    (mask, mark): (u32, u32),
+) {
     let sub = i64::from(SUB);
     let (fx, fy) = (x0 as i64 * sub, y0 as i64 * sub);
     // Corners relative to the first centre.
@@ -331,7 +387,7 @@ fn fill(tile: &mut [u32], [p0, p1, p2]: [(i32, i32, f32); 3], [x0, x1, y0, y1]: 
         if (w[0] | w[1] | w[2]) >= 0 {
             let [w0, w1, w2] = w.map(|w| w as f64);
             let depth = ((w0 * depths[0] + w1 * depths[1] + w2 * depths[2]) / sum).max(0.0) as f32;
-            let k = (depth.to_bits() & !BACK) | back;
+            let k = (depth.to_bits() & !mask) | mark | back;
             *key = (*key).min(k);
         }
     };
@@ -578,5 +634,34 @@ mod tests {
         }
         assert_eq!(inside_holes, 0);
         assert!(outline < 4 * DEPTH, "{outline}");
+    }
+
+    #[test]
+    fn a_labelled_key_is_the_depth_with_its_label_s_colour() {
+        let views = unit_views();
+        let (v, t) = sheet(40, |x, y| 0.3 + 0.2 * x + 0.1 * y);
+        let mut plain = Raster::new();
+        plain.draw(&views, &v, &t);
+        let mut labelled = Raster::new();
+        let marks: Vec<u32> = (0..t.len() as u32)
+            .map(|i| label_mark(i % 3 + 17))
+            .collect();
+        labelled.draw_labelled(&views, &v, &t, &marks);
+        let mut covered = 0;
+        for view in 0..4 {
+            for (&p, &l) in plain.tile(view).iter().zip(labelled.tile(view)) {
+                assert_eq!(p == EMPTY, l == EMPTY);
+                if p != EMPTY {
+                    // The same depth but for the colour's bits, the same
+                    // side, and one of the three labels' colours (17 to 19:
+                    // colours 1 to 3).
+                    assert_eq!(p & !(LABEL_BITS | BACK), l & !(LABEL_BITS | BACK));
+                    assert_eq!(p & BACK, l & BACK);
+                    assert!((1..=3).contains(&((l & LABEL_BITS) >> 1)), "{l:#x}");
+                    covered += 1;
+                }
+            }
+        }
+        assert!(covered > 1000, "{covered}");
     }
 }

@@ -21,7 +21,7 @@
 use super::frame::Reach;
 use super::lines::GridLines;
 use super::picture;
-use super::raster::Raster;
+use super::raster::{label_mark, Raster};
 use super::views::{Bounds, View};
 use crate::check::{Scratch, StreamCheck, Verdict};
 use crate::{Chunk, Error, MeshInfo, MeshSink, Result, Totals};
@@ -45,6 +45,9 @@ struct Job {
     own: u32,
     /// Triangles, indices into `vertices`.
     triangles: Vec<[u32; 3]>,
+    /// In a picture of labels, each triangle's colour ([`label_mark`]);
+    /// empty otherwise.
+    marks: Vec<u32>,
 }
 
 /// What a raster worker hands back: its depth buffers, its grid lines
@@ -117,7 +120,15 @@ impl Workers {
                                     raster.draw_view(&views, view, &job.vertices, &job.triangles);
                                 }
                             }
-                            None => raster.draw(&views, &job.vertices, &job.triangles),
+                            None if job.marks.is_empty() => {
+                                raster.draw(&views, &job.vertices, &job.triangles)
+                            }
+                            None => raster.draw_labelled(
+                                &views,
+                                &job.vertices,
+                                &job.triangles,
+                                &job.marks,
+                            ),
                         }
                     }
                     Drawn {
@@ -275,6 +286,14 @@ pub struct PreviewSink {
     /// `.tmesh` of every label of a map). Named in the caption, which then
     /// gives no isovalue (a label's surface is at 0.5 of its indicator).
     labels: BTreeSet<u32>,
+    /// Whether the picture shows several labels' surfaces, each in its
+    /// label's colour ([`PreviewSink::of_labels`], or a mesh whose chunks
+    /// carry labels): every view is then rasterised, with the triangles'
+    /// labels in the keys.
+    labelled: bool,
+    /// The label of each mesh of [`PreviewSink::chunk_of`] (its number
+    /// where none is given), as a labelled mesh file keeps it (`as u32`).
+    stream_labels: Vec<u32>,
     /// After a first pass whose mesh left the frame: the vertices' box,
     /// the verdict and the totals ([`PreviewSink::reframed`]).
     again: Option<(Bounds, Verdict, Totals)>,
@@ -327,7 +346,20 @@ impl PreviewSink {
             known: None,
             again: None,
             labels: BTreeSet::new(),
+            labelled: false,
+            stream_labels: Vec::new(),
         }
+    }
+
+    /// The sink for the surfaces of the labels `labels` of a label map, fed
+    /// by [`PreviewSink::chunk_of`] (mesh `i` is label `labels[i]`'s): each
+    /// surface in its label's colour, the colour a labelled mesh file of
+    /// the same labels gets, so that the picture is that file's.
+    pub fn of_labels(mut self, labels: &[i64]) -> Self {
+        self.labelled = true;
+        // The label as the mesh files keep it (export::labelled).
+        self.stream_labels = labels.iter().map(|&l| l as u32).collect();
+        self
     }
 
     /// A sink as [`PreviewSink::new`] that writes no file: the finished
@@ -376,6 +408,8 @@ impl PreviewSink {
         sink.threads = self.threads;
         sink.grid = GridOfMesh::Unknown;
         sink.known = Some((verdict, totals));
+        sink.labelled = self.labelled;
+        sink.stream_labels.clone_from(&self.stream_labels);
         Some(sink)
     }
 
@@ -431,8 +465,11 @@ impl MeshSink for PreviewSink {
             }
         };
         self.iso = info.iso;
+        self.labelled |= info.labels;
         let lines = match self.grid {
             GridOfMesh::Unknown => None,
+            // The lines keep no label: every view from the triangles.
+            _ if self.labelled => None,
             _ => GridLines::new(&info.grid, &View::four(&bounds)),
         };
         let checked = self.grid == GridOfMesh::Recorded;
@@ -449,7 +486,11 @@ impl MeshSink for PreviewSink {
                 last = Some(label);
             }
         }
-        self.hand_over(0, chunk)
+        let marks = match self.labelled {
+            true => chunk.labels.iter().map(|&l| label_mark(l)).collect(),
+            false => Vec::new(),
+        };
+        self.hand_over(0, chunk, marks)
     }
 
     fn finish(&mut self, totals: &Totals) -> Result<()> {
@@ -470,12 +511,20 @@ impl PreviewSink {
             let label = u32::try_from(stream).unwrap_or(u32::MAX);
             self.labels.insert(label);
         }
-        self.hand_over(stream, chunk)
+        let marks = match self.labelled {
+            true => {
+                let number = u32::try_from(stream).unwrap_or(u32::MAX);
+                let label = self.stream_labels.get(stream).copied().unwrap_or(number);
+                vec![label_mark(label); chunk.triangles.len()]
+            }
+            false => Vec::new(),
+        };
+        self.hand_over(stream, chunk, marks)
     }
 
     /// Hands `chunk` of mesh `stream` over: the chunk before it, now that
     /// its next vertices are known, to the workers; this one kept.
-    fn hand_over(&mut self, stream: usize, chunk: &Chunk) -> Result<()> {
+    fn hand_over(&mut self, stream: usize, chunk: &Chunk, marks: Vec<u32>) -> Result<()> {
         let Ok(stream32) = u32::try_from(stream) else {
             return Err(Error::Invalid("preview: too many meshes".into()));
         };
@@ -499,6 +548,7 @@ impl PreviewSink {
             vertices,
             own: own32,
             triangles: chunk.triangles.clone(),
+            marks,
         };
         self.pending[stream] = Some((job, past));
         Ok(())
@@ -552,7 +602,7 @@ impl PreviewSink {
                 verdict.describe()
             ),
         ];
-        let rgb = picture::compose(&raster, &caption);
+        let rgb = picture::compose(&raster, &caption, self.labelled);
         let (w, h) = picture::DIMENSIONS;
         match &self.path {
             Some(path) => super::png_out::write_png(path, w, h, &rgb)?,

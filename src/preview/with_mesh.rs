@@ -147,6 +147,8 @@ pub fn check_picture(picture: &Path, input: Option<&Path>, meshes: &[&Path]) -> 
 /// setting `cancel` stops it with [`Error::Interrupted`](crate::Error),
 /// leaving no picture. A mesh without vertices is drawn as `tmc extract
 /// --preview` draws an isovalue that meets nothing ("empty: no surface").
+/// A mesh with a label per triangle is drawn with the labels in their
+/// colours and named in the caption.
 pub fn draw_mesh(
     mesh: Mesh,
     picture: &Path,
@@ -174,6 +176,11 @@ pub fn draw_mesh(
         });
     let mut sink =
         PreviewSink::new(picture.to_path_buf(), title, Some(bounds), threads).without_grid();
+    // A label per triangle (a PLY of every label of a map): named in the
+    // caption and coloured, as in the `.tmesh` of the same labels.
+    let labels = mesh
+        .labels
+        .filter(|l| l.len() == mesh.triangles.len() && !l.is_empty());
     let info = MeshInfo {
         grid: crate::Grid::unit([1, 1, 1]),
         iso: f64::NAN,
@@ -181,7 +188,7 @@ pub fn draw_mesh(
         inside: crate::Inside::High,
         close: false,
         normals: false,
-        labels: false,
+        labels: labels.is_some(),
     };
     sink.begin(&info)?;
     let chunk = Chunk {
@@ -189,7 +196,7 @@ pub fn draw_mesh(
         vertices: mesh.vertices,
         triangles: mesh.triangles,
         normals: Vec::new(),
-        labels: Vec::new(),
+        labels: labels.unwrap_or_default(),
         values: Vec::new(),
         encoded: Vec::new(),
     };

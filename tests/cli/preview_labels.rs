@@ -65,6 +65,12 @@ fn the_labels_picture_is_tmc_previews_of_the_one_tmesh_of_every_label() {
     assert_eq!((w, h), SIZE);
     let tiles = shown_per_tile(&picture("a.png"));
     assert!(tiles.iter().all(|&n| n > 2000), "{tiles:?}");
+    // Each label in its colour: the shown pixels' hues (the colour over its
+    // brightest channel, in eighths, with enough pixels to count) are many,
+    // where one colour shaded (before, or a single surface) gives two or
+    // three.
+    let hues = hues_shown(&picture("a.png"));
+    assert!(hues >= 6, "{hues} hues shown");
 
     // The verdict of all the surfaces is the sum of the labels' own: the
     // union file's counts (what the caption says) against each label's.
@@ -144,4 +150,23 @@ fn a_labels_preview_refuses_what_it_cannot_draw_before_writing() {
             "{args:?} left files"
         );
     }
+}
+
+/// The hues of [`crate::preview::BACKGROUND`]-free tile pixels of a
+/// picture (each colour over its brightest channel, in eighths) that at
+/// least 200 pixels have, not counting the dark ones.
+fn hues_shown(path: &Path) -> usize {
+    let (w, _, rgb) = decode(path);
+    let w = w as usize;
+    let mut counts = std::collections::HashMap::new();
+    for p in rgb.chunks(3).take(w * w) {
+        let top = *p.iter().max().unwrap();
+        let shown = p != crate::preview::BACKGROUND && p != [80, 84, 92] && p != [240, 240, 240];
+        if shown && top >= 96 {
+            let hue =
+                [0, 1, 2].map(|i| (u32::from(p[i]) * 8 + u32::from(top) / 2) / u32::from(top));
+            *counts.entry(hue).or_insert(0usize) += 1;
+        }
+    }
+    counts.values().filter(|&&n| n >= 200).count()
 }

@@ -156,7 +156,9 @@ def layer_depth(volume: Any, planes: int, plane_bytes: int) -> int:
     many as fit in :data:`LAYER_BYTES`, so that no chunk is computed or
     decompressed twice in a pass; fewer planes than a chunk when one chunk
     is larger than that, and as many planes as fit when the array says
-    nothing of its chunks."""
+    nothing of its chunks. Dask chunks of several depths along z are
+    taken by the first one's: a chunk that a slice boundary cuts is then
+    computed once per slice it meets."""
     most = max(1, LAYER_BYTES // max(1, plane_bytes))
     chunks = getattr(volume, "shards", None) or getattr(volume, "chunks", None)
     try:

@@ -569,23 +569,14 @@ fn a_requeued_part_still_merges_to_the_bytes_of_one_run() {
 #[test]
 fn the_part_script_takes_threads_and_memory_from_the_allocation() {
     let dir = tempfile::tempdir().unwrap();
-    let bin = dir.path().join("bin");
-    fs::create_dir(&bin).unwrap();
-    fs::write(bin.join("tmc"), "#!/bin/sh\necho \"$@\"\n").unwrap();
-    use std::os::unix::fs::PermissionsExt;
-    fs::set_permissions(bin.join("tmc"), fs::Permissions::from_mode(0o755)).unwrap();
+    let path = fake_tmc(dir.path(), "echo \"$@\"");
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/tmc-parts.sbatch");
     let run = |env: &[(&str, &str)]| {
-        let path = format!(
-            "{}:{}",
-            bin.display(),
-            std::env::var("PATH").unwrap_or_default()
-        );
         let out = Command::new("bash")
             .arg(&script)
             .current_dir(dir.path())
             .env_clear()
-            .env("PATH", path)
+            .env("PATH", &path)
             .envs([("N", "2"), ("IN", "ct.nrrd"), ("ISO", "550")])
             .env("SLURM_ARRAY_TASK_ID", "2")
             .envs(env.iter().copied())
@@ -728,4 +719,65 @@ fn the_merge_script_takes_the_n_parts_of_its_run() {
             assert!(read("merged") == read("one"), "{what}: {name}");
         }
     }
+}
+
+/// The command the part script prints at the top of the task's log is the
+/// one it runs, as a shell reads it back: an input or parts directory
+/// whose name has a space (`IN='my scans/c t.nrrd'`), and the label
+/// parts' braces. It was the words joined by spaces, so that pasting it
+/// to run a part again read `my`, `scans/c` and `t.nrrd`.
+#[test]
+fn the_part_script_prints_the_command_it_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    // A tmc that prints its arguments one a line.
+    let path = fake_tmc(dir.path(), "printf '%s\\n' \"$@\"");
+    for what in [("ISO", "550"), ("LABELS", "1,4")] {
+        let env = [
+            ("PATH", path.as_str()),
+            ("N", "2"),
+            ("SLURM_ARRAY_TASK_ID", "1"),
+            ("IN", "my scans/c t.nrrd"),
+            ("PARTS", "the parts"),
+            ("EXTRA", "--close"),
+            what,
+        ];
+        let bash = |args: &[&std::ffi::OsStr]| {
+            Command::new("bash")
+                .args(args)
+                .current_dir(dir.path())
+                .env_clear()
+                .envs(env)
+                .output()
+                .unwrap()
+        };
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/tmc-parts.sbatch");
+        let out = bash(&[script.as_os_str()]);
+        assert!(out.status.success(), "{out:?}");
+        let ran = String::from_utf8(out.stdout).unwrap();
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        let printed = stderr
+            .lines()
+            .find_map(|l| l.strip_prefix("tmc-parts.sbatch: "))
+            .unwrap_or_else(|| panic!("no command in {stderr}"));
+        // The printed command run by a shell, with the same tmc.
+        let again = bash(&["-c".as_ref(), printed.as_ref()]);
+        assert!(again.status.success(), "{printed}: {again:?}");
+        assert_eq!(String::from_utf8(again.stdout).unwrap(), ran, "{printed}");
+        assert!(ran.lines().any(|a| a == "my scans/c t.nrrd"), "{ran}");
+    }
+}
+
+/// A `PATH` whose first directory, `dir/bin`, holds a `tmc` that is the sh
+/// script `body`.
+fn fake_tmc(dir: &Path, body: &str) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    let bin = dir.join("bin");
+    fs::create_dir(&bin).unwrap();
+    fs::write(bin.join("tmc"), format!("#!/bin/sh\n{body}\n")).unwrap();
+    fs::set_permissions(bin.join("tmc"), fs::Permissions::from_mode(0o755)).unwrap();
+    format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    )
 }

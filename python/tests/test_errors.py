@@ -17,6 +17,9 @@ GOOD = np.zeros((4, 5, 6), dtype=np.float32)
         (np.zeros((4, 5)), ValueError, "expected a 3-D array"),
         (np.zeros((2, 3, 4, 5)), ValueError, r"shape \(2, 3, 4, 5\) is not one volume: axis 0"),
         (np.zeros((1, 2, 3, 4, 5)), ValueError, "is not one volume: axis 1 has size 2"),
+        # A channel axis last: the volume is volume[..., 0] (volume[0] a plane).
+        (np.zeros((4, 5, 6, 1)), ValueError, r"axis 0 has size 4.*volume\[\.\.\., 0\]"),
+        (np.zeros((2, 4, 5, 6)), ValueError, r"axis 0 has size 2.*volume\[0\]"),
         (np.zeros((4, 5, 6), dtype=np.complex64), TypeError, "unsupported dtype"),
         (np.zeros((4, 5, 6), dtype=object), TypeError, "unsupported dtype"),
         (np.zeros((4, 5, 6), dtype="U3"), TypeError, "unsupported dtype"),

@@ -151,6 +151,35 @@ def test_the_arrays_own_exception_is_raised_and_nothing_is_written(tmp_path):
         tmc.extract_labels(obj > 700)
 
 
+def test_a_slice_of_the_wrong_shape_or_dtype_is_refused(tmp_path):
+    """A buggy ``map_blocks`` whose blocks are not what the array says
+    (another dtype, or the y and x axes swapped: the same bytes) raises,
+    naming the planes, what came back and what the array declares, with
+    nothing written: it was cast or reshaped into a mesh of other samples
+    (float64 blocks of a float32 array meshed as float32, fractions of a
+    uint8 array truncated, the swapped axes read as rows)."""
+    data = ball(dtype=np.float32)
+    obj = da.from_array(data, chunks=(5, 29, 33))
+    wrong = [
+        (obj.map_blocks(lambda b: b.astype(np.float64), dtype=np.float32),
+         TypeError, r"float64.*float32"),
+        ((obj / 1000).map_blocks(lambda b: b * 255.5, dtype=np.uint8),
+         TypeError, r"float\d+.*uint8"),
+        (obj.map_blocks(lambda b: np.ascontiguousarray(b.transpose(0, 2, 1)), dtype=obj.dtype),
+         ValueError, r"\(\d+, 33, 29\).*\(\d+, 29, 33\)"),
+    ]
+    for bad, error, message in wrong:
+        with pytest.raises(error, match=message):
+            tmc.extract(bad, 700.5)
+        with pytest.raises(error, match=r"planes \d+\.\.\d+"):
+            tmc.extract_to(bad, 700.5, tmp_path / "m.ply")
+        assert os.listdir(tmp_path) == []
+    # The same byte order or another is the same dtype.
+    swapped = da.from_array(data.astype(">f4"), chunks=(5, 29, 33))
+    assert_same(tmc.extract(swapped.map_blocks(lambda b: b.astype("<f4"), dtype=">f4"), 700.5),
+                tmc.extract(data, 700.5))
+
+
 def test_what_is_not_sliced_is_read_as_before():
     data = ball()
     # Already in memory: read in place.

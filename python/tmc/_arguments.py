@@ -147,12 +147,15 @@ def _volume_3d(array: np.ndarray) -> np.ndarray:
     shapes of more than 3 axes are a ``ValueError`` naming the axis (fewer
     axes are refused by the library)."""
     extra = array.shape[:-3] if array.ndim > 3 else ()
+    # A channel axis last, (nz, ny, nx, 1): the volume is volume[..., 0],
+    # where volume[0] would be a plane and its channels.
+    channel_last = array.shape[-1] == 1 and all(n == 1 for n in extra[:-1])
     for axis, size in enumerate(extra):
         if size != 1:
             raise ValueError(
                 f"shape {tuple(array.shape)} is not one volume: axis {axis} has size "
                 f"{size}, not 1 (only axes of size 1 may come before (nz, ny, nx)); "
-                "pass one 3-D volume, e.g. volume[0]"
+                f"pass one 3-D volume, e.g. {'volume[..., 0]' if channel_last else 'volume[0]'}"
             )
     return array[(0,) * len(extra)] if extra else array
 

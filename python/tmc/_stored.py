@@ -128,11 +128,26 @@ def sliced_array(volume: Any, select: Tuple[Any, ...]) -> Optional[_tmc.SlicedAr
     plane_bytes = shape[-1] * shape[-2] * native.itemsize
     depth = layer_depth(volume, shape[-3], plane_bytes)
 
+    nz, ny, nx = shape[-3:]
+
     def fetch(first: int, last: int) -> np.ndarray:
         block = np.asarray(volume[lead + (slice(first, last),)])
+        # What the array's library computed must be what the array says it
+        # is (a buggy map_blocks may differ): cast or reshaped, it would
+        # make the mesh of other samples than numpy.asarray(volume) holds.
+        # The byte order may differ; the value is the same.
+        if block.dtype.newbyteorder("=") != dtype.newbyteorder("="):
+            raise TypeError(
+                f"planes {first}..{last} of the array came back as {block.dtype}, "
+                f"not the {dtype} the array declares"
+            )
+        if block.shape != (last - first, ny, nx):
+            raise ValueError(
+                f"planes {first}..{last} of the array came back in shape {block.shape}, "
+                f"not {(last - first, ny, nx)}"
+            )
         return np.ascontiguousarray(block, dtype=native).reshape(-1).view(np.uint8)
 
-    nz, ny, nx = shape[-3:]
     return _tmc.SlicedArray(fetch, (nz, ny, nx), native.str[1:], depth)
 
 
@@ -141,7 +156,9 @@ def layer_depth(volume: Any, planes: int, plane_bytes: int) -> int:
     many as fit in :data:`LAYER_BYTES`, so that no chunk is computed or
     decompressed twice in a pass; fewer planes than a chunk when one chunk
     is larger than that, and as many planes as fit when the array says
-    nothing of its chunks."""
+    nothing of its chunks. Dask chunks of several depths along z are
+    taken by the first one's: a chunk that a slice boundary cuts is then
+    computed once per slice it meets."""
     most = max(1, LAYER_BYTES // max(1, plane_bytes))
     chunks = getattr(volume, "shards", None) or getattr(volume, "chunks", None)
     try:

@@ -13,6 +13,13 @@ set -eu
 [ $# -ge 3 ] || { echo "usage: $0 INPUT N OUTPUT [extract options]" >&2; exit 2; }
 input=$1 n=$2 output=$3
 shift 3
+case $n in
+'' | *[!0-9]* | 0*) echo "$0: N is the number of parts (1 or more), not '$n'" >&2; exit 2 ;;
+esac
+[ -d "$(dirname "$output")" ] || {
+    echo "$0: the output's directory $(dirname "$output") does not exist (create it first)" >&2
+    exit 1
+}
 tmc=${TMC:-tmc}
 parts=$(mktemp -d "$(dirname "$output")/.tmc-parts.XXXXXX")
 # EXIT alone is not enough: dash (sh on Debian) does not run the EXIT trap

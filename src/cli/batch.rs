@@ -71,12 +71,8 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         check_unique_pictures(template, &items)?;
     }
     if let Some(path) = &args.batch.report {
-        let pictures = (args.preview.iter())
-            .flat_map(|t| {
-                items
-                    .iter()
-                    .flat_map(|i| manifest::outputs(t, &i.input, &i.isos))
-            })
+        let pictures = (items.iter())
+            .flat_map(|i| pictures(args, i))
             .collect::<Vec<_>>();
         check_report_path(path, args.batch.manifest.as_deref(), &items, &pictures)?;
     }
@@ -104,10 +100,11 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         let started = Instant::now();
         let result = run_item(args, item, cancel);
         let line = report_line(item, &result, started.elapsed().as_secs_f64());
-        // The item's meshes are committed; if its report line cannot be
-        // written, the run fails and takes them back.
+        // The item's meshes (and pictures) are committed; if its report
+        // line cannot be written, the run fails and takes them back.
+        let drawn = pictures(args, item);
         let withdraw = |e| match result {
-            Ok(_) => withdraw(item.outputs.iter().map(PathBuf::as_path), e),
+            Ok(_) => withdraw(item.outputs.iter().chain(&drawn).map(PathBuf::as_path), e),
             Err(_) => e,
         };
         if let Some((file, path)) = &mut report {
@@ -253,6 +250,14 @@ fn report_line(item: &Item, result: &Result<Vec<Stats>>, seconds: f64) -> String
     text
 }
 
+/// The pictures `--preview` draws of `item`, one per output; none without
+/// `--preview`.
+fn pictures(args: &ExtractArgs, item: &Item) -> Vec<PathBuf> {
+    (args.preview.iter())
+        .flat_map(|t| manifest::outputs(t, &item.input, &item.isos))
+        .collect()
+}
+
 /// Extracts every isovalue of `item` in one pass; returns the statistics
 /// of each output.
 fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Result<Vec<Stats>> {
@@ -281,17 +286,11 @@ fn run_item(args: &ExtractArgs, item: &Item, cancel: Option<&AtomicBool>) -> Res
     for output in &item.outputs {
         tmc::export::check_output_path(output)?;
     }
-    let pictures = match &args.preview {
-        Some(template) => {
-            let pictures = super::manifest::outputs(template, &item.input, &item.isos);
-            let meshes: Vec<&Path> = item.outputs.iter().map(PathBuf::as_path).collect();
-            for picture in &pictures {
-                tmc::preview::check_picture(picture, Some(&item.input), &meshes)?;
-            }
-            pictures
-        }
-        None => Vec::new(),
-    };
+    let pictures = pictures(args, item);
+    let meshes: Vec<&Path> = item.outputs.iter().map(PathBuf::as_path).collect();
+    for picture in &pictures {
+        tmc::preview::check_picture(picture, Some(&item.input), &meshes)?;
+    }
     let params: Vec<_> = item.isos.iter().map(|&iso| args.params(iso)).collect();
     let mut monitor = Monitor::new(&grid, args, &item.input);
     let on_progress = |p: &tmc::Progress| monitor.slab_done(p);

@@ -132,16 +132,16 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
         summary: RunSummary::new(&params, &grid, &stats),
         resources: &resources,
     };
-    // The mesh is committed; if its report cannot be written, the run
-    // fails and takes the mesh back.
+    // The mesh (and its picture) is committed; if its report cannot be
+    // written, the run fails and takes them back.
+    let written = || std::iter::once(output.as_path()).chain(preview.as_deref());
     if args.stats {
         let mut err = std::io::stderr().lock();
         report::write_table(&mut err, &run)
-            .map_err(|e| withdraw([output.as_path()], Error::io("standard error", e)))?;
+            .map_err(|e| withdraw(written(), Error::io("standard error", e)))?;
     }
     if args.json {
-        to_stdout(|out| report::write_json(out, &run))
-            .map_err(|e| withdraw([output.as_path()], e))?;
+        to_stdout(|out| report::write_json(out, &run)).map_err(|e| withdraw(written(), e))?;
     }
     Ok(())
 }

@@ -239,7 +239,11 @@ pub(crate) fn run(args: &ExtractArgs, cancel: Option<&AtomicBool>) -> Result<()>
     if !measure {
         return Ok(());
     }
-    let written: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+    // The files (and the picture) are committed; if the report cannot be
+    // written, the run fails and takes them back.
+    let written: Vec<&Path> = (outputs.iter().map(PathBuf::as_path))
+        .chain(picture_path.as_deref())
+        .collect();
     if args.stats {
         write_table(&reports)
             .map_err(|e| withdraw(written.iter().copied(), Error::io("standard error", e)))?;

@@ -282,13 +282,25 @@ fn merge_labels(parts: Vec<Part>, output: &Path, cancel: &AtomicBool) -> Result<
         })
         .collect::<Result<_>>()?;
     let first = &groups[0].1[0];
+    let given = || {
+        let labels: Vec<String> = groups.iter().map(|(l, _)| l.to_string()).collect();
+        labels.join(", ")
+    };
     if let Some(n) = first.record.label_count.filter(|&n| n > groups.len()) {
-        let given: Vec<String> = groups.iter().map(|(l, _)| l.to_string()).collect();
         return Err(Error::Invalid(format!(
             "the parts are of a run with {n} labels, but only those of {} are given (labels {}): all the part files of {} label(s) are missing",
             groups.len(),
-            given.join(", "),
+            given(),
             n - groups.len()
+        )));
+    }
+    // Parts of an earlier run with as many other labels agree with these
+    // on all but the label: only their number tells them apart.
+    if let Some(n) = first.record.label_count.filter(|&n| n < groups.len()) {
+        return Err(Error::Invalid(format!(
+            "the parts are of runs with {n} labels, but those of {} are given (labels {}): parts of another run with other labels are among them (left from an earlier run?)",
+            groups.len(),
+            given(),
         )));
     }
     for (_, group) in &groups {

@@ -271,10 +271,17 @@ fn volume_shape(shape: &[usize]) -> std::result::Result<[usize; 3], String> {
             shape_text(shape)
         ));
     };
+    // A channel axis last, (nz, ny, nx, 1): the volume is a[..., 0], where
+    // a[0] would be a plane and its channels.
+    let channel_last = nx == 1
+        && extra
+            .split_last()
+            .is_some_and(|(_, e)| e.iter().all(|&n| n == 1));
+    let volume = if channel_last { "a[..., 0]" } else { "a[0]" };
     match extra.iter().position(|&n| n != 1) {
         None => Ok([nz, ny, nx]),
         Some(axis) => Err(format!(
-            "shape {} is not one volume: axis {axis} has size {}, not 1 (only axes of size 1 may come before (nz, ny, nx)); save one 3-D volume, e.g. np.save(path, a[0])",
+            "shape {} is not one volume: axis {axis} has size {}, not 1 (only axes of size 1 may come before (nz, ny, nx)); save one 3-D volume, e.g. np.save(path, {volume})",
             shape_text(shape),
             extra[axis]
         )),

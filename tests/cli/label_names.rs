@@ -126,25 +126,59 @@ fn merge(parts: &Path, out: &Path) -> std::process::Output {
 #[test]
 fn a_merge_names_the_label_of_a_missing_part() {
     let (dir, parts) = parts_of_two_labels();
-    let out = dir.path().join("out");
-    fs::create_dir(&out).unwrap();
     fs::remove_file(parts.join("7.2.tmesh")).unwrap();
-    for target in ["{label}.ply", "all.ply"] {
-        let err = assert_one_line(&merge(&parts, &out.join(target)), 1);
-        assert!(err.contains("label 7: part 2/3 is missing"), "{err}");
-        assert!(names(&out).is_empty(), "{:?}", names(&out));
-    }
+    assert_merge_refused(dir.path(), &parts, &["label 7: part 2/3 is missing"]);
     // Every part of label 7 missing: the records know the run had two.
     fs::remove_file(parts.join("7.1.tmesh")).unwrap();
     fs::remove_file(parts.join("7.3.tmesh")).unwrap();
+    assert_merge_refused(dir.path(), &parts, &["2 labels", "labels 3)"]);
+}
+
+/// `tmc merge` of the files of `parts` into a file per label and into one
+/// file, in a new directory `out` of `dir`, fails with one line saying
+/// each of `says`, leaving `out` empty.
+fn assert_merge_refused(dir: &Path, parts: &Path, says: &[&str]) {
+    let out = dir.join("out");
+    fs::create_dir_all(&out).unwrap();
     for target in ["{label}.ply", "all.ply"] {
-        let err = assert_one_line(&merge(&parts, &out.join(target)), 1);
-        assert!(
-            err.contains("2 labels") && err.contains("labels 3)"),
-            "{err}"
-        );
+        let err = assert_one_line(&merge(parts, &out.join(target)), 1);
+        assert!(says.iter().all(|s| err.contains(s)), "{err}");
         assert!(names(&out).is_empty(), "{:?}", names(&out));
     }
+}
+
+/// Parts left in the directory by an earlier run with other labels (the
+/// Slurm scripts' and `parts-local.sh`'s merge takes every label's file):
+/// each run's records agree on all but the label, so only the number of
+/// labels tells them apart. The merge refuses more labels than the run
+/// had; it wrote a mesh of every stale label too.
+#[test]
+fn a_merge_refuses_the_labels_of_another_run() {
+    let (dir, parts) = parts_of_two_labels();
+    let input = dir.path().join("map.nrrd");
+    // An earlier run of labels 0 and 5 (the background, and a label the
+    // map does not hold) of the same map, two labels as the run of all.
+    let earlier = dir.path().join("earlier");
+    fs::create_dir(&earlier).unwrap();
+    for i in 1..=3 {
+        let part = format!("{i}/3");
+        let out = earlier.join("{label}.{part}.tmesh");
+        ok(&[
+            "extract",
+            s(&input),
+            "--labels",
+            "0,5",
+            "--part",
+            &part,
+            "-o",
+            s(&out),
+            "-q",
+        ]);
+    }
+    for name in names(&earlier) {
+        fs::rename(earlier.join(&name), parts.join(&name)).unwrap();
+    }
+    assert_merge_refused(dir.path(), &parts, &["2 labels", "labels 0, 3, 5, 7"]);
 }
 
 #[test]

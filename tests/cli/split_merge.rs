@@ -210,6 +210,42 @@ fn the_shell_script_splits_and_merges() {
     assert_merged_by(&mut sh, &merged, &whole);
 }
 
+/// `parts-local.sh` with a part count that is not one, or an output in a
+/// directory that is not there: one line of its own, before any part runs,
+/// nothing made. They were `seq`'s and `xargs`' lines, a `tmc merge` of
+/// the glob of no parts for 0, and `mktemp`'s line.
+#[test]
+fn the_shell_script_says_what_is_wrong_with_its_arguments() {
+    let Some(script) = parts_local() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = synth(d, "noise", "6,5,4", "u8", "v.npy");
+    let (merged, lost) = (d.join("m.ply"), d.join("missing/m.ply"));
+    let cases = [
+        ("0", &merged, 2, "number of parts"),
+        ("x", &merged, 2, "number of parts"),
+        ("", &merged, 2, "number of parts"),
+        ("2", &lost, 1, "does not exist"),
+    ];
+    for (n, output, code, says) in cases {
+        let out = std::process::Command::new("sh")
+            .arg(&script)
+            .args([s(&input), n, s(output), "--iso", "128"])
+            .env("TMC", common::cli::tmc_path())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{n} {output:?}: {stderr}");
+        assert!(
+            stderr.lines().count() == 1 && stderr.contains(says),
+            "{n} {output:?}: {stderr}"
+        );
+        assert_eq!(common::cli::names(d), ["v.npy"], "{n}");
+    }
+}
+
 /// Runs `sh`, which merges into `merged`, and asserts it equals `whole`.
 fn assert_merged_by(sh: &mut std::process::Command, merged: &Path, whole: &Path) {
     let out = sh.output().unwrap();

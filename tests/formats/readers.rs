@@ -283,7 +283,11 @@ fn npy_leading_unit_axes_are_one_volume() {
             "shape (2, 1, 3, 4) is not one volume: axis 0 has size 2, not 1",
         ),
         ("(1, 2, 1, 3, 4)", "axis 1 has size 2, not 1"),
+        // A channel axis last: the volume is a[..., 0] (a[0] is a plane).
         ("(2, 3, 4, 1)", "axis 0 has size 2, not 1"),
+        ("(2, 3, 4, 1)", "np.save(path, a[..., 0])"),
+        ("(1, 2, 3, 4, 1)", "np.save(path, a[..., 0])"),
+        ("(2, 1, 3, 4)", "np.save(path, a[0])"),
     ];
     for (shape, expected) in cases {
         let dict = format!("{{'descr': '<u2', 'fortran_order': False, 'shape': {shape}, }}");

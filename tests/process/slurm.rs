@@ -569,23 +569,14 @@ fn a_requeued_part_still_merges_to_the_bytes_of_one_run() {
 #[test]
 fn the_part_script_takes_threads_and_memory_from_the_allocation() {
     let dir = tempfile::tempdir().unwrap();
-    let bin = dir.path().join("bin");
-    fs::create_dir(&bin).unwrap();
-    fs::write(bin.join("tmc"), "#!/bin/sh\necho \"$@\"\n").unwrap();
-    use std::os::unix::fs::PermissionsExt;
-    fs::set_permissions(bin.join("tmc"), fs::Permissions::from_mode(0o755)).unwrap();
+    let path = fake_tmc(dir.path(), "echo \"$@\"");
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/tmc-parts.sbatch");
     let run = |env: &[(&str, &str)]| {
-        let path = format!(
-            "{}:{}",
-            bin.display(),
-            std::env::var("PATH").unwrap_or_default()
-        );
         let out = Command::new("bash")
             .arg(&script)
             .current_dir(dir.path())
             .env_clear()
-            .env("PATH", path)
+            .env("PATH", &path)
             .envs([("N", "2"), ("IN", "ct.nrrd"), ("ISO", "550")])
             .env("SLURM_ARRAY_TASK_ID", "2")
             .envs(env.iter().copied())
@@ -625,23 +616,9 @@ fn the_job_scripts_split_and_merge_a_label_map() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let input = synth(d, "head", "24,20,30", "u8", "map.npy");
-    let scripts = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm");
-    let bin = Path::new(tmc_path()).parent().unwrap().to_path_buf();
-    let path = format!(
-        "{}:{}",
-        bin.display(),
-        std::env::var("PATH").unwrap_or_default()
-    );
     let run = |script: &str, env: &[(&str, &str)]| {
-        Command::new("bash")
-            .arg(scripts.join(script))
-            .current_dir(d)
-            .env_clear()
-            .env("PATH", &path)
-            .envs([("N", "3"), ("IN", s(&input)), ("LABELS", "all")])
-            .envs(env.iter().copied())
-            .output()
-            .unwrap()
+        let given = [("N", "3"), ("IN", s(&input)), ("LABELS", "all")];
+        job_script(d, script, &[&given[..], env].concat())
     };
     for task in ["1", "2", "3"] {
         let out = run("tmc-parts.sbatch", &[("SLURM_ARRAY_TASK_ID", task)]);
@@ -670,4 +647,137 @@ fn the_job_scripts_split_and_merge_a_label_map() {
         &[("SLURM_ARRAY_TASK_ID", "1"), ("ISO", "3")],
     );
     assert_eq!(both.status.code(), Some(2), "{both:?}");
+}
+
+/// Runs `scripts/slurm/SCRIPT` with bash in `dir` as an array task or the
+/// merge job would run it, without Slurm: `env` the whole environment but
+/// `PATH`, which has the built `tmc` first.
+fn job_script(dir: &Path, script: &str, env: &[(&str, &str)]) -> std::process::Output {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scripts/slurm")
+        .join(script);
+    let bin = Path::new(tmc_path()).parent().unwrap().to_path_buf();
+    let path = format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    Command::new("bash")
+        .arg(script)
+        .current_dir(dir)
+        .env_clear()
+        .env("PATH", &path)
+        .envs(env.iter().copied())
+        .output()
+        .unwrap()
+}
+
+/// The merge job merges parts 1 to N of its run, without Slurm as above:
+/// the parts of an earlier run of the same input with more parts, left in
+/// `parts/`, made it fail ("part counts (3 vs 4) differ", for an
+/// isosurface and a label map) though every part of the run was there.
+#[test]
+fn the_merge_script_takes_the_n_parts_of_its_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = synth(d, "head", "24,20,30", "u8", "map.npy");
+    let cases: [(&str, &str, &str); 2] =
+        [("ISO", "100", "m.ply"), ("LABELS", "all", "{label}.ply")];
+    for (what, value, out) in cases {
+        for dir in ["parts", "one", "merged"] {
+            let _ = fs::remove_dir_all(d.join(dir));
+        }
+        // The earlier run of 4 parts, then this one of 3.
+        for n in ["4", "3"] {
+            for task in 1..=n.parse().unwrap() {
+                let task = task.to_string();
+                let env = [
+                    ("N", n),
+                    ("IN", s(&input)),
+                    (what, value),
+                    ("SLURM_ARRAY_TASK_ID", &task),
+                ];
+                let done = job_script(d, "tmc-parts.sbatch", &env);
+                assert!(done.status.success(), "{done:?}");
+            }
+        }
+        for dir in ["one", "merged"] {
+            fs::create_dir(d.join(dir)).unwrap();
+        }
+        let merged = d.join("merged").join(out);
+        let env = [("N", "3"), (what, value), ("OUT", s(&merged))];
+        let done = job_script(d, "tmc-merge.sbatch", &env);
+        assert!(done.status.success(), "{what}: {done:?}");
+        let one = d.join("one").join(out);
+        let option = format!("--{}", what.to_lowercase());
+        let done = tmc(&["extract", s(&input), &option, value, "-q", "-o", s(&one)]);
+        assert!(done.status.success(), "{done:?}");
+        let meshes = names(&d.join("one"));
+        assert_eq!(names(&d.join("merged")), meshes, "{what}");
+        for name in meshes {
+            let read = |dir: &str| fs::read(d.join(dir).join(&name)).unwrap();
+            assert!(read("merged") == read("one"), "{what}: {name}");
+        }
+    }
+}
+
+/// The command the part script prints at the top of the task's log is the
+/// one it runs, as a shell reads it back: an input or parts directory
+/// whose name has a space (`IN='my scans/c t.nrrd'`), and the label
+/// parts' braces. It was the words joined by spaces, so that pasting it
+/// to run a part again read `my`, `scans/c` and `t.nrrd`.
+#[test]
+fn the_part_script_prints_the_command_it_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    // A tmc that prints its arguments one a line.
+    let path = fake_tmc(dir.path(), "printf '%s\\n' \"$@\"");
+    for what in [("ISO", "550"), ("LABELS", "1,4")] {
+        let env = [
+            ("PATH", path.as_str()),
+            ("N", "2"),
+            ("SLURM_ARRAY_TASK_ID", "1"),
+            ("IN", "my scans/c t.nrrd"),
+            ("PARTS", "the parts"),
+            ("EXTRA", "--close"),
+            what,
+        ];
+        let bash = |args: &[&std::ffi::OsStr]| {
+            Command::new("bash")
+                .args(args)
+                .current_dir(dir.path())
+                .env_clear()
+                .envs(env)
+                .output()
+                .unwrap()
+        };
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/slurm/tmc-parts.sbatch");
+        let out = bash(&[script.as_os_str()]);
+        assert!(out.status.success(), "{out:?}");
+        let ran = String::from_utf8(out.stdout).unwrap();
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        let printed = stderr
+            .lines()
+            .find_map(|l| l.strip_prefix("tmc-parts.sbatch: "))
+            .unwrap_or_else(|| panic!("no command in {stderr}"));
+        // The printed command run by a shell, with the same tmc.
+        let again = bash(&["-c".as_ref(), printed.as_ref()]);
+        assert!(again.status.success(), "{printed}: {again:?}");
+        assert_eq!(String::from_utf8(again.stdout).unwrap(), ran, "{printed}");
+        assert!(ran.lines().any(|a| a == "my scans/c t.nrrd"), "{ran}");
+    }
+}
+
+/// A `PATH` whose first directory, `dir/bin`, holds a `tmc` that is the sh
+/// script `body`.
+fn fake_tmc(dir: &Path, body: &str) -> String {
+    use std::os::unix::fs::PermissionsExt;
+    let bin = dir.join("bin");
+    fs::create_dir(&bin).unwrap();
+    fs::write(bin.join("tmc"), format!("#!/bin/sh\n{body}\n")).unwrap();
+    fs::set_permissions(bin.join("tmc"), fs::Permissions::from_mode(0o755)).unwrap();
+    format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    )
 }

@@ -56,8 +56,7 @@ fn a_closed_stdout_pipe_ends_the_run_quietly() {
 
 #[test]
 fn a_report_that_cannot_be_written_fails_the_run_and_takes_the_mesh_back() {
-    let Ok(full) = fs::OpenOptions::new().write(true).open("/dev/full") else {
-        eprintln!("skipped: no /dev/full on this system");
+    let Some(full) = dev_full() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -92,6 +91,16 @@ fn a_report_that_cannot_be_written_fails_the_run_and_takes_the_mesh_back() {
         assert!(!output.exists(), "{name} stayed");
     }
     assert_eq!(names(dir.path()), vec!["in.npy".to_string()]);
+}
+
+/// `/dev/full` open for writing (every write fails with ENOSPC); `None`,
+/// saying that the test is skipped, where there is none.
+fn dev_full() -> Option<fs::File> {
+    let full = fs::OpenOptions::new().write(true).open("/dev/full").ok();
+    if full.is_none() {
+        eprintln!("skipped: no /dev/full on this system");
+    }
+    full
 }
 
 /// Runs `tmc args` with its stderr on `/dev/full`, where every write fails
@@ -187,4 +196,66 @@ fn a_full_stderr_loses_lines_but_not_the_exit_status() {
     let mut left = names(dir.path());
     left.sort();
     assert_eq!(left, ["e.ply", "in.npy", "l.ply", "v.nrrd"]);
+}
+
+/// A `--preview` picture is an output too: a report that cannot be
+/// written takes it back with the meshes (it stayed, for one input, a
+/// label map and a batch).
+#[test]
+fn a_report_that_cannot_be_written_takes_the_picture_back_too() {
+    let Some(full) = dev_full() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let input = sphere_npy(d, "in.npy", [8, 8, 8]);
+    let other = sphere_npy(d, "other.npy", [9, 8, 7]);
+    let seg = d.join("seg.nrrd");
+    let dims = [12, 10, 9];
+    let values = crate::common::labels::label_map(dims, 4, 3);
+    crate::common::labels::write(&seg, dims, values, tmc::volume::ScalarType::U16);
+    let before = names(d);
+    let at = |name: &str| s(&d.join(name)).to_string();
+    let (i, o, seg) = (s(&input), s(&other), s(&seg));
+    let (mesh, labels, picture, pictures) = (
+        at("{stem}.ply"),
+        at("{label}.ply"),
+        at("p.png"),
+        at("{stem}.png"),
+    );
+    let one = ["--iso", "0", "-o", &mesh, "--preview", &picture];
+    let map = ["--labels", "all", "-o", &labels, "--preview", &picture];
+    let batch = ["--iso", "0", "-o", &mesh, "--preview", &pictures];
+    // (arguments, the stream on /dev/full: stdout for --json, stderr for
+    // --stats, none for --report /dev/full)
+    let cases: [(Vec<&str>, Option<bool>); 6] = [
+        ([&[i][..], &one, &["--json"]].concat(), Some(true)),
+        ([&[i][..], &one, &["--stats"]].concat(), Some(false)),
+        ([&[seg][..], &map, &["--json"]].concat(), Some(true)),
+        ([&[seg][..], &map, &["--stats"]].concat(), Some(false)),
+        ([&[i, o][..], &batch, &["--json"]].concat(), Some(true)),
+        (
+            [&[i, o][..], &batch, &["--report", "/dev/full"]].concat(),
+            None,
+        ),
+    ];
+    for (args, on_full) in cases {
+        let mut command = std::process::Command::new(common::cli::tmc_path());
+        command.arg("extract").args(&args);
+        match on_full {
+            Some(true) => command.stdout(full.try_clone().unwrap()),
+            Some(false) => command.stderr(full.try_clone().unwrap()),
+            None => &mut command,
+        };
+        let out = command.output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        if on_full != Some(false) {
+            assert!(
+                stderr.contains("removed the output") && stderr.contains(".png"),
+                "{args:?}: {stderr}"
+            );
+        }
+        assert_eq!(names(d), before, "{args:?} left files");
+    }
 }

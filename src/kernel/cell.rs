@@ -506,7 +506,7 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
 }
 
 /// An interior vertex clamped into the cell: into the closed unit cube, and
-/// further, into the cube `margin` inside it ([`TIE_OFFSET`](super::ties::TIE_OFFSET), or more on a
+/// further, into the cube `margin` inside it ([`TIE_OFFSET`], or more on a
 /// grid far from the origin: [`CellMesh::tie_margin`]), in a cell with a tie
 /// corner (a value 0), or where the vertex lies on the cell's boundary and
 /// a face of the cell has a saddle tie (`g0 g2 = g1 g3`: its saddle value

@@ -510,17 +510,17 @@ fn triangulate_twelve(g: &[f64; 8], contour: &[u8], out: &mut CellMesh) {
 /// grid far from the origin: [`CellMesh::tie_margin`]), in a cell with a tie
 /// corner (a value 0), or where the vertex lies on the cell's boundary and
 /// a face of the cell has a saddle tie (`g0 g2 = g1 g3`: its saddle value
-/// is the isovalue). On a grid far from the origin (a margin above
-/// [`TIE_OFFSET`]) every interior vertex of every cell moves, the unit cube
-/// shrunk onto the inner one: there `f32` world coordinates do not resolve
-/// a vertex a little inside a face from the face, where the cell across
-/// may put its own interior vertex (two were seen sharing a position,
-/// `cthead @ 1150` at an origin of `1.6e5`). At such ties the level set holds edges of the cell or
+/// is the isovalue). At such ties the level set holds edges of the cell or
 /// crosses itself on a face, and a saddle point of it can lie on the
 /// cell's boundary, where the cell across that boundary may put its own
 /// interior vertex, or an edge vertex lies; strictly inside, an interior
 /// vertex is apart from both, which keep to the boundary. Elsewhere the
-/// vertex is the paper's, bit for bit.
+/// vertex is the paper's, bit for bit, but on a grid far from the origin
+/// (a margin above [`TIE_OFFSET`]): there every interior vertex of every
+/// cell moves, the unit cube shrunk onto the inner one, because `f32`
+/// world coordinates do not resolve a vertex a little inside a face from
+/// the face, where the cell across may put its own interior vertex (two
+/// were seen sharing a position, `cthead @ 1150` at an origin of `1.6e5`).
 #[inline]
 fn interior_clamp(g: &[f64; 8], p: DVec3, margin: f64) -> DVec3 {
     let p = p.clamp(DVec3::ZERO, DVec3::ONE);

@@ -4,7 +4,8 @@
 //! shared [`PreviewSink`] as a mesh of its own
 //! ([`PreviewSink::chunk_of`]), so that the labels' chunks, interleaved in
 //! the pass, are each counted in their own plane order. The surfaces are
-//! drawn together (the nearest wins, as in any picture), and the caption
+//! drawn together, each in its label's colour (the nearest wins, as in any
+//! picture), and the caption
 //! gives the number of labels with a surface, their triangles and the
 //! verdict of all the surfaces taken together: closed when every label's
 //! surface is, with the sum of their genera and components. It is the

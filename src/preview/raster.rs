@@ -31,8 +31,9 @@ pub const BACK: u32 = 1;
 
 /// The bits of a key above [`BACK`] that say, in a picture of several
 /// labels' surfaces, which colour the pixel's label has ([`label_mark`]):
-/// the depth keeps the rest (a relative precision of `2^-18`, about
-/// `0.004` of a pixel at the far end of the views).
+/// the depth keeps the rest (a relative precision of `2^-18`: steps of
+/// `2^-10` of a pixel for the depths of 256 to 512 pixels at the far end
+/// of the views).
 pub const LABEL_BITS: u32 = 0x1e;
 
 /// How many colours [`LABEL_BITS`] tell apart.

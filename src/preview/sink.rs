@@ -486,8 +486,12 @@ impl MeshSink for PreviewSink {
                 last = Some(label);
             }
         }
+        // One mark per triangle in a labelled picture (label 0's colour for
+        // a triangle without a label), so that no chunk is drawn unmarked.
         let marks = match self.labelled {
-            true => chunk.labels.iter().map(|&l| label_mark(l)).collect(),
+            true => (0..chunk.triangles.len())
+                .map(|i| label_mark(chunk.labels.get(i).copied().unwrap_or(0)))
+                .collect(),
             false => Vec::new(),
         };
         self.hand_over(0, chunk, marks)

@@ -449,8 +449,9 @@ fn tie_free_volumes_keep_the_bytes_from_before_ties() {
 /// ties: nearly every cell ambiguous), an interior vertex a hair inside a
 /// face and the one the cell across puts a hair inside the same face, or
 /// three vertices of a tunnel narrower than `f32` resolves there, fell on
-/// one point (2 to 20 vertices sharing positions, and zero-area triangles,
-/// in each of these volumes before). The surface is that of the same
+/// one point (6 vertices sharing a position in the first case here before;
+/// 40^3 white noise at these origins had 2 to 20, and some zero-area
+/// triangles, through the command line). The surface is that of the same
 /// samples at the origin: vertices, triangles, components and Euler
 /// characteristic.
 #[test]
